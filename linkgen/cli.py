@@ -1,0 +1,193 @@
+"""Command-line interface: ``linkgen structure|analyze|build|simulate|validate``.
+
+User mistakes (LinkgenError, missing files, bad arguments) print one line to stderr and
+exit with status 2; no traceback.
+"""
+
+from __future__ import annotations
+
+import argparse
+import csv
+import json
+import math
+import sys
+from pathlib import Path
+
+import numpy as np
+
+from .errors import DescriptionError, LinkgenError
+from .kinematics import Kinematics, assemble, solve
+from .load import load
+from .units import parse_angle
+
+
+def crank_grid(mech, samples: int) -> np.ndarray:
+    """``samples`` crank angles [rad] over the drive range (a full turn excludes its end)."""
+    d = mech.drive
+    full = d.stop - d.start >= 2 * math.pi - 1e-12
+    return np.linspace(d.start, d.stop, samples, endpoint=not full)
+
+
+def _angle_arg(text: str) -> float:
+    try:
+        return parse_angle(text if text.strip().endswith(("deg", "rad")) else float(text), "--angle")
+    except (ValueError, DescriptionError) as exc:
+        raise argparse.ArgumentTypeError(f"expected radians or e.g. '30deg', got {text!r}") from exc
+
+
+def _float_arg(text: str) -> float:
+    try:
+        x = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a number, got {text!r}") from None
+    if not math.isfinite(x):
+        raise argparse.ArgumentTypeError(f"expected a finite number, got {text!r}")
+    return x
+
+
+def _positive_int(text: str) -> int:
+    try:
+        n = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a whole number, got {text!r}") from None
+    if n < 1:
+        raise argparse.ArgumentTypeError(f"expected a whole number >= 1, got {text!r}")
+    return n
+
+
+def cmd_structure(args) -> int:
+    asm = assemble(load(args.model))
+    s = asm.structure
+    print(f"mechanism: {asm.mechanism.name}")
+    print(f"mobility W = 3·n - 2·p5 = 3·{s.moving_links} - 2·{s.lower_pairs} = {s.mobility}")
+    print(f"input link: I(0,1) crank {s.crank!r}, driven at {s.drive.name!r}")
+    for g, m in zip(s.groups, asm.branches):
+        pairs = ", ".join(f"{p.kind} {p.name}" for p in g.pairs)
+        print(f"group {g.label}: pairs {pairs}; attached to {list(g.known)}; assembly mode m = {m:+d}")
+    print(f"structure formula: {s.formula}")
+    return 0
+
+
+def _motion_json(kin: Kinematics, omega: float, epsilon: float, i: int = 0) -> dict:
+    mo = kin.motion(omega, epsilon)
+    return {
+        "points": {n: {"position": p[i].tolist(), "velocity": v[i].tolist(), "acceleration": a[i].tolist()}
+                   for n, (p, v, a) in mo.points.items()},
+        "links": {n: {"angle": float(p[i]), "angular_velocity": float(v[i]), "angular_acceleration": float(a[i])}
+                  for n, (p, v, a) in mo.links.items()},
+        "sliders": {n: {"displacement": float(p[i]), "velocity": float(v[i]), "acceleration": float(a[i])}
+                    for n, (p, v, a) in mo.sliders.items()},
+    }
+
+
+def _warn_singular(kin: Kinematics) -> None:
+    from .errors import angle_ranges, format_ranges
+
+    for label, mask in kin.near_singular.items():
+        if np.any(mask):
+            print(f"warning: group {label} is near a singular position at crank angles "
+                  f"{format_ranges(angle_ranges(kin.phi, mask))}", file=sys.stderr)
+
+
+def cmd_analyze(args) -> int:
+    mech = load(args.model)
+    omega = mech.drive.omega if args.omega is None else args.omega
+    epsilon = mech.drive.epsilon if args.epsilon is None else args.epsilon
+    if args.samples is not None or args.csv is not None:
+        phi = crank_grid(mech, args.samples or 360)
+        kin = solve(mech, phi)
+        _warn_singular(kin)
+        mo = kin.motion(omega, epsilon)
+        cols, data = ["phi"], [phi]
+        for kind, table in (("point", mo.points), ("link", mo.links), ("slider", mo.sliders)):
+            names = ("position", "velocity", "acceleration") if kind == "point" else (
+                ("angle", "angular_velocity", "angular_acceleration") if kind == "link"
+                else ("displacement", "velocity", "acceleration"))
+            for n, arrays in table.items():
+                for qname, arr in zip(names, arrays):
+                    if arr.ndim == 2:
+                        cols += [f"{n}.{qname}.x", f"{n}.{qname}.y"]
+                        data += [arr[:, 0], arr[:, 1]]
+                    else:
+                        cols.append(f"{n}.{qname}")
+                        data.append(arr)
+        out = open(args.csv, "w", newline="") if args.csv else sys.stdout
+        with out if args.csv else _nullctx(out):
+            w = csv.writer(out)
+            w.writerow(cols)
+            for row in np.column_stack(data):
+                w.writerow([repr(float(x)) for x in row])
+        if args.csv:
+            print(f"wrote {len(phi)} crank angles × {len(cols)} columns to {args.csv}", file=sys.stderr)
+        return 0
+    phi = mech.drive.start if args.angle is None else args.angle
+    kin = solve(mech, np.array([phi]))
+    _warn_singular(kin)
+    result = _motion_json(kin, omega, epsilon)
+    if args.json:
+        print(json.dumps(result, indent=2))
+        return 0
+    print(f"{mech.name}: φ = {math.degrees(phi):.6g}° ({phi:.9g} rad), ω = {omega:g} rad/s, ε = {epsilon:g} rad/s²")
+    print(f"{'point':<10}{'x [m]':>14}{'y [m]':>14}{'vx [m/s]':>14}{'vy [m/s]':>14}{'ax [m/s²]':>14}{'ay [m/s²]':>14}")
+    for n, q in result["points"].items():
+        print(f"{n:<10}" + "".join(f"{x:>14.6g}" for x in q["position"] + q["velocity"] + q["acceleration"]))
+    print(f"{'link':<10}{'angle [rad]':>14}{'ω [rad/s]':>14}{'ε [rad/s²]':>14}")
+    for n, q in result["links"].items():
+        print(f"{n:<10}{q['angle']:>14.6g}{q['angular_velocity']:>14.6g}{q['angular_acceleration']:>14.6g}")
+    if result["sliders"]:
+        print(f"{'slider':<10}{'s [m]':>14}{'v [m/s]':>14}{'a [m/s²]':>14}")
+        for n, q in result["sliders"].items():
+            print(f"{n:<10}{q['displacement']:>14.6g}{q['velocity']:>14.6g}{q['acceleration']:>14.6g}")
+    return 0
+
+
+class _nullctx:
+    def __init__(self, obj):
+        self.obj = obj
+
+    def __enter__(self):
+        return self.obj
+
+    def __exit__(self, *exc):
+        return False
+
+
+def build_parser() -> argparse.ArgumentParser:
+    p = argparse.ArgumentParser(prog="linkgen", description=__doc__.splitlines()[0])
+    sub = p.add_subparsers(dest="command", required=True)
+
+    s = sub.add_parser("structure", help="mobility, Assur groups and the structure formula")
+    s.add_argument("model", type=Path)
+    s.set_defaults(func=cmd_structure)
+
+    a = sub.add_parser("analyze", help="closed-form positions, velocities and accelerations")
+    a.add_argument("model", type=Path)
+    a.add_argument("--angle", type=_angle_arg, help="crank angle: radians, or e.g. 38.117deg")
+    a.add_argument("--omega", type=_float_arg, help="crank speed [rad/s] (default: the description's)")
+    a.add_argument("--epsilon", type=_float_arg, help="crank acceleration [rad/s²] (default: the description's)")
+    a.add_argument("--json", action="store_true", help="print one JSON object")
+    a.add_argument("--samples", type=_positive_int, help="evaluate this many angles over the drive range")
+    a.add_argument("--csv", type=Path, help="write the samples as CSV to this file")
+    a.set_defaults(func=cmd_analyze)
+
+    from . import cli_mujoco
+
+    cli_mujoco.add_commands(sub)
+    return p
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    try:
+        return args.func(args)
+    except LinkgenError as exc:
+        print(f"linkgen: error: {exc}", file=sys.stderr)
+        return 2
+    except OSError as exc:
+        print(f"linkgen: error: {exc}", file=sys.stderr)
+        return 2
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,7 @@
+"""CLI commands that need MuJoCo: build, simulate, validate."""
+
+from __future__ import annotations
+
+
+def add_commands(sub) -> None:
+    return None

@@ -1,0 +1,216 @@
+"""The mechanism description: frozen dataclasses, validated on construction.
+
+The same objects come from a TOML file (``linkgen.load``) or are built in Python.
+Every check names the field in TOML terms (``links.rod.points[1]``), the value and
+what is allowed. Inside, SI units and radians.
+
+Conventions:
+    * The fixed link is the link named ``ground``; its points' coordinates are exact.
+    * A point listed by two links is a revolute joint between them. A point listed
+      by k > 2 links is a compound hinge: k - 1 revolutes between the first link that
+      lists it and each other one, named ``POINT:FIRST-OTHER``; a single revolute is
+      named after its point.
+    * A link's local frame has its origin at its first point and its x axis towards
+      its second point; a one-point link's x axis is the world x axis in the sketch.
+      ``length`` (two-point links) is the exact distance between the two points and
+      ``shape`` gives exact coordinates of all of a link's points; otherwise the sketch
+      coordinates define the link's shape.
+    * A prismatic pair: the ``point`` of link ``slider`` moves along a line fixed to
+      link ``guide``, through the guide's point ``through`` shifted by ``offset`` along
+      the line's left normal, at ``angle`` to the guide's x axis. The two links keep
+      their relative angle.
+    * The drive is the revolute ``drive.joint`` between ground and the crank; the
+      crank angle φ is the angle of the crank's x axis (its first point must be the
+      pivot).
+"""
+
+from __future__ import annotations
+
+import math
+import re
+from dataclasses import dataclass
+from functools import cached_property
+from types import MappingProxyType
+from typing import Mapping
+
+from .errors import DescriptionError
+
+GROUND = "ground"
+_NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$")
+
+
+def check_name(name: object, where: str) -> str:
+    if not isinstance(name, str) or not _NAME.match(name):
+        raise DescriptionError(
+            where, f"must be a name of letters, digits and '_' not starting with a digit, got {name!r}"
+        )
+    return name
+
+
+@dataclass(frozen=True)
+class MassProperties:
+    """Mass [kg], centre of mass in the link's local frame [m], inertia about it [kg·m²]."""
+
+    mass: float
+    com: tuple[float, float]
+    inertia: float
+
+
+@dataclass(frozen=True)
+class Link:
+    """A rigid link carrying named points.
+
+    Attributes:
+        length: exact distance between the two points of a two-point link [m], or None
+            to take it from the sketch.
+        inertial: explicit mass properties, or None.
+        density: linear density of a uniform bar [kg/m] (two-point links), or None.
+        shape: exact coordinates [m] of every point of the link in any rigid placement,
+            or None to take the shape from the sketch (``length`` is the two-point shorthand).
+    """
+
+    name: str
+    points: tuple[str, ...]
+    length: float | None = None
+    inertial: MassProperties | None = None
+    density: float | None = None
+    shape: Mapping[str, tuple[float, float]] | None = None
+
+
+@dataclass(frozen=True)
+class Prismatic:
+    """A prismatic pair: ``slider``'s ``point`` moves on a line fixed to ``guide``."""
+
+    name: str
+    slider: str
+    guide: str
+    point: str
+    through: str
+    angle: float = 0.0
+    offset: float = 0.0
+
+
+@dataclass(frozen=True)
+class Revolute:
+    """A revolute pair at ``point`` between ``links[0]`` and ``links[1]`` (derived)."""
+
+    name: str
+    point: str
+    links: tuple[str, str]
+
+
+@dataclass(frozen=True)
+class Drive:
+    """The driven revolute and its motion: ω [rad/s], ε [rad/s²], crank-angle range [rad]."""
+
+    joint: str
+    omega: float
+    epsilon: float = 0.0
+    start: float = 0.0
+    stop: float = 2.0 * math.pi
+
+
+@dataclass(frozen=True)
+class PointForce:
+    """External force [N] at a point of a link, world frame; optionally only while the
+    crank angle is inside ``stroke`` = (from, to) [rad] (a process load)."""
+
+    link: str
+    point: str
+    force: tuple[float, float]
+    stroke: tuple[float, float] | None = None
+
+
+@dataclass(frozen=True)
+class LinkTorque:
+    """External torque [N·m] about +z on a link."""
+
+    link: str
+    torque: float
+
+
+@dataclass(frozen=True)
+class Mechanism:
+    """A validated planar mechanism. Raises DescriptionError on construction if invalid."""
+
+    name: str
+    points: Mapping[str, tuple[float, float]]
+    links: tuple[Link, ...]
+    drive: Drive
+    prismatics: tuple[Prismatic, ...] = ()
+    gravity: tuple[float, float] = (0.0, 0.0)
+    forces: tuple[PointForce, ...] = ()
+    torques: tuple[LinkTorque, ...] = ()
+    title: str = ""
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "points", MappingProxyType(dict(self.points)))
+        object.__setattr__(self, "links", tuple(self.links))
+        object.__setattr__(self, "prismatics", tuple(self.prismatics))
+        object.__setattr__(self, "forces", tuple(self.forces))
+        object.__setattr__(self, "torques", tuple(self.torques))
+        from .validate import validate  # local: validate reads this module's types
+
+        validate(self)
+
+    def link(self, name: str) -> Link:
+        for link in self.links:
+            if link.name == name:
+                return link
+        raise KeyError(name)
+
+    @cached_property
+    def link_names(self) -> tuple[str, ...]:
+        return tuple(link.name for link in self.links)
+
+    @cached_property
+    def moving_links(self) -> tuple[str, ...]:
+        return tuple(n for n in self.link_names if n != GROUND)
+
+    @cached_property
+    def revolutes(self) -> tuple[Revolute, ...]:
+        return derive_revolutes(self.links)
+
+    def revolute(self, name: str) -> Revolute:
+        for joint in self.revolutes:
+            if joint.name == name:
+                return joint
+        raise KeyError(name)
+
+    def prismatic(self, name: str) -> Prismatic:
+        for joint in self.prismatics:
+            if joint.name == name:
+                return joint
+        raise KeyError(name)
+
+    @cached_property
+    def crank(self) -> str:
+        joint = self.revolute(self.drive.joint)
+        return joint.links[1] if joint.links[0] == GROUND else joint.links[0]
+
+
+def derive_revolutes(links: tuple[Link, ...]) -> tuple[Revolute, ...]:
+    """Revolute pairs implied by points shared between links, in description order."""
+    carriers: dict[str, list[str]] = {}
+    for link in links:
+        for p in link.points:
+            carriers.setdefault(p, []).append(link.name)
+    joints = []
+    for point, names in carriers.items():
+        for other in names[1:]:
+            name = point if len(names) == 2 else f"{point}:{names[0]}-{other}"
+            joints.append(Revolute(name, point, (names[0], other)))
+    return tuple(joints)
+
+
+__all__ = [
+    "GROUND",
+    "MassProperties",
+    "Link",
+    "Prismatic",
+    "Revolute",
+    "Drive",
+    "PointForce",
+    "LinkTorque",
+    "Mechanism",
+]

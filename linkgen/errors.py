@@ -1,0 +1,90 @@
+"""One exception hierarchy for everything linkgen reports to a user."""
+
+from __future__ import annotations
+
+import numpy as np
+
+
+class LinkgenError(Exception):
+    """Base class of every error linkgen raises on purpose."""
+
+
+class DescriptionError(LinkgenError):
+    """A mechanism description is malformed: names the field, the value and what is allowed."""
+
+    def __init__(self, field: str, problem: str):
+        self.field = field
+        self.problem = problem
+        super().__init__(f"{field}: {problem}")
+
+
+class StructureError(LinkgenError):
+    """The mechanism's structure is outside what linkgen solves (e.g. a class-III group)."""
+
+
+def angle_ranges(phi: np.ndarray, mask: np.ndarray) -> list[tuple[float, float]]:
+    """Contiguous runs of ``mask`` over ``phi`` as (first, last) crank angles [rad].
+
+    Args:
+        phi: crank angles [rad], shape (n,), in the order the caller evaluated them.
+        mask: shape (n,), True where something failed.
+    """
+    phi = np.asarray(phi, dtype=float).reshape(-1)
+    mask = np.asarray(mask, dtype=bool).reshape(-1)
+    runs: list[tuple[float, float]] = []
+    start = None
+    for i, bad in enumerate(mask):
+        if bad and start is None:
+            start = i
+        if start is not None and (not bad or i == len(mask) - 1):
+            stop = i if bad else i - 1
+            runs.append((float(phi[start]), float(phi[stop])))
+            start = None
+    return runs
+
+
+def format_ranges(runs: list[tuple[float, float]], limit: int = 6) -> str:
+    """Human-readable list of crank-angle ranges in degrees."""
+    parts = []
+    for lo, hi in runs[:limit]:
+        lo_d, hi_d = np.degrees(lo), np.degrees(hi)
+        parts.append(f"{lo_d:.3f}°" if lo == hi else f"{lo_d:.3f}°..{hi_d:.3f}°")
+    more = f" and {len(runs) - limit} more" if len(runs) > limit else ""
+    return ", ".join(parts) + more
+
+
+class AssemblyError(LinkgenError):
+    """An Assur group cannot be assembled at some crank angles.
+
+    Attributes:
+        group: the group's label, e.g. ``"II(2,3) RRR [coupler, rocker]"``.
+        ranges: list of (first, last) crank angles [rad] where assembly fails.
+    """
+
+    def __init__(self, group: str, ranges: list[tuple[float, float]], reason: str):
+        self.group = group
+        self.ranges = ranges
+        self.reason = reason
+        super().__init__(
+            f"group {group} cannot be assembled at crank angles {format_ranges(ranges)}: {reason}"
+        )
+
+
+class SingularityError(LinkgenError):
+    """A transfer-function denominator is exactly zero (a dead-centre / lock-up position)."""
+
+    def __init__(self, group: str, ranges: list[tuple[float, float]]):
+        self.group = group
+        self.ranges = ranges
+        super().__init__(
+            f"group {group} is singular (transfer-function denominator 0) at crank angles "
+            f"{format_ranges(ranges)}"
+        )
+
+
+class SimulationError(LinkgenError):
+    """MuJoCo warned, diverged or broke a constraint; names the step and the time."""
+
+
+class ValidationError(LinkgenError):
+    """A comparison was asked for that cannot be made (e.g. a timestep too coarse)."""

@@ -1,0 +1,141 @@
+"""Link shapes (local coordinates), guide lines, poses and mass properties.
+
+A link's local frame: origin at its first point, x axis towards its second (see
+description.py). Ground's local frame is the world frame.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from .description import GROUND, MassProperties, Mechanism
+from .primitives import Scalar, Vec, angle_between_points, constant, rotvec
+
+
+@dataclass(frozen=True)
+class LinkShape:
+    """Local coordinates [m] of a link's points, shape (2,) each, and its sketch placement."""
+
+    name: str
+    local: dict[str, np.ndarray]
+    sketch_origin: np.ndarray
+    sketch_angle: float
+
+    def span(self) -> float:
+        """Largest distance between two of the link's points [m] (0 for a one-point link)."""
+        pts = list(self.local.values())
+        return max((float(np.hypot(*(a - b))) for a in pts for b in pts), default=0.0)
+
+
+@dataclass(frozen=True)
+class GuideShape:
+    """A prismatic pair in local terms.
+
+    Attributes:
+        base: a point of the guide line in the guide's frame [m], (2,).
+        alpha: the line's direction in the guide's frame [rad].
+        point: the slider's point in the slider's frame [m], (2,).
+        relative_angle: slider angle minus guide angle, constant [rad].
+    """
+
+    name: str
+    slider: str
+    guide: str
+    base: np.ndarray
+    alpha: float
+    point: np.ndarray
+    relative_angle: float
+
+
+@dataclass(frozen=True, slots=True)
+class LinkPose:
+    """A link's placement over φ: the origin of its frame and its angle, with transfer functions."""
+
+    origin: Vec
+    angle: Scalar
+
+    def point(self, local: np.ndarray) -> Vec:
+        return self.origin + rotvec(self.angle, np.asarray(local, dtype=float))
+
+    def direction(self, alpha: float) -> Vec:
+        return rotvec(self.angle, np.array([math.cos(alpha), math.sin(alpha)]))
+
+
+def pose_from_point(p: Vec, local: np.ndarray, angle: Scalar) -> LinkPose:
+    """The pose of a link whose point ``local`` is at ``p`` and whose angle is ``angle``
+    (the angle is reported wrapped to [-π, π))."""
+    wrapped = Scalar(np.mod(angle.v + np.pi, 2.0 * np.pi) - np.pi, angle.d1, angle.d2)
+    return LinkPose(p - rotvec(angle, local), wrapped)
+
+
+def pose_from_two_points(p: Vec, p_local: np.ndarray, q: Vec, q_local: np.ndarray) -> LinkPose:
+    """The pose of a link whose points ``p_local`` and ``q_local`` are at ``p`` and ``q``."""
+    e = q_local - p_local
+    angle = angle_between_points(p, q).shifted(-math.atan2(e[1], e[0]))
+    return pose_from_point(p, p_local, angle)
+
+
+def ground_pose(n: int) -> LinkPose:
+    zero = np.zeros(n)
+    return LinkPose(constant(np.zeros(2), n), Scalar(zero, zero, zero))
+
+
+def link_shapes(mech: Mechanism) -> dict[str, LinkShape]:
+    shapes = {}
+    for link in mech.links:
+        xy = {p: np.asarray(mech.points[p], dtype=float) for p in link.points}
+        if link.name == GROUND:
+            shapes[link.name] = LinkShape(link.name, xy, np.zeros(2), 0.0)
+            continue
+        p0 = xy[link.points[0]]
+        if len(link.points) == 1:
+            shapes[link.name] = LinkShape(link.name, {link.points[0]: np.zeros(2)}, p0, 0.0)
+            continue
+        e = xy[link.points[1]] - p0
+        angle = math.atan2(e[1], e[0])
+        if link.length is not None:
+            local = {link.points[0]: np.zeros(2), link.points[1]: np.array([link.length, 0.0])}
+        else:
+            src = {p: np.asarray(v, dtype=float) for p, v in (link.shape or xy).items()}
+            s0 = src[link.points[0]]
+            es = src[link.points[1]] - s0
+            a = math.atan2(es[1], es[0])
+            c, s = math.cos(a), math.sin(a)
+            local = {p: np.array([c * (src[p] - s0)[0] + s * (src[p] - s0)[1],
+                                  -s * (src[p] - s0)[0] + c * (src[p] - s0)[1]]) for p in link.points}
+        shapes[link.name] = LinkShape(link.name, local, p0, angle)
+    return shapes
+
+
+def guide_shapes(mech: Mechanism, shapes: dict[str, LinkShape]) -> dict[str, GuideShape]:
+    out = {}
+    for pj in mech.prismatics:
+        g, s = shapes[pj.guide], shapes[pj.slider]
+        normal = np.array([-math.sin(pj.angle), math.cos(pj.angle)])
+        out[pj.name] = GuideShape(
+            name=pj.name,
+            slider=pj.slider,
+            guide=pj.guide,
+            base=g.local[pj.through] + pj.offset * normal,
+            alpha=pj.angle,
+            point=s.local[pj.point],
+            relative_angle=s.sketch_angle - g.sketch_angle,
+        )
+    return out
+
+
+def mass_properties(mech: Mechanism, shapes: dict[str, LinkShape], name: str) -> MassProperties | None:
+    """Explicit mass properties, or those of a uniform bar from its density, or None."""
+    link = mech.link(name)
+    if link.inertial is not None:
+        return link.inertial
+    if link.density is not None:
+        a, b = (shapes[name].local[p] for p in link.points)
+        length = float(np.hypot(*(b - a)))
+        mass = link.density * length
+        mid = 0.5 * (a + b)
+        return MassProperties(mass=mass, com=(float(mid[0]), float(mid[1])), inertia=mass * length**2 / 12.0)
+    return None

@@ -1,0 +1,180 @@
+"""Strict TOML loader: every table and key is checked; unknown keys are errors."""
+
+from __future__ import annotations
+
+import tomllib
+from pathlib import Path
+from typing import Any
+
+from .description import (
+    Drive,
+    Link,
+    LinkTorque,
+    MassProperties,
+    Mechanism,
+    PointForce,
+    Prismatic,
+    check_name,
+)
+from .errors import DescriptionError
+from .units import finite, parse_angle, vector2
+
+_TOP = {"mechanism", "points", "links", "prismatic", "drive", "force", "torque"}
+_MECH = {"name", "title", "gravity"}
+_LINK = {"points", "length", "inertial", "density", "shape"}
+_INERTIAL = {"mass", "com", "inertia"}
+_PRISMATIC = {"slider", "guide", "point", "through", "angle", "offset"}
+_DRIVE = {"joint", "omega", "epsilon", "range"}
+_FORCE = {"link", "point", "force", "stroke"}
+_TORQUE = {"link", "torque"}
+
+
+def _table(value: Any, where: str) -> dict:
+    if not isinstance(value, dict):
+        raise DescriptionError(where, f"must be a table, got {value!r}")
+    return value
+
+
+def _keys(table: dict, allowed: set[str], required: set[str], where: str) -> None:
+    for key in table:
+        if key not in allowed:
+            raise DescriptionError(f"{where}.{key}", f"unknown key; allowed keys: {sorted(allowed)}")
+    for key in sorted(required):
+        if key not in table:
+            raise DescriptionError(f"{where}.{key}", "is required")
+
+
+def _str(value: Any, where: str) -> str:
+    if not isinstance(value, str):
+        raise DescriptionError(where, f"must be a string, got {value!r}")
+    return value
+
+
+def load(path: str | Path) -> Mechanism:
+    """Read and validate a TOML description. Raises DescriptionError (also for a missing file)."""
+    path = Path(path)
+    if not path.is_file():
+        raise DescriptionError(str(path), "no such description file")
+    try:
+        data = tomllib.loads(path.read_text(encoding="utf-8"))
+    except tomllib.TOMLDecodeError as exc:
+        raise DescriptionError(str(path), f"not valid TOML: {exc}") from None
+    return from_dict(data)
+
+
+def from_dict(data: dict) -> Mechanism:
+    """Build a Mechanism from the parsed TOML structure."""
+    _keys(data, _TOP, {"mechanism", "points", "links", "drive"}, "description")
+    mech = _table(data["mechanism"], "mechanism")
+    _keys(mech, _MECH, {"name"}, "mechanism")
+    points = {
+        check_name(name, f"points.{name}"): vector2(xy, f"points.{name}")
+        for name, xy in _table(data["points"], "points").items()
+    }
+    links = tuple(_link(name, spec) for name, spec in _table(data["links"], "links").items())
+    prismatics = tuple(
+        _prismatic(name, spec) for name, spec in _table(data.get("prismatic", {}), "prismatic").items()
+    )
+    return Mechanism(
+        name=_str(mech["name"], "mechanism.name"),
+        title=_str(mech.get("title", ""), "mechanism.title"),
+        points=points,
+        links=links,
+        prismatics=prismatics,
+        drive=_drive(_table(data["drive"], "drive")),
+        gravity=vector2(mech.get("gravity", [0.0, 0.0]), "mechanism.gravity"),
+        forces=tuple(_force(i, f) for i, f in enumerate(_list(data.get("force", []), "force"))),
+        torques=tuple(_torque(i, t) for i, t in enumerate(_list(data.get("torque", []), "torque"))),
+    )
+
+
+def _list(value: Any, where: str) -> list:
+    if not isinstance(value, list):
+        raise DescriptionError(where, f"must be an array of tables ([[{where}]]), got {value!r}")
+    return value
+
+
+def _link(name: str, spec: Any) -> Link:
+    where = f"links.{name}"
+    spec = _table(spec, where)
+    _keys(spec, _LINK, {"points"}, where)
+    pts = spec["points"]
+    if not isinstance(pts, list):
+        raise DescriptionError(f"{where}.points", f"must be a list of point names, got {pts!r}")
+    inertial = None
+    if "inertial" in spec:
+        t = _table(spec["inertial"], f"{where}.inertial")
+        _keys(t, _INERTIAL, _INERTIAL, f"{where}.inertial")
+        inertial = MassProperties(
+            mass=finite(t["mass"], f"{where}.inertial.mass"),
+            com=vector2(t["com"], f"{where}.inertial.com"),
+            inertia=finite(t["inertia"], f"{where}.inertial.inertia"),
+        )
+    shape = None
+    if "shape" in spec:
+        shape = {p: vector2(xy, f"{where}.shape.{p}") for p, xy in _table(spec["shape"], f"{where}.shape").items()}
+    return Link(
+        name=name,
+        shape=shape,
+        points=tuple(_str(p, f"{where}.points[{i}]") for i, p in enumerate(pts)),
+        length=finite(spec["length"], f"{where}.length") if "length" in spec else None,
+        inertial=inertial,
+        density=finite(spec["density"], f"{where}.density") if "density" in spec else None,
+    )
+
+
+def _prismatic(name: str, spec: Any) -> Prismatic:
+    where = f"prismatic.{name}"
+    spec = _table(spec, where)
+    _keys(spec, _PRISMATIC, {"slider", "guide", "point", "through"}, where)
+    return Prismatic(
+        name=name,
+        slider=_str(spec["slider"], f"{where}.slider"),
+        guide=_str(spec["guide"], f"{where}.guide"),
+        point=_str(spec["point"], f"{where}.point"),
+        through=_str(spec["through"], f"{where}.through"),
+        angle=parse_angle(spec.get("angle", 0.0), f"{where}.angle"),
+        offset=finite(spec.get("offset", 0.0), f"{where}.offset"),
+    )
+
+
+def _drive(spec: dict) -> Drive:
+    _keys(spec, _DRIVE, {"joint", "omega"}, "drive")
+    start, stop = 0.0, None
+    if "range" in spec:
+        r = spec["range"]
+        if not isinstance(r, list) or len(r) != 2:
+            raise DescriptionError("drive.range", f"must be [from, to], got {r!r}")
+        start, stop = parse_angle(r[0], "drive.range[0]"), parse_angle(r[1], "drive.range[1]")
+    kwargs = {} if stop is None else {"start": start, "stop": stop}
+    return Drive(
+        joint=_str(spec["joint"], "drive.joint"),
+        omega=finite(spec["omega"], "drive.omega"),
+        epsilon=finite(spec.get("epsilon", 0.0), "drive.epsilon"),
+        **kwargs,
+    )
+
+
+def _force(i: int, spec: Any) -> PointForce:
+    where = f"force[{i}]"
+    spec = _table(spec, where)
+    _keys(spec, _FORCE, {"link", "point", "force"}, where)
+    stroke = None
+    if "stroke" in spec:
+        s = spec["stroke"]
+        if not isinstance(s, list) or len(s) != 2:
+            raise DescriptionError(f"{where}.stroke", f"must be [from, to], got {s!r}")
+        stroke = (parse_angle(s[0], f"{where}.stroke[0]"), parse_angle(s[1], f"{where}.stroke[1]"))
+    return PointForce(
+        link=_str(spec["link"], f"{where}.link"),
+        point=_str(spec["point"], f"{where}.point"),
+        force=vector2(spec["force"], f"{where}.force"),
+        stroke=stroke,
+    )
+
+
+def _torque(i: int, spec: Any) -> LinkTorque:
+    where = f"torque[{i}]"
+    spec = _table(spec, where)
+    _keys(spec, _TORQUE, _TORQUE, where)
+    return LinkTorque(link=_str(spec["link"], f"{where}.link"), torque=finite(spec["torque"], f"{where}.torque"))
