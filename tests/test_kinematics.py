@@ -1,0 +1,143 @@
+"""Closed-form kinematics: constraints, transfer functions against finite differences, seeds."""
+
+import math
+
+import numpy as np
+import pytest
+
+from conftest import MODELS
+from linkgen import AssemblyError, GroupKind, assemble, load, solve
+from linkgen.cli import crank_grid
+
+# Positions must satisfy every constraint equation to this [m]: a few ulps of metre-sized
+# coordinates after ~20 floating-point operations per group.
+CONSTRAINT_TOL = 1e-12
+# Central differences with step H: truncation H²/6·|f'''| ≈ 2e-11·|f'''| and rounding
+# ε·|f|/H ≈ 2e-11·|f|; 1e-7 of the quantity's peak leaves room for |f'''| up to ~1e3·peak
+# near the dead centres of the tangent mechanism, and still catches a wrong sign or factor.
+H = 1e-5
+FD_REL_TOL = 1e-7
+
+
+def _grid(mech, n=721):
+    phi = crank_grid(mech, n)
+    if mech.drive.stop - mech.drive.start < 2 * math.pi - 1e-12:  # keep ±H inside the range
+        phi = np.clip(phi, mech.drive.start + 2 * H, mech.drive.stop - 2 * H)
+    return phi
+
+
+def test_every_group_kind_has_a_model():
+    kinds = {g.kind for p in MODELS for g in assemble(load(p)).structure.groups}
+    assert kinds == set(GroupKind)
+
+
+def test_constraints_hold_over_the_drive_range(model_path):
+    mech = load(model_path)
+    asm = assemble(mech)
+    kin = solve(asm, _grid(mech))
+    # revolutes: the point is the same seen from both links
+    for j in mech.revolutes:
+        a, b = (kin.point(l, asm.shapes[l].local[j.point]).p for l in j.links)
+        assert np.abs(a - b).max() < CONSTRAINT_TOL, j.name
+    # lengths given in the description
+    for link in mech.links:
+        if link.length is not None:
+            p, q = (kin.points[n].p for n in link.points)
+            assert np.abs(np.hypot(*(q - p).T) - link.length).max() < CONSTRAINT_TOL, link.name
+    # prismatics: the slider point lies on the guide line, relative angle constant
+    for pj in mech.prismatics:
+        g = asm.guides[pj.name]
+        guide = kin.links[pj.guide]
+        base, u = guide.point(g.base).p, guide.direction(g.alpha).p
+        r = kin.points[pj.point].p - base
+        assert np.abs(r[:, 0] * u[:, 1] - r[:, 1] * u[:, 0]).max() < CONSTRAINT_TOL, pj.name
+        rel = np.angle(np.exp(1j * (kin.links[pj.slider].angle.v - guide.angle.v - g.relative_angle)))
+        assert np.abs(rel).max() < CONSTRAINT_TOL, pj.name
+
+
+def _fd_errors(mech):
+    asm = assemble(mech)
+    phi = _grid(mech)
+    k0, kp, km = solve(asm, phi), solve(asm, phi + H), solve(asm, phi - H)
+    out = {}
+    series = {f"points.{n}": (lambda k, n=n: (k.points[n].p, k.points[n].d1, k.points[n].d2)) for n in k0.points}
+    series |= {f"links.{n}": (lambda k, n=n: (k.links[n].angle.v, k.links[n].angle.d1, k.links[n].angle.d2)) for n in k0.links}
+    series |= {f"sliders.{n}": (lambda k, n=n: (k.sliders[n].v, k.sliders[n].d1, k.sliders[n].d2)) for n in k0.sliders}
+    for name, get in series.items():
+        (x0, d1, d2), (xp, d1p, _), (xm, d1m, _) = get(k0), get(kp), get(km)
+        dx = xp - xm
+        if name.startswith("links."):
+            dx = np.angle(np.exp(1j * dx))
+        fd1, fd2 = dx / (2 * H), (d1p - d1m) / (2 * H)
+        e1 = np.abs(fd1 - d1).max() / max(np.abs(d1).max(), 1e-300) if np.abs(d1).max() > 0 else np.abs(fd1).max()
+        e2 = np.abs(fd2 - d2).max() / max(np.abs(d2).max(), 1e-300) if np.abs(d2).max() > 0 else np.abs(fd2).max()
+        out[name] = (e1, e2)
+    return asm, out
+
+
+def test_transfer_functions_match_finite_differences(model_path):
+    mech = load(model_path)
+    _, errs = _fd_errors(mech)
+    worst = {n: e for n, e in errs.items() if max(e) >= FD_REL_TOL}
+    assert not worst, worst
+
+
+def test_seed_002_slider_position_at_pi():
+    # seed 002, eq. (3)/(27): x_B(π) = (-1 + √3)/50 ≈ 0.014641 m
+    kin = solve(load(MODELS[0].parent / "slider_crank_offset.toml"), np.array([math.pi]))
+    assert kin.points["B"].p[0, 0] == pytest.approx((-1 + math.sqrt(3)) / 50, abs=1e-15)
+    assert kin.points["B"].p[0, 1] == pytest.approx(0.005, abs=1e-15)
+
+
+def test_seed_002_slider_derivative_from_the_mechanism_not_the_print():
+    # The correct x_B' = -l1·sinφ - l1·cosφ·(l1·sinφ - e1)/sqrt(l2² - (l1·sinφ - e1)²), derived by hand
+    # from B_x; seed 002's eq. (11) writes it so but its eq. (7) and (19) are misprinted.
+    l1, l2, e1 = 0.02, 0.035, 0.005
+    phi = np.linspace(0.1, 6.2, 50)
+    root = np.sqrt(l2**2 - (l1 * np.sin(phi) - e1) ** 2)
+    expected = -l1 * np.sin(phi) - l1 * np.cos(phi) * (l1 * np.sin(phi) - e1) / root
+    kin = solve(load(MODELS[0].parent / "slider_crank_offset.toml"), phi)
+    np.testing.assert_allclose(kin.points["B"].d1[:, 0], expected, rtol=0, atol=1e-15)
+
+
+def test_scotch_yoke_is_a_cosine():
+    mech = load(MODELS[0].parent / "scotch_yoke.toml")
+    phi = np.linspace(0, 2 * np.pi, 100)
+    kin = solve(mech, phi)
+    np.testing.assert_allclose(kin.sliders["yoke"].v, 0.1 * np.cos(phi), atol=1e-15)
+    np.testing.assert_allclose(kin.sliders["yoke"].d2, -0.1 * np.cos(phi), atol=1e-15)
+
+
+def test_tangent_mechanism_is_h_over_tan():
+    kin = solve(load(MODELS[0].parent / "tangent_prp.toml"), np.radians([45.0, 60.0, 120.0]))
+    np.testing.assert_allclose(kin.points["B"].p[:, 0], 0.2 / np.tan(np.radians([45.0, 60.0, 120.0])), atol=1e-15)
+    # x = h·cot φ: x' = -h/sin²φ
+    np.testing.assert_allclose(kin.points["B"].d1[:, 0], -0.2 / np.sin(np.radians([45.0, 60.0, 120.0])) ** 2,
+                               rtol=1e-14)
+
+
+def test_assembly_failure_names_the_angle_ranges():
+    mech = load(MODELS[0].parent / "seven_link.toml")
+    phi = np.radians(np.arange(0.0, 360.0, 1.0))
+    with pytest.raises(AssemblyError) as info:
+        solve(mech, phi)
+    assert info.value.group == "II(6,7) RRR [coupler, lever]"
+    # by hand: B reaches E only while |BF| <= BE + EF = 0.8413 m, i.e. for φ in about -76.3°..60.9°
+    assert [(round(math.degrees(lo), 9), round(math.degrees(hi), 9)) for lo, hi in info.value.ranges] == [(61.0, 283.0)]
+    assert str(info.value).startswith("group II(6,7) RRR [coupler, lever] cannot be assembled at crank angles "
+                                      "61.000°..283.000°: the two links cannot reach each other")
+
+
+def test_near_singular_positions_are_flagged():
+    # The tangent mechanism's slot turns parallel to the guide at φ → 0: sin(φ) is the denominator.
+    mech = load(MODELS[0].parent / "tangent_prp.toml")
+    kin = solve(mech, np.array([5e-4, 0.5]))
+    (mask,) = kin.near_singular.values()
+    assert mask.tolist() == [True, False]
+
+
+def test_exact_singularity_is_an_error_not_nan():
+    from linkgen import SingularityError
+
+    with pytest.raises(SingularityError, match=r"singular .* at crank angles 0.000°"):
+        solve(load(MODELS[0].parent / "tangent_prp.toml"), np.array([0.0]))
