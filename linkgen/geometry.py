@@ -139,3 +139,26 @@ def mass_properties(mech: Mechanism, shapes: dict[str, LinkShape], name: str) ->
         mid = 0.5 * (a + b)
         return MassProperties(mass=mass, com=(float(mid[0]), float(mid[1])), inertia=mass * length**2 / 12.0)
     return None
+
+
+# Links without mass properties get these, on both sides (MJCF and closed form), so that
+# MuJoCo has a positive mass everywhere: a uniform bar of DEFAULT_DENSITY over the link's
+# two first points, or a small block for one-point links.
+DEFAULT_DENSITY = 1.0  # kg/m
+DEFAULT_BLOCK_MASS = 0.1  # kg
+DEFAULT_BLOCK_INERTIA = 1e-4  # kg·m²
+
+
+def effective_mass_properties(mech: Mechanism, shapes: dict[str, LinkShape], name: str) -> MassProperties:
+    """The description's mass properties, or the stated defaults above."""
+    found = mass_properties(mech, shapes, name)
+    if found is not None:
+        return found
+    link = mech.link(name)
+    if len(link.points) == 1:
+        return MassProperties(DEFAULT_BLOCK_MASS, (0.0, 0.0), DEFAULT_BLOCK_INERTIA)
+    a, b = (shapes[name].local[p] for p in link.points[:2])
+    length = float(np.hypot(*(b - a)))
+    mass = DEFAULT_DENSITY * length
+    mid = 0.5 * (a + b)
+    return MassProperties(mass, (float(mid[0]), float(mid[1])), mass * length**2 / 12.0)

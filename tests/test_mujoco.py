@@ -1,0 +1,89 @@
+"""MJCF generation and MuJoCo cross-validation with real MuJoCo (no mocks)."""
+
+import json
+
+import mujoco
+import numpy as np
+import pytest
+
+from conftest import MODELS, ROOT
+from linkgen import SimulationError, assemble, load
+from linkgen.cli import main
+from linkgen.compare import REL_TOL, VIOLATION_TOL, compare
+from linkgen.mjcf import write_mjcf
+from linkgen.simulate import simulate
+
+# Constraints at qpos0: the reference pose is the closed-form assembly, so only rounding of
+# the %.17g-printed body placements remains.
+QPOS0_TOL = 1e-12
+# seven_link misses the 1e-6 target (7e-6 relative on the lever's angular acceleration): the
+# connect constraints' steady deflection under load; open in the MJCF issue.
+KNOWN_MISSES = {"seven_link"}
+
+
+def test_committed_xml_equals_the_writer_output(model_path):
+    committed = model_path.with_suffix(".xml")
+    assert committed.is_file(), f"missing {committed.name}: run `linkgen build models/`"
+    assert committed.read_text() == write_mjcf(assemble(load(model_path))), (
+        f"{committed.name} is stale: regenerate with `linkgen build models/`")
+
+
+def test_compiles_with_constraints_satisfied_at_qpos0(model_path):
+    m = mujoco.MjModel.from_xml_string(write_mjcf(assemble(load(model_path))))
+    d = mujoco.MjData(m)
+    mujoco.mj_forward(m, d)
+    assert d.ne > 0
+    assert np.abs(d.efc_pos[: d.ne]).max() < QPOS0_TOL
+    assert m.site("A").id >= 0 and m.joint(load(model_path).drive.joint).type == mujoco.mjtJoint.mjJNT_HINGE
+
+
+@pytest.mark.parametrize("path", [
+    pytest.param(p, id=p.stem, marks=[pytest.mark.xfail(strict=True, reason="open: 7e-6 > 1e-6")]
+                 if p.stem in KNOWN_MISSES else []) for p in MODELS])
+def test_mujoco_matches_the_closed_form(path):
+    asm = assemble(load(path))
+    cmp = compare(asm, simulate(asm))
+    bad = {k: q.relative_error for k, q in cmp.quantities.items() if not q.ok}
+    assert not bad, bad
+    assert cmp.quantities["constraint_violation"].max_abs_error < VIOLATION_TOL
+    assert all(q.tolerance == REL_TOL for k, q in cmp.quantities.items() if k != "constraint_violation")
+
+
+def test_validate_json_shape(capsys):
+    assert main(["validate", str(ROOT / "models" / "fourbar.toml"), "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["model"] == "fourbar" and out["ok"] is True
+    q = out["quantities"]["points.B.velocity"]
+    assert set(q) == {"max_abs_error", "peak", "relative_error", "tolerance", "ok"}
+    assert "links.rocker.angular_acceleration" in out["quantities"] and "constraint_violation" in out["quantities"]
+
+
+def test_report_is_written(tmp_path):
+    main(["validate", str(ROOT / "models"), "--report", str(tmp_path)])
+    text = (tmp_path / "README.md").read_text()
+    assert "| fourbar | yes |" in text
+    assert (tmp_path / "fourbar.png").stat().st_size > 10_000
+
+
+def test_constant_angular_acceleration_is_followed():
+    asm = assemble(load(ROOT / "models" / "fourbar.toml"))
+    run = simulate(asm, epsilon=5.0)
+    eps = run.samples.crank[2]
+    assert np.abs(eps - 5.0).max() < 0.05  # the rotor inertia (armature) keeps ε within 1%
+    cmp = compare(asm, run)
+    positions = {k: q for k, q in cmp.quantities.items() if k.endswith((".position", ".angle"))}
+    assert all(q.ok for q in positions.values()), positions
+
+
+def test_coarse_timestep_is_an_error():
+    asm = assemble(load(ROOT / "models" / "fourbar.toml"))
+    with pytest.raises(SimulationError, match=r"a loop-closing constraint opened by .* m \(limit 1e-06 m\) at step "
+                                              r"\d+ \(t = .* s\); use a smaller timestep"):
+        simulate(asm, timestep=0.01)
+
+
+def test_cli_errors(tmp_path, capsys):
+    assert main(["build", str(tmp_path / "none.toml")]) == 2
+    assert "no such description file" in capsys.readouterr().err
+    assert main(["simulate", str(ROOT / "models" / "fourbar.toml"), "--omega", "-1"]) == 2
+    assert "omega must be > 0 rad/s" in capsys.readouterr().err
