@@ -111,12 +111,12 @@ def cmd_analyze(args) -> int:
                     else:
                         cols.append(f"{n}.{qname}")
                         data.append(arr)
-        out = open(args.csv, "w", newline="") if args.csv else sys.stdout
-        with out if args.csv else _nullctx(out):
-            w = csv.writer(out)
-            w.writerow(cols)
-            for row in np.column_stack(data):
-                w.writerow([repr(float(x)) for x in row])
+        rows = [cols] + [[repr(float(x)) for x in row] for row in np.column_stack(data)]
+        if args.csv:
+            with open(args.csv, "w", newline="") as out:
+                csv.writer(out).writerows(rows)
+        else:
+            csv.writer(sys.stdout).writerows(rows)
         if args.csv:
             print(f"wrote {len(phi)} crank angles × {len(cols)} columns to {args.csv}", file=sys.stderr)
         return 0
@@ -139,17 +139,6 @@ def cmd_analyze(args) -> int:
         for n, q in result["sliders"].items():
             print(f"{n:<10}{q['displacement']:>14.6g}{q['velocity']:>14.6g}{q['acceleration']:>14.6g}")
     return 0
-
-
-class _nullctx:
-    def __init__(self, obj):
-        self.obj = obj
-
-    def __enter__(self):
-        return self.obj
-
-    def __exit__(self, *exc):
-        return False
 
 
 def build_parser() -> argparse.ArgumentParser:

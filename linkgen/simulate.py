@@ -62,7 +62,6 @@ def build_model(asm: Assembly, timestep: float = TIMESTEP) -> mujoco.MjModel:
 
 def initial_state(asm: Assembly, model: mujoco.MjModel, phi0: float, omega: float) -> tuple[np.ndarray, np.ndarray]:
     """qpos, qvel putting the mechanism at crank angle φ0 moving at ω (closed-form assembly)."""
-    mech = asm.mechanism
     kin = solve(asm, np.array([phi0, asm.sketch_phi]))
     qpos, qvel = model.qpos0.copy(), np.zeros(model.nv)
     for parent, child, pair in spanning_tree(asm).tree:
@@ -76,7 +75,6 @@ def initial_state(asm: Assembly, model: mujoco.MjModel, phi0: float, omega: floa
             s = kin.sliders[pair.name]
             qpos[j.qposadr[0]] = sign * (s.v[0] - s.v[1])
             qvel[j.dofadr[0]] = sign * s.d1[0] * omega
-    del mech
     return qpos, qvel
 
 
@@ -210,8 +208,7 @@ def _sample(asm: Assembly, model, time, qpos, qvel, eps: float, samples: int) ->
         crank[k] = (out_lnk[mech.crank][k][0], d.qvel[crank_j.dofadr[0]], d.qacc[crank_j.dofadr[0]])
         viol[k] = np.abs(d.efc_pos[: d.ne]).max() if d.ne else 0.0
         torque[k] = d.actuator("drive").force[0] - ARMATURE * d.qacc[crank_j.dofadr[0]]
-    unwrapped = np.unwrap(crank[:, 0])
-    phi = unwrapped + (mech.drive.start - unwrapped[0] + math.pi) // (2 * math.pi) * 0  # keep atan2's branch
+    phi = np.unwrap(crank[:, 0])  # continuous over the run; the closed form is 2π-periodic
     return Samples(idx, time[idx], (phi, crank[:, 1], crank[:, 2]),
                    {p: tuple(a[:, j] for j in range(3)) for p, a in out_pts.items()},
                    {l: tuple(a[:, j] for j in range(3)) for l, a in out_lnk.items()},
