@@ -1,4 +1,4 @@
-"""Command-line interface: ``linkgen structure|analyze|build|simulate|validate``.
+"""Command-line interface: ``linkgen structure|analyze|forces|build|simulate|validate``.
 
 User mistakes (LinkgenError, missing files, bad arguments) print one line to stderr and
 exit with status 2; no traceback.
@@ -159,8 +159,9 @@ def build_parser() -> argparse.ArgumentParser:
     a.add_argument("--csv", type=Path, help="write the samples as CSV to this file")
     a.set_defaults(func=cmd_analyze)
 
-    from . import cli_mujoco
+    from . import cli_forces, cli_mujoco
 
+    cli_forces.add_command(sub)
     cli_mujoco.add_commands(sub)
     return p
 

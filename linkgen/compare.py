@@ -8,12 +8,18 @@ from dataclasses import dataclass
 import numpy as np
 
 from .kinematics import Assembly, Motion, solve
-from .simulate import Run
+from .kinetostatics import Forces, forces
+from .mjforces import ForceSamples, inverse_forces
+from .simulate import Run, joint_state
 
 # Every kinematic quantity within this fraction of its peak magnitude (issue 3).
 REL_TOL = 1e-6
 # Loop-closure gap allowed at every step [m] (issue 3).
 VIOLATION_TOL = 1e-8
+# Forces (issue 4): the forward run within this of the peak, like the kinematics it rests on;
+# the inverse route (closed-form state, no integration) within this, a few hundred roundings.
+FORCE_TOL = 1e-6
+INVERSE_TOL = 1e-10
 # A quantity's peak is at least this fraction of the mechanism's natural scale for its kind
 # (size, size·ω, size·ω², π, ω, ω²), so that an identically-zero quantity is judged absolutely.
 PEAK_FLOOR = 1e-3
@@ -42,6 +48,8 @@ class Comparison:
     quantities: dict[str, QuantityError]
     closed_form: Motion
     run: Run
+    closed_forces: Forces
+    inverse: ForceSamples
 
     @property
     def ok(self) -> bool:
@@ -90,6 +98,48 @@ def compare(asm: Assembly, run: Run) -> Comparison:
     for n, mj in s.sliders.items():
         for j, q in enumerate(("displacement", "velocity", "acceleration")):
             add(f"sliders.{n}.{q}", {"displacement": "position"}.get(q, q), mo.sliders[n][j], mj[j])
+    cf = forces(asm, phi, omega, epsilon)
+    inv = _inverse(asm, run)
+    _force_errors(asm, cf, s.forces, "", FORCE_TOL, out)
+    _force_errors(asm, cf, inv, "inverse.", INVERSE_TOL, out)
+    j = cf.reduced.inertia
+    out["reduced_inertia"] = QuantityError(float(np.abs(s.reduced_inertia - j).max()), float(np.abs(j).max()),
+                                           FORCE_TOL)
     gap = float(max(run.violation.max(), s.violation.max()))
     out["constraint_violation"] = QuantityError(gap, 1.0, VIOLATION_TOL)  # judged in metres: peak 1 m
-    return Comparison(asm.mechanism.name, out, mo, run)
+    return Comparison(asm.mechanism.name, out, mo, run, cf, inv)
+
+
+def _inverse(asm: Assembly, run: Run) -> ForceSamples:
+    """The inverse-dynamics route at the closed-form state of every sampled (φ, ω, ε)."""
+    import mujoco
+
+    d = mujoco.MjData(run.model)
+    states = []
+    for phi, w, e in zip(*run.samples.crank):
+        q, v, a = joint_state(asm, run.model, float(phi), float(w), float(e))
+        states.append(inverse_forces(asm, run.model, d, float(phi), q, v, a))
+    return ForceSamples.stack(states)
+
+
+def _force_errors(asm: Assembly, cf: Forces, mj: ForceSamples, prefix: str, tol: float,
+                  out: dict[str, QuantityError]) -> None:
+    """Errors of every force quantity; peaks floored at PEAK_FLOOR of the largest reaction
+    (forces) or of that times the mechanism's size (torques, moments)."""
+    xy = np.array(list(asm.mechanism.points.values()))
+    size = float(np.hypot(*(xy.max(axis=0) - xy.min(axis=0))))
+    force_scale = max([float(np.linalg.norm(r, axis=1).max()) for r in cf.reactions.values()]
+                      + [float(np.abs(n).max()) for n in cf.normal_force.values()])
+    f_floor, m_floor = PEAK_FLOOR * force_scale, PEAK_FLOOR * force_scale * size
+
+    def add(name, ours, theirs, floor):
+        err = np.abs(theirs - ours) if ours.ndim == 1 else np.linalg.norm(theirs - ours, axis=1)
+        mag = np.abs(ours) if ours.ndim == 1 else np.linalg.norm(ours, axis=1)
+        out[prefix + name] = QuantityError(float(err.max()), max(float(mag.max()), floor), tol)
+
+    add("balancing_torque", cf.balancing_torque, mj.balancing_torque, m_floor)
+    for k, r in cf.reactions.items():
+        add(f"reactions.{k}.force", r, mj.reactions[k], f_floor)
+    for k in cf.normal_force:
+        add(f"prismatic.{k}.normal_force", cf.normal_force[k], mj.normal_force[k], f_floor)
+        add(f"prismatic.{k}.moment", cf.moment[k], mj.moment[k], m_floor)

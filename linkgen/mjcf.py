@@ -20,14 +20,18 @@ from .geometry import effective_mass_properties
 from .kinematics import Assembly, solve
 from .structure import Pair, pairs_of
 
-# Integration and constraint settings (design brief, "MuJoCo modelling notes", measured on
-# mujoco 4.0 with the four-bar): RK4 reports the end-of-step velocity (Euler/implicitfast lag
-# by O(dt)); dt = 1e-4 s with Newton at tolerance 0 keeps the closed loops within ~1e-9 m.
-TIMESTEP = 1e-4  # s
+# Integration and constraint settings (design brief, "MuJoCo modelling notes"; re-measured on
+# mujoco 4.0 with the loaded models of issue 4). RK4 reports the end-of-step velocity
+# (Euler/implicitfast lag by O(dt)); Newton at tolerance 0.
+# A connect is soft: its steady gap is about (R/A)·a·τ², with R/A = 1e-4 at MuJoCo's largest
+# impedance (0.9999, solimp cannot go higher) and a the loop's acceleration demand. With
+# τ = 2 ms the loaded seven-link opens by 3.4e-8 m (target 1e-8); τ = 1 ms gives 8.5e-9 m.
+# RK4 then needs dt ≤ τ/20: at dt = 1e-4 the four-bar's accelerations are off by 3.3e-6
+# relative, at dt = 5e-5 by 1.9e-7 (every bundled model ≤ 8e-7).
+TIMESTEP = 5e-5  # s
 SOLVER_ITERATIONS = 50
-# connect: time constant 0.002 s (20 steps, stable under RK4) with damping ratio 1, and an
-# impedance of 0.9999 so that the constraint is nearly hard.
-CONNECT_SOLREF = "0.002 1"
+# connect: time constant 1 ms with damping ratio 1, impedance 0.9999 (nearly hard).
+CONNECT_SOLREF = "0.001 1"
 CONNECT_SOLIMP = "0.9999 0.9999 0.001"
 # The crank is driven by a very large rotor inertia (joint armature) started at ω: the
 # mechanism's reactions change its speed by ~1e-6 relative, and a motor torque armature·ε

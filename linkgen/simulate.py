@@ -13,11 +13,17 @@ from mujoco import rollout
 from .errors import SimulationError
 from .kinematics import Assembly, solve
 from .mjcf import ARMATURE, TIMESTEP, site_name, spanning_tree, write_mjcf
+from .mjforces import ForceSamples, apply_loads, forward_forces, has_loads, load_schedule
 
 # A run whose loop-closure gap exceeds this at any step is an error, not a result [m]:
 # 100× the accuracy target of 1e-8 m, so a result is reported (and judged) up to there.
 VIOLATION_LIMIT = 1e-6
 WARMUP_FRACTION = 0.05  # of the run's steps, excluded from comparisons
+# A load that switches on or off (a stroke's ends) is a step the soft loop closures answer
+# with a transient of a few time constants (1 ms, mjcf.CONNECT_SOLREF): right after a switch the
+# four-bar's accelerations are off by 1e-6, 2° of crank later by 1e-7. Samples this long after
+# a switch are left out of comparisons, like the warm-up.
+SETTLE_TIME = 0.005  # s
 
 
 @dataclass(frozen=True)
@@ -26,7 +32,9 @@ class Samples:
 
     ``crank`` = (φ, ω, ε) each (m,); ``points[name]`` = (pos, vel, acc) each (m, 2);
     ``links[name]`` = (angle, ang. velocity, ang. acceleration) each (m,);
-    ``sliders[name]`` = (s, v, a) each (m,); ``violation`` (m,) [m]; ``drive_torque`` (m,) [N·m].
+    ``sliders[name]`` = (s, v, a) each (m,); ``violation`` (m,) [m]; ``drive_torque`` (m,) [N·m];
+    ``forces``: joint reactions and the balancing torque (forward route, see ``linkgen.mjforces``);
+    ``reduced_inertia`` (m,) [kg·m²]: q̇ᵀ·M·q̇ / ω² less the rotor's armature (kinetic energy route).
     """
 
     step: np.ndarray
@@ -37,6 +45,8 @@ class Samples:
     sliders: dict
     violation: np.ndarray
     drive_torque: np.ndarray
+    forces: ForceSamples
+    reduced_inertia: np.ndarray
 
 
 @dataclass(frozen=True)
@@ -62,20 +72,30 @@ def build_model(asm: Assembly, timestep: float = TIMESTEP) -> mujoco.MjModel:
 
 def initial_state(asm: Assembly, model: mujoco.MjModel, phi0: float, omega: float) -> tuple[np.ndarray, np.ndarray]:
     """qpos, qvel putting the mechanism at crank angle φ0 moving at ω (closed-form assembly)."""
-    kin = solve(asm, np.array([phi0, asm.sketch_phi]))
-    qpos, qvel = model.qpos0.copy(), np.zeros(model.nv)
+    qpos, qvel, _ = joint_state(asm, model, phi0, omega, 0.0)
+    return qpos, qvel
+
+
+def joint_state(asm: Assembly, model: mujoco.MjModel, phi: float, omega: float,
+                epsilon: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The model's qpos (nq,), qvel (nv,) and qacc (nv,) from the closed form at crank angle
+    φ [rad], speed ω [rad/s] and acceleration ε [rad/s²]."""
+    kin = solve(asm, np.array([phi, asm.sketch_phi]))
+    qpos, qvel, qacc = model.qpos0.copy(), np.zeros(model.nv), np.zeros(model.nv)
     for parent, child, pair in spanning_tree(asm).tree:
         j = model.joint(pair.name)
         if pair.kind == "R":
-            rel = kin.links[child].angle.v - kin.links[parent].angle.v
+            a, b = kin.links[child].angle, kin.links[parent].angle
+            rel, d1, d2 = a.v - b.v, a.d1[0] - b.d1[0], a.d2[0] - b.d2[0]
             qpos[j.qposadr[0]] = math.remainder(rel[0] - rel[1], 2 * math.pi)
-            qvel[j.dofadr[0]] = (kin.links[child].angle.d1[0] - kin.links[parent].angle.d1[0]) * omega
         else:
             sign = 1.0 if child == asm.guides[pair.name].slider else -1.0
             s = kin.sliders[pair.name]
             qpos[j.qposadr[0]] = sign * (s.v[0] - s.v[1])
-            qvel[j.dofadr[0]] = sign * s.d1[0] * omega
-    return qpos, qvel
+            d1, d2 = sign * s.d1[0], sign * s.d2[0]
+        qvel[j.dofadr[0]] = d1 * omega
+        qacc[j.dofadr[0]] = d2 * omega * omega + d1 * epsilon
+    return qpos, qvel, qacc
 
 
 def simulate(asm: Assembly, *, revolutions: float = 1.0, omega: float | None = None,
@@ -114,7 +134,17 @@ def simulate_batch(asm: Assembly, *, omegas, revolutions: float = 1.0, epsilon: 
         d.time = 0.0
         mujoco.mj_getState(model, d, init[i], mujoco.mjtState.mjSTATE_FULLPHYSICS)
     ctrl = np.full((len(omegas), 1, model.nu), ARMATURE * eps)
-    state, sensordata = rollout.rollout(model, datas, init, ctrl, nstep=nstep)
+    spec = mujoco.mjtState.mjSTATE_CTRL
+    switches = [np.zeros(0, dtype=int) for _ in omegas]
+    if has_loads(asm):  # external loads as per-step xfrc_applied at the crank angle expected then
+        t = np.arange(nstep) * timestep
+        phis = [mech.drive.start + w * t + 0.5 * eps * t * t for w in omegas]
+        xfrc = np.stack([load_schedule(asm, model, p) for p in phis])
+        switches = [np.flatnonzero(np.any(np.diff(x, axis=0) != 0.0, axis=1) & _stroke_steps(asm, p)) + 1
+                    for x, p in zip(xfrc, phis)]
+        ctrl = np.concatenate([np.broadcast_to(ctrl, (len(omegas), nstep, model.nu)), xfrc], axis=2)
+        spec |= mujoco.mjtState.mjSTATE_XFRC_APPLIED
+    state, sensordata = rollout.rollout(model, datas, init, ctrl, control_spec=spec, nstep=nstep)
     runs = []
     for i, w in enumerate(omegas):
         steps = int(math.ceil(durations[i] / timestep))
@@ -123,7 +153,8 @@ def simulate_batch(asm: Assembly, *, omegas, revolutions: float = 1.0, epsilon: 
         qvel = state[i, :steps, 1 + model.nq:1 + model.nq + model.nv]
         gap = _closure_gap(asm, model, sensordata[i, :steps])
         _check(time, qpos, qvel, gap)
-        runs.append(Run(model, time, qpos, qvel, gap, _sample(asm, model, time, qpos, qvel, eps, samples)))
+        runs.append(Run(model, time, qpos, qvel, gap, _sample(asm, model, time, qpos, qvel, eps, samples,
+                                                                        switches[i])))
     for d in datas:
         for w in d.warning:
             if w.number:
@@ -166,10 +197,24 @@ def _check(time, qpos, qvel, gap) -> None:
         )
 
 
-def _sample(asm: Assembly, model, time, qpos, qvel, eps: float, samples: int) -> Samples:
+def _stroke_steps(asm: Assembly, phi: np.ndarray) -> np.ndarray:
+    """(n-1,) True between steps where some stroke-limited force switches on or off."""
+    from .loads import stroke_active
+
+    out = np.zeros(max(phi.shape[0] - 1, 0), dtype=bool)
+    for f in asm.mechanism.forces:
+        if f.stroke is not None:
+            on = stroke_active(f, phi)
+            out |= on[1:] != on[:-1]
+    return out
+
+
+def _sample(asm: Assembly, model, time, qpos, qvel, eps: float, samples: int, switches: np.ndarray) -> Samples:
     mech = asm.mechanism
     first = int(len(time) * WARMUP_FRACTION)
     idx = np.unique(np.linspace(first, len(time) - 1, samples).astype(int))
+    for k in switches:  # leave out the transient after a load step (SETTLE_TIME)
+        idx = idx[(idx < k) | (time[idx] > time[min(k, len(time) - 1)] + SETTLE_TIME)]
     d = mujoco.MjData(model)
     crank_j = model.joint(mech.drive.joint)
     g = np.array(mech.gravity)
@@ -181,11 +226,19 @@ def _sample(asm: Assembly, model, time, qpos, qvel, eps: float, samples: int) ->
     tree = spanning_tree(asm)
     ref = solve(asm, np.array([asm.sketch_phi]))
     r6 = np.zeros(6)
+    states, mv, inertia = [], np.zeros(model.nv), np.zeros(len(idx))
     for k, i in enumerate(idx):
         d.qpos[:], d.qvel[:], d.time = qpos[i], qvel[i], time[i]
         d.ctrl[:] = ARMATURE * eps
+        mujoco.mj_kinematics(model, d)
+        mujoco.mj_comPos(model, d)
+        apply_loads(asm, model, d, math.atan2(d.body(mech.crank).xmat[3], d.body(mech.crank).xmat[0]))
         mujoco.mj_forward(model, d)
         mujoco.mj_rnePostConstraint(model, d)
+        states.append(forward_forces(asm, model, d))
+        mujoco.mj_mulM(model, d, mv, d.qvel)
+        w = d.qvel[crank_j.dofadr[0]]
+        inertia[k] = float(d.qvel @ mv) / (w * w) - ARMATURE
         for p in out_pts:
             sid = model.site(p).id
             mujoco.mj_objectVelocity(model, d, mujoco.mjtObj.mjOBJ_SITE, sid, r6, 0)
@@ -213,7 +266,7 @@ def _sample(asm: Assembly, model, time, qpos, qvel, eps: float, samples: int) ->
                    {p: tuple(a[:, j] for j in range(3)) for p, a in out_pts.items()},
                    {l: tuple(a[:, j] for j in range(3)) for l, a in out_lnk.items()},
                    {n: tuple(a[:, j] for j in range(3)) for n, a in out_sld.items()},
-                   viol, torque)
+                   viol, torque, ForceSamples.stack(states), inertia)
 
 
 def _moving_points(mech) -> list[str]:

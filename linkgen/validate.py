@@ -166,6 +166,13 @@ def _check_loads(m: Mechanism) -> None:
         if f.stroke is not None:
             _finite(f.stroke[0], f"{where}.stroke[0]")
             _finite(f.stroke[1], f"{where}.stroke[1]")
+            width = f.stroke[1] - f.stroke[0]
+            if not 0.0 < width <= 2 * math.pi + 1e-12:
+                raise DescriptionError(
+                    f"{where}.stroke",
+                    f"must be [from, to] crank angles with from < to <= from + 360deg, "
+                    f"got [{f.stroke[0]!r}, {f.stroke[1]!r}] rad",
+                )
     for i, t in enumerate(m.torques):
         if t.link not in m.link_names:
             raise DescriptionError(f"torque[{i}].link", f"unknown link {t.link!r}; known links: {list(m.link_names)}")

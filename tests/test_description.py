@@ -74,6 +74,14 @@ def test_fourbar_loads(tmp_path):
          "points.B: the sketch puts it at (1.0143, -0.3) m but link 'coupler' assembles it at (1.01429, -0.699854) m "
          "on the nearest branch, 0.4 m away (allowed 0.0212 m = 0.02 of the sketch's size); correct the sketch or "
          "the link lengths"),
+        (("omega = 1.0", 'omega = 1.0\n[[force]]\nlink = "rocker"\npoint = "A"\nforce = [1.0, 0.0]'),
+         "force[0].point: 'A' is not a point of link 'rocker'"),
+        (("omega = 1.0", 'omega = 1.0\n[[force]]\nlink = "rocker"\npoint = "B"\nforce = [1.0, 0.0]\n'
+          'stroke = ["90deg", "30deg"]'),
+         "force[0].stroke: must be [from, to] crank angles with from < to <= from + 360deg, got "
+         "[1.5707963267948966, 0.5235987755982988] rad"),
+        (("omega = 1.0", 'omega = 1.0\n[[torque]]\nlink = "wheel"\ntorque = 1.0'),
+         "torque[0].link: unknown link 'wheel'; known links: ['ground', 'crank', 'coupler', 'rocker']"),
     ],
 )
 def test_errors_name_field_value_and_rule(tmp_path, edit, message):

@@ -1,0 +1,107 @@
+"""``linkgen forces``: closed-form kinetostatics and reduced dynamics from the command line.
+
+Conventions (see ``linkgen.kinetostatics``): ``reactions[J].force`` is the force [N] the
+second link of pair J (in the description's order) exerts on the first, world frame;
+``prismatic[P].normal_force`` [N] is the guide's force on the slider along the guide's left
+normal and ``moment`` [N·m] the couple it carries about the slider's point;
+``balancing_torque`` [N·m] is the torque the drive applies to the crank, about +z.
+"""
+
+from __future__ import annotations
+
+import csv
+import json
+import math
+import sys
+from pathlib import Path
+
+import numpy as np
+
+from .kinetostatics import Forces, forces
+from .load import load
+
+
+def forces_json(f: Forces, mech, i: int = 0) -> dict:
+    """One crank angle's forces as the JSON object ``linkgen forces --json`` prints."""
+    first = {r.name: r.links for r in mech.revolutes}
+    return {
+        "balancing_torque": float(f.balancing_torque[i]),
+        "reactions": {k: {"force": v[i].tolist(), "on": first[k][0], "by": first[k][1]} for k, v in f.reactions.items()},
+        "prismatic": {k: {"normal_force": float(f.normal_force[k][i]), "moment": float(f.moment[k][i])}
+                      for k in f.normal_force},
+        "reduced_inertia": float(f.reduced.inertia[i]),
+        "reduced_inertia_derivative": float(f.reduced.inertia_derivative[i]),
+        "reduced_moment": float(f.reduced.moment[i]),
+    }
+
+
+def _columns(f: Forces) -> tuple[list[str], list[np.ndarray]]:
+    cols = ["phi", "balancing_torque", "power_balance_torque", "reduced_inertia", "reduced_inertia_derivative",
+            "reduced_moment"]
+    data = [f.phi, f.balancing_torque, f.power_balance_torque, f.reduced.inertia, f.reduced.inertia_derivative,
+            f.reduced.moment]
+    for k, v in f.reactions.items():
+        cols += [f"{k}.force.x", f"{k}.force.y"]
+        data += [v[:, 0], v[:, 1]]
+    for k in f.normal_force:
+        cols += [f"{k}.normal_force", f"{k}.moment"]
+        data += [f.normal_force[k], f.moment[k]]
+    return cols, data
+
+
+def cmd_forces(args) -> int:
+    from .cli import _warn_singular, crank_grid
+    from .kinematics import solve
+
+    mech = load(args.model)
+    omega = mech.drive.omega if args.omega is None else args.omega
+    epsilon = mech.drive.epsilon if args.epsilon is None else args.epsilon
+    if args.samples is not None or args.csv is not None:
+        phi = crank_grid(mech, args.samples or 360)
+        _warn_singular(solve(mech, phi))
+        cols, data = _columns(forces(mech, phi, omega, epsilon))
+        rows = [cols] + [[repr(float(x)) for x in row] for row in np.column_stack(data)]
+        if args.csv:
+            with open(args.csv, "w", newline="") as out:
+                csv.writer(out).writerows(rows)
+            print(f"wrote {len(phi)} crank angles × {len(cols)} columns to {args.csv}", file=sys.stderr)
+        else:
+            csv.writer(sys.stdout).writerows(rows)
+        return 0
+    phi = mech.drive.start if args.angle is None else args.angle
+    _warn_singular(solve(mech, np.array([phi])))
+    f = forces(mech, np.array([phi]), omega, epsilon)
+    result = forces_json(f, mech)
+    if args.json:
+        print(json.dumps(result, indent=2))
+        return 0
+    print(f"{mech.name}: φ = {math.degrees(phi):.6g}°, ω = {omega:g} rad/s, ε = {epsilon:g} rad/s²")
+    print(f"balancing torque on the crank: {result['balancing_torque']:.6g} N·m "
+          f"(power balance: {f.power_balance_torque[0]:.6g} N·m)")
+    print(f"reduced inertia J = {result['reduced_inertia']:.6g} kg·m², dJ/dφ = "
+          f"{result['reduced_inertia_derivative']:.6g} kg·m²/rad, reduced moment of loads = "
+          f"{result['reduced_moment']:.6g} N·m")
+    print(f"{'pair':<18}{'on':>10}{'by':>10}{'Fx [N]':>14}{'Fy [N]':>14}{'|F| [N]':>14}")
+    for k, q in result["reactions"].items():
+        fx, fy = q["force"]
+        print(f"{k:<18}{q['on']:>10}{q['by']:>10}{fx:>14.6g}{fy:>14.6g}{math.hypot(fx, fy):>14.6g}")
+    if result["prismatic"]:
+        print(f"{'prismatic':<18}{'N [N]':>14}{'M [N·m]':>14}")
+        for k, q in result["prismatic"].items():
+            print(f"{k:<18}{q['normal_force']:>14.6g}{q['moment']:>14.6g}")
+    return 0
+
+
+def add_command(sub) -> None:
+    from .cli import _angle_arg, _float_arg, _positive_int
+
+    f = sub.add_parser("forces", help="joint reactions, balancing torque and reduced inertia (closed form)",
+                       description=__doc__)
+    f.add_argument("model", type=Path)
+    f.add_argument("--angle", type=_angle_arg, help="crank angle: radians, or e.g. 30deg")
+    f.add_argument("--omega", type=_float_arg, help="crank speed [rad/s] (default: the description's)")
+    f.add_argument("--epsilon", type=_float_arg, help="crank acceleration [rad/s²] (default: the description's)")
+    f.add_argument("--json", action="store_true", help="print one JSON object")
+    f.add_argument("--samples", type=_positive_int, help="evaluate this many angles over the drive range")
+    f.add_argument("--csv", type=Path, help="write the samples as CSV to this file")
+    f.set_defaults(func=cmd_forces)

@@ -1,0 +1,193 @@
+"""Closed-form kinetostatics: joint reactions and the balancing torque, group by group.
+
+The method of seed 003 §1/§6: with d'Alembert's inertia loads (−m·a_S at the centre of
+mass, −I·ε about it) every link is in equilibrium, and each class-II Assur group is
+statically determinate on its own — 6 equations (3 per link) in the 6 unknowns of its
+three pairs. The groups are solved from the last attached back to the first, each one's
+outer reactions becoming given loads on the links it hangs from; the crank's 3 equations
+then give the drive pair's reaction and the balancing torque. Everything is vectorised
+over crank angles (one batched 6×6 solve per group).
+
+Sign conventions (documented in the CLI and README too):
+    * Revolute pair ``J`` between links (first, second) in the description's order
+      (``Mechanism.revolutes``): ``reactions[J]`` is the force [N] the *second* link
+      exerts on the *first*, world frame, shape (n, 2).
+    * Prismatic pair: ``normal_force`` [N] is the guide's force on the slider along the
+      guide line's left normal; ``moment`` [N·m] is the couple the guide exerts on the
+      slider (about +z) when the normal force is placed at the slider's ``point``. The
+      pair is frictionless: no force along the line.
+    * ``balancing_torque`` [N·m]: the torque the drive applies to the crank, about +z.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .description import GROUND
+from .errors import SingularityError, angle_ranges
+from .kinematics import Assembly, Kinematics, solve
+from .loads import applied_loads, mass_table
+from .structure import Pair
+
+
+@dataclass(frozen=True)
+class Forces:
+    """Reactions and torques over crank angles ``phi`` (n,) at crank speed ``omega`` and
+    acceleration ``epsilon`` (each (n,)). See the module docstring for the sign conventions.
+
+    Attributes:
+        balancing_torque: (n,) [N·m] from the group-by-group solution.
+        power_balance_torque: (n,) [N·m] the same from virtual work (Σ F·v′ + M·θ′ = 0),
+            an independent check.
+        reactions: revolute name → (n, 2) [N].
+        normal_force, moment: prismatic name → (n,) [N], [N·m].
+        reduced: the reduced dynamics at these angles.
+    """
+
+    phi: np.ndarray
+    omega: np.ndarray
+    epsilon: np.ndarray
+    balancing_torque: np.ndarray
+    power_balance_torque: np.ndarray
+    reactions: dict[str, np.ndarray]
+    normal_force: dict[str, np.ndarray]
+    moment: dict[str, np.ndarray]
+    reduced: "ReducedDynamics"
+
+
+@dataclass(frozen=True)
+class ReducedDynamics:
+    """The mechanism reduced to the crank, over φ (each (n,)).
+
+    inertia J(φ) = Σ m·|v_S′|² + I·θ′² [kg·m²]; inertia_derivative dJ/dφ [kg·m²/rad];
+    moment: reduced moment of the given loads (gravity, forces, torques) Σ F·v′ + M·θ′ [N·m].
+    The balancing torque then is T = J·ε + ½·J′·ω² − moment.
+    """
+
+    inertia: np.ndarray
+    inertia_derivative: np.ndarray
+    moment: np.ndarray
+
+
+def reduced_dynamics(asm: Assembly, kin: Kinematics) -> ReducedDynamics:
+    """J(φ), dJ/dφ and the reduced moment of the given loads at the angles of ``kin``."""
+    loads = applied_loads(asm, kin)
+    n = kin.phi.shape[0]
+    j, dj, m_red = np.zeros(n), np.zeros(n), np.zeros(n)
+    for name, mp in mass_table(asm).items():
+        s, th = loads[name].com, kin.links[name].angle
+        j += mp.mass * np.einsum("ij,ij->i", s.d1, s.d1) + mp.inertia * th.d1**2
+        dj += 2.0 * (mp.mass * np.einsum("ij,ij->i", s.d1, s.d2) + mp.inertia * th.d1 * th.d2)
+        m_red += np.einsum("ij,ij->i", loads[name].force, s.d1) + loads[name].moment * th.d1
+    return ReducedDynamics(j, dj, m_red)
+
+
+def forces(mech_or_asm, phi, omega, epsilon=0.0) -> Forces:
+    """Kinetostatics at crank angles ``phi`` [rad] (n,), crank speed ω [rad/s] and
+    acceleration ε [rad/s²] (scalars or (n,)).
+
+    Raises:
+        AssemblyError / SingularityError: as ``solve``; SingularityError also where a
+            group's equilibrium equations are singular (a dead centre).
+    """
+    kin = solve(mech_or_asm, phi)
+    asm = kin.assembly
+    mech = asm.mechanism
+    n = kin.phi.shape[0]
+    w = np.broadcast_to(np.asarray(omega, dtype=float), (n,))
+    e = np.broadcast_to(np.asarray(epsilon, dtype=float), (n,))
+    given = applied_loads(asm, kin)
+    masses = mass_table(asm)
+    # Total load on each link (given + d'Alembert), force (n,2) and moment about its centre of mass.
+    load: dict[str, list[np.ndarray]] = {}
+    for name, mp in masses.items():
+        s, th = given[name].com, kin.links[name].angle
+        acc = s.d2 * (w * w)[:, None] + s.d1 * e[:, None]
+        alpha = th.d2 * w * w + th.d1 * e
+        load[name] = [given[name].force - mp.mass * acc, given[name].moment - mp.inertia * alpha]
+    # Virtual work with the crank turned by δφ: T + Σ (F·S′ + M·θ′) = 0.
+    power = np.zeros(n)
+    for name in masses:
+        power += np.einsum("ij,ij->i", load[name][0], given[name].com.d1) + load[name][1] * kin.links[name].angle.d1
+
+    com = {name: given[name].com.p for name in masses}
+    reactions: dict[str, np.ndarray] = {}
+    normal: dict[str, np.ndarray] = {}
+    moment: dict[str, np.ndarray] = {}
+
+    def columns(pair: Pair, link: str) -> list[tuple[np.ndarray, np.ndarray]]:
+        """The load on ``link`` per unit value of each of ``pair``'s two unknowns."""
+        if pair.kind == "R":
+            joint = mech.revolute(pair.name)
+            sign = 1.0 if link == joint.links[0] else -1.0
+            d = kin.points[joint.point].p - com[link]
+            ex, ey = np.zeros((n, 2)), np.zeros((n, 2))
+            ex[:, 0], ey[:, 1] = sign, sign
+            return [(ex, -sign * d[:, 1]), (ey, sign * d[:, 0])]
+        g = asm.guides[pair.name]
+        sign = 1.0 if link == g.slider else -1.0
+        u = kin.links[g.guide].direction(g.alpha).p
+        nrm = np.stack([-u[:, 1], u[:, 0]], axis=1)
+        d = kin.links[g.slider].point(g.point).p - com[link]
+        return [(sign * nrm, sign * (d[:, 0] * nrm[:, 1] - d[:, 1] * nrm[:, 0])),
+                (np.zeros((n, 2)), np.full(n, sign))]
+
+    def store(pair: Pair, x: np.ndarray) -> None:
+        if pair.kind == "R":
+            reactions[pair.name] = x.copy()
+        else:
+            normal[pair.name], moment[pair.name] = x[:, 0].copy(), x[:, 1].copy()
+
+    def transmit(pair: Pair, link: str, x: np.ndarray) -> None:
+        """Add the solved pair's load on ``link`` (a link solved later) to its given load."""
+        if link == GROUND:
+            return
+        for k, (f, m) in enumerate(columns(pair, link)):
+            load[link][0] = load[link][0] + f * x[:, k:k + 1]
+            load[link][1] = load[link][1] + m * x[:, k]
+
+    for group in reversed(asm.structure.groups):
+        (l1, l2), (o1, inner, o2) = group.links, group.pairs
+        a = np.zeros((n, 6, 6))
+        b = np.zeros((n, 6))
+        for row, link in ((0, l1), (3, l2)):
+            b[:, row:row + 2], b[:, row + 2] = load[link][0], load[link][1]
+        for col, pair in ((0, o1), (2, inner), (4, o2)):
+            for row, link in ((0, l1), (3, l2)):
+                if link not in pair.links:
+                    continue
+                for k, (f, m) in enumerate(columns(pair, link)):
+                    a[:, row:row + 2, col + k], a[:, row + 2, col + k] = f, m
+        x = _solve(a, -b, kin.phi, group.label)
+        for col, pair in ((0, o1), (2, inner), (4, o2)):
+            store(pair, x[:, col:col + 2])
+        transmit(o1, group.known[0], x[:, 0:2])
+        transmit(o2, group.known[1], x[:, 4:6])
+
+    crank, drive = asm.structure.crank, asm.structure.drive
+    a = np.zeros((n, 3, 3))
+    for k, (f, m) in enumerate(columns(drive, crank)):
+        a[:, 0:2, k], a[:, 2, k] = f, m
+    a[:, 2, 2] = 1.0
+    b = np.concatenate([load[crank][0], load[crank][1][:, None]], axis=1)
+    x = _solve(a, -b, kin.phi, "I(0,1) crank")
+    store(drive, x[:, 0:2])
+    return Forces(kin.phi, w.copy(), e.copy(), x[:, 2].copy(), -power, reactions, normal, moment,
+                  reduced_dynamics(asm, kin))
+
+
+def _solve(a: np.ndarray, rhs: np.ndarray, phi: np.ndarray, label: str) -> np.ndarray:
+    det = np.linalg.det(a)
+    bad = ~(np.abs(det) > 0.0) | ~np.isfinite(det)
+    if np.any(bad):
+        raise SingularityError(f"{label} (equilibrium equations)", angle_ranges(phi, bad))
+    x = np.linalg.solve(a, rhs[..., None])[..., 0]
+    bad = ~np.all(np.isfinite(x), axis=1)
+    if np.any(bad):
+        raise SingularityError(f"{label} (equilibrium equations)", angle_ranges(phi, bad))
+    return x
+
+
+__all__ = ["Forces", "ReducedDynamics", "forces", "reduced_dynamics"]

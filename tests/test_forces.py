@@ -1,0 +1,187 @@
+"""Kinetostatics and reduced dynamics: every number checked by an independent route."""
+
+import json
+import math
+
+import mujoco
+import numpy as np
+import pytest
+
+from conftest import MODELS, ROOT
+from linkgen import assemble, from_dict, load
+from linkgen.cli import crank_grid, main
+from linkgen.compare import compare
+from linkgen.kinetostatics import forces
+from linkgen.mjforces import inverse_forces
+from linkgen.simulate import build_model, joint_state, simulate
+
+# Group-by-group solution against virtual work (Σ F·v′ + M·θ′ + T = 0): both are sums of a few
+# dozen products, the former through up to four chained 6×6 solves; measured ≤ 1.5e-15 of the
+# peak torque on every bundled model, so 1e-12 leaves room for conditioning but not for a wrong term.
+POWER_BALANCE_TOL = 1e-12
+# dJ/dφ against a central difference of J with step H: truncation H²/6·|J‴| ~ 1e-11 and
+# rounding eps·|J|/H ~ 2e-11 relative, so 1e-8 of the peak.
+H = 1e-5
+FD_TOL = 1e-8
+# Hand-computed static equilibria: exact arithmetic on g = 9.81, so rounding only [N], [N·m].
+HAND_TOL = 1e-9
+G = 9.81
+
+
+def _angles(mech, n=361):
+    return crank_grid(mech, n)
+
+
+@pytest.mark.parametrize("path", MODELS, ids=[p.stem for p in MODELS])
+def test_balancing_torque_equals_power_balance_and_reduced_dynamics(path):
+    mech = load(path)
+    phi = _angles(mech)
+    for omega, eps in ((mech.drive.omega, 0.0), (2.0, -3.0), (0.0, 0.0)):
+        f = forces(mech, phi, omega, eps)
+        peak = max(np.abs(f.balancing_torque).max(), 1e-300)
+        assert np.abs(f.balancing_torque - f.power_balance_torque).max() <= POWER_BALANCE_TOL * peak
+        # T = J·ε + ½·J′·ω² − M_red: the reduced-dynamics route (kinetic energy) to the same torque
+        r = f.reduced
+        t_red = r.inertia * eps + 0.5 * r.inertia_derivative * omega**2 - r.moment
+        assert np.abs(f.balancing_torque - t_red).max() <= POWER_BALANCE_TOL * peak
+
+
+@pytest.mark.parametrize("path", MODELS, ids=[p.stem for p in MODELS])
+def test_reduced_inertia_derivative_matches_finite_differences(path):
+    mech = load(path)
+    asm = assemble(mech)
+    phi = _angles(mech, 90)
+    phi = np.clip(phi, mech.drive.start + 2 * H, mech.drive.stop - 2 * H)
+    j = forces(asm, phi, 1.0).reduced
+    jp, jm = forces(asm, phi + H, 1.0).reduced.inertia, forces(asm, phi - H, 1.0).reduced.inertia
+    fd = (jp - jm) / (2 * H)
+    assert np.abs(fd - j.inertia_derivative).max() <= FD_TOL * np.abs(j.inertia).max()
+    assert np.all(j.inertia > 0)
+
+
+PARALLELOGRAM = {
+    "mechanism": {"name": "parallelogram", "gravity": [0.0, -G]},
+    "points": {"O": [0, 0], "A": [0, 0.5], "B": [1, 0.5], "C": [1, 0]},
+    "links": {
+        "ground": {"points": ["O", "C"]},
+        "crank": {"points": ["O", "A"], "length": 0.5, "inertial": {"mass": 1.0, "com": [0.25, 0], "inertia": 0.02}},
+        "coupler": {"points": ["A", "B"], "length": 1.0, "inertial": {"mass": 2.0, "com": [0.5, 0], "inertia": 0.2}},
+        "rocker": {"points": ["C", "B"], "length": 0.5, "inertial": {"mass": 1.0, "com": [0.25, 0], "inertia": 0.02}},
+    },
+    "drive": {"joint": "O", "omega": 1.0},
+}
+# Crank and rocker upright, coupler level at φ = 90°: the coupler only translates, so gravity does
+# no virtual work and T = 0; with no torque the crank and rocker carry the coupler's weight along
+# their axes, half at A and half at B.
+PARALLELOGRAM_HAND = {
+    "balancing_torque": 0.0,
+    "A": (0.0, -G),           # coupler on crank: half the coupler's 2 kg
+    "B": (0.0, G),            # rocker on coupler
+    "O": (0.0, -2 * G),       # crank on ground: its own 1 kg + half the coupler
+    "C": (0.0, -2 * G),       # rocker on ground
+}
+
+SLIDER_CRANK = {
+    "mechanism": {"name": "dead_centre", "gravity": [0.0, -G]},
+    "points": {"O": [0, 0], "A": [0.1, 0], "B": [0.4, 0]},
+    "links": {
+        "ground": {"points": ["O"]},
+        "crank": {"points": ["O", "A"], "length": 0.1, "inertial": {"mass": 1.0, "com": [0.05, 0], "inertia": 1e-3}},
+        "rod": {"points": ["A", "B"], "length": 0.3, "inertial": {"mass": 2.0, "com": [0.15, 0], "inertia": 0.015}},
+        "slider": {"points": ["B"], "inertial": {"mass": 3.0, "com": [0, 0], "inertia": 0.0}},
+    },
+    "prismatic": {"slider": {"slider": "slider", "guide": "ground", "point": "B", "through": "O", "angle": 0.0}},
+    "drive": {"joint": "O", "omega": 1.0},
+}
+# Everything level at φ = 0: the rod's weight splits in half between A and B (moments about B);
+# the guide carries the slider and half the rod, N = (3 + 1)·g; the crank holds its own weight at
+# 0.05 m and half the rod's at 0.1 m: T = g·(1·0.05 + 1·0.1) = 0.15·g.
+SLIDER_CRANK_HAND = {
+    "balancing_torque": 0.15 * G,
+    "A": (0.0, -G),           # rod on crank
+    "B": (0.0, G),            # slider on rod
+    "O": (0.0, -2 * G),       # crank on ground
+    "normal_force": 4 * G,
+    "moment": 0.0,
+}
+
+
+@pytest.mark.parametrize("data, phi, hand", [
+    (PARALLELOGRAM, math.pi / 2, PARALLELOGRAM_HAND),
+    (SLIDER_CRANK, 0.0, SLIDER_CRANK_HAND),
+], ids=["parallelogram", "slider_crank"])
+def test_static_equilibrium_by_hand(data, phi, hand):
+    asm = assemble(from_dict(data))
+    f = forces(asm, np.array([phi]), 0.0, 0.0)
+    model = build_model(asm)
+    q, v, a = joint_state(asm, model, phi, 0.0, 0.0)
+    mj = inverse_forces(asm, model, mujoco.MjData(model), phi, q, v, a)
+    for got_t, got_r, got_n, got_m in (
+        (f.balancing_torque[0], {k: r[0] for k, r in f.reactions.items()},
+         {k: n[0] for k, n in f.normal_force.items()}, {k: m[0] for k, m in f.moment.items()}),
+        (mj.balancing_torque, mj.reactions, mj.normal_force, mj.moment),
+    ):
+        assert got_t == pytest.approx(hand["balancing_torque"], abs=HAND_TOL)
+        for joint in ("A", "B", "O"):
+            assert got_r[joint] == pytest.approx(hand[joint], abs=HAND_TOL), joint
+        if "normal_force" in hand:
+            assert got_n["slider"] == pytest.approx(hand["normal_force"], abs=HAND_TOL)
+            assert got_m["slider"] == pytest.approx(hand["moment"], abs=HAND_TOL)
+
+
+def _fourbar_with_loads(force: bool = True):
+    import tomllib
+
+    data = tomllib.loads((ROOT / "models" / "fourbar.toml").read_text())
+    data["torque"] = [{"link": "rocker", "torque": 12.0}]
+    if force:
+        data["force"] = [{"link": "coupler", "point": "B", "force": [30.0, -50.0], "stroke": ["90deg", "200deg"]}]
+    return from_dict(data)
+
+
+def test_process_load_acts_only_inside_its_stroke():
+    from linkgen import solve
+
+    mech = _fourbar_with_loads()
+    phi = crank_grid(mech, 720)
+    bare = forces(_fourbar_with_loads(force=False), phi, 3.0).balancing_torque
+    loaded = forces(mech, phi, 3.0).balancing_torque
+    b1 = solve(mech, phi).points["B"].d1
+    inside = (phi >= math.radians(90)) & (phi <= math.radians(200))
+    # virtual work of the force alone: ΔT = −F·B′ inside the stroke, nothing outside
+    expected = -(30.0 * b1[:, 0] - 50.0 * b1[:, 1]) * inside
+    assert np.abs(loaded - bare - expected).max() <= POWER_BALANCE_TOL * np.abs(loaded).max()
+    assert np.any(inside) and np.any(~inside)
+
+
+def test_mujoco_agrees_with_loads_on_rotating_links():
+    # a stroke-limited force on the coupler and a torque on the rocker: xfrc_applied lever arms
+    # change with the links' angles, and the load switches on and off during the run
+    asm = assemble(_fourbar_with_loads())
+    cmp = compare(asm, simulate(asm))
+    bad = {k: q.relative_error for k, q in cmp.quantities.items() if not q.ok}
+    assert not bad, bad
+    assert cmp.quantities["reactions.B.force"].peak > 100.0
+
+
+def test_forces_cli_json(capsys):
+    assert main(["forces", str(ROOT / "models" / "fourbar.toml"), "--angle", "30deg", "--omega", "1", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert set(out) >= {"balancing_torque", "reactions", "prismatic", "reduced_inertia", "reduced_inertia_derivative"}
+    assert set(out["reactions"]) == {"O", "C", "A", "B"}
+    assert out["reactions"]["A"]["on"] == "crank" and out["reactions"]["A"]["by"] == "coupler"
+    f = forces(load(ROOT / "models" / "fourbar.toml"), np.array([math.radians(30)]), 1.0)
+    assert out["balancing_torque"] == pytest.approx(float(f.power_balance_torque[0]), rel=POWER_BALANCE_TOL)
+    assert main(["forces", str(ROOT / "models" / "seven_link.toml"), "--angle", "38.117deg", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert set(out["prismatic"]) == {"block", "slider"}
+    assert set(out["prismatic"]["slider"]) == {"normal_force", "moment"}
+
+
+def test_forces_cli_samples_and_errors(tmp_path, capsys):
+    csv_path = tmp_path / "f.csv"
+    assert main(["forces", str(ROOT / "models" / "ga2.toml"), "--samples", "36", "--csv", str(csv_path)]) == 0
+    rows = csv_path.read_text().splitlines()
+    assert len(rows) == 37 and rows[0].startswith("phi,balancing_torque,power_balance_torque")
+    assert main(["forces", str(tmp_path / "none.toml")]) == 2
+    assert "no such description file" in capsys.readouterr().err
