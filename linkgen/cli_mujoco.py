@@ -59,13 +59,19 @@ def cmd_simulate(args) -> int:
         arrays |= {f"links.{l}.angle": x, f"links.{l}.angular_velocity": v, f"links.{l}.angular_acceleration": a}
     for n, (x, v, a) in s.sliders.items():
         arrays |= {f"sliders.{n}.displacement": x, f"sliders.{n}.velocity": v, f"sliders.{n}.acceleration": a}
+    f = s.forces  # forward route, linkgen.kinetostatics' sign conventions
+    arrays |= {f"reactions.{k}.force": v for k, v in f.reactions.items()}
+    arrays |= {f"prismatic.{k}.normal_force": v for k, v in f.normal_force.items()}
+    arrays |= {f"prismatic.{k}.moment": v for k, v in f.moment.items()}
+    arrays["reduced_inertia"] = s.reduced_inertia
     if args.out is None:
         pass
     elif args.out.suffix == ".npz":
         np.savez(args.out, **arrays)
     elif args.out.suffix == ".csv":
         cols = [k for k, v in arrays.items() if k.startswith(("sample_time", "phi", "omega", "epsilon", "drive",
-                                                              "points.", "links.", "sliders."))]
+                                                              "points.", "links.", "sliders.", "reactions.",
+                                                              "prismatic.", "reduced_"))]
         header, data = [], []
         for k in cols:
             v = arrays[k]

@@ -91,3 +91,19 @@ def test_cli_errors(tmp_path, capsys):
     assert "no such description file" in capsys.readouterr().err
     assert main(["simulate", str(ROOT / "models" / "fourbar.toml"), "--omega", "-1"]) == 2
     assert "omega must be > 0 rad/s" in capsys.readouterr().err
+
+
+def test_simulate_writes_every_quantity(tmp_path):
+    npz, csv_path = tmp_path / "run.npz", tmp_path / "run.csv"
+    model = str(ROOT / "models" / "seven_link.toml")
+    assert main(["simulate", model, "--out", str(npz)]) == 0
+    data = np.load(npz)
+    assert data["qpos"].shape[0] == data["time"].shape[0] > 1000
+    assert data["reactions.B:rocker-rod.force"].shape == (data["phi"].shape[0], 2)
+    assert {"prismatic.block.normal_force", "prismatic.slider.moment", "drive_torque",
+            "reduced_inertia"} <= set(data.files)
+    assert data["constraint_violation"].max() < VIOLATION_TOL
+    assert main(["simulate", model, "--out", str(csv_path)]) == 0
+    header = csv_path.read_text().splitlines()[0].split(",")
+    assert "reactions.C.force.x" in header and "prismatic.slider.normal_force" in header
+    assert main(["simulate", model, "--out", str(tmp_path / "run.txt")]) == 2
