@@ -67,8 +67,9 @@ class LinkPose:
 def pose_from_point(p: Vec, local: np.ndarray, angle: Scalar) -> LinkPose:
     """The pose of a link whose point ``local`` is at ``p`` and whose angle is ``angle``
     (the angle is reported wrapped to [-π, π))."""
-    wrapped = Scalar(np.mod(angle.v + np.pi, 2.0 * np.pi) - np.pi, angle.d1, angle.d2)
-    return LinkPose(p - rotvec(angle, local), wrapped)
+    offset = rotvec(angle, local)
+    wrapped = Scalar(np.mod(angle.v + np.pi, 2.0 * np.pi) - np.pi, angle.d1, angle.d2, angle.cs)
+    return LinkPose(p - offset, wrapped)
 
 
 def pose_from_two_points(p: Vec, p_local: np.ndarray, q: Vec, q_local: np.ndarray) -> LinkPose:

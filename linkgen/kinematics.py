@@ -231,6 +231,8 @@ def _fail_reason(group: Group) -> str:
 def _check_finite(kin: Kinematics) -> None:
     for name, v in kin.points.items():
         for arr in (v.p, v.d1, v.d2):
+            if np.isfinite(arr.sum()):  # one pass; a NaN or inf anywhere makes the sum non-finite
+                continue
             bad = ~np.all(np.isfinite(arr), axis=1)
             if np.any(bad):
                 raise SingularityError(f"at point {name}", angle_ranges(kin.phi, bad))

@@ -8,7 +8,8 @@ vector form); finite differences appear only in the tests.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+import math
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -30,14 +31,27 @@ class Vec:
 
 @dataclass(frozen=True, slots=True)
 class Scalar:
-    """An angle [rad] or a length [m] and its transfer functions, each (n,)."""
+    """An angle [rad] or a length [m] and its transfer functions, each (n,).
+
+    ``cos_sin()`` caches cos and sin of the value: a link's angle turns many local vectors.
+    """
 
     v: np.ndarray
     d1: np.ndarray
     d2: np.ndarray
+    cs: tuple[np.ndarray, np.ndarray] | None = field(default=None, repr=False, compare=False)
 
     def shifted(self, c: float) -> "Scalar":
-        return Scalar(self.v + c, self.d1, self.d2)
+        cs = None
+        if self.cs is not None:  # cos(v + c), sin(v + c) from the cached pair: no new trigonometry
+            cc, sc = math.cos(c), math.sin(c)
+            cs = (self.cs[0] * cc - self.cs[1] * sc, self.cs[1] * cc + self.cs[0] * sc)
+        return Scalar(self.v + c, self.d1, self.d2, cs)
+
+    def cos_sin(self) -> tuple[np.ndarray, np.ndarray]:
+        if self.cs is None:
+            object.__setattr__(self, "cs", (np.cos(self.v), np.sin(self.v)))
+        return self.cs
 
 
 @dataclass(frozen=True, slots=True)
@@ -77,8 +91,18 @@ def col(x: np.ndarray) -> np.ndarray:
 
 def rotvec(theta: Scalar, w: np.ndarray) -> Vec:
     """R(θ)·w for a constant local vector w (2,): a vector turning with a link."""
-    c, s = np.cos(theta.v), np.sin(theta.v)
-    v = np.stack((c * w[0] - s * w[1], s * w[0] + c * w[1]), axis=-1)
+    n = theta.v.shape[0]
+    if w[0] == 0.0 and w[1] == 0.0:
+        zero = np.zeros((n, 2))
+        return Vec(zero, zero, zero)
+    c, s = theta.cos_sin()
+    v = np.empty((n, 2))
+    if w[1] == 0.0:
+        np.multiply(c, w[0], out=v[:, 0])
+        np.multiply(s, w[0], out=v[:, 1])
+    else:
+        v[:, 0] = c * w[0] - s * w[1]
+        v[:, 1] = s * w[0] + c * w[1]
     pv = perp(v)
     return Vec(v, col(theta.d1) * pv, col(theta.d2) * pv - col(theta.d1**2) * v)
 
