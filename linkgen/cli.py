@@ -89,10 +89,26 @@ def _warn_singular(kin: Kinematics) -> None:
                   f"{format_ranges(angle_ranges(kin.phi, mask))}", file=sys.stderr)
 
 
+def drive_rates(mech, args) -> tuple[float, float]:
+    """ω [rad/s] and ε [rad/s²] from --omega/--epsilon, else the description's drive."""
+    return (mech.drive.omega if args.omega is None else args.omega,
+            mech.drive.epsilon if args.epsilon is None else args.epsilon)
+
+
+def write_rows(cols: list[str], data: list[np.ndarray], path: Path | None) -> None:
+    """Columns (each (n,)) as CSV with a header, full precision, to ``path`` or stdout."""
+    rows = [cols] + [[repr(float(x)) for x in row] for row in np.column_stack(data)]
+    if path is None:
+        csv.writer(sys.stdout).writerows(rows)
+        return
+    with open(path, "w", newline="") as out:
+        csv.writer(out).writerows(rows)
+    print(f"wrote {len(rows) - 1} crank angles × {len(cols)} columns to {path}", file=sys.stderr)
+
+
 def cmd_analyze(args) -> int:
     mech = load(args.model)
-    omega = mech.drive.omega if args.omega is None else args.omega
-    epsilon = mech.drive.epsilon if args.epsilon is None else args.epsilon
+    omega, epsilon = drive_rates(mech, args)
     if args.samples is not None or args.csv is not None:
         phi = crank_grid(mech, args.samples or 360)
         kin = solve(mech, phi)
@@ -111,14 +127,7 @@ def cmd_analyze(args) -> int:
                     else:
                         cols.append(f"{n}.{qname}")
                         data.append(arr)
-        rows = [cols] + [[repr(float(x)) for x in row] for row in np.column_stack(data)]
-        if args.csv:
-            with open(args.csv, "w", newline="") as out:
-                csv.writer(out).writerows(rows)
-        else:
-            csv.writer(sys.stdout).writerows(rows)
-        if args.csv:
-            print(f"wrote {len(phi)} crank angles × {len(cols)} columns to {args.csv}", file=sys.stderr)
+        write_rows(cols, data, args.csv)
         return 0
     phi = mech.drive.start if args.angle is None else args.angle
     kin = solve(mech, np.array([phi]))

@@ -9,10 +9,8 @@ normal and ``moment`` [N·m] the couple it carries about the slider's point;
 
 from __future__ import annotations
 
-import csv
 import json
 import math
-import sys
 from pathlib import Path
 
 import numpy as np
@@ -50,23 +48,15 @@ def _columns(f: Forces) -> tuple[list[str], list[np.ndarray]]:
 
 
 def cmd_forces(args) -> int:
-    from .cli import _warn_singular, crank_grid
+    from .cli import _warn_singular, crank_grid, drive_rates, write_rows
     from .kinematics import solve
 
     mech = load(args.model)
-    omega = mech.drive.omega if args.omega is None else args.omega
-    epsilon = mech.drive.epsilon if args.epsilon is None else args.epsilon
+    omega, epsilon = drive_rates(mech, args)
     if args.samples is not None or args.csv is not None:
         phi = crank_grid(mech, args.samples or 360)
         _warn_singular(solve(mech, phi))
-        cols, data = _columns(forces(mech, phi, omega, epsilon))
-        rows = [cols] + [[repr(float(x)) for x in row] for row in np.column_stack(data)]
-        if args.csv:
-            with open(args.csv, "w", newline="") as out:
-                csv.writer(out).writerows(rows)
-            print(f"wrote {len(phi)} crank angles × {len(cols)} columns to {args.csv}", file=sys.stderr)
-        else:
-            csv.writer(sys.stdout).writerows(rows)
+        write_rows(*_columns(forces(mech, phi, omega, epsilon)), args.csv)
         return 0
     phi = mech.drive.start if args.angle is None else args.angle
     _warn_singular(solve(mech, np.array([phi])))

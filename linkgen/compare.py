@@ -10,7 +10,7 @@ import numpy as np
 from .kinematics import Assembly, Motion, solve
 from .kinetostatics import Forces, forces
 from .mjforces import ForceSamples, inverse_forces
-from .simulate import Run, joint_state
+from .simulate import Run, joint_states
 
 # Every kinematic quantity within this fraction of its peak magnitude (issue 3).
 REL_TOL = 1e-6
@@ -64,11 +64,27 @@ class Comparison:
         }
 
 
+def _size(asm: Assembly) -> float:
+    """The sketch's diagonal [m]: the mechanism's natural length scale."""
+    xy = np.array(list(asm.mechanism.points.values()))
+    return float(np.hypot(*(xy.max(axis=0) - xy.min(axis=0))))
+
+
+def _error(ours: np.ndarray, theirs: np.ndarray, floor: float, tol: float, wrap: bool = False) -> QuantityError:
+    """Largest |theirs − ours| (vector norm for (m, 2)) against ours' peak, at least ``floor``;
+    ``wrap`` compares angles modulo 2π."""
+    diff = theirs - ours
+    if wrap:
+        diff = np.angle(np.exp(1j * diff))
+    err = np.linalg.norm(diff, axis=1) if diff.ndim == 2 else np.abs(diff)
+    mag = np.linalg.norm(ours, axis=1) if ours.ndim == 2 else np.abs(ours)
+    return QuantityError(float(err.max()), max(float(mag.max()), floor), tol)
+
+
 def _scales(asm: Assembly, omega: np.ndarray, epsilon: np.ndarray) -> dict[str, float]:
     """Floors for a quantity's peak, so a quantity that is identically zero in the closed form
     (a slider that never turns) is judged against the mechanism's natural scale, not 0."""
-    xy = np.array(list(asm.mechanism.points.values()))
-    size = float(np.hypot(*(xy.max(axis=0) - xy.min(axis=0))))
+    size = _size(asm)
     w, e = float(np.abs(omega).max()), float(np.abs(epsilon).max())
     return {"position": size, "velocity": size * w, "acceleration": size * (w * w + e), "angle": math.pi,
             "angular_velocity": w, "angular_acceleration": w * w + e, "displacement": size}
@@ -82,12 +98,7 @@ def compare(asm: Assembly, run: Run) -> Comparison:
     out: dict[str, QuantityError] = {}
 
     def add(name: str, kind: str, ours: np.ndarray, theirs: np.ndarray, wrap: bool = False) -> None:
-        diff = theirs - ours
-        if wrap:
-            diff = np.angle(np.exp(1j * diff))
-        err = np.linalg.norm(diff, axis=1) if diff.ndim == 2 else np.abs(diff)
-        mag = np.linalg.norm(ours, axis=1) if ours.ndim == 2 else np.abs(ours)
-        out[name] = QuantityError(float(err.max()), max(float(mag.max()), PEAK_FLOOR * floor[kind]), REL_TOL)
+        out[name] = _error(ours, theirs, PEAK_FLOOR * floor[kind], REL_TOL, wrap)
 
     for p, mj in s.points.items():
         for j, q in enumerate(("position", "velocity", "acceleration")):
@@ -103,8 +114,7 @@ def compare(asm: Assembly, run: Run) -> Comparison:
     _force_errors(asm, cf, s.forces, "", FORCE_TOL, out)
     _force_errors(asm, cf, inv, "inverse.", INVERSE_TOL, out)
     j = cf.reduced.inertia
-    out["reduced_inertia"] = QuantityError(float(np.abs(s.reduced_inertia - j).max()), float(np.abs(j).max()),
-                                           FORCE_TOL)
+    out["reduced_inertia"] = _error(j, s.reduced_inertia, 0.0, FORCE_TOL)
     gap = float(max(run.violation.max(), s.violation.max()))
     out["constraint_violation"] = QuantityError(gap, 1.0, VIOLATION_TOL)  # judged in metres: peak 1 m
     return Comparison(asm.mechanism.name, out, mo, run, cf, inv)
@@ -115,27 +125,23 @@ def _inverse(asm: Assembly, run: Run) -> ForceSamples:
     import mujoco
 
     d = mujoco.MjData(run.model)
-    states = []
-    for phi, w, e in zip(*run.samples.crank):
-        q, v, a = joint_state(asm, run.model, float(phi), float(w), float(e))
-        states.append(inverse_forces(asm, run.model, d, float(phi), q, v, a))
-    return ForceSamples.stack(states)
+    phi = run.samples.crank[0]
+    qpos, qvel, qacc = joint_states(asm, run.model, *run.samples.crank)
+    return ForceSamples.stack([inverse_forces(asm, run.model, d, float(phi[k]), qpos[k], qvel[k], qacc[k])
+                               for k in range(phi.shape[0])])
 
 
 def _force_errors(asm: Assembly, cf: Forces, mj: ForceSamples, prefix: str, tol: float,
                   out: dict[str, QuantityError]) -> None:
     """Errors of every force quantity; peaks floored at PEAK_FLOOR of the largest reaction
     (forces) or of that times the mechanism's size (torques, moments)."""
-    xy = np.array(list(asm.mechanism.points.values()))
-    size = float(np.hypot(*(xy.max(axis=0) - xy.min(axis=0))))
+    size = _size(asm)
     force_scale = max([float(np.linalg.norm(r, axis=1).max()) for r in cf.reactions.values()]
                       + [float(np.abs(n).max()) for n in cf.normal_force.values()])
     f_floor, m_floor = PEAK_FLOOR * force_scale, PEAK_FLOOR * force_scale * size
 
     def add(name, ours, theirs, floor):
-        err = np.abs(theirs - ours) if ours.ndim == 1 else np.linalg.norm(theirs - ours, axis=1)
-        mag = np.abs(ours) if ours.ndim == 1 else np.linalg.norm(ours, axis=1)
-        out[prefix + name] = QuantityError(float(err.max()), max(float(mag.max()), floor), tol)
+        out[prefix + name] = _error(ours, theirs, floor, tol)
 
     add("balancing_torque", cf.balancing_torque, mj.balancing_torque, m_floor)
     for k, r in cf.reactions.items():

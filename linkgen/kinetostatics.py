@@ -71,9 +71,10 @@ class ReducedDynamics:
     moment: np.ndarray
 
 
-def reduced_dynamics(asm: Assembly, kin: Kinematics) -> ReducedDynamics:
-    """J(φ), dJ/dφ and the reduced moment of the given loads at the angles of ``kin``."""
-    loads = applied_loads(asm, kin)
+def reduced_dynamics(asm: Assembly, kin: Kinematics, loads: dict | None = None) -> ReducedDynamics:
+    """J(φ), dJ/dφ and the reduced moment of the given loads at the angles of ``kin``
+    (``loads``: ``applied_loads(asm, kin)`` if already at hand)."""
+    loads = applied_loads(asm, kin) if loads is None else loads
     n = kin.phi.shape[0]
     j, dj, m_red = np.zeros(n), np.zeros(n), np.zeros(n)
     for name, mp in mass_table(asm).items():
@@ -175,7 +176,7 @@ def forces(mech_or_asm, phi, omega, epsilon=0.0) -> Forces:
     x = _solve(a, -b, kin.phi, "I(0,1) crank")
     store(drive, x[:, 0:2])
     return Forces(kin.phi, w.copy(), e.copy(), x[:, 2].copy(), -power, reactions, normal, moment,
-                  reduced_dynamics(asm, kin))
+                  reduced_dynamics(asm, kin, given))
 
 
 def _solve(a: np.ndarray, rhs: np.ndarray, phi: np.ndarray, label: str) -> np.ndarray:

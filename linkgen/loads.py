@@ -46,11 +46,12 @@ class LinkLoad:
     moment: np.ndarray
 
 
-def applied_loads(asm: Assembly, kin: Kinematics) -> dict[str, LinkLoad]:
-    """Gravity, external point forces (inside their strokes) and external torques per moving link."""
+def applied_loads(asm: Assembly, kin: Kinematics, gravity: bool = True) -> dict[str, LinkLoad]:
+    """Gravity (unless ``gravity`` is False), external point forces (inside their strokes) and
+    external torques per moving link."""
     mech = asm.mechanism
     n = kin.phi.shape[0]
-    g = np.asarray(mech.gravity, dtype=float)
+    g = np.asarray(mech.gravity if gravity else (0.0, 0.0), dtype=float)
     out = {}
     for name, mp in mass_table(asm).items():
         com = kin.point(name, np.asarray(mp.com, dtype=float))

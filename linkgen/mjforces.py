@@ -30,7 +30,7 @@ import numpy as np
 
 from .description import GROUND
 from .kinematics import Assembly, solve
-from .loads import mass_table, stroke_active
+from .loads import applied_loads, stroke_active
 from .mjcf import ARMATURE, TreeInfo, site_name, spanning_tree
 
 
@@ -53,14 +53,17 @@ def apply_loads(asm: Assembly, model: mujoco.MjModel, data: mujoco.MjData, phi: 
     for f in mech.forces:
         if f.link == GROUND or not stroke_active(f, np.array([phi]))[0]:
             continue
-        b = model.body(f.link).id
-        force = np.array([f.force[0], f.force[1], 0.0])
-        arm = data.site(site_name(asm, f.link, f.point)).xpos - data.xipos[b]
-        data.xfrc_applied[b, :3] += force
-        data.xfrc_applied[b, 3:] += np.cross(arm, force)
+        _add_force(data, model.body(f.link).id, data.site(site_name(asm, f.link, f.point)).xpos,
+                   np.array([f.force[0], f.force[1], 0.0]))
     for t in mech.torques:
         if t.link != GROUND:
             data.xfrc_applied[model.body(t.link).id, 5] += t.torque
+
+
+def _add_force(data: mujoco.MjData, body: int, point: np.ndarray, force: np.ndarray) -> None:
+    """Add a force (3,) [N] acting at a world point to the body's ``xfrc_applied`` (at its COM)."""
+    data.xfrc_applied[body, :3] += force
+    data.xfrc_applied[body, 3:] += np.cross(point - data.xipos[body], force)
 
 
 def has_loads(asm: Assembly) -> bool:
@@ -121,11 +124,9 @@ def inverse_forces(asm: Assembly, model: mujoco.MjModel, data: mujoco.MjData, ph
     for i, (pair, eq, b1, b2, point) in enumerate(anchors):
         lam = x[2 * i:2 * i + 2]
         f = np.array([lam[0], lam[1], 0.0])
-        data.xfrc_applied[b1, :3] += f
-        data.xfrc_applied[b1, 3:] += np.cross(point - data.xipos[b1], f)
+        _add_force(data, b1, point, f)
         if b2 > 0:
-            data.xfrc_applied[b2, :3] -= f
-            data.xfrc_applied[b2, 3:] -= np.cross(point - data.xipos[b2], f)
+            _add_force(data, b2, point, -f)
         reactions[pair.name] = _on_first(asm, model, eq, pair.name, lam)
     mujoco.mj_rnePostConstraint(model, data)
     tree_r, normal, moment = _tree_reactions(asm, model, data, info)
@@ -164,8 +165,6 @@ def _tree_reactions(asm: Assembly, model, data, info: TreeInfo):
     return reactions, normal, moment
 
 
-
-
 @dataclass(frozen=True)
 class ForceSamples:
     """StateForces over m samples: balancing_torque (m,), reactions {name: (m, 2)},
@@ -190,23 +189,11 @@ class ForceSamples:
 def load_schedule(asm: Assembly, model: mujoco.MjModel, phi: np.ndarray) -> np.ndarray:
     """``xfrc_applied`` rows (n, 6·nbody) for crank angles φ (n,) [rad], from the closed-form
     positions: the open-loop input ``rollout`` needs. Per-sample values are recomputed from
-    MuJoCo's own positions by ``apply_loads``; this only feeds the stepping."""
-    mech = asm.mechanism
-    kin = solve(asm, phi)
+    MuJoCo's own positions by ``apply_loads``; this only feeds the stepping. Gravity is MuJoCo's own."""
     out = np.zeros((phi.shape[0], model.nbody, 6))
-    masses = mass_table(asm)
-    for f in mech.forces:
-        if f.link == GROUND:
-            continue
-        b = model.body(f.link).id
-        on = stroke_active(f, phi)
-        vec = np.where(on[:, None], np.asarray(f.force, dtype=float), 0.0)
-        arm = kin.points[f.point].p - kin.point(f.link, np.asarray(masses[f.link].com)).p
-        out[:, b, 0:2] += vec
-        out[:, b, 5] += arm[:, 0] * vec[:, 1] - arm[:, 1] * vec[:, 0]
-    for t in mech.torques:
-        if t.link != GROUND:
-            out[:, model.body(t.link).id, 5] += t.torque
+    for name, load in applied_loads(asm, solve(asm, phi), gravity=False).items():
+        b = model.body(name).id
+        out[:, b, 0:2], out[:, b, 5] = load.force, load.moment
     return out.reshape(phi.shape[0], -1)
 
 

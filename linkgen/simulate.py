@@ -13,6 +13,7 @@ from mujoco import rollout
 from .errors import SimulationError
 from .kinematics import Assembly, solve
 from .mjcf import ARMATURE, TIMESTEP, site_name, spanning_tree, write_mjcf
+from .loads import stroke_active
 from .mjforces import ForceSamples, apply_loads, forward_forces, has_loads, load_schedule
 
 # A run whose loop-closure gap exceeds this at any step is an error, not a result [m]:
@@ -80,21 +81,31 @@ def joint_state(asm: Assembly, model: mujoco.MjModel, phi: float, omega: float,
                 epsilon: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """The model's qpos (nq,), qvel (nv,) and qacc (nv,) from the closed form at crank angle
     φ [rad], speed ω [rad/s] and acceleration ε [rad/s²]."""
-    kin = solve(asm, np.array([phi, asm.sketch_phi]))
-    qpos, qvel, qacc = model.qpos0.copy(), np.zeros(model.nv), np.zeros(model.nv)
+    qpos, qvel, qacc = joint_states(asm, model, np.array([phi]), np.array([omega]), np.array([epsilon]))
+    return qpos[0], qvel[0], qacc[0]
+
+
+def joint_states(asm: Assembly, model: mujoco.MjModel, phi: np.ndarray, omega: np.ndarray,
+                 epsilon: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """``joint_state`` for m crank states at once: φ, ω, ε each (m,) → qpos (m, nq),
+    qvel (m, nv), qacc (m, nv)."""
+    m = phi.shape[0]
+    kin = solve(asm, np.append(phi, asm.sketch_phi))  # the last angle is the reference pose (qpos0)
+    qpos = np.tile(model.qpos0, (m, 1))
+    qvel, qacc = np.zeros((m, model.nv)), np.zeros((m, model.nv))
     for parent, child, pair in spanning_tree(asm).tree:
         j = model.joint(pair.name)
         if pair.kind == "R":
             a, b = kin.links[child].angle, kin.links[parent].angle
-            rel, d1, d2 = a.v - b.v, a.d1[0] - b.d1[0], a.d2[0] - b.d2[0]
-            qpos[j.qposadr[0]] = math.remainder(rel[0] - rel[1], 2 * math.pi)
+            rel, d1, d2 = a.v - b.v, (a.d1 - b.d1)[:m], (a.d2 - b.d2)[:m]
+            qpos[:, j.qposadr[0]] = np.remainder(rel[:m] - rel[m] + np.pi, 2 * np.pi) - np.pi
         else:
             sign = 1.0 if child == asm.guides[pair.name].slider else -1.0
             s = kin.sliders[pair.name]
-            qpos[j.qposadr[0]] = sign * (s.v[0] - s.v[1])
-            d1, d2 = sign * s.d1[0], sign * s.d2[0]
-        qvel[j.dofadr[0]] = d1 * omega
-        qacc[j.dofadr[0]] = d2 * omega * omega + d1 * epsilon
+            qpos[:, j.qposadr[0]] = sign * (s.v[:m] - s.v[m])
+            d1, d2 = sign * s.d1[:m], sign * s.d2[:m]
+        qvel[:, j.dofadr[0]] = d1 * omega
+        qacc[:, j.dofadr[0]] = d2 * omega * omega + d1 * epsilon
     return qpos, qvel, qacc
 
 
@@ -140,8 +151,7 @@ def simulate_batch(asm: Assembly, *, omegas, revolutions: float = 1.0, epsilon: 
         t = np.arange(nstep) * timestep
         phis = [mech.drive.start + w * t + 0.5 * eps * t * t for w in omegas]
         xfrc = np.stack([load_schedule(asm, model, p) for p in phis])
-        switches = [np.flatnonzero(np.any(np.diff(x, axis=0) != 0.0, axis=1) & _stroke_steps(asm, p)) + 1
-                    for x, p in zip(xfrc, phis)]
+        switches = [np.flatnonzero(_stroke_steps(asm, p)) + 1 for p in phis]
         ctrl = np.concatenate([np.broadcast_to(ctrl, (len(omegas), nstep, model.nu)), xfrc], axis=2)
         spec |= mujoco.mjtState.mjSTATE_XFRC_APPLIED
     state, sensordata = rollout.rollout(model, datas, init, ctrl, control_spec=spec, nstep=nstep)
@@ -199,8 +209,6 @@ def _check(time, qpos, qvel, gap) -> None:
 
 def _stroke_steps(asm: Assembly, phi: np.ndarray) -> np.ndarray:
     """(n-1,) True between steps where some stroke-limited force switches on or off."""
-    from .loads import stroke_active
-
     out = np.zeros(max(phi.shape[0] - 1, 0), dtype=bool)
     for f in asm.mechanism.forces:
         if f.stroke is not None:
