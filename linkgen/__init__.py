@@ -1,5 +1,6 @@
 """linkgen: planar linkages → MuJoCo MJCF, cross-checked against closed-form Assur-group solutions."""
 
+from .assembly import Assembly, assemble
 from .description import (
     Drive,
     Link,
@@ -19,13 +20,14 @@ from .errors import (
     StructureError,
     ValidationError,
 )
-from .kinematics import Assembly, Kinematics, Motion, assemble, solve
+from .kinematics import Kinematics, solve, solve_motion
 from .load import from_dict, load
+from .motion import Motion
 from .structure import Group, GroupKind, Structure, analyze
 
 __all__ = [
     "Drive", "Link", "LinkTorque", "MassProperties", "Mechanism", "PointForce", "Prismatic", "Revolute",
     "AssemblyError", "DescriptionError", "LinkgenError", "SimulationError", "SingularityError",
-    "StructureError", "ValidationError", "Assembly", "Kinematics", "Motion", "assemble", "solve",
+    "StructureError", "ValidationError", "Assembly", "Kinematics", "Motion", "assemble", "solve", "solve_motion",
     "from_dict", "load", "Group", "GroupKind", "Structure", "analyze",
 ]

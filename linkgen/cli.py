@@ -15,8 +15,9 @@ from pathlib import Path
 
 import numpy as np
 
+from .assembly import assemble
 from .errors import DescriptionError, LinkgenError
-from .kinematics import Kinematics, assemble, solve
+from .kinematics import Kinematics, solve
 from .load import load
 from .units import parse_angle
 

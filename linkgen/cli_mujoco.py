@@ -25,10 +25,11 @@ def _models(path: Path) -> list[Path]:
 
 
 def cmd_build(args) -> int:
-    from .kinematics import assemble
+    import mujoco
+
+    from .assembly import assemble
     from .load import load
     from .mjcf import write_mjcf
-    import mujoco
 
     paths = _models(args.model)
     for p in paths:
@@ -41,7 +42,7 @@ def cmd_build(args) -> int:
 
 
 def cmd_simulate(args) -> int:
-    from .kinematics import assemble
+    from .assembly import assemble
     from .load import load
     from .simulate import simulate
 
@@ -90,8 +91,8 @@ def cmd_simulate(args) -> int:
 
 
 def _validate_one(path: Path, timestep: float):
+    from .assembly import assemble
     from .compare import compare
-    from .kinematics import assemble
     from .load import load
     from .simulate import simulate
 
@@ -125,7 +126,6 @@ def cmd_validate(args) -> int:
 
 def add_commands(sub) -> None:
     from .cli import _float_arg
-
     from .mjcf import TIMESTEP
 
     b = sub.add_parser("build", help="write the MJCF of a model, or of every model in a folder")

@@ -7,9 +7,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .kinematics import Assembly, Motion, solve
+from .assembly import Assembly
+from .kinematics import solve
 from .kinetostatics import Forces, forces
 from .mjforces import ForceSamples, inverse_forces
+from .motion import Motion
 from .simulate import Run, joint_states
 
 # Every kinematic quantity within this fraction of its peak magnitude (issue 3).

@@ -12,7 +12,16 @@ from dataclasses import dataclass
 import numpy as np
 
 from .description import GROUND, MassProperties, Mechanism
-from .primitives import Scalar, Vec, angle_between_points, constant, rotvec
+from .primitives import (
+    Scalar,
+    Vec,
+    angle_between_points,
+    constant,
+    constant_along,
+    is_zero,
+    rotvec,
+    zeros,
+)
 
 
 @dataclass(frozen=True)
@@ -52,36 +61,59 @@ class GuideShape:
 
 @dataclass(frozen=True, slots=True)
 class LinkPose:
-    """A link's placement over φ: the origin of its frame and its angle, with transfer functions."""
+    """A link's placement over φ: its angle and the points its group solved.
 
-    origin: Vec
+    ``known`` pairs local coordinates (2,) [m] with the solved point (Vec); any other point
+    of the link follows by turning about the first of them. Points the group solved are
+    returned as solved, with no second computation.
+    """
+
     angle: Scalar
+    known: tuple[tuple[np.ndarray, Vec], ...]
 
-    def point(self, local: np.ndarray) -> Vec:
-        return self.origin + rotvec(self.angle, np.asarray(local, dtype=float))
+    @property
+    def origin(self) -> Vec:
+        """The link frame's origin: its first point."""
+        return self.point(np.zeros(2))
+
+    def point(self, local) -> Vec:
+        local = np.asarray(local, dtype=float)
+        for loc, vec in self.known:
+            if loc[0] == local[0] and loc[1] == local[1]:
+                return vec
+        loc, vec = self.known[0]
+        if constant_along(self.angle.v) and constant_along(vec.p) and is_zero(vec.d1) and is_zero(vec.d2):
+            th = float(self.angle.v[0])  # a fixed link: one point, broadcast
+            c, s = math.cos(th), math.sin(th)
+            w = local - loc
+            return constant(vec.p[0] + np.array([c * w[0] - s * w[1], s * w[0] + c * w[1]]), vec.p.shape[0])
+        return vec + rotvec(self.angle, local - loc)
 
     def direction(self, alpha: float) -> Vec:
         return rotvec(self.angle, np.array([math.cos(alpha), math.sin(alpha)]))
 
 
+def _wrapped(angle: Scalar) -> Scalar:
+    """The angle reported in [-π, π) (floor is several times faster than np.mod)."""
+    turns = np.floor(angle.v * (0.5 / np.pi) + 0.5)
+    return Scalar(angle.v - (2.0 * np.pi) * turns, angle.d1, angle.d2, angle.cs)
+
+
 def pose_from_point(p: Vec, local: np.ndarray, angle: Scalar) -> LinkPose:
-    """The pose of a link whose point ``local`` is at ``p`` and whose angle is ``angle``
-    (the angle is reported wrapped to [-π, π))."""
-    offset = rotvec(angle, local)
-    wrapped = Scalar(np.mod(angle.v + np.pi, 2.0 * np.pi) - np.pi, angle.d1, angle.d2, angle.cs)
-    return LinkPose(p - offset, wrapped)
+    """The pose of a link whose point ``local`` is at ``p`` and whose angle is ``angle``."""
+    return LinkPose(_wrapped(angle), ((np.asarray(local, dtype=float), p),))
 
 
 def pose_from_two_points(p: Vec, p_local: np.ndarray, q: Vec, q_local: np.ndarray) -> LinkPose:
     """The pose of a link whose points ``p_local`` and ``q_local`` are at ``p`` and ``q``."""
     e = q_local - p_local
     angle = angle_between_points(p, q).shifted(-math.atan2(e[1], e[0]))
-    return pose_from_point(p, p_local, angle)
+    return LinkPose(_wrapped(angle), ((p_local, p), (q_local, q)))
 
 
 def ground_pose(n: int) -> LinkPose:
-    zero = np.zeros(n)
-    return LinkPose(constant(np.zeros(2), n), Scalar(zero, zero, zero))
+    zero = zeros(n)
+    return LinkPose(Scalar(zero, zero, zero), ((np.zeros(2), constant(np.zeros(2), n)),))
 
 
 def link_shapes(mech: Mechanism) -> dict[str, LinkShape]:

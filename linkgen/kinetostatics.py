@@ -25,9 +25,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .assembly import Assembly
 from .description import GROUND
 from .errors import SingularityError, angle_ranges
-from .kinematics import Assembly, Kinematics, solve
+from .kinematics import Kinematics, solve
 from .loads import applied_loads, mass_table
 from .structure import Pair
 

@@ -11,9 +11,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .assembly import Assembly
 from .description import GROUND, MassProperties, PointForce
 from .geometry import effective_mass_properties
-from .kinematics import Assembly, Kinematics
+from .kinematics import Kinematics
 from .primitives import Vec
 
 

@@ -14,10 +14,11 @@ from dataclasses import dataclass
 import numpy as np
 from lxml import etree
 
+from .assembly import Assembly
 from .description import GROUND
 from .errors import StructureError
 from .geometry import effective_mass_properties
-from .kinematics import Assembly, solve
+from .kinematics import solve
 from .structure import Pair, pairs_of
 
 # Integration and constraint settings (design brief, "MuJoCo modelling notes"; re-measured on

@@ -28,8 +28,9 @@ from dataclasses import dataclass
 import mujoco
 import numpy as np
 
+from .assembly import Assembly
 from .description import GROUND
-from .kinematics import Assembly, solve
+from .kinematics import solve
 from .loads import applied_loads, stroke_active
 from .mjcf import ARMATURE, TreeInfo, site_name, spanning_tree
 

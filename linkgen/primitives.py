@@ -4,14 +4,63 @@ Every quantity is a triple (value, d/dφ, d²/dφ²) over an array of crank angl
 points and vectors have shape (n, 2), angles and scalars shape (n,). The derivative
 formulas come from differentiating each constraint twice (seed 000's method written in
 vector form); finite differences appear only in the tests.
+
+Layout, for speed: (n, 2) arrays are column-major (``x[:, 0]`` and ``x[:, 1]`` are
+contiguous), so per-component arithmetic and (n, 1)·(n, 2) products run on contiguous
+memory. Quantities constant along φ (fixed points, their zero derivatives, the crank's
+dφ/dφ = 1) are zero-stride broadcast views: no memory, and products with them are skipped.
 """
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass, field
 
 import numpy as np
+
+
+def pair(x: np.ndarray, y: np.ndarray) -> np.ndarray:
+    """Column-major (n, 2) array from components x, y (n,)."""
+    out = np.empty((2, x.shape[0])).T
+    out[:, 0] = x
+    out[:, 1] = y
+    return out
+
+
+def constant_along(a: np.ndarray) -> bool:
+    """True for a zero-stride view: the same value at every crank angle by construction."""
+    return a.ndim > 0 and a.strides[0] == 0
+
+
+@functools.lru_cache(maxsize=64)
+def zeros(n: int, *tail: int) -> np.ndarray:
+    """A read-only zero array (n, *tail) that takes no memory (one shared view per shape)."""
+    return np.broadcast_to(np.zeros(tail), (n, *tail))
+
+
+def is_zero(a: np.ndarray) -> bool:
+    """True for an array known to be zero at every angle (a zero-stride view of zeros)."""
+    if a.strides[0] != 0:
+        return False
+    row = a[0]
+    return not (row.any() if row.ndim else row)
+
+
+def _plus(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    return a if is_zero(b) else b if is_zero(a) else a + b
+
+
+def _minus(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    return a if is_zero(b) else -b if is_zero(a) else a - b
+
+
+def scale(c: np.ndarray, v: np.ndarray) -> np.ndarray:
+    """c (n,) times v (n, 2), with no work where either is constant along φ."""
+    if constant_along(c):
+        k = float(c[0])
+        return zeros(v.shape[0], 2) if k == 0.0 or is_zero(v) else v if k == 1.0 else k * v
+    return zeros(v.shape[0], 2) if is_zero(v) else c[:, None] * v
 
 
 @dataclass(frozen=True, slots=True)
@@ -23,10 +72,10 @@ class Vec:
     d2: np.ndarray
 
     def __add__(self, o: "Vec") -> "Vec":
-        return Vec(self.p + o.p, self.d1 + o.d1, self.d2 + o.d2)
+        return Vec(self.p + o.p, _plus(self.d1, o.d1), _plus(self.d2, o.d2))
 
     def __sub__(self, o: "Vec") -> "Vec":
-        return Vec(self.p - o.p, self.d1 - o.d1, self.d2 - o.d2)
+        return Vec(self.p - o.p, _minus(self.d1, o.d1), _minus(self.d2, o.d2))
 
 
 @dataclass(frozen=True, slots=True)
@@ -42,6 +91,8 @@ class Scalar:
     cs: tuple[np.ndarray, np.ndarray] | None = field(default=None, repr=False, compare=False)
 
     def shifted(self, c: float) -> "Scalar":
+        if c == 0.0:
+            return self
         cs = None
         if self.cs is not None:  # cos(v + c), sin(v + c) from the cached pair: no new trigonometry
             cc, sc = math.cos(c), math.sin(c)
@@ -82,7 +133,7 @@ def dot(a: np.ndarray, b: np.ndarray) -> np.ndarray:
 
 def perp(a: np.ndarray) -> np.ndarray:
     """a rotated by +90°."""
-    return np.stack((-a[..., 1], a[..., 0]), axis=-1)
+    return pair(-a[:, 1], a[:, 0])
 
 
 def col(x: np.ndarray) -> np.ndarray:
@@ -93,58 +144,68 @@ def rotvec(theta: Scalar, w: np.ndarray) -> Vec:
     """R(θ)·w for a constant local vector w (2,): a vector turning with a link."""
     n = theta.v.shape[0]
     if w[0] == 0.0 and w[1] == 0.0:
-        zero = np.zeros((n, 2))
+        zero = zeros(n, 2)
         return Vec(zero, zero, zero)
     c, s = theta.cos_sin()
-    v = np.empty((n, 2))
     if w[1] == 0.0:
-        np.multiply(c, w[0], out=v[:, 0])
-        np.multiply(s, w[0], out=v[:, 1])
+        v = pair(c * w[0], s * w[0])
     else:
-        v[:, 0] = c * w[0] - s * w[1]
-        v[:, 1] = s * w[0] + c * w[1]
+        v = pair(c * w[0] - s * w[1], s * w[0] + c * w[1])
     pv = perp(v)
-    return Vec(v, col(theta.d1) * pv, col(theta.d2) * pv - col(theta.d1**2) * v)
+    d2 = scale(theta.d2, pv)
+    d1sq = theta.d1 if constant_along(theta.d1) and theta.d1[0] in (0.0, 1.0) else theta.d1 * theta.d1
+    return Vec(v, scale(theta.d1, pv), _minus(d2, scale(d1sq, v)))
 
 
 def constant(p: np.ndarray, n: int) -> Vec:
     """A fixed point (2,) broadcast to n angles."""
-    pts = np.broadcast_to(np.asarray(p, dtype=float), (n, 2))
-    zero = np.zeros((n, 2))
-    return Vec(pts, zero, zero)
+    zero = zeros(n, 2)
+    return Vec(np.broadcast_to(np.asarray(p, dtype=float), (n, 2)), zero, zero)
 
 
 def angle_between_points(a: Vec, b: Vec) -> Scalar:
     """Direction angle of b - a [rad] and its transfer functions (|b - a| need not be fixed
-    along φ for the angle, but the formulas assume it is, as on a rigid link)."""
+    along φ for the angle, but the formulas assume it is, as on a rigid link). Caches the
+    angle's cos and sin, (b - a)/|b - a|."""
     e = b - a
     l2 = dot(e.p, e.p)
-    return Scalar(np.arctan2(e.p[:, 1], e.p[:, 0]), cross(e.p, e.d1) / l2, cross(e.p, e.d2) / l2)
+    inv = 1.0 / np.sqrt(l2)
+    inv2 = inv * inv
+    cs = (e.p[:, 0] * inv, e.p[:, 1] * inv)
+    return Scalar(np.arctan2(e.p[:, 1], e.p[:, 0]), cross(e.p, e.d1) * inv2, cross(e.p, e.d2) * inv2, cs)
+
+
+def _sq(v: np.ndarray) -> np.ndarray | float:
+    return 0.0 if is_zero(v) else dot(v, v)
+
+
+def _dot(r: np.ndarray, v: np.ndarray) -> np.ndarray | float:
+    return 0.0 if is_zero(v) else dot(r, v)
 
 
 def circle_circle(a: Vec, ra: float, c: Vec, rc: float, m: int) -> Result:
     """Point B with |B - A| = ra and |B - C| = rc (RRR). m = +1 puts B left of A→C."""
     d = c.p - a.p
     dd = dot(d, d)
-    dist = np.sqrt(dd)
-    along = (ra * ra - rc * rc + dd) / (2.0 * dist)
+    inv = 1.0 / np.sqrt(dd)
+    along = (dd + (ra * ra - rc * rc)) * (0.5 * inv)
     h2 = ra * ra - along * along
     fail = ~(h2 >= 0.0)
     h = np.sqrt(np.where(fail, 0.0, h2))
-    b = a.p + col(along / dist) * d + col(m * h / dist) * perp(d)
+    ka, kh = along * inv, (m * inv) * h
+    b = pair(a.p[:, 0] + ka * d[:, 0] - kh * d[:, 1], a.p[:, 1] + ka * d[:, 1] + kh * d[:, 0])
     ba, bc = b - a.p, b - c.p
     det = cross(ba, bc)
-    b1 = _solve2(ba, bc, dot(ba, a.d1), dot(bc, c.d1), det)
-    r1a, r1c = b1 - a.d1, b1 - c.d1
-    b2 = _solve2(ba, bc, dot(ba, a.d2) - dot(r1a, r1a), dot(bc, c.d2) - dot(r1c, r1c), det)
-    return Result(Vec(b, b1, b2), fail, det / (ra * rc))
+    b1 = _solve2(ba, bc, _dot(ba, a.d1), _dot(bc, c.d1), det)
+    r1a, r1c = _minus(b1, a.d1), _minus(b1, c.d1)
+    b2 = _solve2(ba, bc, _dot(ba, a.d2) - _sq(r1a), _dot(bc, c.d2) - _sq(r1c), det)
+    return Result(Vec(b, b1, b2), fail, det * (1.0 / (ra * rc)))
 
 
-def _solve2(r1: np.ndarray, r2: np.ndarray, y1: np.ndarray, y2: np.ndarray, det: np.ndarray) -> np.ndarray:
+def _solve2(r1: np.ndarray, r2: np.ndarray, y1, y2, det: np.ndarray) -> np.ndarray:
     """Solve [r1ᵀ; r2ᵀ]·x = [y1; y2] for x (n, 2) by Cramer's rule."""
-    x = (y1 * r2[:, 1] - y2 * r1[:, 1]) / det
-    y = (r1[:, 0] * y2 - r2[:, 0] * y1) / det
-    return np.stack((x, y), axis=-1)
+    inv = 1.0 / det
+    return pair((y1 * r2[:, 1] - y2 * r1[:, 1]) * inv, (r1[:, 0] * y2 - r2[:, 0] * y1) * inv)
 
 
 def line_circle(line: Line, a: Vec, r: float, m: int) -> Result:
@@ -154,16 +215,17 @@ def line_circle(line: Line, a: Vec, r: float, m: int) -> Result:
     b_ = dot(u.p, qa)
     disc = b_ * b_ - (dot(qa, qa) - r * r)
     fail = ~(disc >= 0.0)
-    s = -b_ + m * np.sqrt(np.where(fail, 0.0, disc))
+    s = m * np.sqrt(np.where(fail, 0.0, disc)) - b_
     bp = q.p + col(s) * u.p
     w = bp - a.p
     den = dot(w, u.p)
-    s1 = -dot(w, q.d1 + col(s) * u.d1 - a.d1) / den
-    b1 = q.d1 + col(s1) * u.p + col(s) * u.d1
-    r1 = b1 - a.d1
-    s2 = -(dot(w, q.d2 + 2.0 * col(s1) * u.d1 + col(s) * u.d2 - a.d2) + dot(r1, r1)) / den
-    b2 = q.d2 + col(s2) * u.p + 2.0 * col(s1) * u.d1 + col(s) * u.d2
-    return Result(Vec(bp, b1, b2), fail, den / r)
+    inv = 1.0 / den
+    s1 = -_dot(w, _minus(_plus(q.d1, scale(s, u.d1)), a.d1)) * inv
+    b1 = _plus(_plus(q.d1, col(s1) * u.p), scale(s, u.d1))
+    r1 = _minus(b1, a.d1)
+    s2 = -(_dot(w, _minus(_plus(_plus(q.d2, scale(2.0 * s1, u.d1)), scale(s, u.d2)), a.d2)) + dot(r1, r1)) * inv
+    b2 = _plus(_plus(_plus(q.d2, col(s2) * u.p), scale(2.0 * s1, u.d1)), scale(s, u.d2))
+    return Result(Vec(bp, b1, b2), fail, den * (1.0 / r))
 
 
 def pivot_line(ps: Vec, pg: Vec, k: float, m: int) -> Result:
@@ -176,26 +238,29 @@ def pivot_line(ps: Vec, pg: Vec, k: float, m: int) -> Result:
     asin = np.arcsin(np.clip(ratio, -1.0, 1.0))
     alpha = np.arctan2(d.p[:, 1], d.p[:, 0])
     psi = alpha - asin if m > 0 else alpha - np.pi + asin
-    e = np.stack((np.cos(psi), np.sin(psi)), axis=-1)
+    cs = (np.cos(psi), np.sin(psi))
+    e = pair(*cs)
     den = dot(e, d.p)
     psi1 = cross(e, d.d1) / den
     psi2 = (cross(e, d.d2) - 2.0 * dot(e, d.d1) * psi1 - k * psi1**2) / den
-    return Result(Scalar(psi, psi1, psi2), fail, den / dist)
+    return Result(Scalar(psi, psi1, psi2, cs), fail, den / dist)
 
 
 def line_line(l1: Line, l2: Line) -> Result:
     """Intersection of two moving lines (PRP, RPP). Unique; singular when parallel."""
     q1, u1, q2, u2 = l1.base, l1.u, l2.base, l2.u
     det = cross(u1.p, u2.p)
+    inv = 1.0 / det
     r0 = q2.p - q1.p
-    s1 = cross(r0, u2.p) / det
-    s2 = cross(r0, u1.p) / det
-    r1 = q2.d1 + col(s2) * u2.d1 - q1.d1 - col(s1) * u1.d1
-    s1d = cross(r1, u2.p) / det
-    s2d = cross(r1, u1.p) / det
-    r2 = (q2.d2 + 2.0 * col(s2d) * u2.d1 + col(s2) * u2.d2) - (q1.d2 + 2.0 * col(s1d) * u1.d1 + col(s1) * u1.d2)
-    s1dd = cross(r2, u2.p) / det
+    s1 = cross(r0, u2.p) * inv
+    s2 = cross(r0, u1.p) * inv
+    r1 = _minus(_plus(q2.d1, scale(s2, u2.d1)), _plus(q1.d1, scale(s1, u1.d1)))
+    s1d = cross(r1, u2.p) * inv
+    s2d = cross(r1, u1.p) * inv
+    r2 = _minus(_plus(_plus(q2.d2, scale(2.0 * s2d, u2.d1)), scale(s2, u2.d2)),
+                _plus(_plus(q1.d2, scale(2.0 * s1d, u1.d1)), scale(s1, u1.d2)))
+    s1dd = cross(r2, u2.p) * inv
     b = q1.p + col(s1) * u1.p
-    b1 = q1.d1 + col(s1d) * u1.p + col(s1) * u1.d1
-    b2 = q1.d2 + col(s1dd) * u1.p + 2.0 * col(s1d) * u1.d1 + col(s1) * u1.d2
+    b1 = _plus(_plus(q1.d1, col(s1d) * u1.p), scale(s1, u1.d1))
+    b2 = _plus(_plus(_plus(q1.d2, col(s1dd) * u1.p), scale(2.0 * s1d, u1.d1)), scale(s1, u1.d2))
     return Result(Vec(b, b1, b2), np.zeros(det.shape, dtype=bool), det)

@@ -10,11 +10,18 @@ import mujoco
 import numpy as np
 from mujoco import rollout
 
+from .assembly import Assembly
 from .errors import SimulationError
-from .kinematics import Assembly, solve
-from .mjcf import ARMATURE, TIMESTEP, site_name, spanning_tree, write_mjcf
+from .kinematics import solve
 from .loads import stroke_active
-from .mjforces import ForceSamples, apply_loads, forward_forces, has_loads, load_schedule
+from .mjcf import ARMATURE, TIMESTEP, site_name, spanning_tree, write_mjcf
+from .mjforces import (
+    ForceSamples,
+    apply_loads,
+    forward_forces,
+    has_loads,
+    load_schedule,
+)
 
 # A run whose loop-closure gap exceeds this at any step is an error, not a result [m]:
 # 100× the accuracy target of 1e-8 m, so a result is reported (and judged) up to there.

@@ -35,10 +35,17 @@ def test_constraints_hold_over_the_drive_range(model_path):
     mech = load(model_path)
     asm = assemble(mech)
     kin = solve(asm, _grid(mech))
-    # revolutes: the point is the same seen from both links
+    # revolutes: the point is the same seen from both links, each placed here by its own
+    # origin and angle (the solver hands back solved points as they are; this rebuilds them)
+    def placed(link, point):
+        origin, th = kin.links[link].origin.p, kin.links[link].angle.v
+        x, y = asm.shapes[link].local[point]
+        return origin + np.stack((np.cos(th) * x - np.sin(th) * y, np.sin(th) * x + np.cos(th) * y), axis=1)
+
     for j in mech.revolutes:
-        a, b = (kin.point(l, asm.shapes[l].local[j.point]).p for l in j.links)
+        a, b = (placed(l, j.point) for l in j.links)
         assert np.abs(a - b).max() < CONSTRAINT_TOL, j.name
+        assert np.abs(a - kin.points[j.point].p).max() < CONSTRAINT_TOL, j.name
     # lengths given in the description
     for link in mech.links:
         if link.length is not None:

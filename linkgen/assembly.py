@@ -1,0 +1,96 @@
+"""Assembly: the structure, the link shapes and each Assur group's assembly mode.
+
+``assemble`` analyses the structure and takes each group's assembly mode (m = ±1 of seed 000)
+from the sketch pose: the branch whose points land nearest the sketch. The mode is then kept
+over every crank angle.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .description import Mechanism
+from .errors import AssemblyError, DescriptionError
+from .geometry import GuideShape, LinkPose, LinkShape, guide_shapes, link_shapes
+from .groups import input_poses, solve_group
+from .structure import GroupKind, Structure, analyze
+
+# The sketch must agree with the assembled pose to this fraction of the mechanism's size:
+# loose enough for a sketch drawn to three digits, tight enough to catch a wrong branch or typo.
+SKETCH_TOLERANCE = 0.02
+_BRANCHED = (GroupKind.RRR, GroupKind.RRP, GroupKind.RPR)
+
+
+@dataclass(frozen=True)
+class Assembly:
+    """A mechanism with its structure, shapes and each group's assembly mode."""
+
+    mechanism: Mechanism
+    structure: Structure
+    shapes: dict[str, LinkShape]
+    guides: dict[str, GuideShape]
+    branches: tuple[int, ...]
+    sketch_phi: float
+
+
+def assemble(mech: Mechanism) -> Assembly:
+    """Analyse the structure and take each group's assembly mode from the sketch pose.
+
+    Raises:
+        AssemblyError: a group cannot be assembled at the sketch's crank angle.
+        DescriptionError: the assembled pose is far from the sketch on every branch.
+    """
+    structure = analyze(mech)
+    shapes = link_shapes(mech)
+    guides = guide_shapes(mech, shapes)
+    crank = shapes[structure.crank]
+    phi0 = np.array([crank.sketch_angle])
+    poses = input_poses(mech, structure, shapes, phi0)
+    branches = []
+    for group in structure.groups:
+        best = None
+        with np.errstate(invalid="ignore", divide="ignore"):
+            trials = [(m, *solve_group(group, m, poses, shapes, guides, mech))
+                      for m in ((1, -1) if group.kind in _BRANCHED else (1,))]
+        for m, p1, p2, res in trials:
+            if res.fail[0]:
+                continue
+            err = _sketch_error(mech, shapes, {group.links[0]: p1, group.links[1]: p2})
+            if best is None or err < best[0]:
+                best = (err, m, p1, p2)
+        if best is None:
+            raise AssemblyError(
+                group.label, [(float(phi0[0]), float(phi0[0]))], "the sketch pose cannot be assembled"
+            )
+        branches.append(best[1])
+        poses[group.links[0]], poses[group.links[1]] = best[2], best[3]
+    _check_sketch(mech, shapes, poses)
+    return Assembly(mech, structure, shapes, guides, tuple(branches), float(phi0[0]))
+
+
+def _sketch_error(mech: Mechanism, shapes: dict[str, LinkShape], poses: dict[str, LinkPose]) -> float:
+    err = 0.0
+    for name, pose in poses.items():
+        for p, local in shapes[name].local.items():
+            err += float(np.hypot(*(pose.point(local).p[0] - np.asarray(mech.points[p]))))
+    return err
+
+
+def _check_sketch(mech: Mechanism, shapes: dict[str, LinkShape], poses: dict[str, LinkPose]) -> None:
+    xy = np.array(list(mech.points.values()))
+    size = float(np.hypot(*(xy.max(axis=0) - xy.min(axis=0))))
+    tol = SKETCH_TOLERANCE * size
+    for link in mech.links:
+        for p in link.points:
+            got = poses[link.name].point(shapes[link.name].local[p]).p[0]
+            want = np.asarray(mech.points[p])
+            dev = float(np.hypot(*(got - want)))
+            if dev > tol:
+                raise DescriptionError(
+                    f"points.{p}",
+                    f"the sketch puts it at ({want[0]:.6g}, {want[1]:.6g}) m but link {link.name!r} assembles it at "
+                    f"({got[0]:.6g}, {got[1]:.6g}) m on the nearest branch, {dev:.3g} m away (allowed {tol:.3g} m = "
+                    f"{SKETCH_TOLERANCE:g} of the sketch's size); correct the sketch or the link lengths",
+                )
