@@ -27,9 +27,11 @@ from .primitives import Scalar, Vec, constant_along
 #   1 thread    193   146    126    123    124     135     145
 #   2 threads   263   160    110    100     86      88     156
 # Small blocks lose to per-block Python overhead and, on two threads, to handing the GIL back
-# and forth between NumPy calls; at 65536 a (n, 2) temporary is 1 MiB and the working set
-# still sits in L3.
-BLOCK = 65536
+# and forth between NumPy calls. Large blocks grow each thread's heap of temporaries (about
+# 40 arrays of a block's size), which a fresh process pays for in page faults: first call in
+# a fresh process after 10 s idle, 16384 → 0.31-0.39 s, 32768 → 0.40-0.43 s, 65536 → 0.52 s
+# (peak memory 201, 220, 258 MB). 32768 keeps both the warm time and the cold one in target.
+BLOCK = 32768
 
 
 # glibc gives freed memory at the top of its heap back to the kernel once it passes a trim
