@@ -19,7 +19,7 @@ from .description import Mechanism
 from .errors import AssemblyError, SingularityError, angle_ranges
 from .geometry import GuideShape, LinkPose
 from .groups import fail_reason, input_poses, solve_group
-from .motion import Motion, derivatives
+from .motion import Motion, derivatives, rate
 from .primitives import Scalar, Vec, constant_along, dot
 
 # A group is flagged near-singular where its normalised transfer-function denominator
@@ -33,7 +33,8 @@ class Kinematics:
     """Positions and transfer functions over crank angles ``phi`` (n,) [rad].
 
     Attributes:
-        links: pose of every link (origin (n, 2) [m], angle (n,) [rad], with d/dφ, d²/dφ²).
+        links: pose of every link: its angle (n,) [rad] with d/dφ, d²/dφ², and the points its
+            group solved; ``origin`` and ``point(local)`` place any other point.
         points: every named point, Vec of (n, 2) [m], [m/rad], [m/rad²].
         sliders: every prismatic pair's displacement along its guide [m] (from the guide's
             base point), with transfer functions.
@@ -98,8 +99,7 @@ def solve_motion(mech_or_assembly: Mechanism | Assembly, phi, omega, epsilon=0.0
     without keeping the transfer functions. Raises as ``solve`` does."""
     asm, phi = _assembly(mech_or_assembly), _angles(phi)
     n = phi.shape[0]
-    w = np.broadcast_to(np.asarray(omega, dtype=float), (n,)) if np.ndim(omega) else float(omega)
-    e = np.broadcast_to(np.asarray(epsilon, dtype=float), (n,)) if np.ndim(epsilon) else float(epsilon)
+    w, e = rate("omega", omega, n, "rad/s"), rate("epsilon", epsilon, n, "rad/s²")
 
     def block(rows: slice):
         (poses, points, sliders, near), ok = _solve_block(asm, phi[rows])

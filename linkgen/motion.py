@@ -30,6 +30,16 @@ class Motion:
     sliders: dict[str, Triple]
 
 
+def rate(name: str, value, n: int, unit: str) -> float | np.ndarray:
+    """A crank rate as a float or an (n,) array, checked: finite, scalar or one per angle."""
+    a = np.asarray(value, dtype=float)
+    if a.ndim != 0 and a.shape != (n,):
+        raise ValueError(f"{name} must be a scalar or an array of shape ({n},) [{unit}], got shape {a.shape}")
+    if not np.all(np.isfinite(a)):
+        raise ValueError(f"{name} must be finite [{unit}], got {value if a.ndim == 0 else 'non-finite entries'}")
+    return float(a) if a.ndim == 0 else a
+
+
 def derivatives(phi: np.ndarray, series: dict[str, dict[str, Triple]], omega, epsilon) -> Motion:
     """Motion from ``series[kind][name] = (x, dx/dφ, d²x/dφ²)`` for kinds points, links and
     sliders (arrays (n,) or (n, 2)), at ω [rad/s] and ε [rad/s²], scalars or (n,).
@@ -38,8 +48,8 @@ def derivatives(phi: np.ndarray, series: dict[str, dict[str, Triple]], omega, ep
     share one allocation (``blocks.carve``); a scalar ε = 0 costs nothing.
     """
     n = phi.shape[0]
-    w = np.broadcast_to(np.asarray(omega, dtype=float), (n,))
-    e = np.broadcast_to(np.asarray(epsilon, dtype=float), (n,))
+    omega, epsilon = rate("omega", omega, n, "rad/s"), rate("epsilon", epsilon, n, "rad/s²")
+    w, e = np.broadcast_to(omega, (n,)), np.broadcast_to(epsilon, (n,))
     scalar = np.ndim(omega) == 0 and np.ndim(epsilon) == 0
     items = [(kind, name, t) for kind, named in series.items() for name, t in named.items()]
     fixed = [scalar and constant_along(d1) and constant_along(d2) for _, _, (_, d1, d2) in items]

@@ -47,8 +47,15 @@ def is_zero(a: np.ndarray) -> bool:
     return not (row.any() if row.ndim else row)
 
 
-def _plus(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    return a if is_zero(b) else b if is_zero(a) else a + b
+def _sum(*terms: np.ndarray) -> np.ndarray:
+    """The sum of the terms, skipping those known to be zero."""
+    live = [t for t in terms if not is_zero(t)]
+    if not live:
+        return terms[0]
+    out = live[0]
+    for t in live[1:]:
+        out = out + t
+    return out
 
 
 def _minus(a: np.ndarray, b: np.ndarray) -> np.ndarray:
@@ -72,7 +79,7 @@ class Vec:
     d2: np.ndarray
 
     def __add__(self, o: "Vec") -> "Vec":
-        return Vec(self.p + o.p, _plus(self.d1, o.d1), _plus(self.d2, o.d2))
+        return Vec(self.p + o.p, _sum(self.d1, o.d1), _sum(self.d2, o.d2))
 
     def __sub__(self, o: "Vec") -> "Vec":
         return Vec(self.p - o.p, _minus(self.d1, o.d1), _minus(self.d2, o.d2))
@@ -220,11 +227,11 @@ def line_circle(line: Line, a: Vec, r: float, m: int) -> Result:
     w = bp - a.p
     den = dot(w, u.p)
     inv = 1.0 / den
-    s1 = -_dot(w, _minus(_plus(q.d1, scale(s, u.d1)), a.d1)) * inv
-    b1 = _plus(_plus(q.d1, col(s1) * u.p), scale(s, u.d1))
+    s1 = -_dot(w, _minus(_sum(q.d1, scale(s, u.d1)), a.d1)) * inv
+    b1 = _sum(q.d1, col(s1) * u.p, scale(s, u.d1))
     r1 = _minus(b1, a.d1)
-    s2 = -(_dot(w, _minus(_plus(_plus(q.d2, scale(2.0 * s1, u.d1)), scale(s, u.d2)), a.d2)) + dot(r1, r1)) * inv
-    b2 = _plus(_plus(_plus(q.d2, col(s2) * u.p), scale(2.0 * s1, u.d1)), scale(s, u.d2))
+    s2 = -(_dot(w, _minus(_sum(q.d2, scale(2.0 * s1, u.d1), scale(s, u.d2)), a.d2)) + dot(r1, r1)) * inv
+    b2 = _sum(q.d2, col(s2) * u.p, scale(2.0 * s1, u.d1), scale(s, u.d2))
     return Result(Vec(bp, b1, b2), fail, den * (1.0 / r))
 
 
@@ -254,13 +261,13 @@ def line_line(l1: Line, l2: Line) -> Result:
     r0 = q2.p - q1.p
     s1 = cross(r0, u2.p) * inv
     s2 = cross(r0, u1.p) * inv
-    r1 = _minus(_plus(q2.d1, scale(s2, u2.d1)), _plus(q1.d1, scale(s1, u1.d1)))
+    r1 = _minus(_sum(q2.d1, scale(s2, u2.d1)), _sum(q1.d1, scale(s1, u1.d1)))
     s1d = cross(r1, u2.p) * inv
     s2d = cross(r1, u1.p) * inv
-    r2 = _minus(_plus(_plus(q2.d2, scale(2.0 * s2d, u2.d1)), scale(s2, u2.d2)),
-                _plus(_plus(q1.d2, scale(2.0 * s1d, u1.d1)), scale(s1, u1.d2)))
+    r2 = _minus(_sum(q2.d2, scale(2.0 * s2d, u2.d1), scale(s2, u2.d2)),
+                _sum(q1.d2, scale(2.0 * s1d, u1.d1), scale(s1, u1.d2)))
     s1dd = cross(r2, u2.p) * inv
     b = q1.p + col(s1) * u1.p
-    b1 = _plus(_plus(q1.d1, col(s1d) * u1.p), scale(s1, u1.d1))
-    b2 = _plus(_plus(_plus(q1.d2, col(s1dd) * u1.p), scale(2.0 * s1d, u1.d1)), scale(s1, u1.d2))
+    b1 = _sum(q1.d1, col(s1d) * u1.p, scale(s1, u1.d1))
+    b2 = _sum(q1.d2, col(s1dd) * u1.p, scale(2.0 * s1d, u1.d1), scale(s1, u1.d2))
     return Result(Vec(b, b1, b2), np.zeros(det.shape, dtype=bool), det)

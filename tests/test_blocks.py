@@ -103,3 +103,18 @@ def test_carve_gives_separate_arrays_of_the_asked_layouts():
 def test_leaves_refuses_what_it_cannot_split():
     with pytest.raises(TypeError, match="cannot split a str"):
         blocks.leaves({"a": "text"})
+
+
+@pytest.mark.parametrize(("omega", "epsilon", "message"), [
+    (np.ones(3), 0.0, "omega must be a scalar or an array of shape (10,) [rad/s], got shape (3,)"),
+    (1.0, np.ones((10, 1)), "epsilon must be a scalar or an array of shape (10,) [rad/s²], got shape (10, 1)"),
+    (float("nan"), 0.0, "omega must be finite [rad/s], got nan"),
+    (1.0, np.r_[np.zeros(9), np.inf], "epsilon must be finite [rad/s²], got non-finite entries"),
+])
+def test_bad_crank_rates_are_named(omega, epsilon, message):
+    mech = load(MODELS[0].parent / "fourbar.toml")
+    phi = np.linspace(0, 1, 10)
+    for call in (lambda: solve(mech, phi).motion(omega, epsilon), lambda: solve_motion(mech, phi, omega, epsilon)):
+        with pytest.raises(ValueError) as info:
+            call()
+        assert str(info.value) == message
