@@ -40,7 +40,8 @@ import time; t0 = time.perf_counter()
 import numpy as np
 from linkgen import load, solve_motion
 mo = solve_motion(load({str(MODEL)!r}), np.linspace(0.0, 2*np.pi, {N}, endpoint=False), 10.0, 0.0)
-print(time.perf_counter() - t0)
+t = time.perf_counter() - t0
+print(t, next(int(l.split()[1]) for l in open("/proc/self/status") if l.startswith("VmHWM")) / 1024)
 """
 
 PYLINKAGE_COLD = f"""
@@ -48,7 +49,8 @@ import time; t0 = time.perf_counter()
 import sys; sys.path.insert(0, {str(Path(__file__).resolve().parent)!r})
 from bench_kinematics import pylinkage_fourbar
 pylinkage_fourbar().step_fast_with_kinematics(iterations={N})
-print(time.perf_counter() - t0)
+t = time.perf_counter() - t0
+print(t, next(int(l.split()[1]) for l in open("/proc/self/status") if l.startswith("VmHWM")) / 1024)
 """
 
 
@@ -72,15 +74,19 @@ def ours_warm(threads: int | None) -> tuple[float, float]:
     return fused, full
 
 
-def cold(script: str, runs: int, idle: float) -> list[float]:
-    """Wall time to the first result inside fresh processes (imports included)."""
-    out = []
+def cold(script: str, runs: int, idle: float) -> tuple[list[float], float]:
+    """Wall times [s] to the first result inside fresh processes (imports included), and the
+    largest peak resident memory [MB] among them (VmHWM: ru_maxrss would carry this parent's
+    peak across exec)."""
+    times, peak = [], 0.0
     for _ in range(runs):
         if idle:
             time.sleep(idle)
         res = subprocess.run([sys.executable, "-c", script], check=True, capture_output=True, text=True)
-        out.append(float(res.stdout.strip().splitlines()[-1]))
-    return out
+        t, rss = map(float, res.stdout.strip().splitlines()[-1].split())
+        times.append(t)
+        peak = max(peak, rss)
+    return times, peak
 
 
 def pylinkage_fourbar():
@@ -146,14 +152,15 @@ def main() -> None:
     worst = max(cross_check().items(), key=lambda kv: kv[1])
     print(f"same results: largest disagreement with pylinkage, relative to the peak, {worst[1]:.1e} ({worst[0]})")
 
-    ours = cold(COLD, COLD_RUNS, 0.0)
-    print(f"linkgen   cold, back to back: {_spread(ours)}")
-    theirs = cold(PYLINKAGE_COLD, 3, 0.0)
-    print(f"pylinkage cold, back to back: {_spread(theirs)} (numba's compilation included)")
+    ours, ours_mb = cold(COLD, COLD_RUNS, 0.0)
+    print(f"linkgen   cold, back to back: {_spread(ours)}; peak memory {ours_mb:.0f} MB")
+    theirs, theirs_mb = cold(PYLINKAGE_COLD, 3, 0.0)
+    print(f"pylinkage cold, back to back: {_spread(theirs)} (numba's compilation included); "
+          f"peak memory {theirs_mb:.0f} MB")
     if args.idle > 0:
-        ours_idle = cold(COLD, 3, args.idle)
+        ours_idle, _ = cold(COLD, 3, args.idle)
         print(f"linkgen   cold, after {args.idle:g} s idle: {_spread(ours_idle)}")
-        theirs_idle = cold(PYLINKAGE_COLD, 2, args.idle)
+        theirs_idle, _ = cold(PYLINKAGE_COLD, 2, args.idle)
         print(f"pylinkage cold, after {args.idle:g} s idle: {_spread(theirs_idle)}")
     print(f"cold target: <= 0.5 s -> {'met' if statistics.median(ours) <= 0.5 else 'NOT met'} "
           f"(median back to back)")
