@@ -12,6 +12,7 @@ from .description import (
     Revolute,
 )
 from .errors import (
+    ArgumentError,
     AssemblyError,
     DescriptionError,
     LinkgenError,
@@ -27,7 +28,7 @@ from .structure import Group, GroupKind, Structure, analyze
 
 __all__ = [
     "Drive", "Link", "LinkTorque", "MassProperties", "Mechanism", "PointForce", "Prismatic", "Revolute",
-    "AssemblyError", "DescriptionError", "LinkgenError", "SimulationError", "SingularityError",
+    "ArgumentError", "AssemblyError", "DescriptionError", "LinkgenError", "SimulationError", "SingularityError",
     "StructureError", "ValidationError", "Assembly", "Kinematics", "Motion", "assemble", "solve", "solve_motion",
     "from_dict", "load", "Group", "GroupKind", "Structure", "analyze",
 ]

@@ -58,7 +58,7 @@ def default_threads() -> int:
 
 
 def leaves(tree: Any, out: list[np.ndarray] | None = None, seen: set[int] | None = None) -> list[np.ndarray]:
-    """The per-angle arrays of ``tree`` in a fixed order, each shared object once."""
+    """The per-angle arrays of ``tree`` in a fixed order, each shared object (array or not) once."""
     out = [] if out is None else out
     seen = set() if seen is None else seen
     if id(tree) in seen:
@@ -66,10 +66,9 @@ def leaves(tree: Any, out: list[np.ndarray] | None = None, seen: set[int] | None
     seen.add(id(tree))
     if isinstance(tree, np.ndarray):
         out.append(tree)
-    elif isinstance(tree, Vec):
-        out += [tree.p, tree.d1, tree.d2]
-    elif isinstance(tree, Scalar):
-        out += [tree.v, tree.d1, tree.d2]
+    elif isinstance(tree, (Vec, Scalar)):
+        for a in (tree.p, tree.d1, tree.d2) if isinstance(tree, Vec) else (tree.v, tree.d1, tree.d2):
+            leaves(a, out, seen)
     elif isinstance(tree, LinkPose):
         leaves(tree.angle, out, seen)
         for _, vec in tree.known:

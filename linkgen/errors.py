@@ -18,6 +18,11 @@ class DescriptionError(LinkgenError):
         super().__init__(f"{field}: {problem}")
 
 
+class ArgumentError(LinkgenError, ValueError):
+    """A function was given an argument outside what it accepts (crank angles, rates): the
+    message names the argument, what it got and what is allowed."""
+
+
 class StructureError(LinkgenError):
     """The mechanism's structure is outside what linkgen solves (e.g. a class-III group)."""
 

@@ -16,7 +16,7 @@ import numpy as np
 from .assembly import Assembly, assemble
 from .blocks import in_blocks
 from .description import Mechanism
-from .errors import AssemblyError, SingularityError, angle_ranges
+from .errors import ArgumentError, AssemblyError, SingularityError, angle_ranges
 from .geometry import GuideShape, LinkPose
 from .groups import fail_reason, input_poses, solve_group
 from .motion import Motion, derivatives, rate
@@ -68,8 +68,9 @@ def _series(points: dict[str, Vec], links: dict[str, LinkPose], sliders: dict[st
 
 def _angles(phi) -> np.ndarray:
     phi = np.atleast_1d(np.asarray(phi, dtype=float))
-    if phi.ndim != 1 or not np.all(np.isfinite(phi)):
-        raise ValueError(f"phi must be a finite 1-D array of crank angles [rad], got shape {phi.shape}")
+    if phi.ndim != 1 or phi.shape[0] == 0 or not np.all(np.isfinite(phi)):
+        what = "non-finite entries" if phi.ndim == 1 and phi.shape[0] else f"shape {phi.shape}"
+        raise ArgumentError(f"phi must be a non-empty, finite 1-D array of crank angles [rad], got {what}")
     return phi
 
 

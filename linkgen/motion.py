@@ -7,6 +7,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .blocks import carve
+from .errors import ArgumentError
 from .primitives import constant_along
 
 Triple = tuple[np.ndarray, np.ndarray, np.ndarray]
@@ -34,9 +35,9 @@ def rate(name: str, value, n: int, unit: str) -> float | np.ndarray:
     """A crank rate as a float or an (n,) array, checked: finite, scalar or one per angle."""
     a = np.asarray(value, dtype=float)
     if a.ndim != 0 and a.shape != (n,):
-        raise ValueError(f"{name} must be a scalar or an array of shape ({n},) [{unit}], got shape {a.shape}")
+        raise ArgumentError(f"{name} must be a scalar or an array of shape ({n},) [{unit}], got shape {a.shape}")
     if not np.all(np.isfinite(a)):
-        raise ValueError(f"{name} must be finite [{unit}], got {value if a.ndim == 0 else 'non-finite entries'}")
+        raise ArgumentError(f"{name} must be finite [{unit}], got {value if a.ndim == 0 else 'non-finite entries'}")
     return float(a) if a.ndim == 0 else a
 
 

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from conftest import MODELS
-from linkgen import AssemblyError, assemble, load, solve, solve_motion
+from linkgen import ArgumentError, AssemblyError, LinkgenError, assemble, load, solve, solve_motion
 from linkgen import blocks
 from linkgen.cli import crank_grid
 
@@ -115,6 +115,20 @@ def test_bad_crank_rates_are_named(omega, epsilon, message):
     mech = load(MODELS[0].parent / "fourbar.toml")
     phi = np.linspace(0, 1, 10)
     for call in (lambda: solve(mech, phi).motion(omega, epsilon), lambda: solve_motion(mech, phi, omega, epsilon)):
-        with pytest.raises(ValueError) as info:
+        with pytest.raises(ArgumentError) as info:
             call()
         assert str(info.value) == message
+
+
+@pytest.mark.parametrize(("phi", "what"), [
+    (np.array([]), "shape (0,)"),
+    (np.zeros((2, 2)), "shape (2, 2)"),
+    (np.array([0.0, np.nan]), "non-finite entries"),
+])
+def test_bad_crank_angles_are_named(phi, what):
+    mech = load(MODELS[0].parent / "fourbar.toml")
+    for call in (lambda: solve(mech, phi), lambda: solve_motion(mech, phi, 1.0)):
+        with pytest.raises(ArgumentError) as info:
+            call()
+        assert isinstance(info.value, LinkgenError) and isinstance(info.value, ValueError)
+        assert str(info.value) == f"phi must be a non-empty, finite 1-D array of crank angles [rad], got {what}"

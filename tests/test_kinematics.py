@@ -71,7 +71,7 @@ def _fd_errors(mech):
     series |= {f"links.{n}": (lambda k, n=n: (k.links[n].angle.v, k.links[n].angle.d1, k.links[n].angle.d2)) for n in k0.links}
     series |= {f"sliders.{n}": (lambda k, n=n: (k.sliders[n].v, k.sliders[n].d1, k.sliders[n].d2)) for n in k0.sliders}
     for name, get in series.items():
-        (x0, d1, d2), (xp, d1p, _), (xm, d1m, _) = get(k0), get(kp), get(km)
+        (_, d1, d2), (xp, d1p, _), (xm, d1m, _) = get(k0), get(kp), get(km)
         dx = xp - xm
         if name.startswith("links."):
             dx = np.angle(np.exp(1j * dx))
