@@ -151,6 +151,18 @@ def cmd_analyze(args) -> int:
     return 0
 
 
+def add_crank_arguments(parser: argparse.ArgumentParser, example_angle: str) -> None:
+    """MODEL, one crank state (--angle, --omega, --epsilon, --json) or samples (--samples, --csv)."""
+    parser.add_argument("model", type=Path)
+    parser.add_argument("--angle", type=_angle_arg, help=f"crank angle: radians, or e.g. {example_angle}")
+    parser.add_argument("--omega", type=_float_arg, help="crank speed [rad/s] (default: the description's)")
+    parser.add_argument("--epsilon", type=_float_arg,
+                        help="crank acceleration [rad/s²] (default: the description's)")
+    parser.add_argument("--json", action="store_true", help="print one JSON object")
+    parser.add_argument("--samples", type=_positive_int, help="evaluate this many angles over the drive range")
+    parser.add_argument("--csv", type=Path, help="write the samples as CSV to this file")
+
+
 def build_parser() -> argparse.ArgumentParser:
     p = argparse.ArgumentParser(prog="linkgen", description=__doc__.splitlines()[0])
     sub = p.add_subparsers(dest="command", required=True)
@@ -160,13 +172,7 @@ def build_parser() -> argparse.ArgumentParser:
     s.set_defaults(func=cmd_structure)
 
     a = sub.add_parser("analyze", help="closed-form positions, velocities and accelerations")
-    a.add_argument("model", type=Path)
-    a.add_argument("--angle", type=_angle_arg, help="crank angle: radians, or e.g. 38.117deg")
-    a.add_argument("--omega", type=_float_arg, help="crank speed [rad/s] (default: the description's)")
-    a.add_argument("--epsilon", type=_float_arg, help="crank acceleration [rad/s²] (default: the description's)")
-    a.add_argument("--json", action="store_true", help="print one JSON object")
-    a.add_argument("--samples", type=_positive_int, help="evaluate this many angles over the drive range")
-    a.add_argument("--csv", type=Path, help="write the samples as CSV to this file")
+    add_crank_arguments(a, "38.117deg")
     a.set_defaults(func=cmd_analyze)
 
     from . import cli_forces, cli_mujoco

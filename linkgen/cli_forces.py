@@ -11,7 +11,6 @@ from __future__ import annotations
 
 import json
 import math
-from pathlib import Path
 
 import numpy as np
 
@@ -83,15 +82,9 @@ def cmd_forces(args) -> int:
 
 
 def add_command(sub) -> None:
-    from .cli import _angle_arg, _float_arg, _positive_int
+    from .cli import add_crank_arguments
 
     f = sub.add_parser("forces", help="joint reactions, balancing torque and reduced inertia (closed form)",
                        description=__doc__)
-    f.add_argument("model", type=Path)
-    f.add_argument("--angle", type=_angle_arg, help="crank angle: radians, or e.g. 30deg")
-    f.add_argument("--omega", type=_float_arg, help="crank speed [rad/s] (default: the description's)")
-    f.add_argument("--epsilon", type=_float_arg, help="crank acceleration [rad/s²] (default: the description's)")
-    f.add_argument("--json", action="store_true", help="print one JSON object")
-    f.add_argument("--samples", type=_positive_int, help="evaluate this many angles over the drive range")
-    f.add_argument("--csv", type=Path, help="write the samples as CSV to this file")
+    add_crank_arguments(f, "30deg")
     f.set_defaults(func=cmd_forces)

@@ -19,7 +19,7 @@ from .description import Mechanism
 from .errors import ArgumentError, AssemblyError, SingularityError, angle_ranges
 from .geometry import GuideShape, LinkPose
 from .groups import fail_reason, input_poses, solve_group
-from .motion import Motion, derivatives, rate
+from .motion import Motion, checked_derivatives, derivatives, rate
 from .primitives import Scalar, Vec, constant_along, dot
 
 # A group is flagged near-singular where its normalised transfer-function denominator
@@ -89,7 +89,7 @@ def solve(mech_or_assembly: Mechanism | Assembly, phi, threads: int | None = Non
         SingularityError: a transfer-function denominator is exactly zero at some angles.
     """
     asm, phi = _assembly(mech_or_assembly), _angles(phi)
-    poses, points, sliders, near = _in_blocks(asm, phi, lambda rows: _solve_block(asm, phi[rows]), threads)
+    poses, points, sliders, near = _checked_blocks(asm, phi, lambda rows: _solve_block(asm, phi[rows]), threads)
     return Kinematics(asm, phi, poses, points, sliders, near)
 
 
@@ -104,31 +104,27 @@ def solve_motion(mech_or_assembly: Mechanism | Assembly, phi, omega, epsilon=0.0
 
     def block(rows: slice):
         (poses, points, sliders, near), ok = _solve_block(asm, phi[rows])
-        mo = derivatives(phi[rows], _series(points, poses, sliders),
-                         w if np.ndim(w) == 0 else w[rows], e if np.ndim(e) == 0 else e[rows])
+        mo = checked_derivatives(phi[rows], _series(points, poses, sliders),
+                                 w if np.ndim(w) == 0 else w[rows], e if np.ndim(e) == 0 else e[rows])
         return (mo.points, mo.links, mo.sliders, near), ok
 
-    points, links, sliders, _ = _in_blocks(asm, phi, block, threads)
+    points, links, sliders, _ = _checked_blocks(asm, phi, block, threads)
     return Motion(phi, np.broadcast_to(w, (n,)), np.broadcast_to(e, (n,)), points, links, sliders)
 
 
-def _in_blocks(asm: Assembly, phi: np.ndarray, block, threads: int | None):
+def _checked_blocks(asm: Assembly, phi: np.ndarray, block, threads: int | None):
+    """``blocks.in_blocks`` over ``phi``; if any block failed, raise with the failing angles."""
     tree, oks = in_blocks(block, phi.shape[0], threads)
     if not all(oks):
         _raise_failure(asm, phi)
     return tree
 
 
+@np.errstate(invalid="ignore", divide="ignore", over="ignore")  # per call, so per thread
 def _solve_block(asm: Assembly, phi: np.ndarray, report: list | None = None) -> tuple[tuple, bool]:
     """Solve one block of angles. Returns (poses, points, sliders, near-singular masks) and
     whether everything is assembled, non-singular and finite; ``report``, if given, receives
-    each group's (fail, singular) masks. Failures are reported by angle, not as NumPy warnings
-    (the error state is set here: it is per thread)."""
-    with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
-        return _solve_block_quietly(asm, phi, report)
-
-
-def _solve_block_quietly(asm: Assembly, phi: np.ndarray, report: list | None) -> tuple[tuple, bool]:
+    each group's (fail, singular) masks. Failures are reported by angle, not as NumPy warnings."""
     mech = asm.mechanism
     poses = input_poses(mech, asm.structure, asm.shapes, phi)
     near, ok = {}, True

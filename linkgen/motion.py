@@ -49,35 +49,37 @@ def derivatives(phi: np.ndarray, series: dict[str, dict[str, Triple]], omega, ep
     share one allocation (``blocks.carve``); a scalar ε = 0 costs nothing.
     """
     n = phi.shape[0]
-    omega, epsilon = rate("omega", omega, n, "rad/s"), rate("epsilon", epsilon, n, "rad/s²")
-    w, e = np.broadcast_to(omega, (n,)), np.broadcast_to(epsilon, (n,))
+    return checked_derivatives(phi, series, rate("omega", omega, n, "rad/s"), rate("epsilon", epsilon, n, "rad/s²"))
+
+
+def checked_derivatives(phi: np.ndarray, series: dict[str, dict[str, Triple]],
+                        omega: float | np.ndarray, epsilon: float | np.ndarray) -> Motion:
+    """``derivatives`` for ω and ε already checked by ``rate`` (floats or (n,) arrays)."""
+    n = phi.shape[0]
     scalar = np.ndim(omega) == 0 and np.ndim(epsilon) == 0
     items = [(kind, name, t) for kind, named in series.items() for name, t in named.items()]
     fixed = [scalar and constant_along(d1) and constant_along(d2) for _, _, (_, d1, d2) in items]
     fresh = iter(carve(n, [d for (_, _, (_, d1, d2)), f in zip(items, fixed) if not f for d in (d1, d2)]))
     out: dict[str, dict[str, Triple]] = {kind: {} for kind in ("points", "links", "sliders")}
     for (kind, name, (x, d1, d2)), f in zip(items, fixed):
-        if f:
-            ww, ee = float(omega), float(epsilon)
-            vel = np.broadcast_to(d1[0] * ww, d1.shape)
-            acc = np.broadcast_to(d2[0] * (ww * ww) + d1[0] * ee, d2.shape)
+        if f:  # one row, broadcast
+            vel = np.broadcast_to(d1[0] * omega, d1.shape)
+            acc = np.broadcast_to(d2[0] * (omega * omega) + d1[0] * epsilon, d2.shape)
         else:
             vel, acc = next(fresh), next(fresh)
-            _into(d1, d2, omega, epsilon, w, e, vel, acc, scalar)
+            _into(d1, d2, omega, epsilon, vel, acc)
         out[kind][name] = (x, vel, acc)
-    return Motion(phi, w, e, out["points"], out["links"], out["sliders"])
+    return Motion(phi, np.broadcast_to(omega, (n,)), np.broadcast_to(epsilon, (n,)),
+                  out["points"], out["links"], out["sliders"])
 
 
-def _into(d1, d2, omega, epsilon, w, e, vel, acc, scalar: bool) -> None:
-    if scalar:
-        ww, ee = float(omega), float(epsilon)
-        np.multiply(d1, ww, out=vel)
-        np.multiply(d2, ww * ww, out=acc)
-        if ee != 0.0:
-            acc += d1 * ee
-        return
-    if d1.ndim == 2:
-        w, e = w[:, None], e[:, None]
+def _into(d1: np.ndarray, d2: np.ndarray, w, e, vel: np.ndarray, acc: np.ndarray) -> None:
+    """vel = d1·ω, acc = d2·ω² + d1·ε, with ω, ε floats or (n,) arrays."""
+    if d1.ndim == 2 and np.ndim(w):
+        w = w[:, None]
+    if d1.ndim == 2 and np.ndim(e):
+        e = e[:, None]
     np.multiply(d1, w, out=vel)
     np.multiply(d2, w * w, out=acc)
-    acc += d1 * e
+    if np.ndim(e) or e != 0.0:
+        acc += d1 * e
