@@ -6,7 +6,8 @@ Forward route (a simulated state after ``mj_forward`` + ``mj_rnePostConstraint``
       for a slide joint the torque is shifted to the slider's point to give the moment;
     * a loop-closing revolute's reaction is its ``connect`` row block of ``efc_force``
       (world frame; the force on body1, minus it on body2);
-    * the balancing torque is the motor's force minus armature·q̈ (the rotor's share).
+    * the balancing torque is the motor's force minus the driven joint's armature·q̈ (the
+      rotor's share).
 
 Inverse route (the closed-form q, q̇, q̈ through ``mj_inverse``): the constraints hold
 exactly, so ``efc_force`` ≈ 0 and ``qfrc_inverse`` carries nearly everything; the loop forces λ
@@ -32,7 +33,7 @@ from .assembly import Assembly
 from .description import GROUND
 from .kinematics import solve
 from .loads import applied_loads, stroke_active
-from .mjcf import ARMATURE, TreeInfo, site_name, spanning_tree
+from .mjcf import TreeInfo, site_name, spanning_tree
 
 
 @dataclass(frozen=True)
@@ -82,7 +83,8 @@ def forward_forces(asm: Assembly, model: mujoco.MjModel, data: mujoco.MjData) ->
         lam = data.efc_force[rows[:2]]
         reactions[pair.name] = _on_first(asm, model, eq, pair.name, lam)
     crank = model.joint(asm.mechanism.drive.joint)
-    torque = float(data.actuator("drive").force[0] - ARMATURE * data.qacc[crank.dofadr[0]])
+    rotor = model.dof_armature[crank.dofadr[0]]
+    torque = float(data.actuator("drive").force[0] - rotor * data.qacc[crank.dofadr[0]])
     return StateForces(torque, reactions, normal, moment)
 
 
@@ -132,7 +134,7 @@ def inverse_forces(asm: Assembly, model: mujoco.MjModel, data: mujoco.MjData, ph
     mujoco.mj_rnePostConstraint(model, data)
     tree_r, normal, moment = _tree_reactions(asm, model, data, info)
     reactions |= tree_r
-    torque = float(x[-1] - ARMATURE * qacc[crank.dofadr[0]])
+    torque = float(x[-1] - model.dof_armature[crank.dofadr[0]] * qacc[crank.dofadr[0]])
     return StateForces(torque, reactions, normal, moment)
 
 

@@ -30,10 +30,10 @@ def plot_comparison(cmp: Comparison, path: Path) -> None:
         ax = axes[1, j]
         for p in s.points:
             diff = np.linalg.norm(s.points[p][j] - mo.points[p][j], axis=1)
-            peak = cmp.quantities[f"points.{p}.{q}"].peak
-            ax.semilogy(phi, np.maximum(diff / peak, 1e-18), lw=1, label=p)
+            scale = cmp.quantities[f"points.{p}.{q}"].scale
+            ax.semilogy(phi, np.maximum(diff / scale, 1e-18), lw=1, label=p)
         ax.axhline(cmp.quantities[f"points.{point}.{q}"].tolerance, color="r", ls=":", label="tolerance")
-        ax.set(title=f"|MuJoCo − closed form| / peak: {q}", xlabel="φ [deg]")
+        ax.set(title=f"|MuJoCo − closed form| / scale: {q}", xlabel="φ [deg]")
         ax.legend(fontsize=7, ncol=2)
     fig.suptitle(f"{cmp.model}: closed form vs MuJoCo")
     fig.savefig(path, dpi=90)
@@ -80,52 +80,97 @@ def plot_forces(cmp: Comparison, path: Path) -> None:
         for i, k in enumerate(cf.reactions):
             q = cmp.quantities[f"{prefix}reactions.{k}.force"]
             src = s.forces if not prefix else cmp.inverse
-            diff = np.linalg.norm(src.reactions[k] - cf.reactions[k], axis=1) / q.peak
+            if src is None:
+                continue
+            diff = np.linalg.norm(src.reactions[k] - cf.reactions[k], axis=1) / q.scale
             ax.semilogy(phi, np.maximum(diff, 1e-18), style, color=colors[i % len(colors)], lw=1,
                         label=f"{k} ({'forward' if not prefix else 'inverse'})")
     ax.axhline(cmp.quantities["balancing_torque"].tolerance, color="r", ls=":", label="forward tolerance")
-    ax.set(title="|MuJoCo − closed form| / peak: reactions", xlabel="φ [deg]")
+    ax.set(title="|MuJoCo − closed form| / peak reaction: reactions", xlabel="φ [deg]")
     ax.legend(fontsize=6, ncol=2)
     fig.suptitle(f"{cmp.model}: forces, closed form vs MuJoCo")
     fig.savefig(path, dpi=90)
     plt.close(fig)
 
 
-def write_report(comparisons: list[Comparison], timings: dict[str, float], out: Path) -> Path:
+def plot_model(cmp: Comparison, out: Path) -> list[str]:
+    """Draw the model's figures into ``out``; returns their file names."""
+    png, fpng = f"{cmp.model}.png", f"{cmp.model}_forces.png"
+    plot_comparison(cmp, out / png)
+    plot_forces(cmp, out / fpng)
+    return [png, fpng]
+
+
+def _worst(quantities: dict, kind: str) -> str:
+    def group(k: str) -> str:
+        if k.startswith("inverse."):
+            return "inv"
+        return "fwd" if k.startswith(("reactions.", "prismatic.", "balancing", "reduced")) else "kin"
+
+    g = {k: q for k, q in quantities.items() if group(k) == kind}
+    if not g:
+        return "– | –"
+    worst = max(g, key=lambda k: g[k]["relative_error"])
+    return f"`{worst}` | {g[worst]['relative_error']:.2e}"
+
+
+def write_index(results: list[dict], out: Path, wall: float, cores: float) -> Path:
+    """The report's README.md from the per-model results (``CrossCheck.to_json`` plus file,
+    figures and wall time)."""
     out.mkdir(parents=True, exist_ok=True)
     lines = ["# linkgen validation report", "",
-             "Closed-form Assur-group kinematics against MuJoCo at the same crank states "
-             "(φ, ω, ε measured in the MuJoCo run). Errors are the largest over the samples after warm-up, "
-             "relative to the quantity's peak; the constraint violation is in metres.", "",
-             "Forces: the closed-form kinetostatics against MuJoCo's forward run (cfrc_int, efc_force) and "
-             "against inverse dynamics (mj_inverse at the closed-form state, loop forces by projection).", "",
+             "Closed-form Assur-group kinematics and kinetostatics against MuJoCo at the same crank states "
+             "(φ, ω, ε measured in the MuJoCo run). Each error is the largest over the compared samples, relative "
+             "to the larger of the quantity's own peak and the mechanism's scale for its kind (size L, L·ω, "
+             "L·(ω² + |ε|); 1 rad, ω, ω² + |ε|; the peak reaction F, F·L). The loop gap is relative to L. "
+             "MuJoCo's settings are derived from each mechanism (see the settings columns).", "",
+             f"{len(results)} model(s) in {wall:.1f} s wall, {cores:.2f} cores busy on average.", "",
              "| model | ok | worst kinematic quantity | rel. error | worst force (forward) | rel. error "
-             "| worst force (inverse) | rel. error | constraint violation [m] | MuJoCo run [s] |",
-             "|---|---|---|---|---|---|---|---|---|---|"]
-    for c in comparisons:
-        groups = {"kin": {}, "fwd": {}, "inv": {}}
-        for k, q in c.quantities.items():
-            if k == "constraint_violation":
-                continue
-            kind = "inv" if k.startswith("inverse.") else (
-                "fwd" if k.startswith(("reactions.", "prismatic.", "balancing", "reduced")) else "kin")
-            groups[kind][k] = q
-        cells = []
-        for kind in ("kin", "fwd", "inv"):
-            g = groups[kind]
-            worst = max(g, key=lambda k: g[k].relative_error)
-            cells.append(f"`{worst}` | {g[worst].relative_error:.2e}")
-        lines.append(f"| {c.model} | {'yes' if c.ok else '**NO**'} | {' | '.join(cells)} | "
-                     f"{c.quantities['constraint_violation'].max_abs_error:.2e} | {timings.get(c.model, float('nan')):.2f} |")
-    for c in comparisons:
-        png, fpng = f"{c.model}.png", f"{c.model}_forces.png"
-        plot_comparison(c, out / png)
-        plot_forces(c, out / fpng)
-        lines += ["", f"## {c.model}", "", f"![{c.model}]({png})", "", f"![{c.model} forces]({fpng})", "",
-                  "| quantity | max abs error | peak | relative | tolerance | ok |", "|---|---|---|---|---|---|"]
-        for k, q in c.quantities.items():
-            lines.append(f"| `{k}` | {q.max_abs_error:.3e} | {q.peak:.3e} | {q.relative_error:.2e} | "
-                         f"{q.tolerance:g} | {'yes' if q.ok else '**NO**'} |")
+             "| worst force (inverse) | rel. error | loop gap / L | timestep [s] | loop τ [s] | steps | wall [s] |",
+             "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+    for r in results:
+        if "quantities" not in r:
+            lines.append(f"| {r['model']} | **NO** | {r.get('error', 'run failed')} |  |  |  |  |  |  |  |  |  |  |")
+            continue
+        q, st = r["quantities"], r["settings"]
+        cells = " | ".join(_worst(q, k) for k in ("kin", "fwd", "inv"))
+        lines.append(f"| {r['model']} | {'yes' if r['ok'] else '**NO**'} | {cells} | {r['loop_gap']['relative']:.1e} | "
+                     f"{st['timestep']:.3g} | {st['timeconst']:.3g} | {r['steps']} | {r.get('total_wall_s', r['wall_s']):.2f} |")
+    for r in results:
+        if "quantities" not in r:
+            continue
+        lines += ["", f"## {r['model']}", ""]
+        for fig in r.get("figures", []):
+            lines += [f"![{fig}]({fig})", ""]
+        if r["diagnosis"]:
+            lines += ["**Diagnosis**", ""]
+            for d in r["diagnosis"]:
+                rng = ", ".join(f"{a:.1f}°..{b:.1f}°" for a, b in d["ranges_deg"][:3])
+                lines.append(f"- `{d['quantity']}` {d['relative_error']:.2e} (tolerance {d['tolerance']:g}) at {rng}: "
+                             f"{d['cause']} — {d['detail']}")
+            lines.append("")
+        if r["left_out"]:
+            lines.append("Left out of the comparison: " + "; ".join(
+                f"{lo['samples']} samples after the {lo['reason']} at {lo['from_deg']:.1f}°" for lo in r["left_out"]))
+            lines.append("")
+        if r["practical_settings"]:
+            lines += ["What MuJoCo's settings cost (errors relative to the size / peak reaction / peak reaction × size):",
+                      "", "| settings | timestep [s] | integrator | loop τ [s] | loop gap / L | reactions | driving torque "
+                      "| steps/rev | wall/rev [s] |", "|---|---|---|---|---|---|---|---|---|"]
+            for p in r["practical_settings"]:
+                if p["failure"]:
+                    lines.append(f"| {p['label']} | {p['timestep']:.3g} | {p['integrator']} | {p['solref'][0]:.3g} | "
+                                 f"failed: {p['failure']} |  |  |  |  |")
+                    continue
+                lines.append(f"| {p['label']} | {p['timestep']:.3g} | {p['integrator']} | {p['solref'][0]:.3g} | "
+                             f"{p['loop_gap_relative']:.1e} | {p['reaction_error_relative']:.1e} | "
+                             f"{p['driving_torque_error_relative']:.1e} | {p['steps_per_revolution']:.0f} | "
+                             f"{p['wall_s_per_revolution']:.3f} |")
+            lines.append("")
+        lines += ["| quantity | max abs error | peak | scale | relative | tolerance | ok |", "|---|---|---|---|---|---|---|"]
+        for k, q in r["quantities"].items():
+            lines.append(f"| `{k}` | {q['max_abs_error']:.3e} | {q['peak']:.3e} | {q['scale']:.3e} | "
+                         f"{q['relative_error']:.2e} | {q['tolerance']:g} | {'yes' if q['ok'] else '**NO**'} |")
     path = out / "README.md"
     path.write_text("\n".join(lines) + "\n", encoding="utf-8")
     return path

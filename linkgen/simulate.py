@@ -1,289 +1,323 @@
-"""MuJoCo run of the driven crank: batch stepping with ``mujoco.rollout``, then a sampled
-post-pass (``mj_forward`` + ``mj_rnePostConstraint``) that reads every quantity by name."""
+"""MuJoCo run of the driven crank: settings from the mechanism, the range split into segments
+that run side by side in one ``mujoco.rollout`` call, stepped in chunks that keep only the
+sampled states (memory bounded whatever the duration) and report progress.
+
+Each segment starts from the closed-form state a settling window before its part of the
+range, so that the compared curves cover the whole range and no sample sits in a start-up
+transient. Samples within a settling window after a load switches on or off are left out; the
+run counts them (``Run.left_out``).
+"""
 
 from __future__ import annotations
 
 import math
+import time as _time
 from dataclasses import dataclass
+from typing import Callable
 
 import mujoco
 import numpy as np
 from mujoco import rollout
 
 from .assembly import Assembly
-from .errors import SimulationError
+from .blocks import default_threads
+from .errors import AssemblyError, SimulationError, SingularityError
 from .kinematics import solve
-from .loads import stroke_active
-from .mjcf import ARMATURE, TIMESTEP, site_name, spanning_tree, write_mjcf
-from .mjforces import (
-    ForceSamples,
-    apply_loads,
-    forward_forces,
-    has_loads,
-    load_schedule,
-)
+from .mjcf import site_name, spanning_tree, write_mjcf
+from .mjforces import has_loads, load_schedule
+from .mjloops import mechanism_size
+from .mjsample import Samples, read_samples
+from .mjsettings import Scales, Settings, apply, derive
+from .mjstate import initial_state, joint_state, joint_states
 
-# A run whose loop-closure gap exceeds this at any step is an error, not a result [m]:
-# 100× the accuracy target of 1e-8 m, so a result is reported (and judged) up to there.
-VIOLATION_LIMIT = 1e-6
-WARMUP_FRACTION = 0.05  # of the run's steps, excluded from comparisons
-# A load that switches on or off (a stroke's ends) is a step the soft loop closures answer
-# with a transient of a few time constants (1 ms, mjcf.CONNECT_SOLREF): right after a switch the
-# four-bar's accelerations are off by 1e-6, 2° of crank later by 1e-7. Samples this long after
-# a switch are left out of comparisons, like the warm-up.
-SETTLE_TIME = 0.005  # s
+# The error a settling window must decay to, relative to the quantity's scale: a tenth of the
+# comparison tolerance (compare.REL_TOL = 1e-6).
+SETTLE_TARGET = 1e-7
+# A run whose loop gap passes this fraction of the mechanism's size has failed (not a result):
+# the loop has come apart, far beyond anything the comparison could judge.
+GAP_ABORT = 1e-4
+# Steps per rollout call: bounds the memory of a run (states and sensors of one chunk) and
+# sets how often progress is reported.
+CHUNK_STEPS = 20_000
+# Report progress for runs that last longer than this [s].
+PROGRESS_AFTER = 2.0
 
 
 @dataclass(frozen=True)
-class Samples:
-    """MuJoCo quantities at sampled steps (m samples).
+class LeftOut:
+    """Samples left out of comparisons: why ("start", "load switch"), the crank-angle range
+    [rad] and how many."""
 
-    ``crank`` = (φ, ω, ε) each (m,); ``points[name]`` = (pos, vel, acc) each (m, 2);
-    ``links[name]`` = (angle, ang. velocity, ang. acceleration) each (m,);
-    ``sliders[name]`` = (s, v, a) each (m,); ``violation`` (m,) [m]; ``drive_torque`` (m,) [N·m];
-    ``forces``: joint reactions and the balancing torque (forward route, see ``linkgen.mjforces``);
-    ``reduced_inertia`` (m,) [kg·m²]: q̇ᵀ·M·q̇ / ω² less the rotor's armature (kinetic energy route).
-    """
+    reason: str
+    phi_from: float
+    phi_to: float
+    samples: int
 
-    step: np.ndarray
-    time: np.ndarray
-    crank: tuple[np.ndarray, np.ndarray, np.ndarray]
-    points: dict
-    links: dict
-    sliders: dict
-    violation: np.ndarray
-    drive_torque: np.ndarray
-    forces: ForceSamples
-    reduced_inertia: np.ndarray
+    def to_json(self) -> dict:
+        return {"reason": self.reason, "from_deg": math.degrees(self.phi_from), "to_deg": math.degrees(self.phi_to),
+                "samples": self.samples}
 
 
 @dataclass(frozen=True)
 class Run:
-    """A whole MuJoCo run: every step's time (n,), qpos (n, nq), qvel (n, nv), closure gap (n,) [m],
-    and the sampled quantities."""
+    """A MuJoCo run: the model, the settings and what they came from, the sampled quantities,
+    the steps taken (all segments), the wall time [s], the largest loop gap over the compared
+    part [m] and the crank angle [rad] where it occurred, the settling window [s] and what was
+    left out."""
 
     model: mujoco.MjModel
-    time: np.ndarray
-    qpos: np.ndarray
-    qvel: np.ndarray
-    violation: np.ndarray
+    settings: Settings
+    scales: Scales | None
     samples: Samples
+    steps: int
+    wall: float
+    gap_max: float
+    gap_max_at: float
+    window: float
+    left_out: tuple[LeftOut, ...]
+    segments: int
 
 
-def build_model(asm: Assembly, timestep: float = TIMESTEP) -> mujoco.MjModel:
-    if not (math.isfinite(timestep) and timestep > 0):
-        raise SimulationError(f"timestep must be > 0 s, got {timestep!r}")
+def build_model(asm: Assembly, settings: Settings | None = None) -> mujoco.MjModel:
+    """The compiled MJCF of the mechanism, with ``settings`` applied if given."""
     model = mujoco.MjModel.from_xml_string(write_mjcf(asm))
-    model.opt.timestep = timestep
+    if settings is not None:
+        apply(model, settings, asm.mechanism.drive.joint)
     return model
 
 
-def initial_state(asm: Assembly, model: mujoco.MjModel, phi0: float, omega: float) -> tuple[np.ndarray, np.ndarray]:
-    """qpos, qvel putting the mechanism at crank angle φ0 moving at ω (closed-form assembly)."""
-    qpos, qvel, _ = joint_state(asm, model, phi0, omega, 0.0)
-    return qpos, qvel
+def settle_window(settings: Settings, scales: Scales | None, epsilon: float) -> float:
+    """Time [s] after a start or a load step until the loop's transient has decayed to
+    SETTLE_TARGET of the quantities' scales.
+
+    A connect answers a step in its load like a critically damped oscillator of time constant
+    τ: the error right after the step is (1 − d) times the loop acceleration a0 (the part the
+    soft constraint lets through), and it decays as (1 + t/τ)·e^(−t/τ). Relative to the
+    accelerations' scale size·(ω² + |ε|) this gives e0; the window is the t where the
+    envelope brings e0 down to SETTLE_TARGET (at least 1 τ)."""
+    d = settings.solimp[0] if settings.solimp else settings.impedance
+    if scales is None:
+        e0 = 1.0 - d
+    else:
+        a_scale = scales.size * (scales.omega**2 + abs(epsilon))
+        e0 = (1.0 - d) * max(1.0, scales.loop_acceleration / max(a_scale, 1e-300))
+    target = SETTLE_TARGET / e0
+    x = 1.0
+    if target < 1.0:
+        lo, hi = 0.0, 200.0
+        for _ in range(100):  # (1 + x)·e^(−x) decreases monotonically for x > 0
+            x = 0.5 * (lo + hi)
+            lo, hi = (x, hi) if (1 + x) * math.exp(-x) > target else (lo, x)
+        x = hi
+    return max(1.0, x) * settings.timeconst
 
 
-def joint_state(asm: Assembly, model: mujoco.MjModel, phi: float, omega: float,
-                epsilon: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """The model's qpos (nq,), qvel (nv,) and qacc (nv,) from the closed form at crank angle
-    φ [rad], speed ω [rad/s] and acceleration ε [rad/s²]."""
-    qpos, qvel, qacc = joint_states(asm, model, np.array([phi]), np.array([omega]), np.array([epsilon]))
-    return qpos[0], qvel[0], qacc[0]
+def _crank_time(phi: np.ndarray, phi0: float, omega: float, eps: float) -> np.ndarray:
+    """Time [s] at which the crank, at φ0 with speed ω at t = 0 and acceleration ε, reaches φ."""
+    dphi = np.asarray(phi, dtype=float) - phi0
+    if eps == 0.0:
+        return dphi / omega
+    disc = omega * omega + 2.0 * eps * dphi
+    if np.any(disc <= 0):
+        raise SimulationError(f"with ε = {eps:g} rad/s² the crank stops before it covers the range")
+    return (np.sqrt(disc) - omega) / eps
 
 
-def joint_states(asm: Assembly, model: mujoco.MjModel, phi: np.ndarray, omega: np.ndarray,
-                 epsilon: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """``joint_state`` for m crank states at once: φ, ω, ε each (m,) → qpos (m, nq),
-    qvel (m, nv), qacc (m, nv)."""
-    m = phi.shape[0]
-    kin = solve(asm, np.append(phi, asm.sketch_phi))  # the last angle is the reference pose (qpos0)
-    qpos = np.tile(model.qpos0, (m, 1))
-    qvel, qacc = np.zeros((m, model.nv)), np.zeros((m, model.nv))
-    for parent, child, pair in spanning_tree(asm).tree:
-        j = model.joint(pair.name)
-        if pair.kind == "R":
-            a, b = kin.links[child].angle, kin.links[parent].angle
-            rel, d1, d2 = a.v - b.v, (a.d1 - b.d1)[:m], (a.d2 - b.d2)[:m]
-            qpos[:, j.qposadr[0]] = np.remainder(rel[:m] - rel[m] + np.pi, 2 * np.pi) - np.pi
-        else:
-            sign = 1.0 if child == asm.guides[pair.name].slider else -1.0
-            s = kin.sliders[pair.name]
-            qpos[:, j.qposadr[0]] = sign * (s.v[:m] - s.v[m])
-            d1, d2 = sign * s.d1[:m], sign * s.d2[:m]
-        qvel[:, j.dofadr[0]] = d1 * omega
-        qacc[:, j.dofadr[0]] = d2 * omega * omega + d1 * epsilon
-    return qpos, qvel, qacc
+def _assembles(asm: Assembly, phi: np.ndarray) -> bool:
+    try:
+        solve(asm, phi)
+    except (AssemblyError, SingularityError):
+        return False
+    return True
 
 
 def simulate(asm: Assembly, *, revolutions: float = 1.0, omega: float | None = None,
-             epsilon: float | None = None, timestep: float = TIMESTEP, samples: int = 360) -> Run:
-    """Drive the crank from the start of its range and record the run (see Run)."""
-    return simulate_batch(asm, omegas=[omega], revolutions=revolutions, epsilon=epsilon,
-                          timestep=timestep, samples=samples)[0]
+             epsilon: float | None = None, settings: Settings | None = None, samples: int = 360,
+             nthread: int | None = None, progress: Callable[[float, float], None] | None = None,
+             gap_abort: float = GAP_ABORT) -> Run:
+    """Drive the crank over its range (``revolutions`` times for a full-turn range) and sample.
 
+    Args:
+        omega, epsilon: crank speed at the range's start [rad/s] (> 0) and constant
+            acceleration [rad/s²]; default the description's drive.
+        settings: MuJoCo settings; default derived from the mechanism (``mjsettings.derive``).
+        samples: sampled states over the range (before left-out windows).
+        nthread: threads (= segments of the range); default every core.
+        progress: called as progress(fraction done, seconds elapsed) after each chunk of steps
+            once a run has lasted PROGRESS_AFTER seconds.
+        gap_abort: the loop gap, as a fraction of the size, at which the run stops.
 
-def simulate_batch(asm: Assembly, *, omegas, revolutions: float = 1.0, epsilon: float | None = None,
-                   timestep: float = TIMESTEP, samples: int = 360, nthread: int = 2) -> list[Run]:
-    """Several crank speeds of one mechanism in one ``mujoco.rollout`` call on ``nthread`` threads.
-
-    The run lasts until the slowest variant has covered ``revolutions`` of the drive range.
+    Raises:
+        SimulationError: the run diverged, MuJoCo warned, or the loop gap passed GAP_ABORT of
+            the mechanism's size (names the crank angle, the time and the settings).
     """
+    wall0 = _time.perf_counter()
     mech = asm.mechanism
-    omegas = [mech.drive.omega if w is None else float(w) for w in omegas]
+    w0 = mech.drive.omega if omega is None else float(omega)
     eps = mech.drive.epsilon if epsilon is None else float(epsilon)
-    for w in omegas:
-        if not (math.isfinite(w) and w > 0):
-            raise SimulationError(f"omega must be > 0 rad/s to drive the crank through its range, got {w!r}")
+    if not (math.isfinite(w0) and w0 > 0):
+        raise SimulationError(f"omega must be > 0 rad/s to drive the crank through its range, got {w0!r}")
+    if not math.isfinite(eps):
+        raise SimulationError(f"epsilon must be finite, got {eps!r}")
     span = mech.drive.stop - mech.drive.start
     full = span >= 2 * math.pi - 1e-12
+    if not (math.isfinite(revolutions) and revolutions > 0):
+        raise SimulationError(f"revolutions must be > 0, got {revolutions!r}")
     if not full and revolutions != 1.0:
         raise SimulationError(f"the crank turns only over its range of {math.degrees(span):.6g}°: revolutions must be 1")
-    angle = span * revolutions
-    durations = [_duration(angle, w, eps) for w in omegas]
-    model = build_model(asm, timestep)
-    nstep = int(math.ceil(max(durations) / timestep))
+    phi_a, phi_b = mech.drive.start, mech.drive.start + span * revolutions
+    duration = float(_crank_time(np.array([phi_b]), phi_a, w0, eps)[0])
+    w_peak = max(w0, abs(w0 + eps * duration))
+    model = mujoco.MjModel.from_xml_string(write_mjcf(asm))
+    scales = None
+    if settings is None:
+        settings, scales = derive(asm, model, omega=w_peak, epsilon=eps, duration=duration)
+    apply(model, settings, mech.drive.joint)
+    dt = settings.timestep
+    window = settle_window(settings, scales, eps)
+
+    # Samples over the range, and which are left out (load switches).
+    phi_s = np.linspace(phi_a, phi_b, samples, endpoint=not full)
+    t_s = _crank_time(phi_s, phi_a, w0, eps)
+    keep = np.ones(samples, dtype=bool)
+    left: list[LeftOut] = []
+    for sw in _switch_angles(mech, phi_a, phi_b):
+        t_sw = float(_crank_time(np.array([sw]), phi_a, w0, eps)[0])
+        hit = (t_s >= t_sw) & (t_s <= t_sw + window)
+        if hit.any():
+            keep &= ~hit
+            left.append(LeftOut("load switch", sw, float(phi_s[hit].max()), int(hit.sum())))
+
+    # Segments: equal parts of the range, each started a window early.
+    nseg = max(1, min(default_threads() if nthread is None else nthread, samples))
+    bounds = np.linspace(phi_a, phi_b, nseg + 1)
+    t_bounds = _crank_time(bounds, phi_a, w0, eps)
+    t_start = t_bounds[:-1] - window
+    lead = _crank_phi(t_start[0], phi_a, w0, eps)
+    if not full and not _assembles(asm, np.linspace(lead, phi_a, 16)):  # the range starts near a limit
+        t_start[0] = 0.0
+        t_start = np.maximum(t_start, 0.0)
+        hit = t_s <= window
+        if hit.any():
+            keep &= ~hit
+            left.append(LeftOut("start", phi_a, float(phi_s[hit].max()), int(hit.sum())))
+    seg_of = np.clip(np.searchsorted(bounds, phi_s, side="right") - 1, 0, nseg - 1)
+    step_of = np.maximum(np.rint((t_s - t_start[seg_of]) / dt).astype(np.int64), 1)
+    nsteps = int(np.ceil((t_bounds[1:] - t_start) / dt).max()) + 1
+
+    # Initial states and open-loop inputs.
+    datas = [mujoco.MjData(model) for _ in range(nseg)]
     nstate = mujoco.mj_stateSize(model, mujoco.mjtState.mjSTATE_FULLPHYSICS)
-    init = np.zeros((len(omegas), nstate))
-    datas = [mujoco.MjData(model) for _ in range(max(1, nthread))]
-    for i, w in enumerate(omegas):
+    state = np.zeros((nseg, nstate))
+    for k in range(nseg):
         d = datas[0]
-        d.qpos[:], d.qvel[:] = initial_state(asm, model, mech.drive.start, w)
-        d.time = 0.0
-        mujoco.mj_getState(model, d, init[i], mujoco.mjtState.mjSTATE_FULLPHYSICS)
-    ctrl = np.full((len(omegas), 1, model.nu), ARMATURE * eps)
+        phi_k = _crank_phi(t_start[k], phi_a, w0, eps)
+        d.qpos[:], d.qvel[:] = initial_state(asm, model, phi_k, w0 + eps * t_start[k])
+        d.time = t_start[k]
+        mujoco.mj_getState(model, d, state[k], mujoco.mjtState.mjSTATE_FULLPHYSICS)
+    drive_ctrl = settings.armature * eps
     spec = mujoco.mjtState.mjSTATE_CTRL
-    switches = [np.zeros(0, dtype=int) for _ in omegas]
-    if has_loads(asm):  # external loads as per-step xfrc_applied at the crank angle expected then
-        t = np.arange(nstep) * timestep
-        phis = [mech.drive.start + w * t + 0.5 * eps * t * t for w in omegas]
-        xfrc = np.stack([load_schedule(asm, model, p) for p in phis])
-        switches = [np.flatnonzero(_stroke_steps(asm, p)) + 1 for p in phis]
-        ctrl = np.concatenate([np.broadcast_to(ctrl, (len(omegas), nstep, model.nu)), xfrc], axis=2)
+    loads = has_loads(asm)
+    if loads:
         spec |= mujoco.mjtState.mjSTATE_XFRC_APPLIED
-    state, sensordata = rollout.rollout(model, datas, init, ctrl, control_spec=spec, nstep=nstep)
-    runs = []
-    for i, w in enumerate(omegas):
-        steps = int(math.ceil(durations[i] / timestep))
-        time = state[i, :steps, 0]
-        qpos = state[i, :steps, 1:1 + model.nq]
-        qvel = state[i, :steps, 1 + model.nq:1 + model.nq + model.nv]
-        gap = _closure_gap(asm, model, sensordata[i, :steps])
-        _check(time, qpos, qvel, gap)
-        runs.append(Run(model, time, qpos, qvel, gap, _sample(asm, model, time, qpos, qvel, eps, samples,
-                                                                        switches[i])))
+    gap_sensors = _gap_sensors(asm, model)
+    size = mechanism_size(asm)
+
+    got = np.zeros((samples, 1 + model.nq + model.nv))
+    gap_max, gap_at = 0.0, phi_a
+    done, steps_total = 0, 0
+    for c0 in range(0, nsteps, CHUNK_STEPS):
+        n = min(CHUNK_STEPS, nsteps - c0)
+        ctrl = np.full((nseg, n, model.nu), drive_ctrl)
+        t_step = t_start[:, None] + (c0 + 1 + np.arange(n))[None, :] * dt  # time after each step
+        if loads:
+            phis = _crank_phi(t_step - dt, phi_a, w0, eps)  # the angle at the step's start
+            xfrc = np.stack([load_schedule(asm, model, phis[k]) for k in range(nseg)])
+            ctrl = np.concatenate([ctrl, xfrc], axis=2)
+        states, sensors = rollout.rollout(model, datas, state, ctrl, control_spec=spec, nstep=n)
+        steps_total += n * nseg
+        if not np.all(np.isfinite(states[:, -1])):
+            k, i = np.argwhere(~np.all(np.isfinite(states), axis=2))[0]
+            raise SimulationError(_where("the run diverged", float(t_step[k, i]), phi_a, w0, eps, settings))
+        gap = _gap(sensors, gap_sensors)  # (nseg, n)
+        live = t_step >= t_start[:, None] + window  # past each segment's lead-in
+        if np.any(live):
+            g = np.where(live, gap, 0.0)
+            k, i = np.unravel_index(int(np.argmax(g)), g.shape)
+            if g[k, i] > gap_max:
+                gap_max, gap_at = float(g[k, i]), float(_crank_phi(t_step[k, i], phi_a, w0, eps))
+            if gap_max > gap_abort * size:
+                raise SimulationError(_where(f"the loop gap reached {gap_max:.3g} m ({gap_max / size:.2g} of the "
+                                             f"mechanism's size, limit {gap_abort:g})", float(t_step[k, i]),
+                                             phi_a, w0, eps, settings))
+        rows = (step_of > c0) & (step_of <= c0 + n)
+        for j in np.flatnonzero(rows):
+            got[j] = states[seg_of[j], step_of[j] - c0 - 1, :1 + model.nq + model.nv]
+        state = states[:, -1].copy()
+        done += n
+        elapsed = _time.perf_counter() - wall0
+        if progress is not None and elapsed > PROGRESS_AFTER:
+            progress(done / nsteps, elapsed)
     for d in datas:
         for w in d.warning:
             if w.number:
-                raise SimulationError(f"MuJoCo warned during the run ({w.number} times, last at step {w.lastinfo})")
-    return runs
+                raise SimulationError(f"MuJoCo warned during the run ({w.number} times, last at step {w.lastinfo}); "
+                                      f"settings: timestep {settings.timestep:g} s, loop time constant "
+                                      f"{settings.timeconst:g} s")
+    idx = np.flatnonzero(keep)
+    sampled = read_samples(asm, model, got[idx, 0], got[idx, 1:1 + model.nq], got[idx, 1 + model.nq:], drive_ctrl)
+    return Run(model, settings, scales, sampled, steps_total, _time.perf_counter() - wall0, gap_max, gap_at,
+               window, tuple(left), nseg)
 
 
-def _duration(angle: float, omega: float, eps: float) -> float:
-    if eps == 0.0:
-        return angle / omega
-    disc = omega * omega + 2 * eps * angle
-    if disc < 0:
-        raise SimulationError(f"with ε = {eps} rad/s² the crank stops before turning {angle} rad")
-    return (-omega + math.sqrt(disc)) / eps
+def steps_per_revolution(run: Run) -> float:
+    """Steps one revolution of the crank takes at the run's mean speed and timestep."""
+    w = abs(float(np.mean(run.samples.crank[1]))) if run.samples.time.size else 0.0
+    return 2 * math.pi / (w * run.settings.timestep) if w > 0 else math.nan
 
 
-def _closure_gap(asm: Assembly, model: mujoco.MjModel, sensordata: np.ndarray) -> np.ndarray:
-    mech = asm.mechanism
-    gap = np.zeros(sensordata.shape[0])
+def _crank_phi(t, phi0: float, omega: float, eps: float):
+    return phi0 + omega * np.asarray(t) + 0.5 * eps * np.asarray(t) ** 2
+
+
+def _where(what: str, t: float, phi0: float, w0: float, eps: float, settings: Settings) -> str:
+    phi = float(_crank_phi(t, phi0, w0, eps))
+    return (f"{what} at crank angle {math.degrees(phi):.3f}° (t = {t:.6g} s) with timestep {settings.timestep:g} s "
+            f"and loop time constant {settings.timeconst:g} s")
+
+
+def _switch_angles(mech, phi_a: float, phi_b: float) -> list[float]:
+    """Crank angles in [φa, φb] where a stroke-limited force switches on or off."""
+    out = []
+    for f in mech.forces:
+        if f.stroke is None or f.stroke[1] - f.stroke[0] >= 2 * math.pi:
+            continue
+        for edge in f.stroke:
+            k = math.ceil((phi_a - edge) / (2 * math.pi))
+            a = edge + 2 * math.pi * k
+            while a <= phi_b:
+                out.append(a)
+                a += 2 * math.pi
+    return sorted(out)
+
+
+def _gap_sensors(asm: Assembly, model: mujoco.MjModel) -> list[tuple[int, int]]:
+    """Sensor addresses of the two sites of every loop-closing revolute."""
+    out = []
     for pair in spanning_tree(asm).closures:
-        point = mech.revolute(pair.name).point
-        a, b = (model.sensor(f"pos_{site_name(asm, link, point)}") for link in pair.links)
-        pa = sensordata[:, a.adr[0]:a.adr[0] + 3]
-        pb = sensordata[:, b.adr[0]:b.adr[0] + 3]
-        gap = np.maximum(gap, np.linalg.norm(pa - pb, axis=1))
-    return gap
-
-
-def _check(time, qpos, qvel, gap) -> None:
-    bad = ~np.all(np.isfinite(qpos), axis=1) | ~np.all(np.isfinite(qvel), axis=1)
-    if np.any(bad):
-        i = int(np.argmax(bad))
-        raise SimulationError(f"the run diverged at step {i} (t = {time[i]:.6g} s)")
-    over = gap > VIOLATION_LIMIT
-    if np.any(over):
-        i = int(np.argmax(over))
-        raise SimulationError(
-            f"a loop-closing constraint opened by {gap[i]:.3g} m (limit {VIOLATION_LIMIT:g} m) at step {i} "
-            f"(t = {time[i]:.6g} s); use a smaller timestep"
-        )
-
-
-def _stroke_steps(asm: Assembly, phi: np.ndarray) -> np.ndarray:
-    """(n-1,) True between steps where some stroke-limited force switches on or off."""
-    out = np.zeros(max(phi.shape[0] - 1, 0), dtype=bool)
-    for f in asm.mechanism.forces:
-        if f.stroke is not None:
-            on = stroke_active(f, phi)
-            out |= on[1:] != on[:-1]
+        point = asm.mechanism.revolute(pair.name).point
+        a, b = (model.sensor(f"pos_{site_name(asm, link, point)}").adr[0] for link in pair.links)
+        out.append((a, b))
     return out
 
 
-def _sample(asm: Assembly, model, time, qpos, qvel, eps: float, samples: int, switches: np.ndarray) -> Samples:
-    mech = asm.mechanism
-    first = int(len(time) * WARMUP_FRACTION)
-    idx = np.unique(np.linspace(first, len(time) - 1, samples).astype(int))
-    for k in switches:  # leave out the transient after a load step (SETTLE_TIME)
-        idx = idx[(idx < k) | (time[idx] > time[min(k, len(time) - 1)] + SETTLE_TIME)]
-    d = mujoco.MjData(model)
-    crank_j = model.joint(mech.drive.joint)
-    g = np.array(mech.gravity)
-    out_pts = {p: np.zeros((len(idx), 3, 2)) for p in _moving_points(mech)}
-    out_lnk = {l: np.zeros((len(idx), 3)) for l in mech.moving_links}
-    out_sld = {n: np.zeros((len(idx), 3)) for n in asm.guides}
-    crank = np.zeros((len(idx), 3))
-    viol, torque = np.zeros(len(idx)), np.zeros(len(idx))
-    tree = spanning_tree(asm)
-    ref = solve(asm, np.array([asm.sketch_phi]))
-    r6 = np.zeros(6)
-    states, mv, inertia = [], np.zeros(model.nv), np.zeros(len(idx))
-    for k, i in enumerate(idx):
-        d.qpos[:], d.qvel[:], d.time = qpos[i], qvel[i], time[i]
-        d.ctrl[:] = ARMATURE * eps
-        mujoco.mj_kinematics(model, d)
-        mujoco.mj_comPos(model, d)
-        apply_loads(asm, model, d, math.atan2(d.body(mech.crank).xmat[3], d.body(mech.crank).xmat[0]))
-        mujoco.mj_forward(model, d)
-        mujoco.mj_rnePostConstraint(model, d)
-        states.append(forward_forces(asm, model, d))
-        mujoco.mj_mulM(model, d, mv, d.qvel)
-        w = d.qvel[crank_j.dofadr[0]]
-        inertia[k] = float(d.qvel @ mv) / (w * w) - ARMATURE
-        for p in out_pts:
-            sid = model.site(p).id
-            mujoco.mj_objectVelocity(model, d, mujoco.mjtObj.mjOBJ_SITE, sid, r6, 0)
-            v = r6[3:5].copy()
-            mujoco.mj_objectAcceleration(model, d, mujoco.mjtObj.mjOBJ_SITE, sid, r6, 0)
-            out_pts[p][k] = (d.site(p).xpos[:2], v, r6[3:5] + g)  # MuJoCo reports a - g
-        for l in out_lnk:
-            b = d.body(l)
-            mujoco.mj_objectVelocity(model, d, mujoco.mjtObj.mjOBJ_BODY, b.id, r6, 0)
-            w = r6[2]
-            mujoco.mj_objectAcceleration(model, d, mujoco.mjtObj.mjOBJ_BODY, b.id, r6, 0)
-            out_lnk[l][k] = (math.atan2(b.xmat[3], b.xmat[0]), w, r6[2])
-        for parent, child, pair in tree.tree:
-            if pair.kind == "P":
-                j = model.joint(pair.name)
-                sign = 1.0 if child == asm.guides[pair.name].slider else -1.0
-                s0 = ref.sliders[pair.name].v[0]
-                out_sld[pair.name][k] = (s0 + sign * d.qpos[j.qposadr[0]], sign * d.qvel[j.dofadr[0]],
-                                         sign * d.qacc[j.dofadr[0]])
-        crank[k] = (out_lnk[mech.crank][k][0], d.qvel[crank_j.dofadr[0]], d.qacc[crank_j.dofadr[0]])
-        viol[k] = np.abs(d.efc_pos[: d.ne]).max() if d.ne else 0.0
-        torque[k] = d.actuator("drive").force[0] - ARMATURE * d.qacc[crank_j.dofadr[0]]
-    phi = np.unwrap(crank[:, 0])  # continuous over the run; the closed form is 2π-periodic
-    return Samples(idx, time[idx], (phi, crank[:, 1], crank[:, 2]),
-                   {p: tuple(a[:, j] for j in range(3)) for p, a in out_pts.items()},
-                   {l: tuple(a[:, j] for j in range(3)) for l, a in out_lnk.items()},
-                   {n: tuple(a[:, j] for j in range(3)) for n, a in out_sld.items()},
-                   viol, torque, ForceSamples.stack(states), inertia)
+def _gap(sensors: np.ndarray, pairs: list[tuple[int, int]]) -> np.ndarray:
+    """Largest loop gap [m] per step, (nseg, n)."""
+    gap = np.zeros(sensors.shape[:2])
+    for a, b in pairs:
+        gap = np.maximum(gap, np.linalg.norm(sensors[..., a:a + 3] - sensors[..., b:b + 3], axis=-1))
+    return gap
 
 
-def _moving_points(mech) -> list[str]:
-    ground = set(mech.link("ground").points)
-    return [p for p in mech.points if p not in ground]
+__all__ = ["LeftOut", "Run", "build_model", "initial_state", "joint_state", "joint_states", "settle_window",
+           "simulate", "steps_per_revolution"]
