@@ -15,6 +15,8 @@ import numpy as np
 from .errors import DescriptionError, LinkgenError
 
 REPORT_DIR = Path("validation/report")
+# Diagnosis lines printed per model (the JSON has them all).
+DIAGNOSIS_LINES = 5
 
 
 def _models(path: Path) -> list[Path]:
@@ -138,10 +140,18 @@ def _summary(r: dict) -> str:
                      f"{r['steps']} steps, {r['total_wall_s']:.2f} s")
     else:
         lines.append(f"{r['model']:<22} FAIL")
-    for d in r.get("diagnosis", []):
+    shown = r.get("diagnosis", [])[:DIAGNOSIS_LINES]
+    for d in shown:
         rng = ", ".join(f"{a:.1f}°..{b:.1f}°" for a, b in d["ranges_deg"][:3])
         lines.append(f"    {d['quantity']}: {d['relative_error']:.2e} (tolerance {d['tolerance']:g}) at {rng}: "
                      f"{d['cause']} — {d['detail']}")
+    if len(r.get("diagnosis", [])) > len(shown):
+        lines.append(f"    … and {len(r['diagnosis']) - len(shown)} more quantities (see --json)")
+    if r.get("diagnosis"):
+        tried = "; ".join(f"timestep {a['settings']['timestep']:.3g} s, loop τ {a['settings']['timeconst']:.3g} s → "
+                          f"worst {a['worst']} at {a['worst_error_over_tolerance']:.2g}× its tolerance"
+                          for a in r.get("attempts", []))
+        lines.append(f"    tried: {tried}")
     return "\n".join(lines)
 
 

@@ -66,30 +66,26 @@ def diagnose(cmp: Comparison) -> list[Finding]:
         bad = q.errors / q.scale > q.tolerance
         ranges = angle_ranges(phi, bad) if bad.shape == phi.shape and bad.any() else [(float(phi[0]), float(phi[-1]))]
         k = int(np.argmax(q.errors)) if q.errors.shape == phi.shape else 0
-        s = run.settings
-        tried = f"timestep {s.timestep:g} s, loop time constant {s.timeconst:g} s ({s.label})"
         if name == "loop_gap":
             cause = "loop gap"
-            detail = (f"the loops opened by {q.max_abs_error:.3g} m, {q.relative_error:.2g} of the size "
-                      f"{cmp.size:.3g} m; tried {tried}")
+            detail = f"the loops opened by {q.max_abs_error:.3g} m, {q.relative_error:.2g} of the size {cmp.size:.3g} m"
         elif run.scales is not None and run.scales.capped:
             cause = "time budget"
-            detail = f"the settings the mechanism needs exceed the step budget; tried {tried}"
+            detail = "the settings the mechanism needs exceed the step budget"
         elif any(0.0 <= (phi[k] - sw) % (2 * math.pi) <= reach for sw in switches):
             cause = "load switch"
             detail = (f"within {reach * 180 / math.pi:.3g}° after a load switches, the loops' transient "
-                      f"(settling window {run.window * 1e3:.3g} ms) is still decaying; tried {tried}")
+                      f"(settling window {run.window * 1e3:.3g} ms) is still decaying")
         else:
             sig = _sigma_at(cmp, k)
             if sig < NEAR_SINGULAR_SIGMA:
                 cause = "near-singular"
                 detail = (f"the loop constraints are ill-conditioned there (condition number {1 / sig:.3g} at "
-                          f"{math.degrees(phi[k]):.2f}°): MuJoCo's loop gap {run.gap_max:.2g} m is amplified; "
-                          f"tried {tried}")
+                          f"{math.degrees(phi[k]):.2f}°): MuJoCo's integration and loop-gap errors are amplified")
             else:
                 cause = "integration error"
                 detail = (f"worst at {math.degrees(phi[k]):.2f}° (condition number {1 / sig:.3g}, loop gap "
-                          f"{run.gap_max:.2g} m); tried {tried}")
+                          f"{run.gap_max:.2g} m)")
         out.append(Finding(name, ranges, q.relative_error, q.tolerance, cause, detail))
     return sorted(out, key=lambda f: -f.relative_error / f.tolerance)
 

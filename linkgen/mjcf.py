@@ -19,25 +19,14 @@ from .description import GROUND
 from .errors import StructureError
 from .geometry import effective_mass_properties
 from .kinematics import solve
+from .mjoptions import Settings
 from .structure import Pair, pairs_of
 
-# Integration and constraint settings (design brief, "MuJoCo modelling notes"; re-measured on
-# mujoco 4.0 with the loaded models of issue 4). RK4 reports the end-of-step velocity
-# (Euler/implicitfast lag by O(dt)); Newton at tolerance 0.
-# A connect is soft: its steady gap is about (R/A)·a·τ², with R/A = 1e-4 at MuJoCo's largest
-# impedance (0.9999, solimp cannot go higher) and a the loop's acceleration demand. With
-# τ = 2 ms the loaded seven-link opens by 3.4e-8 m (target 1e-8); τ = 1 ms gives 8.5e-9 m.
-# RK4 then needs dt ≤ τ/20: at dt = 1e-4 the four-bar's accelerations are off by 3.3e-6
-# relative, at dt = 5e-5 by 1.9e-7 (every bundled model ≤ 8e-7).
-TIMESTEP = 5e-5  # s
-SOLVER_ITERATIONS = 50
-# connect: time constant 1 ms with damping ratio 1, impedance 0.9999 (nearly hard).
-CONNECT_SOLREF = "0.001 1"
-CONNECT_SOLIMP = "0.9999 0.9999 0.001"
-# The crank is driven by a very large rotor inertia (joint armature) started at ω: the
-# mechanism's reactions change its speed by ~1e-6 relative, and a motor torque armature·ε
-# gives a constant angular acceleration. A velocity servo would fight the constraints.
-ARMATURE = 1e4  # kg·m²
+# Integration and constraint settings come from the mechanism (linkgen.mjsettings): the loop
+# time constant from the predicted loop gap and the crank speed, the timestep from it, the
+# rotor inertia (armature of the driven joint, which holds the crank speed) from J(φ). The
+# crank is driven by that rotor started at ω, plus a motor torque armature·ε for a constant ε:
+# a velocity servo would fight the constraints.
 
 _BAR_RADIUS = 0.01  # m, visual only
 
@@ -107,8 +96,13 @@ def site_name(asm: Assembly, link: str, point: str) -> str:
     return point if first == link else f"{point}__{link}"
 
 
-def write_mjcf(asm: Assembly) -> str:
-    """The MJCF text of the assembled mechanism."""
+def write_mjcf(asm: Assembly, settings: Settings | None = None) -> str:
+    """The MJCF text of the assembled mechanism, with ``settings`` (default: derived from the
+    mechanism and its drive, ``linkgen.mjsettings.settings_for``)."""
+    if settings is None:
+        from .mjsettings import settings_for
+
+        settings = settings_for(asm)
     mech = asm.mechanism
     ref = solve(asm, np.array([asm.sketch_phi]))
     pose = {n: (ref.links[n].origin.p[0], float(ref.links[n].angle.v[0])) for n in mech.link_names}
@@ -116,8 +110,8 @@ def write_mjcf(asm: Assembly) -> str:
 
     root = etree.Element("mujoco", model=mech.name)
     etree.SubElement(root, "compiler", angle="radian", inertiafromgeom="false", autolimits="true")
-    etree.SubElement(root, "option", timestep=fmt(TIMESTEP), integrator="RK4", solver="Newton",
-                     iterations=str(SOLVER_ITERATIONS), tolerance="0",
+    etree.SubElement(root, "option", timestep=fmt(settings.timestep), integrator=settings.integrator,
+                     solver="Newton", iterations=str(settings.iterations), tolerance=fmt(settings.tolerance),
                      gravity=vec(mech.gravity[0], mech.gravity[1], 0.0))
     default = etree.SubElement(root, "default")
     etree.SubElement(default, "geom", contype="0", conaffinity="0", group="0")
@@ -149,7 +143,7 @@ def write_mjcf(asm: Assembly) -> str:
             local = asm.shapes[child].local[point]
             attrs = dict(name=pair.name, type="hinge", pos=vec(local[0], local[1], 0.0), axis="0 0 1")
             if pair.name == mech.drive.joint:
-                attrs["armature"] = fmt(ARMATURE)
+                attrs["armature"] = fmt(settings.armature)
             etree.SubElement(body, "joint", **attrs)
         else:
             g = asm.guides[pair.name]
@@ -166,7 +160,8 @@ def write_mjcf(asm: Assembly) -> str:
         point = mech.revolute(pair.name).point
         a, b = pair.links
         local = asm.shapes[a].local[point]
-        attrs = dict(name=pair.name, anchor=vec(local[0], local[1], 0.0), solref=CONNECT_SOLREF, solimp=CONNECT_SOLIMP)
+        attrs = dict(name=pair.name, anchor=vec(local[0], local[1], 0.0), solref=settings.solref,
+                     solimp=settings.solimp_text)
         if a == GROUND:  # body1 must be a body; swap so that world is body2
             a, b = b, a
             local = asm.shapes[a].local[point]

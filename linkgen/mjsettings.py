@@ -32,11 +32,10 @@ import numpy as np
 
 from .assembly import Assembly
 from .kinetostatics import forces
+from .mjoptions import IMPEDANCE, PLACEHOLDER, Settings
 from .mjloops import closure_diag, closure_forces, closure_jacobian, mechanism_size
 from .mjstate import joint_states
 
-# MuJoCo clamps the impedance at mjMAXIMP = 0.9999: the stiffest a soft constraint gets.
-IMPEDANCE = 0.9999
 # Aimed-for loop gap relative to the size: a third of the gap tolerance (compare.GAP_TOL = 1e-8);
 # the prediction below is itself an upper bound (measured gaps 0.5-0.9 of it).
 GAP_TARGET = 3e-9
@@ -58,37 +57,6 @@ SCAN = 181
 # A run may take at most this many steps (per segment): 4e6 RK4 steps of a ten-link model are
 # about a minute here. Beyond it the settings are coarsened and the result says so.
 MAX_STEPS = 4_000_000
-SOLVER_ITERATIONS = 50
-
-
-@dataclass(frozen=True)
-class Settings:
-    """What a MuJoCo run uses: timestep [s], loop time constant τ [s] and impedance,
-    integrator, solver iterations and tolerance, rotor inertia on the driven joint [kg·m²]."""
-
-    timestep: float
-    timeconst: float
-    impedance: float = IMPEDANCE
-    integrator: str = "RK4"
-    iterations: int = SOLVER_ITERATIONS
-    tolerance: float = 0.0
-    armature: float = 1e4
-    solimp: tuple[float, ...] | None = None  # None: (impedance, impedance, 0.001)
-    label: str = "derived"
-
-    @property
-    def solref(self) -> str:
-        return f"{_fmt(self.timeconst)} 1"
-
-    @property
-    def solimp_text(self) -> str:
-        imp = self.solimp if self.solimp is not None else (self.impedance, self.impedance, 0.001)
-        return " ".join(_fmt(x) for x in imp)
-
-    def to_json(self) -> dict:
-        out = asdict(self)
-        out["solimp"] = [float(x) for x in self.solimp_text.split()]
-        return out
 
 
 @dataclass(frozen=True)
@@ -110,10 +78,6 @@ class Scales:
 
     def to_json(self) -> dict:
         return asdict(self)
-
-
-def _fmt(x: float) -> str:
-    return repr(float(x))
 
 
 _STEPS = (8, 6, 5, 4, 3, 2.5, 2, 1.5, 1.2, 1)
@@ -195,6 +159,16 @@ def sigma_min(model: mujoco.MjModel, jac: np.ndarray, drive_joint: str, size: fl
     return float(s[-1]) if s.size else 1.0
 
 
+def settings_for(asm: Assembly) -> Settings:
+    """Settings derived for the description's own drive (ω at the range's end if ε ≠ 0)."""
+    from .mjcf import write_mjcf
+
+    d = asm.mechanism.drive
+    w_end = math.sqrt(max(d.omega**2 + 2 * d.epsilon * (d.stop - d.start), 0.0))
+    model = mujoco.MjModel.from_xml_string(write_mjcf(asm, PLACEHOLDER))
+    return derive(asm, model, omega=max(abs(d.omega), w_end), epsilon=d.epsilon)[0]
+
+
 def apply(model: mujoco.MjModel, settings: Settings, drive_joint: str) -> None:
     """Put ``settings`` into a compiled model (timestep, integrator, solver, every connect's
     solref/solimp, the rotor inertia on the driven joint)."""
@@ -209,4 +183,4 @@ def apply(model: mujoco.MjModel, settings: Settings, drive_joint: str) -> None:
     model.dof_armature[model.joint(drive_joint).dofadr[0]] = settings.armature
 
 
-__all__ = ["Scales", "Settings", "apply", "derive", "round_down", "scan_angles", "sigma_min"]
+__all__ = ["Scales", "Settings", "apply", "derive", "round_down", "scan_angles", "settings_for", "sigma_min"]

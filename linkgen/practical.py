@@ -13,7 +13,7 @@ import numpy as np
 from .assembly import Assembly
 from .compare import compare, force_scale
 from .errors import SimulationError
-from .mjsettings import Settings
+from .mjoptions import Settings
 from .simulate import simulate, steps_per_revolution
 
 # MuJoCo's defaults (its XML reference): timestep 2 ms, Euler, solref "0.02 1",

@@ -27,12 +27,17 @@ from .mjcf import site_name, spanning_tree, write_mjcf
 from .mjforces import has_loads, load_schedule
 from .mjloops import mechanism_size
 from .mjsample import Samples, read_samples
-from .mjsettings import Scales, Settings, apply, derive
+from .mjoptions import PLACEHOLDER, Settings
+from .mjsettings import Scales, apply, derive
 from .mjstate import initial_state, joint_state, joint_states
 
 # The error a settling window must decay to, relative to the quantity's scale: a tenth of the
 # comparison tolerance (compare.REL_TOL = 1e-6).
 SETTLE_TARGET = 1e-7
+# The lead-in before each segment costs only steps, no samples: it is aimed 1000× lower, which
+# near an assembly limit the start transient needs (seven-link 5° from its limit, τ = 0.1 ms:
+# first sample 1.9e-6 with a lead-in for 1e-7, 7.1e-7 with one for 1e-10).
+LEAD_TARGET = 1e-10
 # A run whose loop gap passes this fraction of the mechanism's size has failed (not a result):
 # the loop has come apart, far beyond anything the comparison could judge.
 GAP_ABORT = 1e-4
@@ -67,7 +72,7 @@ class Run:
 
     model: mujoco.MjModel
     settings: Settings
-    scales: Scales | None
+    scales: Scales
     samples: Samples
     steps: int
     wall: float
@@ -79,29 +84,27 @@ class Run:
 
 
 def build_model(asm: Assembly, settings: Settings | None = None) -> mujoco.MjModel:
-    """The compiled MJCF of the mechanism, with ``settings`` applied if given."""
-    model = mujoco.MjModel.from_xml_string(write_mjcf(asm))
-    if settings is not None:
-        apply(model, settings, asm.mechanism.drive.joint)
-    return model
+    """The compiled MJCF of the mechanism, with ``settings`` (default: derived)."""
+    return mujoco.MjModel.from_xml_string(write_mjcf(asm, settings))
 
 
-def settle_window(settings: Settings, scales: Scales | None, epsilon: float) -> float:
+def settle_window(settings: Settings, scales: Scales | None, epsilon: float, target: float = SETTLE_TARGET) -> float:
     """Time [s] after a start or a load step until the loop's transient has decayed to
     SETTLE_TARGET of the quantities' scales.
 
     A connect answers a step in its load like a critically damped oscillator of time constant
     τ: the error right after the step is (1 − d) times the loop acceleration a0 (the part the
     soft constraint lets through), and it decays as (1 + t/τ)·e^(−t/τ). Relative to the
-    accelerations' scale size·(ω² + |ε|) this gives e0; the window is the t where the
-    envelope brings e0 down to SETTLE_TARGET (at least 1 τ)."""
+    accelerations' scale size·(ω² + |ε|), and amplified by 1/σ where the loops are
+    ill-conditioned, this gives e0; the window is the t where the envelope brings e0 down to
+    SETTLE_TARGET (at least 1 τ)."""
     d = settings.solimp[0] if settings.solimp else settings.impedance
     if scales is None:
         e0 = 1.0 - d
     else:
         a_scale = scales.size * (scales.omega**2 + abs(epsilon))
-        e0 = (1.0 - d) * max(1.0, scales.loop_acceleration / max(a_scale, 1e-300))
-    target = SETTLE_TARGET / e0
+        e0 = (1.0 - d) * max(1.0, scales.loop_acceleration / max(a_scale, 1e-300)) / min(1.0, scales.sigma_min)
+    target = target / e0
     x = 1.0
     if target < 1.0:
         lo, hi = 0.0, 200.0
@@ -168,13 +171,13 @@ def simulate(asm: Assembly, *, revolutions: float = 1.0, omega: float | None = N
     phi_a, phi_b = mech.drive.start, mech.drive.start + span * revolutions
     duration = float(_crank_time(np.array([phi_b]), phi_a, w0, eps)[0])
     w_peak = max(w0, abs(w0 + eps * duration))
-    model = mujoco.MjModel.from_xml_string(write_mjcf(asm))
-    scales = None
-    if settings is None:
-        settings, scales = derive(asm, model, omega=w_peak, epsilon=eps, duration=duration)
+    model = mujoco.MjModel.from_xml_string(write_mjcf(asm, PLACEHOLDER))
+    derived, scales = derive(asm, model, omega=w_peak, epsilon=eps, duration=duration)
+    settings = derived if settings is None else settings
     apply(model, settings, mech.drive.joint)
     dt = settings.timestep
     window = settle_window(settings, scales, eps)
+    lead_window = settle_window(settings, scales, eps, LEAD_TARGET)
 
     # Samples over the range, and which are left out (load switches).
     phi_s = np.linspace(phi_a, phi_b, samples, endpoint=not full)
@@ -192,12 +195,12 @@ def simulate(asm: Assembly, *, revolutions: float = 1.0, omega: float | None = N
     nseg = max(1, min(default_threads() if nthread is None else nthread, samples))
     bounds = np.linspace(phi_a, phi_b, nseg + 1)
     t_bounds = _crank_time(bounds, phi_a, w0, eps)
-    t_start = t_bounds[:-1] - window
+    t_start = t_bounds[:-1] - lead_window
     lead = _crank_phi(t_start[0], phi_a, w0, eps)
     if not full and not _assembles(asm, np.linspace(lead, phi_a, 16)):  # the range starts near a limit
         t_start[0] = 0.0
         t_start = np.maximum(t_start, 0.0)
-        hit = t_s <= window
+        hit = t_s <= lead_window
         if hit.any():
             keep &= ~hit
             left.append(LeftOut("start", phi_a, float(phi_s[hit].max()), int(hit.sum())))
@@ -240,7 +243,7 @@ def simulate(asm: Assembly, *, revolutions: float = 1.0, omega: float | None = N
             k, i = np.argwhere(~np.all(np.isfinite(states), axis=2))[0]
             raise SimulationError(_where("the run diverged", float(t_step[k, i]), phi_a, w0, eps, settings))
         gap = _gap(sensors, gap_sensors)  # (nseg, n)
-        live = t_step >= t_start[:, None] + window  # past each segment's lead-in
+        live = t_step >= t_start[:, None] + lead_window  # past each segment's lead-in
         if np.any(live):
             g = np.where(live, gap, 0.0)
             k, i = np.unravel_index(int(np.argmax(g)), g.shape)

@@ -11,7 +11,7 @@ from linkgen import SimulationError, assemble, load
 from linkgen.cli import main
 from linkgen.compare import FORCE_TOL, GAP_TOL, INVERSE_TOL, REL_TOL, compare
 from linkgen.mjcf import write_mjcf
-from linkgen.mjsettings import Settings
+from linkgen.mjoptions import Settings
 from linkgen.simulate import simulate
 
 # Constraints at qpos0: the reference pose is the closed-form assembly, so only rounding of
