@@ -31,6 +31,7 @@ import mujoco
 import numpy as np
 
 from .assembly import Assembly
+from .errors import SimulationError
 from .kinetostatics import forces
 from .mjoptions import IMPEDANCE, PLACEHOLDER, Settings
 from .mjloops import closure_diag, closure_forces, closure_jacobian, mechanism_size
@@ -129,6 +130,9 @@ def derive(asm: Assembly, model: mujoco.MjModel, *, omega: float, epsilon: float
     a_peak = max(float(a0.max()), 1e-300)
     k_min = int(np.argmin(sigma))
     s_min = float(sigma[k_min])
+    if not s_min > 0.0:
+        raise SimulationError(f"the loop constraints are singular at crank angle {math.degrees(phi[k_min]):.3f}° "
+                              f"(the loops' Jacobian loses rank): no settings can hold them there")
     gap = size * min(GAP_TARGET, POSITION_TARGET * s_min)
     d = IMPEDANCE
     tau_gap = math.sqrt(gap / ((1 - d) * d * a_peak)) if a_peak > 1e-300 else math.inf

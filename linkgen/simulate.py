@@ -268,6 +268,10 @@ def simulate(asm: Assembly, *, revolutions: float = 1.0, omega: float | None = N
                                       f"settings: timestep {settings.timestep:g} s, loop time constant "
                                       f"{settings.timeconst:g} s")
     idx = np.flatnonzero(keep)
+    if idx.shape[0] < 2:
+        raise SimulationError(f"every sample falls in a settling window: the loops take {window:.3g} s to settle "
+                              f"with timestep {settings.timestep:g} s and loop time constant {settings.timeconst:g} s, "
+                              f"and the range lasts {duration:.3g} s")
     sampled = read_samples(asm, model, got[idx, 0], got[idx, 1:1 + model.nq], got[idx, 1 + model.nq:], drive_ctrl)
     return Run(model, settings, scales, sampled, steps_total, _time.perf_counter() - wall0, gap_max, gap_at,
                window, tuple(left), nseg)
