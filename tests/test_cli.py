@@ -58,6 +58,8 @@ def test_user_errors_exit_2_without_traceback(tmp_path, capsys):
     bad.write_text("[mechanism]\nname = 'x'\n")
     assert main(["analyze", str(bad)]) == 2
     err = capsys.readouterr().err
-    assert err == "linkgen: error: description.drive: is required\n"
+    assert err == f"linkgen: error: {bad}: description.drive: is required\n"
     assert main(["analyze", str(MODELS / "seven_link.toml"), "--angle", "180deg"]) == 2
-    assert "cannot be assembled at crank angles 180.000°" in capsys.readouterr().err
+    err = capsys.readouterr().err
+    assert err.startswith(f"linkgen: error: {MODELS / 'seven_link.toml'}: group ")
+    assert "cannot be assembled at crank angles 180.000°" in err
