@@ -63,6 +63,8 @@ def load(path: str | Path) -> Mechanism:
     """
     path = Path(path)
     source = str(path)
+    if path.is_dir():
+        raise DescriptionError("", "is a folder; give one description file", source)
     if not path.is_file():
         raise DescriptionError("", "no such description file", source)
     try:
@@ -82,7 +84,7 @@ def loads(raw: bytes | str, source: str = "<description>") -> Mechanism:
         except UnicodeDecodeError as exc:
             line = raw[:exc.start].count(b"\n") + 1
             raise DescriptionError(
-                "file", f"is not UTF-8 text (byte {raw[exc.start]:#04x} at line {line}, offset {exc.start}); "
+                "", f"is not UTF-8 text (byte {raw[exc.start]:#04x} at line {line}, offset {exc.start}); "
                 "a description is a UTF-8 TOML file", source) from None
     else:
         text = raw.removeprefix("\ufeff")
