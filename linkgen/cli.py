@@ -36,9 +36,13 @@ def crank_grid(mech, samples: int) -> np.ndarray:
 
 def _angle_arg(text: str) -> float:
     try:
-        return parse_angle(text if text.strip().endswith(("deg", "rad")) else float(text), "--angle")
+        x = parse_angle(text if text.strip().endswith(("deg", "rad")) else float(text), "--angle")
     except (ValueError, DescriptionError) as exc:
         raise argparse.ArgumentTypeError(f"expected radians or e.g. '30deg', got {text!r}") from exc
+    if abs(x) > limits.MAX_ANGLE:
+        raise argparse.ArgumentTypeError(f"expected an angle within ±{limits.MAX_ANGLE:g} rad (linkgen's limits, "
+                                         f"see the README), got {text!r}")
+    return x
 
 
 def _float_arg(text: str) -> float:

@@ -56,6 +56,10 @@ MAX_FORCE = 1e102  # = MAX_MASS·MAX_GRAVITY
 # Largest |link torque| [N·m]: MAX_FORCE on an arm of MAX_LENGTH.
 MAX_TORQUE = 1e114  # = MAX_FORCE·MAX_LENGTH
 
+# Largest |angle| [rad] (guide angles, drive range, load strokes, --angle): about 1600 turns,
+# where float64's spacing is still 1.8e-12 rad, so a crank angle keeps 12 digits.
+MAX_ANGLE = 1e4
+
 # Shortest bar MuJoCo draws [m]: the MJCF shows a link as capsules from its first point to each
 # other point, and MuJoCo's compiler rejects a capsule whose half-length is below mjEPS = 1e-6
 # ("fromto points too close in geom"; measured: the four-bar builds at scale 1e-6, not 1e-7).
@@ -64,5 +68,5 @@ MJCF_MIN_BAR = 2e-6
 
 __all__ = [
     "MAX_LENGTH", "MIN_LENGTH", "MIN_MASS", "MAX_MASS", "MAX_INERTIA", "MAX_OMEGA", "MAX_EPSILON",
-    "MAX_GRAVITY", "MAX_FORCE", "MAX_TORQUE", "MJCF_MIN_BAR",
+    "MAX_GRAVITY", "MAX_FORCE", "MAX_TORQUE", "MAX_ANGLE", "MJCF_MIN_BAR",
 ]

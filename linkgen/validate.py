@@ -9,9 +9,6 @@ from .description import GROUND, Mechanism, check_name
 from .errors import DescriptionError
 from .units import shown
 
-# Largest |angle| [rad] in a description (guide angles, drive range, load strokes): about 1600
-# turns, where float64's spacing is still 1.8e-12 rad, so a crank angle keeps 12 digits.
-MAX_ANGLE = 1e4
 
 
 def _finite(x: float, where: str) -> None:
@@ -199,7 +196,7 @@ def _check_prismatics(m: Mechanism) -> None:
             raise DescriptionError(
                 f"{where}.through", f"{pj.through!r} is not a point of link {pj.guide!r}"
             )
-        _bounded(pj.angle, f"{where}.angle", MAX_ANGLE, "rad")
+        _bounded(pj.angle, f"{where}.angle", limits.MAX_ANGLE, "rad")
         _length(pj.offset, f"{where}.offset")
 
 
@@ -220,8 +217,8 @@ def _check_drive(m: Mechanism) -> None:
         )
     _bounded(d.omega, "drive.omega", limits.MAX_OMEGA, "rad/s")
     _bounded(d.epsilon, "drive.epsilon", limits.MAX_EPSILON, "rad/s²")
-    _bounded(d.start, "drive.range[0]", MAX_ANGLE, "rad")
-    _bounded(d.stop, "drive.range[1]", MAX_ANGLE, "rad")
+    _bounded(d.start, "drive.range[0]", limits.MAX_ANGLE, "rad")
+    _bounded(d.stop, "drive.range[1]", limits.MAX_ANGLE, "rad")
     if not d.start < d.stop or d.stop - d.start > 2 * math.pi + 1e-12:
         raise DescriptionError(
             "drive.range", f"must be [from, to] with from < to <= from + 360deg, got [{d.start!r}, {d.stop!r}] rad"
@@ -238,8 +235,8 @@ def _check_loads(m: Mechanism) -> None:
         _bounded(f.force[0], f"{where}.force[0]", limits.MAX_FORCE, "N")
         _bounded(f.force[1], f"{where}.force[1]", limits.MAX_FORCE, "N")
         if f.stroke is not None:
-            _bounded(f.stroke[0], f"{where}.stroke[0]", MAX_ANGLE, "rad")
-            _bounded(f.stroke[1], f"{where}.stroke[1]", MAX_ANGLE, "rad")
+            _bounded(f.stroke[0], f"{where}.stroke[0]", limits.MAX_ANGLE, "rad")
+            _bounded(f.stroke[1], f"{where}.stroke[1]", limits.MAX_ANGLE, "rad")
             width = f.stroke[1] - f.stroke[0]
             if not 0.0 < width <= 2 * math.pi + 1e-12:
                 raise DescriptionError(

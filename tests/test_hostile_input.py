@@ -195,3 +195,16 @@ def test_non_finite_result_is_never_printed(capsys):
     assert str(info.value) == ("the result is not finite at points.O.acceleration[1] (the computation overflowed "
                                "or hit a singular position); nothing was printed")
     assert capsys.readouterr().out == ""
+
+
+def test_random_mutants_of_the_models_fail_cleanly():
+    """300 random byte-level mutants of the bundled models (validation/fuzz_files.py runs more):
+    each loads and solves with finite forces, or fails with a LinkgenError; load errors name the file."""
+    import sys
+
+    sys.path.insert(0, str(ROOT / "validation"))
+    try:
+        from fuzz_files import main as fuzz
+    finally:
+        sys.path.pop(0)
+    assert fuzz(300, 3) == 0
