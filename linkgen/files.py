@@ -40,7 +40,8 @@ def _target(path: str | Path) -> Path:
         raise OutputError(f"{path}: is a folder; give a file name to write")
     folder = path.parent
     if not folder.is_dir():
-        raise OutputError(f"{path}: the folder {str(folder)!r} does not exist")
+        problem = "is not a folder" if folder.exists() else "does not exist"
+        raise OutputError(f"{path}: the folder {str(folder)!r} {problem}")
     return path
 
 
@@ -49,13 +50,21 @@ def atomic_output(path: str | Path) -> Iterator[Path]:
     """A temporary path next to ``path`` (same suffix) to write; renamed onto ``path`` when the
     block ends without an exception, removed otherwise."""
     path = _target(path)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=path.suffix or ".tmp", dir=path.parent)
+    try:
+        fd, name = tempfile.mkstemp(prefix=f".{path.name}.", suffix=path.suffix or ".tmp", dir=path.parent)
+    except OSError as exc:
+        raise OutputError(f"{path}: cannot write here: {exc.strerror or exc}") from None
     os.close(fd)
-    tmp = Path(tmp)
+    tmp = Path(name)
     try:
         yield tmp
         os.chmod(tmp, _mode())
         os.replace(tmp, path)  # replaces a symlink at ``path`` itself, never its target
+    except OSError as exc:
+        tmp.unlink(missing_ok=True)
+        if isinstance(exc, OutputError):
+            raise
+        raise OutputError(f"{path}: cannot write: {exc.strerror or exc}") from exc
     except BaseException:
         tmp.unlink(missing_ok=True)
         raise

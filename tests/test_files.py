@@ -164,3 +164,9 @@ def test_csv_written_atomically_through_no_symlink(tmp_path, capsys):
     assert not out.is_symlink() and len(out.read_text().splitlines()) == 9
     assert sorted(p.name for p in tmp_path.iterdir()) == ["fb.csv", "victim.txt"]
     assert os.access(out, os.R_OK)
+
+
+def test_missing_output_folder(tmp_path):
+    with pytest.raises(OSError) as info:
+        atomic_write_text(tmp_path / "nope" / "x.xml", "x")
+    assert str(info.value) == f"{tmp_path / 'nope' / 'x.xml'}: the folder {str(tmp_path / 'nope')!r} does not exist"
