@@ -51,6 +51,9 @@ def _str(value: Any, where: str) -> str:
 
 
 _BOM = b"\xef\xbb\xbf"
+# Largest description file [bytes]: a 5000-group chain takes about 1 MB (some 200 bytes a group);
+# beyond 64 MiB a file is not a description, and reading it whole would only spend memory.
+MAX_FILE_BYTES = 64 * 2**20
 
 
 def load(path: str | Path) -> Mechanism:
@@ -65,9 +68,15 @@ def load(path: str | Path) -> Mechanism:
     source = str(path)
     if path.is_dir():
         raise DescriptionError("", "is a folder; give one description file", source)
-    if not path.is_file():
+    if not path.exists():
         raise DescriptionError("", "no such description file", source)
+    if not path.is_file():
+        raise DescriptionError("", "is not a regular file (a device, pipe or socket); give a description file",
+                               source)
     try:
+        size = path.stat().st_size
+        if size > MAX_FILE_BYTES:
+            raise DescriptionError("", f"is {size} bytes; a description is at most {MAX_FILE_BYTES} bytes", source)
         raw = path.read_bytes()
     except OSError as exc:
         raise DescriptionError("", f"cannot be read: {exc.strerror or exc}", source) from None

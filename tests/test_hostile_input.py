@@ -77,6 +77,19 @@ def test_folder_as_a_description(tmp_path):
     assert _error(tmp_path) == f"{tmp_path}: is a folder; give one description file"
 
 
+def test_device_instead_of_a_file():
+    assert _error("/dev/zero") == "/dev/zero: is not a regular file (a device, pipe or socket); give a description file"
+
+
+def test_file_too_large(tmp_path):
+    from linkgen.load import MAX_FILE_BYTES
+
+    path = tmp_path / "big.toml"
+    with open(path, "wb") as f:
+        f.truncate(MAX_FILE_BYTES + 1)  # sparse: no disk space used
+    assert _error(path) == f"{path}: is 67108865 bytes; a description is at most 67108864 bytes"
+
+
 def _scaled(s: float = 1.0, mu: float = 1.0, w: float = 1.0) -> dict:
     """The four-bar with lengths ×s, masses ×mu and rates ×w (its links are uniform bars)."""
     d = tomllib.loads(FOURBAR.read_text())
