@@ -230,8 +230,15 @@ def add_crank_arguments(parser: argparse.ArgumentParser, example_angle: str) -> 
     parser.add_argument("--csv", type=Path, help="write the samples as CSV to this file (not with --angle/--json)")
 
 
+class _Parser(argparse.ArgumentParser):
+    """argparse with one-line errors (the usage is one ``--help`` away); subcommands inherit it."""
+
+    def error(self, message: str):
+        self.exit(2, f"{self.prog}: error: {message} (see {self.prog} --help)\n")
+
+
 def build_parser() -> argparse.ArgumentParser:
-    p = argparse.ArgumentParser(prog="linkgen", description=__doc__.splitlines()[0])
+    p = _Parser(prog="linkgen", description=__doc__.splitlines()[0])
     sub = p.add_subparsers(dest="command", required=True)
 
     s = sub.add_parser("structure", help="mobility, Assur groups and the structure formula")

@@ -181,13 +181,19 @@ def test_corners_of_the_limits_scale_exactly(s, mu, w):
         check(got.reactions[k], ref.reactions[k], (mu, s, w, w))
 
 
-def test_omega_1e154_on_the_command_line(capsys):
+@pytest.mark.parametrize("option, value, message", [
+    ("--omega", "1.3e154", "expected a number within ±1e+30 rad/s (linkgen's limits, see the README), got '1.3e154'"),
+    ("--epsilon", "-inf", "expected a finite number, got '-inf'"),
+    ("--omega", "nan", "expected a finite number, got 'nan'"),
+    ("--omega", "[1, 2]", "expected a number, got '[1, 2]'"),
+])
+def test_rates_on_the_command_line(capsys, option, value, message):
     with pytest.raises(SystemExit) as info:
-        main(["analyze", str(FOURBAR), "--omega", "1.3e154", "--json"])
+        main(["forces", str(FOURBAR), f"{option}={value}", "--json"])
     assert info.value.code == 2
-    assert capsys.readouterr().err.endswith(
-        "error: argument --omega: expected a number within ±1e+30 rad/s (linkgen's limits, see the README), "
-        "got '1.3e154'\n")
+    captured = capsys.readouterr()
+    assert captured.err == f"linkgen forces: error: argument {option}: {message} (see linkgen forces --help)\n"
+    assert captured.out == ""
 
 
 def test_json_at_the_largest_rates_is_strict_and_finite(capsys):
