@@ -18,8 +18,8 @@ from pathlib import Path
 
 import numpy as np
 
-from .assembly import assemble
 from . import limits
+from .assembly import assemble
 from .errors import DescriptionError, LinkgenError
 from .files import atomic_open, message_for
 from .kinematics import Kinematics, solve
@@ -138,10 +138,14 @@ def _first_non_finite(obj, where: str = "") -> str | None:
     """The key path of the first NaN or infinity in a JSON-like structure, or None."""
     if isinstance(obj, float):
         return None if math.isfinite(obj) else where or "value"
-    items = obj.items() if isinstance(obj, dict) else enumerate(obj) if isinstance(obj, (list, tuple)) else ()
-    for k, v in items:
-        found = _first_non_finite(v, f"{where}.{k}" if isinstance(k, str) and where else
-                                  (k if isinstance(k, str) else f"{where}[{k}]"))
+    if isinstance(obj, dict):
+        items = ((f"{where}.{k}" if where else str(k), v) for k, v in obj.items())
+    elif isinstance(obj, (list, tuple)):
+        items = ((f"{where}[{i}]", v) for i, v in enumerate(obj))
+    else:
+        return None
+    for path, v in items:
+        found = _first_non_finite(v, path)
         if found:
             return found
     return None

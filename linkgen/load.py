@@ -111,9 +111,6 @@ def loads(raw: bytes | str, source: str = "<description>") -> Mechanism:
         return from_dict(data)
     except DescriptionError as exc:
         raise exc.in_file(source) from None
-    except RecursionError:
-        raise DescriptionError("", "nested too deeply: a description needs at most a few levels of "
-                               "tables and arrays", source) from None
 
 
 def from_dict(data: dict) -> Mechanism:
