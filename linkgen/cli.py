@@ -68,13 +68,18 @@ def rate_arg(limit: float, unit: str):
     return parse
 
 
+# Most crank angles one command evaluates (--samples): the benchmark's size; the solution's
+# arrays then take some 0.3 GB and the CSV about 1 GB.
+MAX_SAMPLES = 10**6
+
+
 def _positive_int(text: str) -> int:
     try:
         n = int(text)
     except ValueError:
         raise argparse.ArgumentTypeError(f"expected a whole number, got {text!r}") from None
-    if n < 1:
-        raise argparse.ArgumentTypeError(f"expected a whole number >= 1, got {text!r}")
+    if not 1 <= n <= MAX_SAMPLES:
+        raise argparse.ArgumentTypeError(f"expected a whole number from 1 to {MAX_SAMPLES}, got {text!r}")
     return n
 
 
@@ -118,16 +123,30 @@ def drive_rates(mech, args) -> tuple[float, float]:
             mech.drive.epsilon if args.epsilon is None else args.epsilon)
 
 
+# Rows formatted at a time when writing CSV: bounds the text held in memory (~4096 rows ×
+# 40 columns × 25 characters = 4 MB) whatever the number of samples.
+CSV_CHUNK_ROWS = 4096
+
+
+def _write_csv(out, cols: list[str], data: list[np.ndarray]) -> int:
+    writer = csv.writer(out)
+    writer.writerow(cols)
+    n = len(data[0]) if data else 0
+    for start in range(0, n, CSV_CHUNK_ROWS):
+        block = np.column_stack([d[start:start + CSV_CHUNK_ROWS] for d in data])
+        writer.writerows([repr(float(x)) for x in row] for row in block)
+    return n
+
+
 def write_rows(cols: list[str], data: list[np.ndarray], path: Path | None) -> None:
     """Columns (each (n,)) as CSV with a header, full precision, to ``path`` (written
     atomically) or stdout."""
-    rows = [cols] + [[repr(float(x)) for x in row] for row in np.column_stack(data)]
     if path is None:
-        csv.writer(sys.stdout).writerows(rows)
+        _write_csv(sys.stdout, cols, data)
         return
     with atomic_open(path) as out:
-        csv.writer(out).writerows(rows)
-    print(f"wrote {len(rows) - 1} crank angles × {len(cols)} columns to {path}", file=sys.stderr)
+        n = _write_csv(out, cols, data)
+    print(f"wrote {n} crank angles × {len(cols)} columns to {path}", file=sys.stderr)
 
 
 class OptionError(LinkgenError):

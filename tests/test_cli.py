@@ -63,3 +63,13 @@ def test_user_errors_exit_2_without_traceback(tmp_path, capsys):
     err = capsys.readouterr().err
     assert err.startswith(f"linkgen: error: {MODELS / 'seven_link.toml'}: group ")
     assert "cannot be assembled at crank angles 180.000°" in err
+
+
+@pytest.mark.parametrize("command", ["structure", "analyze", "forces", "build", "simulate", "validate"])
+def test_every_command_names_the_file(tmp_path, capsys, command):
+    bad = tmp_path / "bad.toml"
+    bad.write_bytes(b"\x00\x01\x02\xff")
+    assert main([command, str(bad)]) == 2
+    assert capsys.readouterr().err == (f"linkgen: error: {bad}: is not UTF-8 text (byte 0xff at line 1, offset 3); "
+                                       "a description is a UTF-8 TOML file\n")
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["bad.toml"]

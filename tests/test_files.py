@@ -170,3 +170,14 @@ def test_missing_output_folder(tmp_path):
     with pytest.raises(OSError) as info:
         atomic_write_text(tmp_path / "nope" / "x.xml", "x")
     assert str(info.value) == f"{tmp_path / 'nope' / 'x.xml'}: the folder {str(tmp_path / 'nope')!r} does not exist"
+
+
+def test_csv_in_chunks_is_the_whole_table(tmp_path, monkeypatch, capsys):
+    import linkgen.cli as cli
+
+    monkeypatch.setattr(cli, "CSV_CHUNK_ROWS", 7)  # 20 rows: two full chunks and a partial one
+    x = np.linspace(-1.0, 1.0, 20) / 3.0
+    cli.write_rows(["a", "b"], [x, x**2], tmp_path / "t.csv")
+    lines = (tmp_path / "t.csv").read_text().splitlines()
+    assert lines[0] == "a,b"
+    assert lines[1:] == [f"{a!r},{b!r}" for a, b in zip(x.tolist(), (x**2).tolist())]

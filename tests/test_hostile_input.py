@@ -186,6 +186,7 @@ def test_corners_of_the_limits_scale_exactly(s, mu, w):
     ("--epsilon", "-inf", "expected a finite number, got '-inf'"),
     ("--omega", "nan", "expected a finite number, got 'nan'"),
     ("--omega", "[1, 2]", "expected a number, got '[1, 2]'"),
+    ("--samples", "1000001", "expected a whole number from 1 to 1000000, got '1000001'"),
 ])
 def test_rates_on_the_command_line(capsys, option, value, message):
     with pytest.raises(SystemExit) as info:
