@@ -38,7 +38,8 @@ def _table(value: Any, where: str) -> dict:
 def _keys(table: dict, allowed: set[str], required: set[str], where: str) -> None:
     for key in table:
         if key not in allowed:
-            raise DescriptionError(f"{where}.{key}", f"unknown key; allowed keys: {sorted(allowed)}")
+            name = key if len(key) <= 60 else shown(key)  # a hostile file's key may be megabytes long
+            raise DescriptionError(f"{where}.{name}", f"unknown key; allowed keys: {sorted(allowed)}")
     for key in sorted(required):
         if key not in table:
             raise DescriptionError(f"{where}.{key}", "is required")
