@@ -9,7 +9,6 @@ normal and ``moment`` [N·m] the couple it carries about the slider's point;
 
 from __future__ import annotations
 
-import json
 import math
 
 import numpy as np
@@ -47,9 +46,10 @@ def _columns(f: Forces) -> tuple[list[str], list[np.ndarray]]:
 
 
 def cmd_forces(args) -> int:
-    from .cli import _warn_singular, crank_grid, drive_rates, write_rows
+    from .cli import _warn_singular, check_crank_options, check_finite, crank_grid, drive_rates, print_json, write_rows
     from .kinematics import solve
 
+    check_crank_options(args)
     mech = load(args.model)
     omega, epsilon = drive_rates(mech, args)
     if args.samples is not None or args.csv is not None:
@@ -61,8 +61,9 @@ def cmd_forces(args) -> int:
     _warn_singular(solve(mech, np.array([phi])))
     f = forces(mech, np.array([phi]), omega, epsilon)
     result = forces_json(f, mech)
+    check_finite(dict(result, power_balance_torque=float(f.power_balance_torque[0])))
     if args.json:
-        print(json.dumps(result, indent=2))
+        print_json(result)
         return 0
     print(f"{mech.name}: φ = {math.degrees(phi):.6g}°, ω = {omega:g} rad/s, ε = {epsilon:g} rad/s²")
     print(f"balancing torque on the crank: {result['balancing_torque']:.6g} N·m "

@@ -20,29 +20,53 @@ DIAGNOSIS_LINES = 5
 
 
 def _models(path: Path) -> list[Path]:
+    """The description files a command runs on: ``path`` itself, or a folder's ``*.toml`` in
+    name order."""
     if path.is_dir():
-        found = sorted(path.glob("*.toml"))
+        found = sorted(p for p in path.glob("*.toml") if not p.is_dir())
         if not found:
-            raise DescriptionError(str(path), "no *.toml descriptions in this folder")
+            raise DescriptionError("", "no *.toml descriptions in this folder", str(path))
         return found
     return [path]
 
 
-def cmd_build(args) -> int:
+def _build_one(path: Path, out: Path) -> Path:
+    """Compile ``path``'s MJCF in MuJoCo and write it atomically to ``out``."""
     import mujoco
 
     from .assembly import assemble
+    from .files import atomic_write_text
     from .load import load
     from .mjcf import write_mjcf
 
-    paths = _models(args.model)
-    for p in paths:
-        xml = write_mjcf(assemble(load(p)))
+    xml = write_mjcf(assemble(load(path)))
+    try:
         mujoco.MjModel.from_xml_string(xml)  # always compile what we write
-        out = args.output if (args.output and len(paths) == 1) else p.with_suffix(".xml")
-        Path(out).write_text(xml, encoding="utf-8")
-        print(f"wrote {out}", file=sys.stderr)
-    return 0
+    except ValueError as exc:
+        raise LinkgenError(f"MuJoCo rejects the generated model: {str(exc).strip()}") from None
+    atomic_write_text(out, xml)
+    print(f"wrote {out}", file=sys.stderr)
+    return out
+
+
+def cmd_build(args) -> int:
+    """One file (to -o or next to it), or every *.toml of a folder next to itself: a bad file
+    is reported as ``FILE: message`` and the others are still built; status 2 if any failed."""
+    from .cli import OptionError
+    from .files import run_each
+
+    if args.output is not None and args.model.is_dir():
+        raise OptionError(f"-o/--output writes one model, but {str(args.model)!r} is a folder (a folder's models "
+                          "are written next to their descriptions)")
+    paths = _models(args.model)
+    if len(paths) == 1 and not args.model.is_dir():
+        _build_one(paths[0], args.output or paths[0].with_suffix(".xml"))
+        return 0
+    outcomes = run_each(paths, lambda p: _build_one(p, p.with_suffix(".xml")))
+    bad = [o for o in outcomes if not o.ok]
+    if bad:
+        print(f"linkgen: {len(bad)} of {len(outcomes)} descriptions failed", file=sys.stderr)
+    return 2 if bad else 0
 
 
 def _progress(name: str):
@@ -207,7 +231,7 @@ def add_commands(sub) -> None:
 
     b = sub.add_parser("build", help="write the MJCF of a model, or of every model in a folder")
     b.add_argument("model", type=Path)
-    b.add_argument("-o", "--output", type=Path, help="output file (one model only)")
+    b.add_argument("-o", "--output", type=Path, help="output file (one model file only, not a folder)")
     b.set_defaults(func=cmd_build)
 
     s = sub.add_parser("simulate", help="run the driven crank in MuJoCo with settings derived from the mechanism")

@@ -10,12 +10,21 @@ class LinkgenError(Exception):
 
 
 class DescriptionError(LinkgenError):
-    """A mechanism description is malformed: names the field, the value and what is allowed."""
+    """A mechanism description is malformed: names the field, the value and what is allowed.
 
-    def __init__(self, field: str, problem: str):
+    ``source`` is the description file (None for one built in Python); the message starts
+    with it when known. File-level problems (unreadable, not TOML) have an empty ``field``.
+    """
+
+    def __init__(self, field: str, problem: str, source: str | None = None):
         self.field = field
         self.problem = problem
-        super().__init__(f"{field}: {problem}")
+        self.source = source
+        super().__init__(": ".join(part for part in (source, field, problem) if part))
+
+    def in_file(self, source: str) -> "DescriptionError":
+        """The same error attributed to the file ``source``."""
+        return DescriptionError(self.field, self.problem, str(source))
 
 
 class ArgumentError(LinkgenError, ValueError):

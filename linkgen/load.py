@@ -17,7 +17,7 @@ from .description import (
     check_name,
 )
 from .errors import DescriptionError
-from .units import finite, parse_angle, vector2
+from .units import finite, parse_angle, shown, vector2
 
 _TOP = {"mechanism", "points", "links", "prismatic", "drive", "force", "torque"}
 _MECH = {"name", "title", "gravity"}
@@ -31,14 +31,15 @@ _TORQUE = {"link", "torque"}
 
 def _table(value: Any, where: str) -> dict:
     if not isinstance(value, dict):
-        raise DescriptionError(where, f"must be a table, got {value!r}")
+        raise DescriptionError(where, f"must be a table, got {shown(value)}")
     return value
 
 
 def _keys(table: dict, allowed: set[str], required: set[str], where: str) -> None:
     for key in table:
         if key not in allowed:
-            raise DescriptionError(f"{where}.{key}", f"unknown key; allowed keys: {sorted(allowed)}")
+            name = key if len(key) <= 60 else shown(key)  # a hostile file's key may be megabytes long
+            raise DescriptionError(f"{where}.{name}", f"unknown key; allowed keys: {sorted(allowed)}")
     for key in sorted(required):
         if key not in table:
             raise DescriptionError(f"{where}.{key}", "is required")
@@ -46,20 +47,71 @@ def _keys(table: dict, allowed: set[str], required: set[str], where: str) -> Non
 
 def _str(value: Any, where: str) -> str:
     if not isinstance(value, str):
-        raise DescriptionError(where, f"must be a string, got {value!r}")
+        raise DescriptionError(where, f"must be a string, got {shown(value)}")
     return value
 
 
+_BOM = b"\xef\xbb\xbf"
+# Largest description file [bytes]: a 5000-group chain takes about 1 MB (some 200 bytes a group);
+# beyond 64 MiB a file is not a description, and reading it whole would only spend memory.
+MAX_FILE_BYTES = 64 * 2**20
+
+
 def load(path: str | Path) -> Mechanism:
-    """Read and validate a TOML description. Raises DescriptionError (also for a missing file)."""
+    """Read and validate a TOML description (UTF-8, with or without a byte-order mark).
+
+    Raises:
+        DescriptionError: with ``source`` = the file, for a missing or unreadable file, bytes
+            that are not UTF-8 text, invalid or too deeply nested TOML, and every problem
+            found while building the Mechanism from it.
+    """
     path = Path(path)
+    source = str(path)
+    if path.is_dir():
+        raise DescriptionError("", "is a folder; give one description file", source)
+    if not path.exists():
+        raise DescriptionError("", "no such description file", source)
     if not path.is_file():
-        raise DescriptionError(str(path), "no such description file")
+        raise DescriptionError("", "is not a regular file (a device, pipe or socket); give a description file",
+                               source)
     try:
-        data = tomllib.loads(path.read_text(encoding="utf-8"))
+        size = path.stat().st_size
+        if size > MAX_FILE_BYTES:
+            raise DescriptionError("", f"is {size} bytes; a description is at most {MAX_FILE_BYTES} bytes", source)
+        raw = path.read_bytes()
+    except OSError as exc:
+        raise DescriptionError("", f"cannot be read: {exc.strerror or exc}", source) from None
+    return loads(raw, source)
+
+
+def loads(raw: bytes | str, source: str = "<description>") -> Mechanism:
+    """A Mechanism from the bytes (or text) of a TOML description; errors name ``source``."""
+    if isinstance(raw, bytes):
+        if raw.startswith(_BOM):
+            raw = raw[len(_BOM):]
+        try:
+            text = raw.decode("utf-8")
+        except UnicodeDecodeError as exc:
+            line = raw[:exc.start].count(b"\n") + 1
+            raise DescriptionError(
+                "", f"is not UTF-8 text (byte {raw[exc.start]:#04x} at line {line}, offset {exc.start}); "
+                "a description is a UTF-8 TOML file", source) from None
+    else:
+        text = raw.removeprefix("\ufeff")
+    if "\x00" in text:
+        raise DescriptionError("", "contains NUL bytes: a description is a UTF-8 TOML text file", source)
+    try:
+        data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
-        raise DescriptionError(str(path), f"not valid TOML: {exc}") from None
-    return from_dict(data)
+        raise DescriptionError("", f"not valid TOML: {exc}", source) from None
+    except RecursionError:
+        # tomllib parses nested arrays and inline tables recursively
+        raise DescriptionError("", "nested too deeply to parse: a description needs at most a few "
+                               "levels of tables and arrays", source) from None
+    try:
+        return from_dict(data)
+    except DescriptionError as exc:
+        raise exc.in_file(source) from None
 
 
 def from_dict(data: dict) -> Mechanism:
@@ -90,7 +142,7 @@ def from_dict(data: dict) -> Mechanism:
 
 def _list(value: Any, where: str) -> list:
     if not isinstance(value, list):
-        raise DescriptionError(where, f"must be an array of tables ([[{where}]]), got {value!r}")
+        raise DescriptionError(where, f"must be an array of tables ([[{where}]]), got {shown(value)}")
     return value
 
 
@@ -100,7 +152,7 @@ def _link(name: str, spec: Any) -> Link:
     _keys(spec, _LINK, {"points"}, where)
     pts = spec["points"]
     if not isinstance(pts, list):
-        raise DescriptionError(f"{where}.points", f"must be a list of point names, got {pts!r}")
+        raise DescriptionError(f"{where}.points", f"must be a list of point names, got {shown(pts)}")
     inertial = None
     if "inertial" in spec:
         t = _table(spec["inertial"], f"{where}.inertial")
@@ -144,7 +196,7 @@ def _drive(spec: dict) -> Drive:
     if "range" in spec:
         r = spec["range"]
         if not isinstance(r, list) or len(r) != 2:
-            raise DescriptionError("drive.range", f"must be [from, to], got {r!r}")
+            raise DescriptionError("drive.range", f"must be [from, to], got {shown(r)}")
         start, stop = parse_angle(r[0], "drive.range[0]"), parse_angle(r[1], "drive.range[1]")
     kwargs = {} if stop is None else {"start": start, "stop": stop}
     return Drive(
@@ -163,7 +215,7 @@ def _force(i: int, spec: Any) -> PointForce:
     if "stroke" in spec:
         s = spec["stroke"]
         if not isinstance(s, list) or len(s) != 2:
-            raise DescriptionError(f"{where}.stroke", f"must be [from, to], got {s!r}")
+            raise DescriptionError(f"{where}.stroke", f"must be [from, to], got {shown(s)}")
         stroke = (parse_angle(s[0], f"{where}.stroke[0]"), parse_angle(s[1], f"{where}.stroke[1]"))
     return PointForce(
         link=_str(spec["link"], f"{where}.link"),

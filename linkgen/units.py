@@ -4,8 +4,22 @@ from __future__ import annotations
 
 import math
 import re
+import reprlib
 
 from .errors import DescriptionError
+
+_SHOWN = reprlib.Repr()
+_SHOWN.maxstring, _SHOWN.maxother, _SHOWN.maxlevel = 60, 60, 3
+_SHOWN.maxlist = _SHOWN.maxtuple = _SHOWN.maxdict = 6
+
+
+def shown(value: object) -> str:
+    """``repr(value)`` cut to a readable length (a hostile file may hold huge or deeply
+    nested values; a message quotes only their beginning)."""
+    if isinstance(value, float):
+        return repr(value)  # full precision: the user compares it with the limit
+    return _SHOWN.repr(value)
+
 
 _ANGLE = re.compile(r"^\s*([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)\s*(deg|rad)\s*$")
 
@@ -13,7 +27,7 @@ _ANGLE = re.compile(r"^\s*([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)\s*(deg|rad
 def parse_angle(value: object, field: str) -> float:
     """An angle [rad] from a float (radians) or a string ``"38.117deg"`` / ``"0.5rad"``."""
     if isinstance(value, bool):
-        raise DescriptionError(field, f"must be an angle (number in rad or '<x>deg'), got {value!r}")
+        raise DescriptionError(field, f"must be an angle (number in rad or '<x>deg'), got {shown(value)}")
     if isinstance(value, (int, float)):
         return finite(value, field)
     if isinstance(value, str):
@@ -22,17 +36,20 @@ def parse_angle(value: object, field: str) -> float:
             x = float(m.group(1))
             return finite(math.radians(x) if m.group(2) == "deg" else x, field)
     raise DescriptionError(
-        field, f"must be an angle: a number in rad or a string like '30deg' or '0.5rad', got {value!r}"
+        field, f"must be an angle: a number in rad or a string like '30deg' or '0.5rad', got {shown(value)}"
     )
 
 
 def finite(value: object, field: str) -> float:
     """A finite float, else a DescriptionError naming the field."""
     if isinstance(value, bool) or not isinstance(value, (int, float)):
-        raise DescriptionError(field, f"must be a number, got {value!r}")
-    x = float(value)
+        raise DescriptionError(field, f"must be a number, got {shown(value)}")
+    try:
+        x = float(value)
+    except OverflowError:  # a TOML integer beyond float64's range
+        x = math.inf
     if not math.isfinite(x):
-        raise DescriptionError(field, f"must be finite, got {value!r}")
+        raise DescriptionError(field, f"must be finite, got {shown(value)}")
     return x
 
 
@@ -40,7 +57,7 @@ def positive(value: object, field: str, unit: str) -> float:
     """A finite float > 0."""
     x = finite(value, field)
     if x <= 0.0:
-        raise DescriptionError(field, f"must be > 0 {unit}, got {value!r}")
+        raise DescriptionError(field, f"must be > 0 {unit}, got {shown(value)}")
     return x
 
 
@@ -48,12 +65,12 @@ def non_negative(value: object, field: str, unit: str) -> float:
     """A finite float >= 0."""
     x = finite(value, field)
     if x < 0.0:
-        raise DescriptionError(field, f"must be >= 0 {unit}, got {value!r}")
+        raise DescriptionError(field, f"must be >= 0 {unit}, got {shown(value)}")
     return x
 
 
 def vector2(value: object, field: str) -> tuple[float, float]:
     """A 2-vector of finite floats."""
     if not isinstance(value, (list, tuple)) or len(value) != 2:
-        raise DescriptionError(field, f"must be a list of 2 numbers [x, y], got {value!r}")
+        raise DescriptionError(field, f"must be a list of 2 numbers [x, y], got {shown(value)}")
     return (finite(value[0], f"{field}[0]"), finite(value[1], f"{field}[1]"))

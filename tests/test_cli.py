@@ -58,6 +58,18 @@ def test_user_errors_exit_2_without_traceback(tmp_path, capsys):
     bad.write_text("[mechanism]\nname = 'x'\n")
     assert main(["analyze", str(bad)]) == 2
     err = capsys.readouterr().err
-    assert err == "linkgen: error: description.drive: is required\n"
+    assert err == f"linkgen: error: {bad}: description.drive: is required\n"
     assert main(["analyze", str(MODELS / "seven_link.toml"), "--angle", "180deg"]) == 2
-    assert "cannot be assembled at crank angles 180.000°" in capsys.readouterr().err
+    err = capsys.readouterr().err
+    assert err.startswith(f"linkgen: error: {MODELS / 'seven_link.toml'}: group ")
+    assert "cannot be assembled at crank angles 180.000°" in err
+
+
+@pytest.mark.parametrize("command", ["structure", "analyze", "forces", "build", "simulate", "validate"])
+def test_every_command_names_the_file(tmp_path, capsys, command):
+    bad = tmp_path / "bad.toml"
+    bad.write_bytes(b"\x00\x01\x02\xff")
+    assert main([command, str(bad)]) == 2
+    assert capsys.readouterr().err == (f"linkgen: error: {bad}: is not UTF-8 text (byte 0xff at line 1, offset 3); "
+                                       "a description is a UTF-8 TOML file\n")
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["bad.toml"]

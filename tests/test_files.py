@@ -1,0 +1,183 @@
+"""Outputs written atomically and never through a planted symlink; folder runs go on past a bad
+file; conflicting options are errors; a closed pipe ends quietly."""
+
+import os
+import shutil
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from conftest import ROOT
+from linkgen import DescriptionError
+from linkgen.cli import main
+from linkgen.files import atomic_open, atomic_output, atomic_write_text, run_each
+
+MODELS = ROOT / "models"
+FOURBAR = MODELS / "fourbar.toml"
+
+
+def test_atomic_write_replaces_a_symlink_not_its_target(tmp_path):
+    victim = tmp_path / "victim.txt"
+    victim.write_text("precious")
+    link = tmp_path / "out.txt"
+    link.symlink_to(victim)
+    atomic_write_text(link, "new")
+    assert victim.read_text() == "precious"
+    assert not link.is_symlink() and link.read_text() == "new"
+
+
+def test_failed_write_leaves_the_old_file_and_no_temporary(tmp_path):
+    out = tmp_path / "out.csv"
+    out.write_text("old")
+    with pytest.raises(RuntimeError):
+        with atomic_open(out) as f:
+            f.write("half")
+            raise RuntimeError("disk full")
+    assert out.read_text() == "old"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["out.csv"]
+
+
+def test_atomic_output_keeps_the_suffix_for_path_writers(tmp_path):
+    out = tmp_path / "run.npz"
+    with atomic_output(out) as tmp:
+        assert tmp.parent == tmp_path and tmp.suffix == ".npz"
+        np.savez(tmp, x=np.arange(3))
+    assert np.load(out)["x"].tolist() == [0, 1, 2]
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["run.npz"]
+
+
+def test_new_file_gets_the_usual_permissions(tmp_path):
+    plain, atomic = tmp_path / "plain", tmp_path / "atomic"
+    plain.write_text("x")
+    atomic_write_text(atomic, "x")
+    assert atomic.stat().st_mode & 0o777 == plain.stat().st_mode & 0o777
+
+
+def test_run_each_goes_on_and_names_each_bad_file(tmp_path, capsys):
+    def fn(p):
+        if p.name == "b":
+            raise DescriptionError("drive.omega", "must be finite, got nan", str(p))
+        if p.name == "c":
+            raise OSError(13, "Permission denied", str(p))
+        return p.name.upper()
+
+    paths = [tmp_path / n for n in "abcd"]
+    outcomes = run_each(paths, fn)
+    assert [(o.ok, o.value) for o in outcomes] == [(True, "A"), (False, None), (False, None), (True, "D")]
+    assert capsys.readouterr().err.splitlines() == [
+        f"linkgen: error: {tmp_path / 'b'}: drive.omega: must be finite, got nan",
+        f"linkgen: error: {tmp_path / 'c'}: Permission denied",
+    ]
+
+
+def test_run_each_lets_bugs_through(tmp_path):
+    with pytest.raises(ZeroDivisionError):
+        run_each([tmp_path / "a"], lambda p: 1 / 0)
+
+
+def test_build_folder_with_a_bad_file_in_the_middle(tmp_path, capsys):
+    shutil.copy(FOURBAR, tmp_path / "a.toml")
+    (tmp_path / "b.toml").write_bytes(b"\xff\xfe binary")
+    shutil.copy(MODELS / "slider_crank_offset.toml", tmp_path / "c.toml")
+    assert main(["build", str(tmp_path)]) == 2
+    err = capsys.readouterr().err.splitlines()
+    assert err == [
+        f"wrote {tmp_path / 'a.xml'}",
+        f"linkgen: error: {tmp_path / 'b.toml'}: is not UTF-8 text (byte 0xff at line 1, offset 0); "
+        "a description is a UTF-8 TOML file",
+        f"wrote {tmp_path / 'c.xml'}",
+        "linkgen: 1 of 3 descriptions failed",
+    ]
+    assert (tmp_path / "a.xml").read_text().startswith("<mujoco")
+    assert (tmp_path / "c.xml").read_text().startswith("<mujoco")
+    assert not (tmp_path / "b.xml").exists()
+
+
+def test_build_does_not_write_through_a_symlink(tmp_path, capsys):
+    victim = tmp_path / "victim.txt"
+    victim.write_text("precious")
+    out = tmp_path / "fourbar.xml"
+    out.symlink_to(victim)
+    assert main(["build", str(FOURBAR), "-o", str(out)]) == 0
+    assert victim.read_text() == "precious"
+    assert not out.is_symlink() and out.read_text().startswith("<mujoco")
+
+
+def test_build_output_option_with_a_folder(tmp_path, capsys):
+    assert main(["build", str(MODELS), "-o", str(tmp_path / "x.xml")]) == 2
+    assert capsys.readouterr().err == (
+        f"linkgen build: error: -o/--output writes one model, but {str(MODELS)!r} is a folder (a folder's models "
+        "are written next to their descriptions)\n")
+    assert not (tmp_path / "x.xml").exists()
+
+
+def test_output_pointing_at_a_folder(tmp_path, capsys):
+    assert main(["build", str(FOURBAR), "-o", str(tmp_path)]) == 2
+    assert capsys.readouterr().err == (
+        f"linkgen: error: {FOURBAR}: {tmp_path}: is a folder; give a file name to write\n")
+    assert main(["analyze", str(FOURBAR), "--samples", "4", "--csv", str(tmp_path)]) == 2
+    assert capsys.readouterr().err == (
+        f"linkgen: error: {FOURBAR}: {tmp_path}: is a folder; give a file name to write\n")
+    assert list(tmp_path.iterdir()) == []
+
+
+@pytest.mark.parametrize("command", ["analyze", "forces"])
+@pytest.mark.parametrize("options, message", [
+    (["--angle", "1", "--samples", "3"], "--angle cannot be combined with --samples: --angle is for one crank "
+                                         "angle, --samples for samples over the drive range"),
+    (["--angle", "1", "--csv", "x.csv"], "--angle cannot be combined with --csv: --angle is for one crank angle, "
+                                         "--csv for samples over the drive range"),
+    (["--json", "--samples", "3"], "--json cannot be combined with --samples: --json is for one crank angle, "
+                                   "--samples for samples over the drive range"),
+    (["--json", "--csv", "x.csv"], "--json cannot be combined with --csv: --json is for one crank angle, "
+                                   "--csv for samples over the drive range"),
+])
+def test_conflicting_options(tmp_path, capsys, monkeypatch, command, options, message):
+    monkeypatch.chdir(tmp_path)
+    assert main([command, str(FOURBAR), *options]) == 2
+    captured = capsys.readouterr()
+    assert captured.err == f"linkgen {command}: error: {message}\n" and captured.out == ""
+    assert list(tmp_path.iterdir()) == []
+
+
+@pytest.mark.parametrize("command", ["analyze", "forces"])
+def test_closed_pipe_ends_quietly(command):
+    proc = subprocess.Popen([sys.executable, "-m", "linkgen.cli", command, str(FOURBAR), "--samples", "5000"],
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, cwd=ROOT)
+    first = proc.stdout.readline()  # 5000 rows: megabytes, far more than a pipe holds (64 KiB)
+    proc.stdout.close()  # as `| head -1` does
+    err = proc.stderr.read()
+    assert proc.wait(timeout=120) == 141
+    assert first.startswith(b"phi,")
+    assert err == b""
+
+
+def test_csv_written_atomically_through_no_symlink(tmp_path, capsys):
+    victim = tmp_path / "victim.txt"
+    victim.write_text("precious")
+    out = tmp_path / "fb.csv"
+    out.symlink_to(victim)
+    assert main(["forces", str(FOURBAR), "--samples", "8", "--csv", str(out)]) == 0
+    assert victim.read_text() == "precious"
+    assert not out.is_symlink() and len(out.read_text().splitlines()) == 9
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["fb.csv", "victim.txt"]
+    assert os.access(out, os.R_OK)
+
+
+def test_missing_output_folder(tmp_path):
+    with pytest.raises(OSError) as info:
+        atomic_write_text(tmp_path / "nope" / "x.xml", "x")
+    assert str(info.value) == f"{tmp_path / 'nope' / 'x.xml'}: the folder {str(tmp_path / 'nope')!r} does not exist"
+
+
+def test_csv_in_chunks_is_the_whole_table(tmp_path, monkeypatch, capsys):
+    import linkgen.cli as cli
+
+    monkeypatch.setattr(cli, "CSV_CHUNK_ROWS", 7)  # 20 rows: two full chunks and a partial one
+    x = np.linspace(-1.0, 1.0, 20) / 3.0
+    cli.write_rows(["a", "b"], [x, x**2], tmp_path / "t.csv")
+    lines = (tmp_path / "t.csv").read_text().splitlines()
+    assert lines[0] == "a,b"
+    assert lines[1:] == [f"{a!r},{b!r}" for a, b in zip(x.tolist(), (x**2).tolist())]
