@@ -1,12 +1,18 @@
 """Assembly: the structure, the link shapes and each Assur group's assembly mode.
 
 ``assemble`` analyses the structure and takes each group's assembly mode (m = ±1 of seed 000)
-from the sketch pose: the branch whose points land nearest the sketch. The mode is then kept
-over every crank angle.
+from the sketch pose: the branch whose points land nearest the sketch *and* whose links lie at
+their sketch angles (a link's x axis points from its first point to its second; a one-point
+link's x axis is the world x axis in the sketch, and a slider keeps its sketch angle to its
+guide, so the guide line's direction counts too). Positions alone cannot tell the modes apart
+when each link of an RPR group carries a single point: both modes put the points at the same
+places and differ only in the links' angles (and so in the slot's direction, the centres of
+mass and every load). The mode is then kept over every crank angle.
 """
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -47,6 +53,7 @@ def assemble(mech: Mechanism) -> Assembly:
     guides = guide_shapes(mech, shapes)
     crank = shapes[structure.crank]
     phi0 = np.array([crank.sketch_angle])
+    size = max(_sketch_size(mech), np.finfo(float).tiny)
     poses = input_poses(mech, structure, shapes, phi0)
     branches = []
     for group in structure.groups:
@@ -57,7 +64,7 @@ def assemble(mech: Mechanism) -> Assembly:
         for m, p1, p2, res in trials:
             if res.fail[0]:
                 continue
-            err = _sketch_error(mech, shapes, {group.links[0]: p1, group.links[1]: p2})
+            err = _sketch_error(mech, shapes, {group.links[0]: p1, group.links[1]: p2}, size)
             if best is None or err < best[0]:
                 best = (err, m, p1, p2)
         if best is None:
@@ -70,18 +77,28 @@ def assemble(mech: Mechanism) -> Assembly:
     return Assembly(mech, structure, shapes, guides, tuple(branches), float(phi0[0]))
 
 
-def _sketch_error(mech: Mechanism, shapes: dict[str, LinkShape], poses: dict[str, LinkPose]) -> float:
+def _sketch_size(mech: Mechanism) -> float:
+    """The diagonal of the sketch's bounding box [m]."""
+    xy = np.array(list(mech.points.values()))
+    return float(np.hypot(*(xy.max(axis=0) - xy.min(axis=0))))
+
+
+def _sketch_error(mech: Mechanism, shapes: dict[str, LinkShape], poses: dict[str, LinkPose], size: float) -> float:
+    """How far a trial pose of some links is from the sketch: the distances of their points
+    over the sketch's size plus their angles' differences from the sketch angles [rad]. Both
+    are dimensionless and zero on the sketch's own branch; on the other branch at least one
+    of them is of order one unless the group is at a dead centre."""
     err = 0.0
     for name, pose in poses.items():
         for p, local in shapes[name].local.items():
-            err += float(np.hypot(*(pose.point(local).p[0] - np.asarray(mech.points[p]))))
+            err += float(np.hypot(*(pose.point(local).p[0] - np.asarray(mech.points[p])))) / size
+        turn = float(pose.angle.v[0]) - shapes[name].sketch_angle
+        err += abs(math.remainder(turn, 2.0 * math.pi))
     return err
 
 
 def _check_sketch(mech: Mechanism, shapes: dict[str, LinkShape], poses: dict[str, LinkPose]) -> None:
-    xy = np.array(list(mech.points.values()))
-    size = float(np.hypot(*(xy.max(axis=0) - xy.min(axis=0))))
-    tol = SKETCH_TOLERANCE * size
+    tol = SKETCH_TOLERANCE * _sketch_size(mech)
     for link in mech.links:
         for p in link.points:
             got = poses[link.name].point(shapes[link.name].local[p]).p[0]

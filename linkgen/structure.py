@@ -91,9 +91,10 @@ def decompose(link_points: dict[str, tuple[str, ...]], prismatics: list[tuple[st
     """Class-II groups from the links' points and prismatic pairs, in attachment order.
 
     Works on points, not on revolutes: at a point carried by k links (a compound hinge) each
-    link is joined to the carrier that became known first, or, for a group's inner pair, to
-    the group's other link; the decomposition thus chooses the k - 1 revolutes and the result
-    does not depend on the order of the links or of their points. Among groups ready at the
+    link is joined to the carrier that became known first (of a group's two links, the one
+    whose name sorts first), or, for a group's inner pair, to the group's other link; the
+    decomposition thus chooses the k - 1 revolutes and the result does not depend on the
+    order of the links or of their points. Among groups ready at the
     same time the one whose links come first in ``link_points`` is taken (this only numbers
     them). Time: each link is visited when it or a neighbour becomes known, so close to
     linear in the number of links for bounded numbers of pairs per link.
@@ -180,7 +181,8 @@ def decompose(link_points: dict[str, tuple[str, ...]], prismatics: list[tuple[st
             if order[l2] < order[l1]:
                 l1, l2 = l2, l1
             groups.append(((l1, l2), (outer(l1), inner[0], outer(l2))))
-            touched = make_known(l1) + make_known(l2)
+            first, second = sorted((l1, l2))  # by name: a compound hinge's pairs ignore table order
+            touched = make_known(first) + make_known(second)
             break
         if not touched:
             break
