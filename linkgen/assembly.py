@@ -20,8 +20,8 @@ import numpy as np
 from .description import Mechanism
 from .errors import AssemblyError, DescriptionError
 from .geometry import GuideShape, LinkPose, LinkShape, guide_shapes, link_shapes
-from .groups import input_poses, solve_group
-from .structure import GroupKind, Structure, analyze
+from .groups import SINGULAR_TOL, input_poses, solve_group
+from .structure import Group, GroupKind, Structure, analyze
 
 # The sketch must agree with the assembled pose to this fraction of the mechanism's size:
 # loose enough for a sketch drawn to three digits, tight enough to catch a wrong branch or typo.
@@ -61,6 +61,7 @@ def assemble(mech: Mechanism) -> Assembly:
         with np.errstate(invalid="ignore", divide="ignore"):
             trials = [(m, *solve_group(group, m, poses, shapes, guides, mech))
                       for m in ((1, -1) if group.kind in _BRANCHED else (1,))]
+        _check_guides(group, trials[0][3])
         for m, p1, p2, res in trials:
             if res.fail[0]:
                 continue
@@ -75,6 +76,22 @@ def assemble(mech: Mechanism) -> Assembly:
         poses[group.links[0]], poses[group.links[1]] = best[2], best[3]
     _check_sketch(mech, shapes, poses)
     return Assembly(mech, structure, shapes, guides, tuple(branches), float(phi0[0]))
+
+
+def _check_guides(group: Group, res) -> None:
+    """Two guides of a PRP or RPP group that are parallel in the sketch leave the group without
+    a position (no intersection, or a whole line of them): a description error, not a pose."""
+    if group.kind not in (GroupKind.PRP, GroupKind.RPP):
+        return
+    sine = float(np.abs(res.denominator[0]))
+    if not sine >= SINGULAR_TOL:
+        names = [p.name for p in group.pairs if p.kind == "P"]
+        raise DescriptionError(
+            ", ".join(f"prismatic.{n}" for n in names),
+            f"the guides of group {group.label} are parallel in the sketch (sine of the angle between them "
+            f"{sine:.3g}, needs at least {SINGULAR_TOL:g}), so the group has no defined position; turn one "
+            f"of the guide lines ('angle')",
+        )
 
 
 def _sketch_size(mech: Mechanism) -> float:

@@ -5,6 +5,8 @@ import math
 import numpy as np
 import pytest
 
+import linkgen
+
 from conftest import MODELS
 from linkgen import AssemblyError, GroupKind, assemble, load, solve
 from linkgen.cli import crank_grid
@@ -135,16 +137,66 @@ def test_assembly_failure_names_the_angle_ranges():
                                       "61.000°..283.000°: the two links cannot reach each other")
 
 
-def test_near_singular_positions_are_flagged():
-    # The tangent mechanism's slot turns parallel to the guide at φ → 0: sin(φ) is the denominator.
-    mech = load(MODELS[0].parent / "tangent_prp.toml")
-    kin = solve(mech, np.array([5e-4, 0.5]))
-    (mask,) = kin.near_singular.values()
-    assert mask.tolist() == [True, False]
-
-
-def test_exact_singularity_is_an_error_not_nan():
+def test_near_singular_positions_follow_one_rule():
+    # The tangent mechanism's slot turns parallel to the guide at φ → 0: the denominator is the sine
+    # of the angle between the two guides, sin φ (by hand). SINGULAR_TOL = 1e-4 separates the angles.
     from linkgen import SingularityError
+    from linkgen.kinematics import SINGULAR_TOL
 
-    with pytest.raises(SingularityError, match=r"singular .* at crank angles 0.000°"):
-        solve(load(MODELS[0].parent / "tangent_prp.toml"), np.array([0.0]))
+    mech = load(MODELS[0].parent / "tangent_prp.toml")
+    phi = np.array([0.5, 0.5 * SINGULAR_TOL, 2.0 * SINGULAR_TOL, 0.0])
+    with pytest.raises(SingularityError) as info:
+        solve(mech, phi)
+    assert info.value.group == "II(2,3) PRP [block, slider]"
+    assert [(lo, hi) for lo, hi in info.value.ranges] == [(phi[1], phi[1]), (0.0, 0.0)]
+    assert str(info.value).startswith("group II(2,3) PRP [block, slider] is singular at crank angles 0.003°, 0.000°: "
+                                      "its two guides are (nearly) parallel (normalised transfer-function "
+                                      "denominator below SINGULAR_TOL = 0.0001")
+    kin = solve(mech, phi, on_singular="mark")
+    assert kin.singular.tolist() == [False, True, False, True]
+    (mask,) = kin.near_singular.values()
+    assert mask.tolist() == kin.singular.tolist()
+    for v in kin.points.values():
+        assert np.all(np.isfinite(v.p)) and np.all(np.isfinite(v.d1)) and np.all(np.isfinite(v.d2))
+    # outside the marked angles the values are those of an ordinary solve: x = h·cot φ
+    np.testing.assert_allclose(kin.points["B"].p[[0, 2], 0], 0.2 / np.tan(phi[[0, 2]]), rtol=1e-12)
+    mo = linkgen.solve_motion(mech, phi, 2.0, on_singular="mark")
+    assert mo.singular.tolist() == kin.singular.tolist()
+    assert all(np.all(np.isfinite(a)) for t in mo.points.values() for a in t)
+    with pytest.raises(SingularityError):
+        linkgen.solve_motion(mech, phi, 2.0)
+    with pytest.raises(linkgen.ArgumentError, match=r"on_singular must be one of \['raise', 'mark'\], got 'warn'"):
+        solve(mech, phi, on_singular="warn")
+
+
+def test_overflow_is_named_as_overflow():
+    # ω = 1e160 rad/s: accelerations ~ ω²·x″ ≈ 1e320 m/s² exceed float64's range; the positions and
+    # transfer functions are fine, so the message must speak of overflow, not of a dead centre.
+    mech = load(MODELS[0].parent / "fourbar.toml")
+    phi = np.radians([10.0, 20.0])
+    with pytest.raises(linkgen.MagnitudeError, match=r"^the acceleration of point .* overflows float64 .* at crank "
+                                                     r"angles 10.000°..20.000°: the description's lengths or the "
+                                                     r"crank rates are too large"):
+        linkgen.solve_motion(mech, phi, 1e160)
+    with pytest.raises(linkgen.MagnitudeError, match="overflows float64"):
+        solve(mech, phi).motion(1e160)
+
+
+def test_parallel_guides_are_named_in_the_description():
+    # The tangent mechanism drawn at φ = 0 with the slider's guide through O: the slot (along O→A)
+    # and the guide are the same horizontal line, so B has no defined position.
+    data = {
+        "mechanism": {"name": "parallel"},
+        "points": {"O": [0.0, 0.0], "A": [0.1, 0.0], "B": [0.3, 0.0]},
+        "links": {"ground": {"points": ["O"]}, "crank": {"points": ["O", "A"]},
+                  "block": {"points": ["B"]}, "slider": {"points": ["B"]}},
+        "prismatic": {
+            "p1": {"slider": "block", "guide": "crank", "point": "B", "through": "O", "angle": 0.0},
+            "p2": {"slider": "slider", "guide": "ground", "point": "B", "through": "O", "angle": 0.0},
+        },
+        "drive": {"joint": "O", "omega": 1.0},
+    }
+    with pytest.raises(linkgen.DescriptionError) as info:
+        assemble(linkgen.from_dict(data))
+    assert str(info.value).startswith("prismatic.p1, prismatic.p2: the guides of group II(2,3) ")
+    assert "are parallel in the sketch (sine of the angle between them 0, needs at least 0.0001)" in str(info.value)
