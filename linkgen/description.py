@@ -154,10 +154,17 @@ class Mechanism:
         validate(self)
 
     def link(self, name: str) -> Link:
-        for link in self.links:
-            if link.name == name:
-                return link
-        raise KeyError(name)
+        """The link named ``name`` (KeyError if none)."""
+        return self._by_name[0][name]
+
+    @cached_property
+    def _by_name(self) -> tuple[dict[str, Link], dict[str, Revolute], dict[str, Prismatic]]:
+        """Name → link, revolute, prismatic (the first of each name; validation rejects repeats)."""
+        maps: tuple[dict, dict, dict] = ({}, {}, {})
+        for m, items in zip(maps, (self.links, self.revolutes, self.prismatics)):
+            for item in items:
+                m.setdefault(item.name, item)
+        return maps
 
     @cached_property
     def link_names(self) -> tuple[str, ...]:
@@ -172,16 +179,10 @@ class Mechanism:
         return derive_revolutes(self.links, self.prismatics, self.drive.joint)
 
     def revolute(self, name: str) -> Revolute:
-        for joint in self.revolutes:
-            if joint.name == name:
-                return joint
-        raise KeyError(name)
+        return self._by_name[1][name]
 
     def prismatic(self, name: str) -> Prismatic:
-        for joint in self.prismatics:
-            if joint.name == name:
-                return joint
-        raise KeyError(name)
+        return self._by_name[2][name]
 
     @cached_property
     def crank(self) -> str:
