@@ -18,7 +18,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .description import Mechanism
-from .errors import AssemblyError, DescriptionError
+from .errors import AssemblyError, DescriptionError, MagnitudeError
 from .geometry import GuideShape, LinkPose, LinkShape, guide_shapes, link_shapes
 from .groups import SINGULAR_TOL, input_poses, solve_group
 from .structure import Group, GroupKind, Structure, analyze
@@ -46,6 +46,7 @@ def assemble(mech: Mechanism) -> Assembly:
 
     Raises:
         AssemblyError: a group cannot be assembled at the sketch's crank angle.
+        MagnitudeError: intermediate values overflow float64 (coordinates too large).
         DescriptionError: the assembled pose is far from the sketch on every branch.
     """
     structure = analyze(mech)
@@ -58,9 +59,11 @@ def assemble(mech: Mechanism) -> Assembly:
     branches = []
     for group in structure.groups:
         best = None
-        with np.errstate(invalid="ignore", divide="ignore"):
+        with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
             trials = [(m, *solve_group(group, m, poses, shapes, guides, mech))
                       for m in ((1, -1) if group.kind in _BRANCHED else (1,))]
+        if not all(np.isfinite(res.denominator[0]) for *_, res in trials):
+            raise MagnitudeError(f"group {group.label}'s solution at the sketch pose", [(float(phi0[0]),) * 2])
         _check_guides(group, trials[0][3])
         for m, p1, p2, res in trials:
             if res.fail[0]:

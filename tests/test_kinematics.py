@@ -180,6 +180,24 @@ def test_overflow_is_named_as_overflow():
         linkgen.solve_motion(mech, phi, 1e160)
     with pytest.raises(linkgen.MagnitudeError, match="overflows float64"):
         solve(mech, phi).motion(1e160)
+    from linkgen.kinetostatics import forces
+
+    with pytest.raises(linkgen.MagnitudeError, match=r"^the solution of .* overflows float64"):
+        forces(mech, phi, 1e160)
+
+
+def test_overflowing_sketch_is_named_as_overflow():
+    # the four-bar drawn 1e155 times larger: squared distances (~1e310) overflow float64
+    import tomllib
+
+    data = tomllib.loads((MODELS[0].parent / "fourbar.toml").read_text())
+    data["points"] = {p: [1e155 * x for x in xy] for p, xy in data["points"].items()}
+    for link in data["links"].values():
+        for key in ("length", "inertial", "density"):
+            link.pop(key, None)
+    with pytest.raises(linkgen.MagnitudeError, match=r"^group II\(2,3\) RRR \[coupler, rocker\]'s solution at the "
+                                                     r"sketch pose overflows float64"):
+        assemble(linkgen.from_dict(data))
 
 
 def test_parallel_guides_are_named_in_the_description():
