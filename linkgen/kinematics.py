@@ -52,7 +52,8 @@ class Kinematics:
         sliders: every prismatic pair's displacement along its guide [m] (from the guide's
             base point), with transfer functions.
         near_singular: per group label, (n,) True where that group is singular by the rule
-            of SINGULAR_TOL (all False unless solved with ``on_singular="mark"``).
+            of SINGULAR_TOL and no earlier group is (all False unless solved with
+            ``on_singular="mark"``).
         singular: (n,) True where any group is singular (``on_singular="mark"``); there the
             transfer functions are set to 0 and every value is finite but meaningless.
     """
