@@ -40,9 +40,11 @@ from .structure import Group, GroupKind, Structure
 # angle between two guides; 0 at a dead centre), so transfer functions grow as 1/D. Near a
 # dead centre the solved point itself comes out of a square root or arcsine whose argument is
 # rounded to eps relative: the point is off by ~eps/D of the link size, and dividing by D once
-# more gives the first and second transfer functions (and every velocity, acceleration and
-# load) a relative error of ~eps/D². At |D| >= 1e-4 that is <= 2.2e-8: at least 7 correct
-# significant digits, below the 1e-6 to which MuJoCo is compared. Below it a pose is singular.
+# more gives the first transfer functions a relative error of ~eps/D² and the second ~3·eps/D²
+# (and so every velocity, acceleration and load). At |D| >= 1e-4 that is <= 2.2e-8 and 6.6e-8:
+# at least 7 correct significant digits (measured: 2.2e-8 and 6.5e-8 at D = 1.01e-4, see
+# tests/test_kinematics.py), below the 1e-6 to which MuJoCo is compared. Below it a pose is
+# singular.
 SINGULAR_TOL = 1e-4
 
 

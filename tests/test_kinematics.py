@@ -218,3 +218,51 @@ def test_parallel_guides_are_named_in_the_description():
         assemble(linkgen.from_dict(data))
     assert str(info.value).startswith("prismatic.p1, prismatic.p2: the guides of group II(2,3) ")
     assert "are parallel in the sketch (sine of the angle between them 0, needs at least 0.0001)" in str(info.value)
+
+
+# SINGULAR_TOL's promise: at |D| >= SINGULAR_TOL = 1e-4 positions and transfer functions keep at
+# least 7 significant digits (relative error ~eps/D² in x′ and ~3·eps/D² in x″, <= 6.6e-8; see
+# linkgen.groups). Measured here at D = 1.01e-4: 2.2e-8 (x′), 6.5e-8 (x″).
+SEVEN_DIGITS = 1e-7
+
+
+def test_seven_digits_down_to_the_singular_tolerance():
+    # A slider-crank whose rod (0.05 m) is shorter than its crank (0.1 m): near sin φ = l2/l1 the rod
+    # stands perpendicular to the guide and D = sqrt(l2² - (l1·sin φ)²)/l2 → 0. Reference: the exact
+    # x_B(φ) = l1·cos φ + q, q = sqrt(l2² - s²), s = l1·sin φ, and its derivatives by hand, in 40-digit
+    # decimal arithmetic from the same float sin φ and cos φ linkgen starts from.
+    from decimal import Decimal, getcontext
+
+    from linkgen import SingularityError
+    from linkgen.kinematics import SINGULAR_TOL
+
+    getcontext().prec = 40
+    l1, l2, phi0 = 0.1, 0.05, math.radians(10.0)
+    a = (l1 * math.cos(phi0), l1 * math.sin(phi0))
+    b = (a[0] + math.sqrt(l2**2 - a[1] ** 2), 0.0)
+    mech = linkgen.from_dict({
+        "mechanism": {"name": "short_rod"},
+        "points": {"O": [0.0, 0.0], "A": list(a), "B": list(b)},
+        "links": {"ground": {"points": ["O"]}, "crank": {"points": ["O", "A"], "length": l1},
+                  "rod": {"points": ["A", "B"], "length": l2}, "slider": {"points": ["B"]}},
+        "prismatic": {"slide": {"slider": "slider", "guide": "ground", "point": "B", "through": "O", "angle": 0.0}},
+        "drive": {"joint": "O", "omega": 1.0},
+    })
+
+    def exact(phi):
+        sn, cs, L1, L2 = Decimal(math.sin(phi)), Decimal(math.cos(phi)), Decimal(l1), Decimal(l2)
+        s, s1, s2 = L1 * sn, L1 * cs, -L1 * sn
+        q = (L2 * L2 - s * s).sqrt()
+        return (L1 * cs + q, -L1 * sn - s * s1 / q, -L1 * cs - (s1 * s1 + s * s2) / q - s * s * s1 * s1 / q**3)
+
+    dens = np.array([1e-2, 1e-3, 3e-4, 1.01 * SINGULAR_TOL])
+    phi = np.arcsin(l2 * np.sqrt(1.0 - dens**2) / l1)
+    kin = solve(mech, phi)
+    got = (kin.points["B"].p[:, 0], kin.points["B"].d1[:, 0], kin.points["B"].d2[:, 0])
+    for k, f in enumerate(phi):
+        ref = exact(float(f))
+        for g, r in zip(got, ref):
+            err = abs((Decimal(float(g[k])) - r) / r)
+            assert err < SEVEN_DIGITS, (dens[k], err)
+    with pytest.raises(SingularityError, match="its link is \\(nearly\\) perpendicular to the guide line"):
+        solve(mech, np.arcsin(l2 * np.sqrt(1.0 - (0.99 * SINGULAR_TOL) ** 2) / l1 + np.zeros(1)))
