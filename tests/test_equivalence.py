@@ -216,3 +216,22 @@ def test_compound_hinge_physics_in_any_table_order():
     for order in (("link4", "link5", "rocker", "coupler", "crank", "ground"),
                   ("ground", "link5", "rocker", "link4", "crank", "coupler")):
         _assert_same(ref, _physics(_with_order(SIX_BAR, order), phi))
+
+
+def test_compound_hinge_at_the_drive_pivot_keeps_its_name():
+    # O carries ground, crank and a second rocker (an RRR group with a coupler from A): the drive is
+    # O:ground-crank in either table order, and the rocker is joined to ground at O (the carrier
+    # known first), named with the two links in description order.
+    data = {
+        "mechanism": {"name": "pivot"},
+        "points": {"O": [0.0, 0.0], "A": [0.2, 0.0], "B": [0.5, 0.4]},
+        "links": {"ground": {"points": ["O"]}, "crank": {"points": ["O", "A"]},
+                  "coupler": {"points": ["A", "B"]}, "rocker": {"points": ["O", "B"]}},
+        "drive": {"joint": "O:ground-crank", "omega": 1.0},
+    }
+    for order in (("ground", "crank", "coupler", "rocker"), ("rocker", "ground", "coupler", "crank")):
+        mech = from_dict(_with_order(data, order))
+        names = {j.name: set(j.links) for j in mech.revolutes if j.point == "O"}
+        rocker = "O:ground-rocker" if order.index("ground") < order.index("rocker") else "O:rocker-ground"
+        assert names == {"O:ground-crank": {"ground", "crank"}, rocker: {"ground", "rocker"}}
+        assert analyze(mech).formula == "I(0,1) → II(2,3)"

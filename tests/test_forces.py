@@ -258,3 +258,25 @@ def test_near_singular_forces_raise_or_are_marked():
     assert f.balancing_torque[0] == 0.0 and np.array_equal(f.balancing_torque[1:], ok.balancing_torque)
     for name, r in f.reactions.items():
         assert np.all(np.isfinite(r)) and np.array_equal(r[1:], ok.reactions[name]), name
+
+
+def test_forces_raise_when_the_two_torques_disagree(monkeypatch):
+    # Inject a wrong crank equilibrium (the drive torque off by 1e-6 of its size): every call
+    # compares it with the power balance and must refuse the result, naming the angles.
+    from linkgen import BalanceError
+    import linkgen.kinetostatics as ks
+
+    solve_systems = ks._solve
+
+    def skewed(a, rhs, phi, marked, label):
+        x = solve_systems(a, rhs, phi, marked, label)
+        if label.startswith("I(0,1)"):
+            x[:, 2] *= 1.0 + 1e-6
+        return x
+
+    mech = load(ROOT / "models" / "fourbar.toml")
+    phi = np.radians([10.0, 20.0, 30.0])
+    forces(mech, phi, 3.0)
+    monkeypatch.setattr(ks, "_solve", skewed)
+    with pytest.raises(BalanceError, match=r"disagree by up to .* \(allowed 1e-08\) at crank angles 10.000°..30.000°$"):
+        forces(mech, phi, 3.0)
