@@ -90,7 +90,7 @@ def _series(points: dict[str, Vec], links: dict[str, LinkPose], sliders: dict[st
     }
 
 
-def _angles(phi) -> np.ndarray:
+def checked_angles(phi) -> np.ndarray:
     phi = np.atleast_1d(np.asarray(phi, dtype=float))
     if phi.ndim != 1 or phi.shape[0] == 0 or not np.all(np.isfinite(phi)):
         what = "non-finite entries" if phi.ndim == 1 and phi.shape[0] else f"shape {phi.shape}"
@@ -125,9 +125,9 @@ def solve(mech_or_assembly: Mechanism | Assembly, phi, threads: int | None = Non
         MagnitudeError: intermediate values overflow float64.
     """
     mark = checked_mode(on_singular)
-    asm, phi = _assembly(mech_or_assembly), _angles(phi)
+    asm, phi = _assembly(mech_or_assembly), checked_angles(phi)
     poses, points, sliders, near, marked = _checked_blocks(
-        asm, phi, lambda rows: _solve_block(asm, phi[rows], mark), threads, mark)
+        asm, phi, lambda rows: solve_block(asm, phi[rows], mark), threads, mark)
     return Kinematics(asm, phi, poses, points, sliders, near, marked)
 
 
@@ -137,14 +137,14 @@ def solve_motion(mech_or_assembly: Mechanism | Assembly, phi, omega, epsilon=0.0
     ω [rad/s] and acceleration ε [rad/s²] (scalars or (n,)): ``solve(...).motion(ω, ε)``
     without keeping the transfer functions. Raises as ``solve`` and ``Kinematics.motion`` do."""
     mark = checked_mode(on_singular)
-    asm, phi = _assembly(mech_or_assembly), _angles(phi)
+    asm, phi = _assembly(mech_or_assembly), checked_angles(phi)
     n = phi.shape[0]
     w, e = rate("omega", omega, n, "rad/s"), rate("epsilon", epsilon, n, "rad/s²")
 
     def block(rows: slice):
-        (poses, points, sliders, near, marked), ok = _solve_block(asm, phi[rows], mark)
+        (poses, points, sliders, near, marked), ok = solve_block(asm, phi[rows], mark)
         if not ok:
-            raise _BlockFailed  # named by raise_failure over the whole array
+            raise BlockFailed  # named by raise_failure over the whole array
         mo = checked_derivatives(phi[rows], _series(points, poses, sliders),
                                  w if np.ndim(w) == 0 else w[rows], e if np.ndim(e) == 0 else e[rows])
         return (mo.points, mo.links, mo.sliders, near, marked), ok
@@ -155,22 +155,22 @@ def solve_motion(mech_or_assembly: Mechanism | Assembly, phi, omega, epsilon=0.0
 
 def _checked_blocks(asm: Assembly, phi: np.ndarray, block, threads: int | None, mark: bool):
     """``blocks.in_blocks`` over ``phi``; if any block failed (returned False, or raised
-    _BlockFailed), raise with the failing angles."""
+    BlockFailed), raise with the failing angles."""
     try:
         tree, oks = in_blocks(block, phi.shape[0], threads)
-    except _BlockFailed:
+    except BlockFailed:
         oks = [False]
     if not all(oks):
         raise_failure(asm, phi, mark)
     return tree
 
 
-class _BlockFailed(Exception):
+class BlockFailed(Exception):
     """A block found a failure; ``raise_failure`` names it over the whole array."""
 
 
 @np.errstate(invalid="ignore", divide="ignore", over="ignore")  # per call, so per thread
-def _solve_block(asm: Assembly, phi: np.ndarray, mark: bool = False, report: list | None = None) -> tuple[tuple, bool]:
+def solve_block(asm: Assembly, phi: np.ndarray, mark: bool = False, report: list | None = None) -> tuple[tuple, bool]:
     """Solve one block of angles. Returns (poses, points, sliders, per-group singular masks,
     singular mask) and whether everything is assembled, finite and, unless ``mark``, not
     singular; ``report``, if given, receives each group's (fail, overflow, singular) masks,
@@ -234,7 +234,7 @@ def _clear(trees: list, rows: np.ndarray) -> None:
 def raise_failure(asm: Assembly, phi: np.ndarray, mark: bool = False) -> None:
     """Solve ``phi`` in one piece to name the angles where the first failing group fails."""
     report: list = []
-    (_, points, _, _, _), _ = _solve_block(asm, phi, mark, report)
+    (_, points, _, _, _), _ = solve_block(asm, phi, mark, report)
     for group, fail, overflow, singular in report:
         if np.any(fail):
             raise AssemblyError(group.label, angle_ranges(phi, fail), fail_reason(group))

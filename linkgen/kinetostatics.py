@@ -30,7 +30,7 @@ from .assembly import Assembly, assemble
 from .blocks import in_blocks
 from .description import GROUND
 from .errors import BalanceError, MagnitudeError, SingularityError, angle_ranges
-from .kinematics import Kinematics, _angles, _BlockFailed, _solve_block, checked_mode, raise_failure
+from .kinematics import BlockFailed, Kinematics, checked_angles, checked_mode, raise_failure, solve_block
 from .motion import rate
 from .loads import applied_loads, mass_table
 from .structure import Pair
@@ -119,21 +119,21 @@ def forces(mech_or_asm, phi, omega, epsilon=0.0, threads: int | None = None, *,
     """
     mark = checked_mode(on_singular)
     asm = mech_or_asm if isinstance(mech_or_asm, Assembly) else assemble(mech_or_asm)
-    phi = _angles(phi)
+    phi = checked_angles(phi)
     n = phi.shape[0]
     w, e = rate("omega", omega, n, "rad/s"), rate("epsilon", epsilon, n, "rad/s²")
 
     def block(rows: slice):
-        (poses, points, sliders, near, marked), ok = _solve_block(asm, phi[rows], mark)
+        (poses, points, sliders, near, marked), ok = solve_block(asm, phi[rows], mark)
         if not ok:
-            raise _BlockFailed
+            raise BlockFailed
         kin = Kinematics(asm, phi[rows], poses, points, sliders, near, marked)
         wr, er = (w if np.ndim(w) == 0 else w[rows]), (e if np.ndim(e) == 0 else e[rows])
         return _block_forces(asm, kin, np.broadcast_to(wr, kin.phi.shape), np.broadcast_to(er, kin.phi.shape))
 
     try:
         tree, infos = in_blocks(block, n, threads)
-    except _BlockFailed:
+    except BlockFailed:
         raise_failure(asm, phi, mark)
         raise
     bad = [r for info in infos for r in info[0]]
