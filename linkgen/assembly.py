@@ -62,7 +62,7 @@ def assemble(mech: Mechanism) -> Assembly:
         with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
             trials = [(m, *solve_group(group, m, poses, shapes, guides, mech))
                       for m in ((1, -1) if group.kind in _BRANCHED else (1,))]
-        if not all(np.isfinite(res.denominator[0]) for *_, res in trials):
+        if not all(res.fail[0] or np.isfinite(res.denominator[0]) for *_, res in trials):
             raise MagnitudeError(f"group {group.label}'s solution at the sketch pose", [(float(phi0[0]),) * 2])
         _check_guides(group, trials[0][3])
         for m, p1, p2, res in trials:

@@ -12,7 +12,7 @@ from __future__ import annotations
 import sys
 import time
 
-from linkgen import analyze
+from linkgen import analyze, assemble
 from linkgen.description import Drive, Link, Mechanism
 
 
@@ -40,12 +40,13 @@ def best_of(fn, repeat: int = 3) -> tuple[float, object]:
 
 
 def main(sizes: list[int]) -> None:
-    print(f"{'groups':>7} {'build+validate [s]':>19} {'analyze [s]':>12}")
+    print(f"{'groups':>7} {'build+validate [s]':>19} {'analyze [s]':>12} {'assemble [s]':>13}")
     for n in sizes:
         t_build, mech = best_of(lambda: chain(n))
         t_an, s = best_of(lambda: analyze(mech))
         assert len(s.groups) == n, (len(s.groups), n)
-        print(f"{n:>7} {t_build:>19.4f} {t_an:>12.4f}")
+        t_asm, _ = best_of(lambda: assemble(mech), repeat=1)
+        print(f"{n:>7} {t_build:>19.4f} {t_an:>12.4f} {t_asm:>13.3f}")
 
 
 if __name__ == "__main__":
