@@ -238,8 +238,9 @@ def test_compound_hinge_at_the_drive_pivot_keeps_its_name():
 
 
 def test_reversed_slot_coulisse_agrees_with_mujoco():
-    # MuJoCo integrates the model built from the same assembly: an independent route to the
-    # kinematics and forces of the mode the sketch shows (tolerances of linkgen.compare)
+    # MuJoCo integrates the model built from the same assembly, so it cannot tell the mode (the hand
+    # solution above does); it checks the reversed slot's kinematics and forces in that mode by an
+    # independent route (tolerances of linkgen.compare)
     from linkgen.compare import compare
     from linkgen.simulate import simulate
 
