@@ -237,8 +237,11 @@ def _decomposed_hinges(links, prismatics, drive_joint, carriers) -> dict[str, li
     movers = [e for e in ends if e != GROUND]
     if len(ends) != 2 or GROUND not in ends or len(movers) != 1 or movers[0] not in names:
         return None
-    groups, left = decompose({link.name: tuple(link.points) for link in links},
-                             [(pj.name, pj.slider, pj.guide) for pj in prismatics], movers[0])
+    try:
+        groups, left = decompose({link.name: tuple(link.points) for link in links},
+                                 [(pj.name, pj.slider, pj.guide) for pj in prismatics], movers[0])
+    except TypeError:  # names of the wrong type: validation reports them
+        return None
     if left:
         return None
     out: dict[str, list[tuple[str, str]]] = {p: [] for p, c in carriers.items() if len(c) > 2}
