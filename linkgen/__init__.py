@@ -14,8 +14,10 @@ from .description import (
 from .errors import (
     ArgumentError,
     AssemblyError,
+    BalanceError,
     DescriptionError,
     LinkgenError,
+    MagnitudeError,
     SimulationError,
     SingularityError,
     StructureError,
@@ -29,6 +31,6 @@ from .structure import Group, GroupKind, Structure, analyze
 __all__ = [
     "Drive", "Link", "LinkTorque", "MassProperties", "Mechanism", "PointForce", "Prismatic", "Revolute",
     "ArgumentError", "AssemblyError", "DescriptionError", "LinkgenError", "SimulationError", "SingularityError",
-    "StructureError", "ValidationError", "Assembly", "Kinematics", "Motion", "assemble", "solve", "solve_motion",
+    "StructureError", "ValidationError", "BalanceError", "MagnitudeError", "Assembly", "Kinematics", "Motion", "assemble", "solve", "solve_motion",
     "from_dict", "load", "Group", "GroupKind", "Structure", "analyze",
 ]

@@ -6,10 +6,10 @@ what is allowed. Inside, SI units and radians.
 
 Conventions:
     * The fixed link is the link named ``ground``; its points' coordinates are exact.
-    * A point listed by two links is a revolute joint between them. A point listed
-      by k > 2 links is a compound hinge: k - 1 revolutes between the first link that
-      lists it and each other one, named ``POINT:FIRST-OTHER``; a single revolute is
-      named after its point.
+    * A point listed by two links is a revolute joint between them, named after the
+      point. A point listed by k > 2 links is a compound hinge: k - 1 revolutes, those
+      the Assur-group decomposition joins (see ``derive_revolutes``), each named
+      ``POINT:FIRST-OTHER`` with its two links in description order.
     * A link's local frame has its origin at its first point and its x axis towards
       its second point; a one-point link's x axis is the world x axis in the sketch.
       ``length`` (two-point links) is the exact distance between the two points and
@@ -154,10 +154,17 @@ class Mechanism:
         validate(self)
 
     def link(self, name: str) -> Link:
-        for link in self.links:
-            if link.name == name:
-                return link
-        raise KeyError(name)
+        """The link named ``name`` (KeyError if none)."""
+        return self._by_name[0][name]
+
+    @cached_property
+    def _by_name(self) -> tuple[dict[str, Link], dict[str, Revolute], dict[str, Prismatic]]:
+        """Name → link, revolute, prismatic (the first of each name; validation rejects repeats)."""
+        maps: tuple[dict, dict, dict] = ({}, {}, {})
+        for m, items in zip(maps, (self.links, self.revolutes, self.prismatics)):
+            for item in items:
+                m.setdefault(item.name, item)
+        return maps
 
     @cached_property
     def link_names(self) -> tuple[str, ...]:
@@ -169,19 +176,13 @@ class Mechanism:
 
     @cached_property
     def revolutes(self) -> tuple[Revolute, ...]:
-        return derive_revolutes(self.links)
+        return derive_revolutes(self.links, self.prismatics, self.drive.joint)
 
     def revolute(self, name: str) -> Revolute:
-        for joint in self.revolutes:
-            if joint.name == name:
-                return joint
-        raise KeyError(name)
+        return self._by_name[1][name]
 
     def prismatic(self, name: str) -> Prismatic:
-        for joint in self.prismatics:
-            if joint.name == name:
-                return joint
-        raise KeyError(name)
+        return self._by_name[2][name]
 
     @cached_property
     def crank(self) -> str:
@@ -189,18 +190,70 @@ class Mechanism:
         return joint.links[1] if joint.links[0] == GROUND else joint.links[0]
 
 
-def derive_revolutes(links: tuple[Link, ...]) -> tuple[Revolute, ...]:
-    """Revolute pairs implied by points shared between links, in description order."""
+def derive_revolutes(links: tuple[Link, ...], prismatics: tuple[Prismatic, ...] = (),
+                     drive_joint: str | None = None) -> tuple[Revolute, ...]:
+    """Revolute pairs implied by points shared between links, in the order their points
+    first appear.
+
+    A point on two links is one revolute named after the point, ``links`` in description
+    order. At a point on k > 2 links (a compound hinge) the k - 1 revolutes are those the
+    Assur-group decomposition joins (``structure.decompose``: each link to the carrier that
+    is known first, or to its group partner), so the result does not depend on the order of
+    the tables; each is named ``POINT:FIRST-OTHER`` with its two links in description order.
+    If the mechanism does not decompose, a compound hinge joins its first carrier to each
+    other one (the structure analysis then reports why it does not decompose).
+    """
+    order = {link.name: i for i, link in enumerate(links)}
     carriers: dict[str, list[str]] = {}
     for link in links:
-        for p in link.points:
+        for p in dict.fromkeys(link.points):
             carriers.setdefault(p, []).append(link.name)
+    compound = {p for p, names in carriers.items() if len(names) > 2}
+    chosen = _decomposed_hinges(links, prismatics, drive_joint, carriers) if compound else None
     joints = []
     for point, names in carriers.items():
-        for other in names[1:]:
-            name = point if len(names) == 2 else f"{point}:{names[0]}-{other}"
-            joints.append(Revolute(name, point, (names[0], other)))
+        if len(names) < 2:
+            continue
+        if len(names) == 2:
+            joints.append(Revolute(point, point, (names[0], names[1])))
+            continue
+        pairs = chosen[point] if chosen is not None else [(names[0], other) for other in names[1:]]
+        for a, b in sorted((tuple(sorted(ab, key=order.__getitem__)) for ab in pairs),
+                           key=lambda ab: (order[ab[0]], order[ab[1]])):
+            joints.append(Revolute(f"{point}:{a}-{b}", point, (a, b)))
     return tuple(joints)
+
+
+def _decomposed_hinges(links, prismatics, drive_joint, carriers) -> dict[str, list[tuple[str, str]]] | None:
+    """Point → the pairs of links the decomposition joins there, or None if it does not
+    decompose (or the description is not yet valid enough to try)."""
+    from .structure import decompose  # local: structure reads this module's types
+
+    names = [link.name for link in links]
+    if len(set(names)) != len(names) or GROUND not in names or not isinstance(drive_joint, str):
+        return None
+    point, _, rest = drive_joint.partition(":")
+    ends = rest.split("-") if rest else carriers.get(point, [])
+    movers = [e for e in ends if e != GROUND]
+    if len(ends) != 2 or GROUND not in ends or len(movers) != 1 or movers[0] not in names:
+        return None
+    try:
+        groups, left = decompose({link.name: tuple(link.points) for link in links},
+                                 [(pj.name, pj.slider, pj.guide) for pj in prismatics], movers[0])
+    except TypeError:  # names of the wrong type: validation reports them
+        return None
+    if left:
+        return None
+    out: dict[str, list[tuple[str, str]]] = {p: [] for p, c in carriers.items() if len(c) > 2}
+    if point in out:
+        out[point].append((GROUND, movers[0]))
+    for _, conns in groups:
+        for kind, name, ab in conns:
+            if kind == "R" and name in out:
+                out[name].append(ab)
+    if any(len(out[p]) != len(carriers[p]) - 1 for p in out):
+        return None
+    return out
 
 
 __all__ = [

@@ -85,14 +85,47 @@ class AssemblyError(LinkgenError):
 
 
 class SingularityError(LinkgenError):
-    """A transfer-function denominator is exactly zero (a dead-centre / lock-up position)."""
+    """An Assur group is at or too near a dead centre (its normalised transfer-function
+    denominator is below ``linkgen.kinematics.SINGULAR_TOL``), or its guides are parallel.
 
-    def __init__(self, group: str, ranges: list[tuple[float, float]]):
+    Attributes:
+        group: the group's label; ranges: (first, last) crank angles [rad]; reason: in words.
+    """
+
+    def __init__(self, group: str, ranges: list[tuple[float, float]], reason: str):
         self.group = group
         self.ranges = ranges
+        self.reason = reason
+        super().__init__(f"group {group} is singular at crank angles {format_ranges(ranges)}: {reason}")
+
+
+class MagnitudeError(LinkgenError, ArithmeticError):
+    """Values left the range float64 carries (about 1e-308 to 1.8e308) in the middle of a
+    computation: the inputs' magnitudes (lengths, rates, loads) are too large or too small.
+
+    Attributes:
+        what: the quantity that overflowed; ranges: (first, last) crank angles [rad].
+    """
+
+    def __init__(self, what: str, ranges: list[tuple[float, float]]):
+        self.what = what
+        self.ranges = ranges
         super().__init__(
-            f"group {group} is singular (transfer-function denominator 0) at crank angles "
-            f"{format_ranges(ranges)}"
+            f"{what} overflows float64 (magnitudes beyond ~1.8e308) at crank angles {format_ranges(ranges)}: "
+            f"the description's lengths or the crank rates are too large for the computation"
+        )
+
+
+class BalanceError(LinkgenError):
+    """The group-by-group balancing torque and the power balance disagree beyond the stated
+    tolerance: a result linkgen cannot vouch for. Attributes: ranges, worst (relative)."""
+
+    def __init__(self, ranges: list[tuple[float, float]], worst: float, tol: float):
+        self.ranges = ranges
+        self.worst = worst
+        super().__init__(
+            f"the balancing torque from the group-by-group solution and from the power balance disagree "
+            f"by up to {worst:.3g} of the torque scale (allowed {tol:g}) at crank angles {format_ranges(ranges)}"
         )
 
 

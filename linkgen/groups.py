@@ -35,6 +35,18 @@ from .primitives import (
 )
 from .structure import Group, GroupKind, Structure
 
+# The one rule for singular and near-singular poses. Each group divides by a normalised
+# denominator D with |D| <= 1 (the sine or cosine of a transmission angle, or the sine of the
+# angle between two guides; 0 at a dead centre), so transfer functions grow as 1/D. Near a
+# dead centre the solved point itself comes out of a square root or arcsine whose argument is
+# rounded to eps relative: the point is off by ~eps/D of the link size, and dividing by D once
+# more gives the first transfer functions a relative error of ~eps/D² and the second ~3·eps/D²
+# (and so every velocity, acceleration and load). At |D| >= 1e-4 that is <= 2.2e-8 and 6.6e-8:
+# at least 7 correct significant digits (measured: 2.2e-8 and 6.5e-8 at D = 1.01e-4, see
+# tests/test_kinematics.py), below the 1e-6 to which MuJoCo is compared. Below it a pose is
+# singular.
+SINGULAR_TOL = 1e-4
+
 
 def input_poses(mech: Mechanism, structure: Structure, shapes: dict[str, LinkShape], phi: np.ndarray) -> dict:
     """Poses of the ground and the crank at crank angles ``phi`` (n,) [rad]."""

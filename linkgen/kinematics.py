@@ -9,23 +9,36 @@ arrays of angles. Both run long arrays in cache-sized blocks (``linkgen.blocks``
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
 from .assembly import Assembly, assemble
 from .blocks import in_blocks
 from .description import Mechanism
-from .errors import ArgumentError, AssemblyError, SingularityError, angle_ranges
+from .errors import ArgumentError, AssemblyError, MagnitudeError, SingularityError, angle_ranges
 from .geometry import GuideShape, LinkPose
-from .groups import fail_reason, input_poses, solve_group
-from .motion import Motion, checked_derivatives, derivatives, rate
+from .groups import SINGULAR_TOL, fail_reason, input_poses, solve_group
+from .motion import Motion, all_finite, checked_derivatives, derivatives, rate
 from .primitives import Scalar, Vec, constant_along, dot
+from .structure import Group, GroupKind
 
-# A group is flagged near-singular where its normalised transfer-function denominator
-# (the sine or cosine of a transmission angle) is below this: 1e-3 rad from a dead centre,
-# where transfer functions grow past ~1e3 times their typical size.
-NEAR_SINGULAR = 1e-3
+# The one rule for singular and near-singular poses: SINGULAR_TOL (linkgen.groups) says why.
+ON_SINGULAR = ("raise", "mark")
+
+_REASONS = {
+    GroupKind.RRR: "its two links are (nearly) in line, a dead centre",
+    GroupKind.RRP: "its link is (nearly) perpendicular to the guide line, a dead centre",
+    GroupKind.RPR: "the slot is (nearly) perpendicular to the line joining the two pivots, a dead centre",
+    GroupKind.PRP: "its two guides are (nearly) parallel",
+    GroupKind.RPP: "its two guides are (nearly) parallel",
+}
+
+
+def singular_reason(group: Group) -> str:
+    """Why a group is singular, in words, with the rule."""
+    return (f"{_REASONS[group.kind]} (normalised transfer-function denominator below SINGULAR_TOL = "
+            f"{SINGULAR_TOL:g}; transfer functions grow as its inverse)")
 
 
 @dataclass(frozen=True)
@@ -38,7 +51,11 @@ class Kinematics:
         points: every named point, Vec of (n, 2) [m], [m/rad], [m/rad²].
         sliders: every prismatic pair's displacement along its guide [m] (from the guide's
             base point), with transfer functions.
-        near_singular: per group label, (n,) True where the group is near a dead centre.
+        near_singular: per group label, (n,) True where that group is singular by the rule
+            of SINGULAR_TOL and no earlier group is (all False unless solved with
+            ``on_singular="mark"``).
+        singular: (n,) True where any group is singular (``on_singular="mark"``); there the
+            transfer functions are set to 0 and every value is finite but meaningless.
     """
 
     assembly: Assembly
@@ -47,6 +64,7 @@ class Kinematics:
     points: dict[str, Vec]
     sliders: dict[str, Scalar]
     near_singular: dict[str, np.ndarray]
+    singular: np.ndarray
 
     def point(self, link: str, local) -> Vec:
         """Any point of any link, given in the link's local frame [m]."""
@@ -54,8 +72,14 @@ class Kinematics:
 
     def motion(self, omega, epsilon=0.0) -> Motion:
         """Velocities and accelerations for crank speed ω [rad/s] and acceleration ε [rad/s²]
-        (scalars or arrays of shape (n,))."""
-        return derivatives(self.phi, _series(self.points, self.links, self.sliders), omega, epsilon)
+        (scalars or arrays of shape (n,)).
+
+        Raises:
+            ArgumentError: ω or ε is not finite or not scalar or (n,).
+            MagnitudeError: a velocity or acceleration overflows float64.
+        """
+        mo = derivatives(self.phi, _series(self.points, self.links, self.sliders), omega, epsilon)
+        return replace(mo, singular=self.singular)
 
 
 def _series(points: dict[str, Vec], links: dict[str, LinkPose], sliders: dict[str, Scalar]) -> dict:
@@ -66,7 +90,7 @@ def _series(points: dict[str, Vec], links: dict[str, LinkPose], sliders: dict[st
     }
 
 
-def _angles(phi) -> np.ndarray:
+def checked_angles(phi) -> np.ndarray:
     phi = np.atleast_1d(np.asarray(phi, dtype=float))
     if phi.ndim != 1 or phi.shape[0] == 0 or not np.all(np.isfinite(phi)):
         what = "non-finite entries" if phi.ndim == 1 and phi.shape[0] else f"shape {phi.shape}"
@@ -74,68 +98,100 @@ def _angles(phi) -> np.ndarray:
     return phi
 
 
+def checked_mode(on_singular) -> bool:
+    """True for ``"mark"``, False for ``"raise"``; anything else is an ArgumentError."""
+    if on_singular not in ON_SINGULAR:
+        raise ArgumentError(f"on_singular must be one of {list(ON_SINGULAR)}, got {on_singular!r}")
+    return on_singular == "mark"
+
+
 def _assembly(mech_or_assembly: Mechanism | Assembly) -> Assembly:
     return mech_or_assembly if isinstance(mech_or_assembly, Assembly) else assemble(mech_or_assembly)
 
 
-def solve(mech_or_assembly: Mechanism | Assembly, phi, threads: int | None = None) -> Kinematics:
+def solve(mech_or_assembly: Mechanism | Assembly, phi, threads: int | None = None, *,
+          on_singular: str = "raise") -> Kinematics:
     """Closed-form positions and transfer functions at crank angles ``phi`` [rad], shape (n,).
 
     Long arrays are solved in cache-sized blocks on ``threads`` threads (default: every core
     this process may use; see ``linkgen.blocks``); the result does not depend on either.
+    ``on_singular``: ``"raise"`` (default) or ``"mark"``: return normally, with
+    ``Kinematics.singular`` True at the singular angles (see SINGULAR_TOL).
 
     Raises:
         AssemblyError: some group cannot be assembled at some angles (names the ranges).
-        SingularityError: a transfer-function denominator is exactly zero at some angles.
+        SingularityError: some group is singular by the rule of SINGULAR_TOL at some angles
+            (``on_singular="raise"``), naming the group, the angles and the cause.
+        MagnitudeError: intermediate values overflow float64.
     """
-    asm, phi = _assembly(mech_or_assembly), _angles(phi)
-    poses, points, sliders, near = _checked_blocks(asm, phi, lambda rows: _solve_block(asm, phi[rows]), threads)
-    return Kinematics(asm, phi, poses, points, sliders, near)
+    mark = checked_mode(on_singular)
+    asm, phi = _assembly(mech_or_assembly), checked_angles(phi)
+    poses, points, sliders, near, marked = _checked_blocks(
+        asm, phi, lambda rows: solve_block(asm, phi[rows], mark), threads, mark)
+    return Kinematics(asm, phi, poses, points, sliders, near, marked)
 
 
 def solve_motion(mech_or_assembly: Mechanism | Assembly, phi, omega, epsilon=0.0,
-                 threads: int | None = None) -> Motion:
+                 threads: int | None = None, *, on_singular: str = "raise") -> Motion:
     """Positions, velocities and accelerations at crank angles ``phi`` [rad] (n,), crank speed
     ω [rad/s] and acceleration ε [rad/s²] (scalars or (n,)): ``solve(...).motion(ω, ε)``
-    without keeping the transfer functions. Raises as ``solve`` does."""
-    asm, phi = _assembly(mech_or_assembly), _angles(phi)
+    without keeping the transfer functions. Raises as ``solve`` and ``Kinematics.motion`` do."""
+    mark = checked_mode(on_singular)
+    asm, phi = _assembly(mech_or_assembly), checked_angles(phi)
     n = phi.shape[0]
     w, e = rate("omega", omega, n, "rad/s"), rate("epsilon", epsilon, n, "rad/s²")
 
     def block(rows: slice):
-        (poses, points, sliders, near), ok = _solve_block(asm, phi[rows])
+        (poses, points, sliders, near, marked), ok = solve_block(asm, phi[rows], mark)
+        if not ok:
+            raise BlockFailed  # named by raise_failure over the whole array
         mo = checked_derivatives(phi[rows], _series(points, poses, sliders),
                                  w if np.ndim(w) == 0 else w[rows], e if np.ndim(e) == 0 else e[rows])
-        return (mo.points, mo.links, mo.sliders, near), ok
+        return (mo.points, mo.links, mo.sliders, near, marked), ok
 
-    points, links, sliders, _ = _checked_blocks(asm, phi, block, threads)
-    return Motion(phi, np.broadcast_to(w, (n,)), np.broadcast_to(e, (n,)), points, links, sliders)
+    points, links, sliders, _, marked = _checked_blocks(asm, phi, block, threads, mark)
+    return Motion(phi, np.broadcast_to(w, (n,)), np.broadcast_to(e, (n,)), points, links, sliders, marked)
 
 
-def _checked_blocks(asm: Assembly, phi: np.ndarray, block, threads: int | None):
-    """``blocks.in_blocks`` over ``phi``; if any block failed, raise with the failing angles."""
-    tree, oks = in_blocks(block, phi.shape[0], threads)
+def _checked_blocks(asm: Assembly, phi: np.ndarray, block, threads: int | None, mark: bool):
+    """``blocks.in_blocks`` over ``phi``; if any block failed (returned False, or raised
+    BlockFailed), raise with the failing angles."""
+    try:
+        tree, oks = in_blocks(block, phi.shape[0], threads)
+    except BlockFailed:
+        oks = [False]
     if not all(oks):
-        _raise_failure(asm, phi)
+        raise_failure(asm, phi, mark)
     return tree
 
 
+class BlockFailed(Exception):
+    """A block found a failure; ``raise_failure`` names it over the whole array."""
+
+
 @np.errstate(invalid="ignore", divide="ignore", over="ignore")  # per call, so per thread
-def _solve_block(asm: Assembly, phi: np.ndarray, report: list | None = None) -> tuple[tuple, bool]:
-    """Solve one block of angles. Returns (poses, points, sliders, near-singular masks) and
-    whether everything is assembled, non-singular and finite; ``report``, if given, receives
-    each group's (fail, singular) masks. Failures are reported by angle, not as NumPy warnings."""
+def solve_block(asm: Assembly, phi: np.ndarray, mark: bool = False, report: list | None = None) -> tuple[tuple, bool]:
+    """Solve one block of angles. Returns (poses, points, sliders, per-group singular masks,
+    singular mask) and whether everything is assembled, finite and, unless ``mark``, not
+    singular; ``report``, if given, receives each group's (fail, overflow, singular) masks,
+    each outside the angles where an earlier group is already singular. With ``mark`` the
+    transfer functions at singular angles are set to 0. Failures are reported by angle, not
+    as NumPy warnings."""
     mech = asm.mechanism
     poses = input_poses(mech, asm.structure, asm.shapes, phi)
-    near, ok = {}, True
+    n = phi.shape[0]
+    near, marked, ok = {}, np.zeros(n, dtype=bool), True
     for group, m in zip(asm.structure.groups, asm.branches):
         p1, p2, res = solve_group(group, m, poses, asm.shapes, asm.guides, mech)
-        den = np.abs(res.denominator)
-        singular = ~(den > 0.0)
-        ok = ok and not (res.fail.any() or singular.any())
+        den = np.abs(np.broadcast_to(res.denominator, (n,)))
+        fail = res.fail & ~marked
+        overflow = ~np.isfinite(den) & ~marked & ~res.fail
+        singular = (den < SINGULAR_TOL) & ~marked & ~res.fail
+        ok = ok and not (fail.any() or overflow.any() or (not mark and singular.any()))
         if report is not None:
-            report.append((group, res.fail, singular))
-        near[group.label] = den < NEAR_SINGULAR
+            report.append((group, fail, overflow, singular))
+        near[group.label] = singular
+        marked |= singular
         poses[group.links[0]], poses[group.links[1]] = p1, p2
     points = {}
     for link in mech.links:
@@ -143,25 +199,53 @@ def _solve_block(asm: Assembly, phi: np.ndarray, report: list | None = None) -> 
             if p not in points:
                 points[p] = poses[link.name].point(asm.shapes[link.name].local[p])
     sliders = {name: slider_motion(poses, g) for name, g in asm.guides.items()}
-    # one pass per array: a NaN or inf anywhere makes the sum non-finite (constants: one row)
-    ok = ok and all(np.isfinite((a[0] if constant_along(a) else a).sum())
-                    for v in points.values() for a in (v.p, v.d1, v.d2))
-    return (poses, points, sliders, near), ok
+    if mark and marked.any():
+        _clear([*points.values(), *poses.values(), *sliders.values()], marked)
+    ok = ok and all(all_finite(a) for v in points.values() for a in (v.p, v.d1, v.d2))
+    return (poses, points, sliders, near, marked), ok
 
 
-def _raise_failure(asm: Assembly, phi: np.ndarray) -> None:
+def _clear(trees: list, rows: np.ndarray) -> None:
+    """At ``rows``: transfer functions to 0, non-finite values to 0 (singular angles)."""
+    seen: set[int] = set()
+
+    def fix(a: np.ndarray, derivative: bool) -> None:
+        if id(a) in seen or constant_along(a):
+            return
+        seen.add(id(a))
+        if derivative:
+            a[rows] = 0.0
+        else:
+            sub = a[rows]
+            a[rows] = np.where(np.isfinite(sub), sub, 0.0)
+
+    for t in trees:
+        if isinstance(t, LinkPose):
+            t = [t.angle, *(vec for _, vec in t.known)]
+        for x in t if isinstance(t, list) else [t]:
+            value = x.p if isinstance(x, Vec) else x.v
+            fix(value, False)
+            fix(x.d1, True)
+            fix(x.d2, True)
+            if isinstance(x, Scalar):
+                object.__setattr__(x, "cs", None)  # cached cos/sin of values just changed
+
+
+def raise_failure(asm: Assembly, phi: np.ndarray, mark: bool = False) -> None:
     """Solve ``phi`` in one piece to name the angles where the first failing group fails."""
     report: list = []
-    _, points, _, _ = _solve_block(asm, phi, report)[0]
-    for group, fail, singular in report:
+    (_, points, _, _, _), _ = solve_block(asm, phi, mark, report)
+    for group, fail, overflow, singular in report:
         if np.any(fail):
             raise AssemblyError(group.label, angle_ranges(phi, fail), fail_reason(group))
-        if np.any(singular):
-            raise SingularityError(group.label, angle_ranges(phi, singular))
+        if np.any(overflow):
+            raise MagnitudeError(f"group {group.label}'s solution", angle_ranges(phi, overflow))
+        if np.any(singular) and not mark:
+            raise SingularityError(group.label, angle_ranges(phi, singular), singular_reason(group))
     for name, v in points.items():
         bad = ~np.all(np.isfinite(v.p) & np.isfinite(v.d1) & np.isfinite(v.d2), axis=1)
         if np.any(bad):
-            raise SingularityError(f"at point {name}", angle_ranges(phi, bad))
+            raise MagnitudeError(f"point {name}", angle_ranges(phi, bad))
     raise RuntimeError("a block reported a failure that the whole array does not reproduce")
 
 

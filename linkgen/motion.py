@@ -7,7 +7,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .blocks import carve
-from .errors import ArgumentError
+from .errors import ArgumentError, MagnitudeError, angle_ranges
 from .primitives import constant_along
 
 Triple = tuple[np.ndarray, np.ndarray, np.ndarray]
@@ -20,7 +20,9 @@ class Motion:
     ``points[name]`` = (position (n,2) [m], velocity [m/s], acceleration [m/s²]);
     ``links[name]`` = (angle (n,) [rad], angular velocity [rad/s], angular acceleration [rad/s²]);
     ``sliders[name]`` = (displacement [m], velocity [m/s], acceleration [m/s²]).
-    Quantities constant along φ are read-only zero-stride views.
+    Quantities constant along φ are read-only zero-stride views. ``singular`` (n,) bool: True
+    at angles marked singular (``on_singular="mark"``), where the velocities and accelerations
+    are set to 0; None when not known.
     """
 
     phi: np.ndarray
@@ -29,6 +31,7 @@ class Motion:
     points: dict[str, Triple]
     links: dict[str, Triple]
     sliders: dict[str, Triple]
+    singular: np.ndarray | None = None
 
 
 def rate(name: str, value, n: int, unit: str) -> float | np.ndarray:
@@ -52,6 +55,7 @@ def derivatives(phi: np.ndarray, series: dict[str, dict[str, Triple]], omega, ep
     return checked_derivatives(phi, series, rate("omega", omega, n, "rad/s"), rate("epsilon", epsilon, n, "rad/s²"))
 
 
+@np.errstate(over="ignore", invalid="ignore")  # overflow is found and named below
 def checked_derivatives(phi: np.ndarray, series: dict[str, dict[str, Triple]],
                         omega: float | np.ndarray, epsilon: float | np.ndarray) -> Motion:
     """``derivatives`` for ω and ε already checked by ``rate`` (floats or (n,) arrays)."""
@@ -68,9 +72,19 @@ def checked_derivatives(phi: np.ndarray, series: dict[str, dict[str, Triple]],
         else:
             vel, acc = next(fresh), next(fresh)
             _into(d1, d2, omega, epsilon, vel, acc)
+        for what, a in (("velocity", vel), ("acceleration", acc)):
+            if not all_finite(a):
+                bad = ~np.isfinite(a.reshape(n, -1)).all(axis=1) if not constant_along(a) else np.ones(n, bool)
+                raise MagnitudeError(f"the {what} of {kind[:-1]} {name}", angle_ranges(phi, bad))
         out[kind][name] = (x, vel, acc)
     return Motion(phi, np.broadcast_to(omega, (n,)), np.broadcast_to(epsilon, (n,)),
                   out["points"], out["links"], out["sliders"])
+
+
+def all_finite(a: np.ndarray) -> bool:
+    """All entries finite; one pass when they are (a sum of finite values can still overflow)."""
+    a = a[:1] if constant_along(a) else a
+    return bool(np.isfinite(a.sum()) or np.isfinite(a).all())
 
 
 def _into(d1: np.ndarray, d2: np.ndarray, w, e, vel: np.ndarray, acc: np.ndarray) -> None:

@@ -197,7 +197,8 @@ def circle_circle(a: Vec, ra: float, c: Vec, rc: float, m: int) -> Result:
     inv = 1.0 / np.sqrt(dd)
     along = (dd + (ra * ra - rc * rc)) * (0.5 * inv)
     h2 = ra * ra - along * along
-    fail = ~(h2 >= 0.0)
+    # NaN (overflowed inputs) is not a failure to assemble: it shows as a non-finite denominator
+    fail = (h2 < 0.0) | (dd == 0.0)  # coincident centres: no circle crossing (or all of them)
     h = np.sqrt(np.where(fail, 0.0, h2))
     ka, kh = along * inv, (m * inv) * h
     b = pair(a.p[:, 0] + ka * d[:, 0] - kh * d[:, 1], a.p[:, 1] + ka * d[:, 1] + kh * d[:, 0])
@@ -221,7 +222,7 @@ def line_circle(line: Line, a: Vec, r: float, m: int) -> Result:
     qa = q.p - a.p
     b_ = dot(u.p, qa)
     disc = b_ * b_ - (dot(qa, qa) - r * r)
-    fail = ~(disc >= 0.0)
+    fail = disc < 0.0  # NaN (overflowed inputs) shows as a non-finite denominator instead
     s = m * np.sqrt(np.where(fail, 0.0, disc)) - b_
     bp = q.p + col(s) * u.p
     w = bp - a.p
@@ -241,7 +242,7 @@ def pivot_line(ps: Vec, pg: Vec, k: float, m: int) -> Result:
     d = ps - pg
     dist = np.sqrt(dot(d.p, d.p))
     ratio = k / dist
-    fail = ~(np.abs(ratio) <= 1.0)
+    fail = (np.abs(ratio) > 1.0) | (dist == 0.0)  # NaN from overflow: a non-finite denominator
     asin = np.arcsin(np.clip(ratio, -1.0, 1.0))
     alpha = np.arctan2(d.p[:, 1], d.p[:, 0])
     psi = alpha - asin if m > 0 else alpha - np.pi + asin

@@ -132,3 +132,22 @@ def test_bad_crank_angles_are_named(phi, what):
             call()
         assert isinstance(info.value, LinkgenError) and isinstance(info.value, ValueError)
         assert str(info.value) == f"phi must be a non-empty, finite 1-D array of crank angles [rad], got {what}"
+
+
+@pytest.mark.parametrize("threads", [1, 2])
+def test_marked_singular_angles_in_blocks_equal_one_piece(threads, monkeypatch):
+    # the tangent mechanism through its dead centre φ = 0 in steps of 1e-4 rad: the denominator is
+    # sin φ, below SINGULAR_TOL = 1e-4 at φ = 0 and ±1e-4 (sin x < x), not at ±2e-4
+    mech = load(MODELS[0].parent / "tangent_prp.toml")
+    phi = np.linspace(-0.05, 0.05, 1001)
+    phi[500] = 0.0
+    whole = solve(mech, phi, on_singular="mark")
+    assert np.flatnonzero(whole.singular).tolist() == [499, 500, 501]
+    monkeypatch.setattr(blocks, "BLOCK", ODD_BLOCK)
+    parts = solve(mech, phi, threads=threads, on_singular="mark")
+    _assert_identical(_series(whole), _series(parts))
+    assert np.array_equal(whole.singular, parts.singular)
+    mo = solve_motion(mech, phi, 2.0, threads=threads, on_singular="mark")
+    assert np.array_equal(mo.singular, whole.singular)
+    with pytest.raises(LinkgenError, match=r"is singular at crank angles -0.006°..0.006°: its two guides"):
+        solve(mech, phi, threads=threads)

@@ -185,3 +185,98 @@ def test_forces_cli_samples_and_errors(tmp_path, capsys):
     assert len(rows) == 37 and rows[0].startswith("phi,balancing_torque,power_balance_torque")
     assert main(["forces", str(tmp_path / "none.toml")]) == 2
     assert "no such description file" in capsys.readouterr().err
+
+
+def test_wrongly_shaped_rates_are_argument_errors():
+    from linkgen import ArgumentError
+
+    mech = load(ROOT / "models" / "fourbar.toml")
+    phi = np.linspace(0.0, 1.0, 5)
+    with pytest.raises(ArgumentError, match=r"^omega must be a scalar or an array of shape \(5,\) \[rad/s\], "
+                                            r"got shape \(4,\)$"):
+        forces(mech, phi, np.ones(4))
+    with pytest.raises(ArgumentError, match=r"^epsilon must be finite \[rad/s²\], got non-finite entries$"):
+        forces(mech, phi, 1.0, np.array([0.0, np.inf, 0.0, 0.0, 0.0]))
+
+
+def test_forces_in_blocks_equal_one_piece(monkeypatch):
+    # the same numbers whatever the block size (blocks of 64 angles over 1000, on two threads)
+    import linkgen.blocks
+
+    mech = load(ROOT / "models" / "seven_link.toml")
+    phi = np.linspace(mech.drive.start, mech.drive.start + 1.0, 1000)
+    omega, eps = np.linspace(1.0, 3.0, 1000), -2.0
+    whole = forces(mech, phi, omega, eps)
+    monkeypatch.setattr(linkgen.blocks, "BLOCK", 64)
+    parts = forces(mech, phi, omega, eps, threads=2)
+    assert np.array_equal(whole.balancing_torque, parts.balancing_torque)
+    assert np.array_equal(whole.power_balance_torque, parts.power_balance_torque)
+    for name in whole.reactions:
+        assert np.array_equal(whole.reactions[name], parts.reactions[name]), name
+    for name in whole.normal_force:
+        assert np.array_equal(whole.normal_force[name], parts.normal_force[name]), name
+        assert np.array_equal(whole.moment[name], parts.moment[name]), name
+    assert np.array_equal(whole.reduced.inertia, parts.reduced.inertia)
+    assert np.array_equal(whole.omega, omega)
+
+
+def test_power_balance_disagreement_is_found_and_named():
+    from linkgen import BalanceError
+    from linkgen.kinetostatics import BALANCE_TOL, balance_failures
+
+    mech = load(ROOT / "models" / "ga2.toml")
+    phi = crank_grid(mech, 36)
+    f = forces(mech, phi, 2.0, 1.0)
+    scale = np.abs(f.balancing_torque).max() * np.ones(36)
+    none = np.zeros(36, dtype=bool)
+    assert balance_failures(phi, f.balancing_torque, f.power_balance_torque, scale, none) == ([], 0.0)
+    # a wrong term of 10·BALANCE_TOL of the scale at two neighbouring angles is found, by angle
+    wrong = f.balancing_torque.copy()
+    wrong[[3, 4]] += 10 * BALANCE_TOL * scale[0]
+    ranges, worst = balance_failures(phi, wrong, f.power_balance_torque, scale, none)
+    assert ranges == [(phi[3], phi[4])] and worst == pytest.approx(10 * BALANCE_TOL, rel=1e-3)
+    skip = none.copy()
+    skip[[3, 4]] = True  # singular angles marked by the caller are not compared
+    assert balance_failures(phi, wrong, f.power_balance_torque, scale, skip) == ([], 0.0)
+    assert str(BalanceError(ranges, worst, BALANCE_TOL)).startswith(
+        "the balancing torque from the group-by-group solution and from the power balance disagree by up to "
+        "1e-07 of the torque scale (allowed 1e-08) at crank angles 30.000°..40.000°")
+
+
+def test_near_singular_forces_raise_or_are_marked():
+    # At a denominator of 1e-16 the forces used to come back as ~1e78 N·m: now the one rule applies.
+    from linkgen import SingularityError
+
+    mech = load(ROOT / "models" / "tangent_prp.toml")
+    phi = np.array([1e-16, 0.3, 1.0])
+    with pytest.raises(SingularityError, match=r"^group II\(2,3\) PRP \[block, slider\] is singular at crank angles "
+                                               r"0.000°: its two guides are \(nearly\) parallel"):
+        forces(mech, phi, 2.0)
+    f = forces(mech, phi, 2.0, on_singular="mark")
+    assert f.singular.tolist() == [True, False, False]
+    ok = forces(mech, phi[1:], 2.0)
+    assert f.balancing_torque[0] == 0.0 and np.array_equal(f.balancing_torque[1:], ok.balancing_torque)
+    for name, r in f.reactions.items():
+        assert np.all(np.isfinite(r)) and np.array_equal(r[1:], ok.reactions[name]), name
+
+
+def test_forces_raise_when_the_two_torques_disagree(monkeypatch):
+    # Inject a wrong crank equilibrium (the drive torque off by 1e-6 of its size): every call
+    # compares it with the power balance and must refuse the result, naming the angles.
+    from linkgen import BalanceError
+    import linkgen.kinetostatics as ks
+
+    solve_systems = ks._solve
+
+    def skewed(a, rhs, phi, marked, label):
+        x = solve_systems(a, rhs, phi, marked, label)
+        if label.startswith("I(0,1)"):
+            x[:, 2] *= 1.0 + 1e-6
+        return x
+
+    mech = load(ROOT / "models" / "fourbar.toml")
+    phi = np.radians([10.0, 20.0, 30.0])
+    forces(mech, phi, 3.0)
+    monkeypatch.setattr(ks, "_solve", skewed)
+    with pytest.raises(BalanceError, match=r"disagree by up to .* \(allowed 1e-08\) at crank angles 10.000°..30.000°$"):
+        forces(mech, phi, 3.0)

@@ -5,6 +5,8 @@ import math
 import numpy as np
 import pytest
 
+import linkgen
+
 from conftest import MODELS
 from linkgen import AssemblyError, GroupKind, assemble, load, solve
 from linkgen.cli import crank_grid
@@ -135,16 +137,132 @@ def test_assembly_failure_names_the_angle_ranges():
                                       "61.000°..283.000°: the two links cannot reach each other")
 
 
-def test_near_singular_positions_are_flagged():
-    # The tangent mechanism's slot turns parallel to the guide at φ → 0: sin(φ) is the denominator.
-    mech = load(MODELS[0].parent / "tangent_prp.toml")
-    kin = solve(mech, np.array([5e-4, 0.5]))
-    (mask,) = kin.near_singular.values()
-    assert mask.tolist() == [True, False]
-
-
-def test_exact_singularity_is_an_error_not_nan():
+def test_near_singular_positions_follow_one_rule():
+    # The tangent mechanism's slot turns parallel to the guide at φ → 0: the denominator is the sine
+    # of the angle between the two guides, sin φ (by hand). SINGULAR_TOL = 1e-4 separates the angles.
     from linkgen import SingularityError
+    from linkgen.kinematics import SINGULAR_TOL
 
-    with pytest.raises(SingularityError, match=r"singular .* at crank angles 0.000°"):
-        solve(load(MODELS[0].parent / "tangent_prp.toml"), np.array([0.0]))
+    mech = load(MODELS[0].parent / "tangent_prp.toml")
+    phi = np.array([0.5, 0.5 * SINGULAR_TOL, 2.0 * SINGULAR_TOL, 0.0])
+    with pytest.raises(SingularityError) as info:
+        solve(mech, phi)
+    assert info.value.group == "II(2,3) PRP [block, slider]"
+    assert [(lo, hi) for lo, hi in info.value.ranges] == [(phi[1], phi[1]), (0.0, 0.0)]
+    assert str(info.value).startswith("group II(2,3) PRP [block, slider] is singular at crank angles 0.003°, 0.000°: "
+                                      "its two guides are (nearly) parallel (normalised transfer-function "
+                                      "denominator below SINGULAR_TOL = 0.0001")
+    kin = solve(mech, phi, on_singular="mark")
+    assert kin.singular.tolist() == [False, True, False, True]
+    (mask,) = kin.near_singular.values()
+    assert mask.tolist() == kin.singular.tolist()
+    for v in kin.points.values():
+        assert np.all(np.isfinite(v.p)) and np.all(np.isfinite(v.d1)) and np.all(np.isfinite(v.d2))
+    # outside the marked angles the values are those of an ordinary solve: x = h·cot φ
+    np.testing.assert_allclose(kin.points["B"].p[[0, 2], 0], 0.2 / np.tan(phi[[0, 2]]), rtol=1e-12)
+    mo = linkgen.solve_motion(mech, phi, 2.0, on_singular="mark")
+    assert mo.singular.tolist() == kin.singular.tolist()
+    assert all(np.all(np.isfinite(a)) for t in mo.points.values() for a in t)
+    with pytest.raises(SingularityError):
+        linkgen.solve_motion(mech, phi, 2.0)
+    with pytest.raises(linkgen.ArgumentError, match=r"on_singular must be one of \['raise', 'mark'\], got 'warn'"):
+        solve(mech, phi, on_singular="warn")
+
+
+def test_overflow_is_named_as_overflow():
+    # ω = 1e160 rad/s: accelerations ~ ω²·x″ ≈ 1e320 m/s² exceed float64's range; the positions and
+    # transfer functions are fine, so the message must speak of overflow, not of a dead centre.
+    mech = load(MODELS[0].parent / "fourbar.toml")
+    phi = np.radians([10.0, 20.0])
+    with pytest.raises(linkgen.MagnitudeError, match=r"^the acceleration of point .* overflows float64 .* at crank "
+                                                     r"angles 10.000°..20.000°: the description's lengths or the "
+                                                     r"crank rates are too large"):
+        linkgen.solve_motion(mech, phi, 1e160)
+    with pytest.raises(linkgen.MagnitudeError, match="overflows float64"):
+        solve(mech, phi).motion(1e160)
+    from linkgen.kinetostatics import forces
+
+    with pytest.raises(linkgen.MagnitudeError, match=r"^the solution of .* overflows float64"):
+        forces(mech, phi, 1e160)
+
+
+def test_overflowing_sketch_is_named_as_overflow():
+    # the four-bar drawn 1e155 times larger: squared distances (~1e310) overflow float64
+    import tomllib
+
+    data = tomllib.loads((MODELS[0].parent / "fourbar.toml").read_text())
+    data["points"] = {p: [1e155 * x for x in xy] for p, xy in data["points"].items()}
+    for link in data["links"].values():
+        for key in ("length", "inertial", "density"):
+            link.pop(key, None)
+    with pytest.raises(linkgen.MagnitudeError, match=r"^group II\(2,3\) RRR \[coupler, rocker\]'s solution at the "
+                                                     r"sketch pose overflows float64"):
+        assemble(linkgen.from_dict(data))
+
+
+def test_parallel_guides_are_named_in_the_description():
+    # The tangent mechanism drawn at φ = 0 with the slider's guide through O: the slot (along O→A)
+    # and the guide are the same horizontal line, so B has no defined position.
+    data = {
+        "mechanism": {"name": "parallel"},
+        "points": {"O": [0.0, 0.0], "A": [0.1, 0.0], "B": [0.3, 0.0]},
+        "links": {"ground": {"points": ["O"]}, "crank": {"points": ["O", "A"]},
+                  "block": {"points": ["B"]}, "slider": {"points": ["B"]}},
+        "prismatic": {
+            "p1": {"slider": "block", "guide": "crank", "point": "B", "through": "O", "angle": 0.0},
+            "p2": {"slider": "slider", "guide": "ground", "point": "B", "through": "O", "angle": 0.0},
+        },
+        "drive": {"joint": "O", "omega": 1.0},
+    }
+    with pytest.raises(linkgen.DescriptionError) as info:
+        assemble(linkgen.from_dict(data))
+    assert str(info.value).startswith("prismatic.p1, prismatic.p2: the guides of group II(2,3) ")
+    assert "are parallel in the sketch (sine of the angle between them 0, needs at least 0.0001)" in str(info.value)
+
+
+# SINGULAR_TOL's promise: at |D| >= SINGULAR_TOL = 1e-4 positions and transfer functions keep at
+# least 7 significant digits (relative error ~eps/D² in x′ and ~3·eps/D² in x″, <= 6.6e-8; see
+# linkgen.groups). Measured here at D = 1.01e-4: 2.2e-8 (x′), 6.5e-8 (x″).
+SEVEN_DIGITS = 1e-7
+
+
+def test_seven_digits_down_to_the_singular_tolerance():
+    # A slider-crank whose rod (0.05 m) is shorter than its crank (0.1 m): near sin φ = l2/l1 the rod
+    # stands perpendicular to the guide and D = sqrt(l2² - (l1·sin φ)²)/l2 → 0. Reference: the exact
+    # x_B(φ) = l1·cos φ + q, q = sqrt(l2² - s²), s = l1·sin φ, and its derivatives by hand, in 40-digit
+    # decimal arithmetic from the same float sin φ and cos φ linkgen starts from.
+    from decimal import Decimal, getcontext
+
+    from linkgen import SingularityError
+    from linkgen.kinematics import SINGULAR_TOL
+
+    getcontext().prec = 40
+    l1, l2, phi0 = 0.1, 0.05, math.radians(10.0)
+    a = (l1 * math.cos(phi0), l1 * math.sin(phi0))
+    b = (a[0] + math.sqrt(l2**2 - a[1] ** 2), 0.0)
+    mech = linkgen.from_dict({
+        "mechanism": {"name": "short_rod"},
+        "points": {"O": [0.0, 0.0], "A": list(a), "B": list(b)},
+        "links": {"ground": {"points": ["O"]}, "crank": {"points": ["O", "A"], "length": l1},
+                  "rod": {"points": ["A", "B"], "length": l2}, "slider": {"points": ["B"]}},
+        "prismatic": {"slide": {"slider": "slider", "guide": "ground", "point": "B", "through": "O", "angle": 0.0}},
+        "drive": {"joint": "O", "omega": 1.0},
+    })
+
+    def exact(phi):
+        sn, cs, L1, L2 = Decimal(math.sin(phi)), Decimal(math.cos(phi)), Decimal(l1), Decimal(l2)
+        s, s1, s2 = L1 * sn, L1 * cs, -L1 * sn
+        q = (L2 * L2 - s * s).sqrt()
+        return (L1 * cs + q, -L1 * sn - s * s1 / q, -L1 * cs - (s1 * s1 + s * s2) / q - s * s * s1 * s1 / q**3)
+
+    dens = np.array([1e-2, 1e-3, 3e-4, 1.01 * SINGULAR_TOL])
+    phi = np.arcsin(l2 * np.sqrt(1.0 - dens**2) / l1)
+    kin = solve(mech, phi)
+    got = (kin.points["B"].p[:, 0], kin.points["B"].d1[:, 0], kin.points["B"].d2[:, 0])
+    for k, f in enumerate(phi):
+        ref = exact(float(f))
+        for g, r in zip(got, ref):
+            err = abs((Decimal(float(g[k])) - r) / r)
+            assert err < SEVEN_DIGITS, (dens[k], err)
+    with pytest.raises(SingularityError, match="its link is \\(nearly\\) perpendicular to the guide line"):
+        solve(mech, np.arcsin(l2 * np.sqrt(1.0 - (0.99 * SINGULAR_TOL) ** 2) / l1 + np.zeros(1)))
