@@ -100,7 +100,8 @@ class _Builder:
         """A proposed revolute site on ``link``: (link, existing point or None, xy)."""
         rng = self.rng
         if link != GROUND:
-            reuse = [p for p in self.links[link] if self.carriers(p) < 3]
+            # not a point on ground: a group pinned there and to ground would not move
+            reuse = [p for p in self.links[link] if self.carriers(p) < 3 and p not in self.links[GROUND]]
             if reuse and rng.random() < 0.3:
                 p = reuse[rng.integers(len(reuse))]
                 return (link, p, self.pos[p])
