@@ -9,7 +9,8 @@ What the generator covers:
       crank, ground or a link of an earlier group; at least one of them moving).
     * Outer revolutes on new points of the known link (which makes it a ternary link) or on
       one of its existing points, which makes compound hinges (a point on three links),
-      the drive pivot included.
+      the drive pivot included. A moving link's point that is also on ground is not reused:
+      a group pinned there and to ground would not move.
     * Slots and guides at any angle, through a point of the guide link on the line or off it
       (an offset), in either direction; RPR slots on either link; one-point blocks and
       sliders, and blocks that carry a second (tracer) point.
@@ -32,21 +33,25 @@ The crank range: the mechanism is solved with ``linkgen.solve`` on a 0.25° grid
 turn (the scan that finds where it assembles; it uses linkgen's own solver). If every group
 assembles and none is near a dead centre (``Kinematics.near_singular``) everywhere, the range
 is the full turn. Otherwise it is the run of good samples containing the sketch angle, shrunk
-by ``margin_deg`` plus one grid step at each end, so that it stays at least ``margin_deg``
-clear of the assembly limits and dead centres; a draw whose sketch angle falls outside that
-range, or whose range is under 10°, is discarded and drawn again from the same generator.
-Features narrower than the grid step between samples are not seen. The result is a
-deterministic function of the generator's state.
+by ``margin_deg`` from its last good samples (each limit lies within one grid step beyond
+them), so that it stays at least ``margin_deg`` clear of the assembly limits and dead centres; a draw whose sketch angle falls outside that
+range, or whose range is under 10°, is discarded and drawn again from the same generator;
+so is a draw that linkgen cannot assemble at its own sketch (the scan needs linkgen's solver),
+which with a solver that takes assembly modes from point positions alone drops some chains
+hanging from an RPR group of two one-point links. The corpus therefore depends on the
+solver's version as well as on the generator's state.
+Features narrower than the grid step between samples are not seen. For a given linkgen, the
+result is a deterministic function of the generator's state.
 """
 
 from __future__ import annotations
 
-import json
 import math
 
 import numpy as np
 
 from .errors import LinkgenError
+from .toml_text import to_toml
 
 GROUND = "ground"
 KINDS = ("RRR", "RRP", "RPR", "PRP", "RPP")
@@ -386,50 +391,6 @@ def random_description(rng: np.random.Generator, *, max_groups: int = 4, margin_
             desc["drive"]["range"] = [rng_range[0], rng_range[1]]
         return desc
     raise RuntimeError(f"no usable mechanism in {_MAX_DRAWS} draws (max_groups={max_groups}, margin={margin_deg}°)")
-
-
-def _value(v) -> str:
-    if isinstance(v, bool):
-        return "true" if v else "false"
-    if isinstance(v, (int, float)):
-        return repr(v) if not isinstance(v, float) or math.isfinite(v) else ("nan" if v != v else ("inf" if v > 0 else "-inf"))
-    if isinstance(v, str):
-        return json.dumps(v, ensure_ascii=False)
-    if isinstance(v, (list, tuple)):
-        return "[" + ", ".join(_value(x) for x in v) + "]"
-    if isinstance(v, dict):
-        return "{" + ", ".join(f"{_key(k)} = {_value(x)}" for k, x in v.items()) + "}"
-    raise TypeError(f"cannot write {type(v).__name__} as TOML")
-
-
-def _key(k: str) -> str:
-    return k if k and all(c.isalnum() and c.isascii() or c in "_-" for c in k) else json.dumps(k, ensure_ascii=False)
-
-
-def _is_tables(v) -> bool:
-    return isinstance(v, list) and bool(v) and all(isinstance(x, dict) for x in v)
-
-
-def _table(lines: list[str], path: list[str], table: dict, header: str | None) -> None:
-    simple = [(k, v) for k, v in table.items() if not isinstance(v, dict) and not _is_tables(v)]
-    if header is not None and (simple or not table or header.startswith("[[")):
-        lines += ["", header]  # a table holding only sub-tables needs no header of its own
-    for k, v in simple:
-        lines.append(f"{_key(k)} = {_value(v)}")
-    for k, v in table.items():
-        sub = path + [_key(k)]
-        if isinstance(v, dict):
-            _table(lines, sub, v, f"[{'.'.join(sub)}]")
-        elif _is_tables(v):
-            for item in v:
-                _table(lines, sub, item, f"[[{'.'.join(sub)}]]")
-
-
-def to_toml(desc: dict) -> str:
-    """TOML text that ``tomllib`` reads back as ``desc`` (floats written exactly by repr)."""
-    lines: list[str] = []
-    _table(lines, [], desc, None)
-    return "\n".join(lines).lstrip("\n") + "\n"
 
 
 __all__ = ["KINDS", "random_description", "to_toml"]

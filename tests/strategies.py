@@ -20,11 +20,15 @@ from linkgen.corpus import random_description, to_toml
 seeds = st.integers(min_value=0, max_value=2**63 - 1)
 
 
-@st.composite
-def descriptions(draw, max_groups: int = 4):
-    seed = draw(seeds)
-    groups = draw(st.integers(min_value=1, max_value=max_groups))
-    return random_description(np.random.default_rng(seed), max_groups=groups)
+def _described(seed: int, max_groups: int) -> tuple[int, dict]:
+    return seed, random_description(np.random.default_rng(seed), max_groups=1 + seed % max_groups)
+
+
+def mechanisms(max_groups: int = 4):
+    """(seed, description): one draw per example, so that no two examples share a mechanism
+    (hypothesis avoids repeating a whole example, not a part of one); the number of groups
+    and any further randomness of a test derive from the seed."""
+    return seeds.map(lambda s: _described(s, max_groups))
 
 
 def _drive_joint(desc: dict) -> str:
