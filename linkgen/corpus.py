@@ -15,8 +15,8 @@ What the generator covers:
       (an offset), in either direction; RPR slots on either link; one-point blocks and
       sliders, and blocks that carry a second (tracer) point.
     * Two-point links given by ``length`` or by the sketch, links of three or more points by
-      ``shape`` (in an arbitrary rigid placement) or by the sketch; a tracer point placed on
-      top of another point of the same link.
+      ``shape`` (in an arbitrary rigid placement) or by the sketch; in one draw in five, a
+      tracer point placed on top of another point of the same link.
     * Sizes from 1 cm to 30 m (log-uniform when ``size`` is None), ω from 0.1 to 300 rad/s
       (log-uniform when ``omega`` is None); mass properties by default, by linear density
       (1e-3..1e3 kg/m) or explicit (1e-4..1e3 kg, inertia from none to a large radius of
@@ -222,7 +222,7 @@ def _build(rng: np.random.Generator, max_groups: int) -> _Builder | None:
         if not _group(b, kind, k1, k2, rng.random() < HARD_FRACTION):
             return None
         moving += list(b.links)[len(moving) + 1:]
-    for _ in range(int(rng.integers(0, 2))):  # a tracer on top of another point of the same link
+    if rng.random() < 0.2:  # a tracer on top of another point of the same link
         cands = [n for n in moving if len(b.links[n]) >= 2]
         if cands:
             n = cands[rng.integers(len(cands))]

@@ -21,7 +21,7 @@ from hypothesis import strategies as st
 import independent_checks as ic
 import linkgen
 from linkgen import DescriptionError, LinkgenError
-from linkgen.corpus import KINDS, random_description, to_toml
+from linkgen.corpus import KINDS, SCAN_STEP_DEG, random_description, to_toml
 from linkgen.kinetostatics import forces
 from strategies import (
     mechanisms,
@@ -115,6 +115,42 @@ def test_range_is_assembled_and_holds_the_sketch_angle():
         if hi - lo < 2 * math.pi - 1e-9:
             assert lo < phi0 < hi
         linkgen.solve(linkgen.from_dict(d), np.linspace(lo, hi, 721))  # raises if not assembled
+
+
+def test_partial_range_ends_within_one_scan_step_of_its_margin():
+    """Beyond a partial range's ends by the margin and one scan step, a group fails to
+    assemble or is flagged near a dead centre: the range is no narrower than it must be."""
+    margin = 5.0
+    checked = 0
+    for seed in range(40):
+        d = random_description(np.random.default_rng(seed), margin_deg=margin, max_groups=2)
+        lo, hi = ic.crank_range(d)
+        if hi - lo > 2 * math.pi - 1e-9:
+            continue
+        checked += 1
+        reach = math.radians(margin + 2 * SCAN_STEP_DEG)
+        for a, b in ((lo - reach, lo), (hi, hi + reach)):
+            phi = np.linspace(a, b, 64)
+            try:
+                kin = linkgen.solve(linkgen.from_dict(d), phi)
+            except (linkgen.AssemblyError, linkgen.SingularityError):
+                continue
+            assert any(m.any() for m in kin.near_singular.values()), (seed, a, b, to_toml(d))
+    assert checked >= 10
+
+
+def test_load_errors_name_the_file(tmp_path):
+    """A message about a file names it (folder commands report many files)."""
+    text = to_toml(random_description(np.random.default_rng(4), max_groups=1))
+    for i, data in enumerate([text.replace("[drive]", "[drive]\nbogus = 1"), "x = ", text.replace("omega", "omga")]):
+        path = tmp_path / f"bad{i}.toml"
+        path.write_text(data)
+        try:
+            linkgen.load(path)
+        except DescriptionError as exc:
+            assert path.name in str(exc), exc
+        else:
+            raise AssertionError(f"{data!r} loaded")
 
 
 @settings(max_examples=150, **COMMON)
@@ -230,8 +266,7 @@ def _outcome(path) -> str:
     (loaded and solved to finite numbers); any other exception propagates."""
     try:
         mech = linkgen.load(path)
-    except DescriptionError as exc:
-        assert str(path) in str(exc) or exc.field, exc
+    except DescriptionError:
         return "rejected"
     lo, hi = mech.drive.start, mech.drive.stop
     phi = np.linspace(lo, hi, 7)
