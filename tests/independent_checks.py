@@ -254,7 +254,22 @@ def link_loads(desc: dict, kin, omega: float, eps: float):
 GLOBAL_SHARE = 1e-3
 
 
-def balance_errors(desc: dict, mech, kin, f, omega: float, eps: float) -> dict[str, float]:
+def revolutes(desc: dict) -> list[tuple[str, str, tuple[str, str]]]:
+    """(name, point, (first, second)) of every revolute, by the README's convention: a point
+    on two links is a revolute named after it; on k > 2 links, k − 1 revolutes between the
+    first link listing it and each other one, named ``POINT:FIRST-OTHER``."""
+    carriers: dict[str, list[str]] = {}
+    for name, spec in desc["links"].items():
+        for p in spec["points"]:
+            carriers.setdefault(p, []).append(name)
+    out = []
+    for p, names in carriers.items():
+        for other in names[1:]:
+            out.append((p if len(names) == 2 else f"{p}:{names[0]}-{other}", p, (names[0], other)))
+    return out
+
+
+def balance_errors(desc: dict, kin, f, omega: float, eps: float) -> dict[str, float]:
     """Each moving link's force and moment balance from the reported reactions, normal
     forces, moments and the balancing torque, with given and d'Alembert loads; and the
     balancing torque against virtual work. Each residual is relative to the sum of the
@@ -273,10 +288,10 @@ def balance_errors(desc: dict, mech, kin, f, omega: float, eps: float) -> dict[s
             vw_scale += np.abs(M * d["th1"])
     T = np.asarray(f.balancing_torque)
     # reactions onto the links
-    for j in mech.revolutes:
-        R = np.asarray(f.reactions[j.name])
-        at = kin.points[j.point].p
-        for link, sign in ((j.links[0], 1.0), (j.links[1], -1.0)):
+    for jname, point, links in revolutes(desc):
+        R = np.asarray(f.reactions[jname])
+        at = kin.points[point].p
+        for link, sign in ((links[0], 1.0), (links[1], -1.0)):
             if link != GROUND:
                 loads[link]["forces"].append((sign * R, at))
     for name, pj in desc.get("prismatic", {}).items():
@@ -306,13 +321,13 @@ def balance_errors(desc: dict, mech, kin, f, omega: float, eps: float) -> dict[s
     }
 
 
-def net_joint_forces(mech, f) -> dict[tuple[str, str], np.ndarray]:
+def net_joint_forces(desc: dict, f) -> dict[tuple[str, str], np.ndarray]:
     """(point, link) → the sum of the revolute reactions acting on that link at that point:
     invariant under how a compound hinge is split into revolutes."""
     out: dict[tuple[str, str], np.ndarray] = {}
-    for j in mech.revolutes:
-        R = np.asarray(f.reactions[j.name])
-        for link, sign in ((j.links[0], 1.0), (j.links[1], -1.0)):
-            key = (j.point, link)
+    for jname, point, links in revolutes(desc):
+        R = np.asarray(f.reactions[jname])
+        for link, sign in ((links[0], 1.0), (links[1], -1.0)):
+            key = (point, link)
             out[key] = out.get(key, 0.0) + sign * R
     return out

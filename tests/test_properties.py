@@ -192,7 +192,7 @@ def test_every_link_balances_and_virtual_work_closes(mechanism):
     omega, eps = desc["drive"]["omega"], _epsilon(desc, k)
     f = forces(mech, phi, omega, eps)
     kin = linkgen.solve(mech, phi)
-    figs = ic.balance_errors(desc, mech, kin, f, omega, eps)
+    figs = ic.balance_errors(desc, kin, f, omega, eps)
     assert max(figs.values()) <= BALANCE_TOL, (figs, to_toml(desc))
 
 
@@ -217,7 +217,7 @@ def _compare(a: dict, b: dict, flip: str | None = None, moved: str | None = None
         shift[moved] = ic.sketch_frame_angle(b, moved) - ic.sketch_frame_angle(a, moved)
     out["angles"] = max(float(np.max(np.abs(ic.wrap(kb.links[n].angle.v - ka.links[n].angle.v - shift[n]))))
                         for n in a["links"] if n != ic.GROUND)
-    na, nb = ic.net_joint_forces(ma, fa), ic.net_joint_forces(mb, fb)
+    na, nb = ic.net_joint_forces(a, fa), ic.net_joint_forces(b, fb)
     assert set(na) == set(nb)
     scale = max([float(np.max(np.hypot(*v.T))) for v in na.values()]
                 + [float(np.max(np.abs(v))) for v in fa.normal_force.values()] + [1e-300])

@@ -81,7 +81,7 @@ def check_mechanism(desc: dict, seed: int):
         yield "transfer_d1", type(exc).__name__, None
     omega, eps = desc["drive"]["omega"], _epsilon(desc, seed)
     try:
-        b = ic.balance_errors(desc, mech, kin, forces(asm, phi, omega, eps), omega, eps)
+        b = ic.balance_errors(desc, kin, forces(asm, phi, omega, eps), omega, eps)
         for k, v in b.items():
             yield k, v, BALANCE_TOL
     except Exception as exc:  # noqa: BLE001
