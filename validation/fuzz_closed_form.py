@@ -19,6 +19,7 @@ from __future__ import annotations
 import argparse
 import collections
 import sys
+import tempfile
 import time
 from pathlib import Path
 
@@ -35,7 +36,7 @@ from test_properties import (  # noqa: E402
     BALANCE_TOL,
     EQUIV_TOL,
     FD_RATIO_TOL,
-    FD_STEP,
+    FD_STEPS,
     GEOMETRY_TOL,
     _angles,
     _compare,
@@ -74,7 +75,7 @@ def check_mechanism(desc: dict, seed: int):
     yield "geometry", max(v for k, v in g.items() if k != "sketch_angle"), GEOMETRY_TOL
     yield "sketch_angles", g["sketch_angle"], GEOMETRY_TOL
     try:
-        t = ic.transfer_errors(desc, lambda a: linkgen.solve(asm, a), phi[:13], FD_STEP)
+        t = ic.transfer_errors(desc, lambda a: linkgen.solve(asm, a), phi[:13], FD_STEPS)
         yield "transfer_d1", t["d1"], FD_RATIO_TOL
         yield "transfer_d2", t["d2"], FD_RATIO_TOL
     except Exception as exc:  # noqa: BLE001
@@ -125,7 +126,8 @@ def main(argv=None) -> int:
         if (i + 1) % 50 == 0:
             print(f"{i + 1}/{args.n} mechanisms, {time.perf_counter() - t0:.0f} s", file=sys.stderr)
     hostile = collections.Counter()
-    tmp = Path(args.out or "/tmp") / f"hostile_{args.seed}.toml"
+    scratch = tempfile.TemporaryDirectory()
+    tmp = Path(scratch.name) / "hostile.toml"
     for j in range(args.hostile):
         rng = np.random.default_rng([args.seed, 10**9 + j])
         if j % 4 == 0:
@@ -145,7 +147,7 @@ def main(argv=None) -> int:
                 (args.out / f"hostile_{args.seed}_{j}.toml").write_bytes(data)
         if (j + 1) % 100 == 0:
             print(f"{j + 1}/{args.hostile} hostile files", file=sys.stderr)
-    tmp.unlink(missing_ok=True)
+    scratch.cleanup()
     print(f"{args.n} mechanisms (groups: {dict(sorted(kinds.items()))}), "
           f"{args.hostile} hostile files, {time.perf_counter() - t0:.0f} s")
     print(f"{'check':24} {'worst':>10}  {'at':>5}  outcomes")
