@@ -34,13 +34,12 @@ turn (the scan that finds where it assembles; it uses linkgen's own solver). If 
 assembles and none is near a dead centre (``Kinematics.near_singular``) everywhere, the range
 is the full turn. Otherwise it is the run of good samples containing the sketch angle, shrunk
 by ``margin_deg`` from its last good samples (each limit lies within one grid step beyond
-them), so that it stays at least ``margin_deg`` clear of the assembly limits and dead centres; a draw whose sketch angle falls outside that
-range, or whose range is under 10°, is discarded and drawn again from the same generator;
-so is a draw that linkgen cannot assemble at its own sketch (the scan needs linkgen's solver),
-which with a solver that takes assembly modes from point positions alone drops some chains
-hanging from an RPR group of two one-point links. The corpus therefore depends on the
-solver's version as well as on the generator's state.
-Features narrower than the grid step between samples are not seen. For a given linkgen, the
+them), so that it stays at least ``margin_deg`` clear of the assembly limits and dead
+centres; a draw whose sketch angle falls outside that range, or whose range is under 10°,
+is discarded and drawn again from the same generator; so is a draw that linkgen cannot
+assemble at its own sketch (the scan needs linkgen's solver), which with a solver that takes
+assembly modes from point positions alone drops some chains hanging from an RPR group of two
+one-point links. Features narrower than the grid step are not seen. For a given linkgen, the
 result is a deterministic function of the generator's state.
 """
 

@@ -108,6 +108,21 @@ def test_corpus_is_deterministic_round_trips_and_covers_what_it_documents():
     assert min(omegas) < 0.5 and max(omegas) > 100.0, (min(omegas), max(omegas))
 
 
+_toml_scalars = (st.booleans() | st.integers(-(2**63), 2**63 - 1) | st.floats(allow_nan=False)
+                 | st.text(max_size=8))
+_toml_values = st.recursive(
+    _toml_scalars,
+    lambda inner: st.lists(inner, max_size=3) | st.dictionaries(st.text(max_size=6), inner, max_size=3),
+    max_leaves=12,
+)
+
+
+@settings(max_examples=100, **COMMON)
+@given(st.dictionaries(st.text(max_size=6), _toml_values, max_size=4))
+def test_to_toml_round_trips_through_tomllib(data):
+    assert tomllib.loads(to_toml(data)) == data
+
+
 def test_range_is_assembled_and_holds_the_sketch_angle():
     for seed in range(30):
         d = random_description(np.random.default_rng(seed), margin_deg=5.0)
@@ -225,7 +240,8 @@ def _compare(a: dict, b: dict, flip: str | None = None, moved: str | None = None
     out["joints"] = max(float(np.max(np.hypot(*(na[k] - nb[k]).T))) for k in na) / scale
     for name in fa.normal_force:
         sign = -1.0 if name == flip else 1.0
-        out["joints"] = max(out["joints"], float(np.max(np.abs(fb.normal_force[name] - sign * fa.normal_force[name]))) / scale)
+        diff = float(np.max(np.abs(fb.normal_force[name] - sign * fa.normal_force[name])))
+        out["joints"] = max(out["joints"], diff / scale)
     mscale = scale * size + float(np.max(np.abs(fa.balancing_torque)))
     out["torques"] = float(np.max(np.abs(fb.balancing_torque - fa.balancing_torque))) / mscale
     for name in fa.moment:
@@ -306,7 +322,8 @@ def test_byte_order_mark_is_accepted(tmp_path):
 
 def _scaled_geometry(desc: dict, s: float) -> dict:
     out = {**desc, "points": {p: [x * s, y * s] for p, (x, y) in desc["points"].items()}}
-    out["links"] = {n: {k: (v * s if k == "length" else v) for k, v in spec.items()} for n, spec in desc["links"].items()}
+    out["links"] = {n: {k: (v * s if k == "length" else v) for k, v in spec.items()}
+                    for n, spec in desc["links"].items()}
     return out
 
 
