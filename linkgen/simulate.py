@@ -14,7 +14,8 @@ from .assembly import Assembly
 from .errors import SimulationError
 from .kinematics import solve
 from .loads import stroke_active
-from .mjcf import ARMATURE, TIMESTEP, site_name, spanning_tree, write_mjcf
+from .mjcf import ARMATURE, DRIVE_ACTUATOR, TIMESTEP, body_name, sensor_name, spanning_tree, write_mjcf
+from .mjlog import no_log_file
 from .mjforces import (
     ForceSamples,
     apply_loads,
@@ -70,6 +71,7 @@ class Run:
     samples: Samples
 
 
+@no_log_file()
 def build_model(asm: Assembly, timestep: float = TIMESTEP) -> mujoco.MjModel:
     if not (math.isfinite(timestep) and timestep > 0):
         raise SimulationError(f"timestep must be > 0 s, got {timestep!r}")
@@ -123,6 +125,7 @@ def simulate(asm: Assembly, *, revolutions: float = 1.0, omega: float | None = N
                           timestep=timestep, samples=samples)[0]
 
 
+@no_log_file()
 def simulate_batch(asm: Assembly, *, omegas, revolutions: float = 1.0, epsilon: float | None = None,
                    timestep: float = TIMESTEP, samples: int = 360, nthread: int = 2) -> list[Run]:
     """Several crank speeds of one mechanism in one ``mujoco.rollout`` call on ``nthread`` threads.
@@ -193,7 +196,7 @@ def _closure_gap(asm: Assembly, model: mujoco.MjModel, sensordata: np.ndarray) -
     gap = np.zeros(sensordata.shape[0])
     for pair in spanning_tree(asm).closures:
         point = mech.revolute(pair.name).point
-        a, b = (model.sensor(f"pos_{site_name(asm, link, point)}") for link in pair.links)
+        a, b = (model.sensor(sensor_name(asm, link, point)) for link in pair.links)
         pa = sensordata[:, a.adr[0]:a.adr[0] + 3]
         pb = sensordata[:, b.adr[0]:b.adr[0] + 3]
         gap = np.maximum(gap, np.linalg.norm(pa - pb, axis=1))
@@ -247,7 +250,8 @@ def _sample(asm: Assembly, model, time, qpos, qvel, eps: float, samples: int, sw
         d.ctrl[:] = ARMATURE * eps
         mujoco.mj_kinematics(model, d)
         mujoco.mj_comPos(model, d)
-        apply_loads(asm, model, d, math.atan2(d.body(mech.crank).xmat[3], d.body(mech.crank).xmat[0]))
+        crank_b = d.body(body_name(mech.crank))
+        apply_loads(asm, model, d, math.atan2(crank_b.xmat[3], crank_b.xmat[0]))
         mujoco.mj_forward(model, d)
         mujoco.mj_rnePostConstraint(model, d)
         states.append(forward_forces(asm, model, d))
@@ -261,7 +265,7 @@ def _sample(asm: Assembly, model, time, qpos, qvel, eps: float, samples: int, sw
             mujoco.mj_objectAcceleration(model, d, mujoco.mjtObj.mjOBJ_SITE, sid, r6, 0)
             out_pts[p][k] = (d.site(p).xpos[:2], v, r6[3:5] + g)  # MuJoCo reports a - g
         for l in out_lnk:
-            b = d.body(l)
+            b = d.body(body_name(l))
             mujoco.mj_objectVelocity(model, d, mujoco.mjtObj.mjOBJ_BODY, b.id, r6, 0)
             w = r6[2]
             mujoco.mj_objectAcceleration(model, d, mujoco.mjtObj.mjOBJ_BODY, b.id, r6, 0)
@@ -275,7 +279,7 @@ def _sample(asm: Assembly, model, time, qpos, qvel, eps: float, samples: int, sw
                                          sign * d.qacc[j.dofadr[0]])
         crank[k] = (out_lnk[mech.crank][k][0], d.qvel[crank_j.dofadr[0]], d.qacc[crank_j.dofadr[0]])
         viol[k] = np.abs(d.efc_pos[: d.ne]).max() if d.ne else 0.0
-        torque[k] = d.actuator("drive").force[0] - ARMATURE * d.qacc[crank_j.dofadr[0]]
+        torque[k] = d.actuator(DRIVE_ACTUATOR).force[0] - ARMATURE * d.qacc[crank_j.dofadr[0]]
     phi = np.unwrap(crank[:, 0])  # continuous over the run; the closed form is 2π-periodic
     return Samples(idx, time[idx], (phi, crank[:, 1], crank[:, 2]),
                    {p: tuple(a[:, j] for j in range(3)) for p, a in out_pts.items()},
