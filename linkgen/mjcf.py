@@ -67,9 +67,11 @@ MUJOCO_MIN_MASS = 1e-15  # kg
 MUJOCO_MIN_INERTIA = 1e-15  # kg·m², each diagonal entry
 # MuJoCo needs a positive rotational inertia even where the description gives 0 (a point mass,
 # or a block that only translates). The floor is mass·(INERTIA_FLOOR·L)², L the link's span (the
-# mechanism's size for a one-point link): it changes a rotating link's inertia torque by at most
-# INERTIA_FLOOR² = 1e-8 of mass·L²·α, 100× below the 1e-6 force tolerance.
-INERTIA_FLOOR = 1e-4
+# mechanism's size for a one-point link), and at least MuJoCo's own limit: on a rotating link it
+# adds at most INERTIA_FLOOR² = 1e-12 of mass·L²·α to the forces (the inverse route's tolerance
+# is 1e-10; a floor of 1e-4 showed there as 2e-8), or 2e-15 kg·m²·α where that is larger (tiny
+# point masses); a block that only translates never feels it.
+INERTIA_FLOOR = 1e-6
 
 # Visual sizes as fractions of the mechanism's size (a 1.2 m four-bar: 12 mm bar radius).
 BAR_RADIUS = 0.01
@@ -175,21 +177,15 @@ def spanning_tree(source: Mechanism | Assembly) -> TreeInfo:
 
 def written_inertial(mech: Mechanism, shapes: dict[str, LinkShape], link: str) -> MassProperties:
     """A moving link's mass properties as the MJCF gives them: the inertia raised to the floor
-    (INERTIA_FLOOR). Raises DescriptionError, naming the field, where MuJoCo cannot take them."""
+    (INERTIA_FLOOR). Raises DescriptionError, naming the field, for a mass MuJoCo cannot take."""
     mp = effective_mass_properties(mech, shapes, link)
     spec = mech.link(link)
-    field = (f"links.{link}.inertial" if spec.inertial is not None else
-             f"links.{link}.density" if spec.density is not None else f"links.{link}")
     if not mp.mass >= MUJOCO_MIN_MASS:
-        raise DescriptionError(field if spec.inertial is None else f"{field}.mass",
-                               f"gives a mass of {mp.mass!r} kg; MuJoCo needs at least {MUJOCO_MIN_MASS:g} kg")
+        field = (f"links.{link}.inertial.mass" if spec.inertial is not None else
+                 f"links.{link}.density" if spec.density is not None else f"links.{link}")
+        raise DescriptionError(field, f"gives a mass of {mp.mass!r} kg; MuJoCo needs at least {MUJOCO_MIN_MASS:g} kg")
     span = shapes[link].span() or mechanism_size(mech)
-    inertia = max(mp.inertia, mp.mass * (INERTIA_FLOOR * span) ** 2)
-    if not inertia / 2 >= MUJOCO_MIN_INERTIA:
-        raise DescriptionError(
-            field if spec.inertial is None else f"{field}.inertia",
-            f"gives a moment of inertia of {mp.inertia!r} kg·m² (at least {inertia!r} kg·m² as written, for mass "
-            f"{mp.mass!r} kg over {span:.6g} m); MuJoCo needs at least {2 * MUJOCO_MIN_INERTIA:g} kg·m²")
+    inertia = max(mp.inertia, mp.mass * (INERTIA_FLOOR * span) ** 2, 2 * MUJOCO_MIN_INERTIA)
     return MassProperties(mp.mass, mp.com, inertia)
 
 

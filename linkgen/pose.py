@@ -274,4 +274,41 @@ def reference_pose(mech: Mechanism) -> LinkStates:
     return state(mech, link_shapes(mech)[mech.crank].sketch_angle, 0.0)
 
 
-__all__ = ["LinkStates", "MAX_STEP", "POSE_TOL", "mechanism_size", "reference_pose", "state"]
+def tree_state(mech: Mechanism, model, phi, omega=0.0) -> tuple[np.ndarray, np.ndarray]:
+    """MuJoCo qpos (m, nq) and qvel (m, nv) of ``write_mjcf(mech)``'s model at crank angles φ (m,)
+    [rad] and speeds ω [rad/s], from ``state``: the initial state of a run for any structure class.
+    A hinge's q is the child's angle less the parent's, from the reference pose; a slide's q the
+    slider's displacement along the guide line from the reference (negated when the guide is the
+    child body, as the joint then moves the guide)."""
+    from .mjcf import spanning_tree  # mjcf places bodies with this module's reference pose
+
+    st, ref = state(mech, phi, omega), reference_pose(mech)
+    m = st.phi.shape[0]
+    qpos, qvel = np.tile(model.qpos0, (m, 1)), np.zeros((m, model.nv))
+    guides = guide_shapes(mech, link_shapes(mech))
+    for parent, child, pair in spanning_tree(mech).tree:
+        j = model.joint(pair.name)
+        if pair.kind == "R":
+            rel = st.angle[child] - st.angle[parent] - (ref.angle[child][0] - ref.angle[parent][0])
+            q, qd = np.remainder(rel + np.pi, 2 * np.pi) - np.pi, st.angular_velocity[child] - st.angular_velocity[parent]
+        else:
+            g = guides[pair.name]
+            sign = 1.0 if child == g.slider else -1.0
+            q0, _ = _slide(ref, g)
+            s, sd = _slide(st, g)
+            q, qd = sign * (s - q0[0]), sign * sd
+        qpos[:, j.qposadr[0]], qvel[:, j.dofadr[0]] = q, qd
+    return qpos, qvel
+
+
+def _slide(st: LinkStates, g) -> tuple[np.ndarray, np.ndarray]:
+    """A prismatic pair's displacement along its guide line [m] and its rate [m/s], (m,) each."""
+    th = st.angle[g.guide] + g.alpha
+    u = np.column_stack([np.cos(th), np.sin(th)])
+    d = st.point(g.slider, g.point) - st.point(g.guide, g.base)
+    dv = st.point_velocity(g.slider, g.point) - st.point_velocity(g.guide, g.base)
+    w = st.angular_velocity[g.guide]
+    return np.sum(d * u, axis=1), np.sum(dv * u, axis=1) + w * (d[:, 1] * u[:, 0] - d[:, 0] * u[:, 1])
+
+
+__all__ = ["LinkStates", "MAX_STEP", "POSE_TOL", "mechanism_size", "reference_pose", "state", "tree_state"]
