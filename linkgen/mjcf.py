@@ -80,8 +80,11 @@ BLOCK_SIZE = (0.03, 0.018, 0.012)  # half-sizes
 SITE_SIZE = 0.008
 GUIDE_SIZE = (0.1, 0.004)  # least half-length, half-thickness
 # A bar shorter than its radius would hide inside its end pivots; it is not drawn (a coincident
-# tracer point gives none, and MuJoCo rejects a capsule shorter than 2e-6 m).
+# tracer point gives none). MuJoCo rejects a capsule whose fromto points are closer than 1e-7 m
+# ("fromto points too close", measured by bisection on mujoco 4.0): bars under 10× that are not
+# drawn either, whatever the mechanism's size.
 MIN_BAR = BAR_RADIUS
+MUJOCO_MIN_BAR = 1e-6  # m
 DRIVE_ACTUATOR = "drive:motor"
 WORLD = "world"  # MuJoCo's name for the world body
 
@@ -305,7 +308,7 @@ def _link_visuals(src: _Source, body, link: str, material: str) -> None:
                          pos=vec(pts[0][0], pts[0][1], 0.0), material=material)
     else:
         bars = [(q, xy) for q, xy in zip(names[1:], pts[1:])
-                if math.hypot(xy[0] - pts[0][0], xy[1] - pts[0][1]) >= MIN_BAR * size]
+                if math.hypot(xy[0] - pts[0][0], xy[1] - pts[0][1]) >= max(MIN_BAR * size, MUJOCO_MIN_BAR)]
         for q, xy in bars:
             etree.SubElement(body, "geom", name=f"{link}:bar:{names[0]}-{q}", type="capsule",
                              size=fmt(BAR_RADIUS * size),

@@ -248,9 +248,10 @@ def state(mech: Mechanism, phi, omega=0.0) -> LinkStates:
     phi = np.atleast_1d(np.asarray(phi, dtype=float))
     if phi.ndim != 1 or phi.shape[0] == 0 or not np.all(np.isfinite(phi)):
         raise ArgumentError(f"phi must be a non-empty, finite 1-D array of crank angles [rad], got {phi!r}")
-    omega = np.broadcast_to(np.asarray(omega, dtype=float), phi.shape)
-    if not np.all(np.isfinite(omega)):
-        raise ArgumentError(f"omega must be finite [rad/s], got {omega!r}")
+    omega = np.asarray(omega, dtype=float)
+    if omega.shape not in ((), phi.shape) or not np.all(np.isfinite(omega)):
+        raise ArgumentError(f"omega must be a finite scalar or one per crank angle {phi.shape} [rad/s], got {omega!r}")
+    omega = np.broadcast_to(omega, phi.shape)
     con = _Constraints(mech)
     q, at = _assembled_sketch(con)
     qs, rates = np.zeros((phi.shape[0], con.n)), np.zeros((phi.shape[0], con.n))

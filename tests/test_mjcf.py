@@ -130,6 +130,10 @@ def test_visuals_scale_with_the_mechanism_and_inertials_stay():
             b = m.body(link)
             assert b.mass[0] == pytest.approx(mass, rel=1e-14)
             assert b.inertia[2] == pytest.approx(mass * (k * length) ** 2 / 12, rel=1e-14)
+    # a 1 µm four-bar: bars shorter than MuJoCo's least capsule (1e-7 m) become dots, and it compiles
+    tiny = mujoco.MjModel.from_xml_string(write_mjcf(from_dict(_scaled(base, 1e-6 / 1.2323))))
+    geoms = _names(tiny, mujoco.mjtObj.mjOBJ_GEOM, tiny.ngeom)
+    assert {"crank:dot", "coupler:dot", "rocker:dot"} <= set(geoms) and not any(":bar:" in g for g in geoms)
 
 
 def _one_body(mass: float, izz: float) -> str:
