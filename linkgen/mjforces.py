@@ -32,8 +32,8 @@ from .assembly import Assembly
 from .description import GROUND
 from .kinematics import solve
 from .loads import applied_loads, stroke_active
-from .mjlog import no_log_file
 from .mjcf import ARMATURE, DRIVE_ACTUATOR, TreeInfo, body_name, link_name, site_name, spanning_tree
+from .mjlog import no_log_file
 
 
 @dataclass(frozen=True)

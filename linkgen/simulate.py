@@ -15,7 +15,6 @@ from .errors import SimulationError
 from .kinematics import solve
 from .loads import stroke_active
 from .mjcf import ARMATURE, DRIVE_ACTUATOR, TIMESTEP, body_name, sensor_name, spanning_tree, write_mjcf
-from .mjlog import no_log_file
 from .mjforces import (
     ForceSamples,
     apply_loads,
@@ -23,6 +22,7 @@ from .mjforces import (
     has_loads,
     load_schedule,
 )
+from .mjlog import no_log_file
 
 # A run whose loop-closure gap exceeds this at any step is an error, not a result [m]:
 # 100× the accuracy target of 1e-8 m, so a result is reported (and judged) up to there.
