@@ -3,7 +3,25 @@
 One body per moving link, its frame the link's local frame placed at the assembled sketch
 pose (so every constraint holds at qpos0); hinge/slide joints along a spanning tree that
 contains every prismatic pair; an equality ``connect`` for each loop-closing revolute.
+The reference pose is the closed form's for an Assembly (or a Mechanism whose structure
+decomposes into class-II groups), else the numeric one of ``linkgen.pose`` (class III and
+higher: MuJoCo needs a spanning tree and connects, not Assur groups).
 Output is deterministic: fixed element order, one number format (``%.17g``).
+
+Names. A user's name matches ``[A-Za-z_][A-Za-z0-9_]*``; linkgen uses it as-is only for the
+object it names, and every name linkgen makes up contains ``:``, which user names cannot:
+    * body = the link's name (ground is MuJoCo's world body); a link named ``world`` (MuJoCo's
+      name for the world body) becomes body ``link:world`` (``body_name``/``link_name``);
+    * joint = the pair's name (a revolute is named after its point, ``POINT:FIRST-OTHER`` at a
+      compound hinge; a prismatic pair by its own name); connect = the closing revolute's name;
+    * site = ``POINT`` on the first link that lists the point, ``POINT:LINK`` on the others;
+    * sensor ``pos:SITE`` (the site's world position); actuator ``drive:motor`` on the drive joint;
+    * geoms ``LINK:bar:P-Q`` (a bar from the link's first point P to its point Q),
+      ``ground:pivot:P``, ``LINK:block``, ``LINK:dot``, ``LINK:guide:PRISMATIC``; light
+      ``light:sun``; materials ``mat:ground``, ``mat:crank``, ``mat:link``, ``mat:slider``.
+
+Geoms are visual only (contype = conaffinity = 0; inertials are explicit) and sized as
+fractions of the mechanism's size, so a 2 cm and a 30 m mechanism read the same.
 """
 
 from __future__ import annotations
@@ -14,12 +32,13 @@ from dataclasses import dataclass
 import numpy as np
 from lxml import etree
 
-from .assembly import Assembly
-from .description import GROUND
-from .errors import StructureError
-from .geometry import effective_mass_properties
+from .assembly import Assembly, assemble
+from .description import GROUND, MassProperties, Mechanism
+from .errors import DescriptionError, StructureError
+from .geometry import GuideShape, LinkShape, effective_mass_properties, guide_shapes, link_shapes
 from .kinematics import solve
 from .mjoptions import Settings
+from .pose import mechanism_size, reference_pose
 from .structure import Pair, pairs_of
 
 # Integration and constraint settings come from the mechanism (linkgen.mjsettings): the loop
@@ -28,7 +47,35 @@ from .structure import Pair, pairs_of
 # crank is driven by that rotor started at ω, plus a motor torque armature·ε for a constant ε:
 # a velocity servo would fight the constraints.
 
-_BAR_RADIUS = 0.01  # m, visual only
+# MuJoCo's compiler (mujoco 4.0, user_model.cc CheckBodyMassInertia) rejects a moving body whose
+# mass or any diagonal inertia is below mjMINVAL = 1e-15; measured by bisection on a one-body
+# model: mass 1e-15 kg compiles, 9.999999e-16 does not; diaginertia 1e-15 kg·m² compiles, below
+# does not. A link's planar inertia I is written as diaginertia (I/2, I/2, I) (a lamina), so the
+# written I must be ≥ 2e-15 kg·m².
+MUJOCO_MIN_MASS = 1e-15  # kg
+MUJOCO_MIN_INERTIA = 1e-15  # kg·m², each diagonal entry
+# MuJoCo needs a positive rotational inertia even where the description gives 0 (a point mass,
+# or a block that only translates). The floor is mass·(INERTIA_FLOOR·L)², L the link's span (the
+# mechanism's size for a one-point link), and at least MuJoCo's own limit: on a rotating link it
+# adds at most INERTIA_FLOOR² = 1e-12 of mass·L²·α to the forces (the inverse route's tolerance
+# is 1e-10; a floor of 1e-4 showed there as 2e-8), or 2e-15 kg·m²·α where that is larger (tiny
+# point masses); a block that only translates never feels it.
+INERTIA_FLOOR = 1e-6
+
+# Visual sizes as fractions of the mechanism's size (a 1.2 m four-bar: 12 mm bar radius).
+BAR_RADIUS = 0.01
+PIVOT_SIZE = (0.015, 0.005)  # radius, half-height
+BLOCK_SIZE = (0.03, 0.018, 0.012)  # half-sizes
+SITE_SIZE = 0.008
+GUIDE_SIZE = (0.1, 0.004)  # least half-length, half-thickness
+# A bar shorter than its radius would hide inside its end pivots; it is not drawn (a coincident
+# tracer point gives none). MuJoCo rejects a capsule whose fromto points are closer than 1e-7 m
+# ("fromto points too close", measured by bisection on mujoco 4.0): bars under 10× that are not
+# drawn either, whatever the mechanism's size.
+MIN_BAR = BAR_RADIUS
+MUJOCO_MIN_BAR = 1e-6  # m
+DRIVE_ACTUATOR = "drive:motor"
+WORLD = "world"  # MuJoCo's name for the world body
 
 
 def fmt(x: float) -> str:
@@ -38,6 +85,36 @@ def fmt(x: float) -> str:
 
 def vec(*xs: float) -> str:
     return " ".join(fmt(x) for x in xs)
+
+
+def _mechanism(source: Mechanism | Assembly) -> Mechanism:
+    return source.mechanism if isinstance(source, Assembly) else source
+
+
+def body_name(link: str) -> str:
+    """The MuJoCo body of a link: its own name; ground is the world body; a link named
+    ``world`` is ``link:world``."""
+    if link == GROUND:
+        return WORLD
+    return "link:world" if link == WORLD else link
+
+
+def link_name(body: str) -> str:
+    """The link of a MuJoCo body name (inverse of ``body_name``)."""
+    if body == WORLD:
+        return GROUND
+    return WORLD if body == "link:world" else body
+
+
+def site_name(source: Mechanism | Assembly, link: str, point: str) -> str:
+    """A point's site: ``POINT`` on its first carrier, ``POINT:LINK`` on the others."""
+    first = next(l.name for l in _mechanism(source).links if point in l.points)
+    return point if first == link else f"{point}:{link}"
+
+
+def sensor_name(source: Mechanism | Assembly, link: str, point: str) -> str:
+    """The ``framepos`` sensor of a point's site on a link."""
+    return f"pos:{site_name(source, link, point)}"
 
 
 @dataclass(frozen=True)
@@ -54,9 +131,9 @@ class TreeInfo:
         raise KeyError(link)
 
 
-def spanning_tree(asm: Assembly) -> TreeInfo:
+def spanning_tree(source: Mechanism | Assembly) -> TreeInfo:
     """The drive pair first, then every prismatic, then revolutes (Kruskal); the rest close loops."""
-    mech = asm.mechanism
+    mech = _mechanism(source)
     pairs = pairs_of(mech)
     drive = next(p for p in pairs if p.kind == "R" and p.name == mech.drive.joint)
     ordered = [drive] + [p for p in pairs if p.kind == "P"] + [p for p in pairs if p.kind == "R" and p is not drive]
@@ -90,23 +167,59 @@ def spanning_tree(asm: Assembly) -> TreeInfo:
     return TreeInfo(tuple(tree), tuple(closures))
 
 
-def site_name(asm: Assembly, link: str, point: str) -> str:
-    """A point's site is named after the point on its first carrier, ``POINT__LINK`` elsewhere."""
-    first = next(l.name for l in asm.mechanism.links if point in l.points)
-    return point if first == link else f"{point}__{link}"
+def written_inertial(mech: Mechanism, shapes: dict[str, LinkShape], link: str) -> MassProperties:
+    """A moving link's mass properties as the MJCF gives them: the inertia raised to the floor
+    (INERTIA_FLOOR). Raises DescriptionError, naming the field, for a mass MuJoCo cannot take."""
+    mp = effective_mass_properties(mech, shapes, link)
+    spec = mech.link(link)
+    if not mp.mass >= MUJOCO_MIN_MASS:
+        field = (f"links.{link}.inertial.mass" if spec.inertial is not None else
+                 f"links.{link}.density" if spec.density is not None else f"links.{link}")
+        raise DescriptionError(field, f"gives a mass of {mp.mass!r} kg; MuJoCo needs at least {MUJOCO_MIN_MASS:g} kg")
+    span = shapes[link].span() or mechanism_size(mech)
+    inertia = max(mp.inertia, mp.mass * (INERTIA_FLOOR * span) ** 2, 2 * MUJOCO_MIN_INERTIA)
+    return MassProperties(mp.mass, mp.com, inertia)
 
 
-def write_mjcf(asm: Assembly, settings: Settings | None = None) -> str:
-    """The MJCF text of the assembled mechanism, with ``settings`` (default: derived from the
-    mechanism and its drive, ``linkgen.mjsettings.settings_for``)."""
+@dataclass(frozen=True)
+class _Source:
+    """What the writer reads: the mechanism, shapes, guides and the reference pose
+    {link: (origin (2,) [m], angle [rad])}."""
+
+    mech: Mechanism
+    shapes: dict[str, LinkShape]
+    guides: dict[str, GuideShape]
+    pose: dict[str, tuple[np.ndarray, float]]
+    size: float
+
+
+def _source(source: Mechanism | Assembly) -> _Source:
+    if isinstance(source, Mechanism):
+        try:
+            source = assemble(source)
+        except StructureError:  # not class II: the numeric pose needs no groups
+            mech = source
+            ref = reference_pose(mech)
+            shapes = link_shapes(mech)
+            pose = {n: (ref.origin[n][0], float(ref.angle[n][0])) for n in mech.link_names}
+            return _Source(mech, shapes, guide_shapes(mech, shapes), pose, mechanism_size(mech))
+    mech = source.mechanism
+    ref = solve(source, np.array([source.sketch_phi]))
+    pose = {n: (ref.links[n].origin.p[0], float(ref.links[n].angle.v[0])) for n in mech.link_names}
+    return _Source(mech, source.shapes, source.guides, pose, mechanism_size(mech))
+
+
+def write_mjcf(source: Mechanism | Assembly, settings: Settings | None = None) -> str:
+    """The MJCF text of a mechanism (any structure class) or of an assembled one, with
+    ``settings`` (default: derived from the mechanism and its drive,
+    ``linkgen.mjsettings.settings_for``)."""
+    src = _source(source)
     if settings is None:
         from .mjsettings import settings_for
 
-        settings = settings_for(asm)
-    mech = asm.mechanism
-    ref = solve(asm, np.array([asm.sketch_phi]))
-    pose = {n: (ref.links[n].origin.p[0], float(ref.links[n].angle.v[0])) for n in mech.link_names}
-    info = spanning_tree(asm)
+        settings = settings_for(source)
+    mech, pose, size = src.mech, src.pose, src.size
+    info = spanning_tree(mech)
 
     root = etree.Element("mujoco", model=mech.name)
     etree.SubElement(root, "compiler", angle="radian", inertiafromgeom="false", autolimits="true")
@@ -120,11 +233,12 @@ def write_mjcf(asm: Assembly, settings: Settings | None = None) -> str:
     asset = etree.SubElement(root, "asset")
     for name, rgba in (("ground", "0.5 0.5 0.5 1"), ("crank", "0.85 0.3 0.2 1"), ("link", "0.25 0.45 0.8 1"),
                        ("slider", "0.3 0.7 0.35 1")):
-        etree.SubElement(asset, "material", name=f"mat_{name}", rgba=rgba)
+        etree.SubElement(asset, "material", name=f"mat:{name}", rgba=rgba)
 
     world = etree.SubElement(root, "worldbody")
-    etree.SubElement(world, "light", name="sun", pos="0 0 5", dir="0 0 -1", directional="true")
-    _link_visuals(asm, world, GROUND, "mat_ground")
+    etree.SubElement(world, "light", name="light:sun", pos=vec(0.0, 0.0, 5.0 * size), dir="0 0 -1",
+                     directional="true")
+    _link_visuals(src, world, GROUND, "mat:ground")
     bodies = {GROUND: world}
     for parent, child, pair in info.tree:
         (po, pa), (co, ca) = pose[parent], pose[child]
@@ -132,72 +246,80 @@ def write_mjcf(asm: Assembly, settings: Settings | None = None) -> str:
         d = co - po
         rel = (c * d[0] + s * d[1], -s * d[0] + c * d[1])
         half = 0.5 * (ca - pa)
-        body = etree.SubElement(bodies[parent], "body", name=child, pos=vec(rel[0], rel[1], 0.0),
+        body = etree.SubElement(bodies[parent], "body", name=body_name(child), pos=vec(rel[0], rel[1], 0.0),
                                 quat=vec(math.cos(half), 0.0, 0.0, math.sin(half)))
-        mp = effective_mass_properties(mech, asm.shapes, child)
-        inertia = max(mp.inertia, 1e-9)  # MuJoCo needs positive inertia; a translating body never uses it
+        mp = written_inertial(mech, src.shapes, child)
         etree.SubElement(body, "inertial", pos=vec(mp.com[0], mp.com[1], 0.0), mass=fmt(mp.mass),
-                         diaginertia=vec(inertia / 2, inertia / 2, inertia))
+                         diaginertia=vec(mp.inertia / 2, mp.inertia / 2, mp.inertia))
         if pair.kind == "R":
             point = mech.revolute(pair.name).point
-            local = asm.shapes[child].local[point]
+            local = src.shapes[child].local[point]
             attrs = dict(name=pair.name, type="hinge", pos=vec(local[0], local[1], 0.0), axis="0 0 1")
             if pair.name == mech.drive.joint:
                 attrs["armature"] = fmt(settings.armature)
             etree.SubElement(body, "joint", **attrs)
         else:
-            g = asm.guides[pair.name]
+            g = src.guides[pair.name]
             direction = pose[g.guide][1] + g.alpha - ca
             etree.SubElement(body, "joint", name=pair.name, type="slide",
                              axis=vec(math.cos(direction), math.sin(direction), 0.0))
-        material = "mat_crank" if child == mech.crank else (
-            "mat_slider" if len(mech.link(child).points) == 1 else "mat_link")
-        _link_visuals(asm, body, child, material)
+        material = "mat:crank" if child == mech.crank else (
+            "mat:slider" if len(mech.link(child).points) == 1 else "mat:link")
+        _link_visuals(src, body, child, material)
         bodies[child] = body
 
     equality = etree.SubElement(root, "equality")
     for pair in info.closures:
         point = mech.revolute(pair.name).point
         a, b = pair.links
-        local = asm.shapes[a].local[point]
-        attrs = dict(name=pair.name, anchor=vec(local[0], local[1], 0.0), solref=settings.solref,
-                     solimp=settings.solimp_text)
         if a == GROUND:  # body1 must be a body; swap so that world is body2
             a, b = b, a
-            local = asm.shapes[a].local[point]
-            attrs["anchor"] = vec(local[0], local[1], 0.0)
-        etree.SubElement(equality, "connect", body1=a, **({"body2": b} if b != GROUND else {}), **attrs)
+        local = src.shapes[a].local[point]
+        attrs = dict(name=pair.name, anchor=vec(local[0], local[1], 0.0), solref=settings.solref,
+                     solimp=settings.solimp_text)
+        etree.SubElement(equality, "connect", body1=body_name(a), **({"body2": body_name(b)} if b != GROUND else {}),
+                         **attrs)
     actuator = etree.SubElement(root, "actuator")
-    etree.SubElement(actuator, "motor", name="drive", joint=mech.drive.joint, gear="1")
+    etree.SubElement(actuator, "motor", name=DRIVE_ACTUATOR, joint=mech.drive.joint, gear="1")
     sensor = etree.SubElement(root, "sensor")
     for link in mech.links:
         for p in link.points:
-            name = site_name(asm, link.name, p)
-            etree.SubElement(sensor, "framepos", name=f"pos_{name}", objtype="site", objname=name)
+            etree.SubElement(sensor, "framepos", name=sensor_name(mech, link.name, p), objtype="site",
+                             objname=site_name(mech, link.name, p))
     return etree.tostring(root, pretty_print=True, encoding="unicode")
 
 
-def _link_visuals(asm: Assembly, body, link: str, material: str) -> None:
-    mech = asm.mechanism
-    shape = asm.shapes[link]
-    pts = [shape.local[p] for p in mech.link(link).points]
+def _link_visuals(src: _Source, body, link: str, material: str) -> None:
+    mech, size = src.mech, src.size
+    shape = src.shapes[link]
+    names = mech.link(link).points
+    pts = [shape.local[p] for p in names]
     if link == GROUND:
-        for p, xy in zip(mech.link(link).points, pts):
-            etree.SubElement(body, "geom", name=f"pivot_{p}", type="cylinder", size="0.015 0.005",
-                             pos=vec(xy[0], xy[1], -0.01), material=material)
+        for p, xy in zip(names, pts):
+            etree.SubElement(body, "geom", name=f"{GROUND}:pivot:{p}", type="cylinder",
+                             size=vec(PIVOT_SIZE[0] * size, PIVOT_SIZE[1] * size),
+                             pos=vec(xy[0], xy[1], -2 * PIVOT_SIZE[1] * size), material=material)
     elif len(pts) == 1:
-        etree.SubElement(body, "geom", name=f"{link}_block", type="box", size="0.03 0.018 0.012",
+        etree.SubElement(body, "geom", name=f"{link}:block", type="box", size=vec(*(h * size for h in BLOCK_SIZE)),
                          pos=vec(pts[0][0], pts[0][1], 0.0), material=material)
     else:
-        for i, q in enumerate(pts[1:], start=1):
-            etree.SubElement(body, "geom", name=f"{link}_bar{i}", type="capsule", size=fmt(_BAR_RADIUS),
-                             fromto=vec(pts[0][0], pts[0][1], 0.0, q[0], q[1], 0.0), material=material)
+        bars = [(q, xy) for q, xy in zip(names[1:], pts[1:])
+                if math.hypot(xy[0] - pts[0][0], xy[1] - pts[0][1]) >= max(MIN_BAR * size, MUJOCO_MIN_BAR)]
+        for q, xy in bars:
+            etree.SubElement(body, "geom", name=f"{link}:bar:{names[0]}-{q}", type="capsule",
+                             size=fmt(BAR_RADIUS * size),
+                             fromto=vec(pts[0][0], pts[0][1], 0.0, xy[0], xy[1], 0.0), material=material)
+        if not bars:  # every point within a bar radius of the first
+            etree.SubElement(body, "geom", name=f"{link}:dot", type="sphere", size=fmt(BAR_RADIUS * size),
+                             pos=vec(pts[0][0], pts[0][1], 0.0), material=material)
     for pj in mech.prismatics:
         if pj.guide == link:
-            g = asm.guides[pj.name]
-            size = max(shape.span(), 0.1)
-            etree.SubElement(body, "geom", name=f"{pj.name}_guide", type="box",
-                             size=vec(size, 0.004, 0.004), pos=vec(g.base[0], g.base[1], -0.02),
-                             euler=vec(0.0, 0.0, g.alpha), material="mat_ground")
-    for p, xy in zip(mech.link(link).points, pts):
-        etree.SubElement(body, "site", name=site_name(asm, link, p), pos=vec(xy[0], xy[1], 0.0), size="0.008")
+            g = src.guides[pj.name]
+            etree.SubElement(body, "geom", name=f"{link}:guide:{pj.name}", type="box",
+                             size=vec(max(shape.span(), GUIDE_SIZE[0] * size), GUIDE_SIZE[1] * size,
+                                      GUIDE_SIZE[1] * size),
+                             pos=vec(g.base[0], g.base[1], -5 * GUIDE_SIZE[1] * size),
+                             euler=vec(0.0, 0.0, g.alpha), material="mat:ground")
+    for p, xy in zip(names, pts):
+        etree.SubElement(body, "site", name=site_name(mech, link, p), pos=vec(xy[0], xy[1], 0.0),
+                         size=fmt(SITE_SIZE * size))

@@ -33,7 +33,8 @@ from .assembly import Assembly
 from .description import GROUND
 from .kinematics import solve
 from .loads import applied_loads, stroke_active
-from .mjcf import TreeInfo, site_name, spanning_tree
+from .mjcf import DRIVE_ACTUATOR, TreeInfo, body_name, link_name, site_name, spanning_tree
+from .mjlog import no_log_file
 
 
 @dataclass(frozen=True)
@@ -55,11 +56,11 @@ def apply_loads(asm: Assembly, model: mujoco.MjModel, data: mujoco.MjData, phi: 
     for f in mech.forces:
         if f.link == GROUND or not stroke_active(f, np.array([phi]))[0]:
             continue
-        _add_force(data, model.body(f.link).id, data.site(site_name(asm, f.link, f.point)).xpos,
+        _add_force(data, model.body(body_name(f.link)).id, data.site(site_name(asm, f.link, f.point)).xpos,
                    np.array([f.force[0], f.force[1], 0.0]))
     for t in mech.torques:
         if t.link != GROUND:
-            data.xfrc_applied[model.body(t.link).id, 5] += t.torque
+            data.xfrc_applied[model.body(body_name(t.link)).id, 5] += t.torque
 
 
 def _add_force(data: mujoco.MjData, body: int, point: np.ndarray, force: np.ndarray) -> None:
@@ -84,10 +85,11 @@ def forward_forces(asm: Assembly, model: mujoco.MjModel, data: mujoco.MjData) ->
         reactions[pair.name] = _on_first(asm, model, eq, pair.name, lam)
     crank = model.joint(asm.mechanism.drive.joint)
     rotor = model.dof_armature[crank.dofadr[0]]
-    torque = float(data.actuator("drive").force[0] - rotor * data.qacc[crank.dofadr[0]])
+    torque = float(data.actuator(DRIVE_ACTUATOR).force[0] - rotor * data.qacc[crank.dofadr[0]])
     return StateForces(torque, reactions, normal, moment)
 
 
+@no_log_file()
 def inverse_forces(asm: Assembly, model: mujoco.MjModel, data: mujoco.MjData, phi: float,
                    qpos: np.ndarray, qvel: np.ndarray, qacc: np.ndarray) -> StateForces:
     """Forces from inverse dynamics at the given (closed-form) state; see the module docstring."""
@@ -108,7 +110,7 @@ def inverse_forces(asm: Assembly, model: mujoco.MjModel, data: mujoco.MjData, ph
     for pair in info.closures:
         eq = model.equality(pair.name).id
         b1, b2 = model.eq_obj1id[eq], model.eq_obj2id[eq]
-        point = data.site(site_name(asm, model.body(b1).name, asm.mechanism.revolute(pair.name).point)).xpos.copy()
+        point = data.site(site_name(asm, link_name(model.body(b1).name), asm.mechanism.revolute(pair.name).point)).xpos.copy()
         mujoco.mj_jac(model, data, jp1, None, point, b1)
         jp2[:] = 0.0
         if b2 > 0:
@@ -141,7 +143,7 @@ def inverse_forces(asm: Assembly, model: mujoco.MjModel, data: mujoco.MjData, ph
 def _on_first(asm: Assembly, model, eq: int, name: str, lam: np.ndarray) -> np.ndarray:
     """A connect's force on body1 as the force of the pair's second link on its first."""
     first = asm.mechanism.revolute(name).links[0]
-    body1 = model.body(model.eq_obj1id[eq]).name
+    body1 = link_name(model.body(model.eq_obj1id[eq]).name)
     return np.array(lam[:2], dtype=float) * (1.0 if body1 == first else -1.0)
 
 
@@ -149,7 +151,7 @@ def _tree_reactions(asm: Assembly, model, data, info: TreeInfo):
     mech = asm.mechanism
     reactions, normal, moment = {}, {}, {}
     for parent, child, pair in info.tree:
-        b = model.body(child).id
+        b = model.body(body_name(child)).id
         torque, force = data.cfrc_int[b, :3], data.cfrc_int[b, 3:]
         if pair.kind == "R":
             sign = 1.0 if mech.revolute(pair.name).links[0] == child else -1.0
@@ -195,7 +197,7 @@ def load_schedule(asm: Assembly, model: mujoco.MjModel, phi: np.ndarray) -> np.n
     MuJoCo's own positions by ``apply_loads``; this only feeds the stepping. Gravity is MuJoCo's own."""
     out = np.zeros((phi.shape[0], model.nbody, 6))
     for name, load in applied_loads(asm, solve(asm, phi), gravity=False).items():
-        b = model.body(name).id
+        b = model.body(body_name(name)).id
         out[:, b, 0:2], out[:, b, 5] = load.force, load.moment
     return out.reshape(phi.shape[0], -1)
 

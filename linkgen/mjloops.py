@@ -7,7 +7,7 @@ import mujoco
 import numpy as np
 
 from .assembly import Assembly
-from .mjcf import site_name, spanning_tree
+from .mjcf import link_name, site_name, spanning_tree
 
 
 def mechanism_size(asm: Assembly) -> float:
@@ -24,7 +24,7 @@ def closure_jacobian(asm: Assembly, model: mujoco.MjModel, data: mujoco.MjData) 
     for pair in spanning_tree(asm).closures:
         eq = model.equality(pair.name).id
         b1, b2 = model.eq_obj1id[eq], model.eq_obj2id[eq]
-        point = data.site(site_name(asm, model.body(b1).name, asm.mechanism.revolute(pair.name).point)).xpos
+        point = data.site(site_name(asm, link_name(model.body(b1).name), asm.mechanism.revolute(pair.name).point)).xpos
         mujoco.mj_jac(model, data, jp1, None, point, b1)
         jp2[:] = 0.0
         if b2 > 0:
@@ -41,7 +41,7 @@ def closure_forces(asm: Assembly, model: mujoco.MjModel, reactions: dict[str, np
     for pair in spanning_tree(asm).closures:
         eq = model.equality(pair.name).id
         first = asm.mechanism.revolute(pair.name).links[0]
-        sign = 1.0 if model.body(model.eq_obj1id[eq]).name == first else -1.0
+        sign = 1.0 if link_name(model.body(model.eq_obj1id[eq]).name) == first else -1.0
         out += list(sign * reactions[pair.name][k])
     return np.array(out, dtype=float)
 

@@ -15,7 +15,7 @@ import numpy as np
 
 from .assembly import Assembly
 from .kinematics import solve
-from .mjcf import spanning_tree
+from .mjcf import DRIVE_ACTUATOR, body_name, spanning_tree
 from .mjforces import ForceSamples, apply_loads, forward_forces
 
 
@@ -72,7 +72,8 @@ def read_samples(asm: Assembly, model: mujoco.MjModel, time: np.ndarray, qpos: n
         d.ctrl[:] = drive_ctrl
         mujoco.mj_kinematics(model, d)
         mujoco.mj_comPos(model, d)
-        apply_loads(asm, model, d, math.atan2(d.body(mech.crank).xmat[3], d.body(mech.crank).xmat[0]))
+        crank_body = d.body(body_name(mech.crank))
+        apply_loads(asm, model, d, math.atan2(crank_body.xmat[3], crank_body.xmat[0]))
         mujoco.mj_forward(model, d)
         mujoco.mj_rnePostConstraint(model, d)
         states.append(forward_forces(asm, model, d))
@@ -86,7 +87,7 @@ def read_samples(asm: Assembly, model: mujoco.MjModel, time: np.ndarray, qpos: n
             mujoco.mj_objectAcceleration(model, d, mujoco.mjtObj.mjOBJ_SITE, sid, r6, 0)
             out_pts[p][k] = (d.site(p).xpos[:2], v, r6[3:5] + g)  # MuJoCo reports a - g
         for n in out_lnk:
-            b = d.body(n)
+            b = d.body(body_name(n))
             mujoco.mj_objectVelocity(model, d, mujoco.mjtObj.mjOBJ_BODY, b.id, r6, 0)
             w = r6[2]
             mujoco.mj_objectAcceleration(model, d, mujoco.mjtObj.mjOBJ_BODY, b.id, r6, 0)
@@ -100,7 +101,7 @@ def read_samples(asm: Assembly, model: mujoco.MjModel, time: np.ndarray, qpos: n
                                          sign * d.qacc[j.dofadr[0]])
         crank[k] = (out_lnk[mech.crank][k][0], d.qvel[crank_j.dofadr[0]], d.qacc[crank_j.dofadr[0]])
         viol[k] = np.abs(d.efc_pos[: d.ne]).max() if d.ne else 0.0
-        torque[k] = d.actuator("drive").force[0] - armature * d.qacc[crank_j.dofadr[0]]
+        torque[k] = d.actuator(DRIVE_ACTUATOR).force[0] - armature * d.qacc[crank_j.dofadr[0]]
     phi = np.unwrap(crank[:, 0])  # continuous over the run; the closed form is 2π-periodic
     return Samples(time, qpos, qvel, (phi, crank[:, 1], crank[:, 2]),
                    {p: tuple(a[:, j] for j in range(3)) for p, a in out_pts.items()},

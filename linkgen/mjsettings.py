@@ -30,8 +30,9 @@ from dataclasses import asdict, dataclass
 import mujoco
 import numpy as np
 
-from .assembly import Assembly
-from .errors import SimulationError
+from .assembly import Assembly, assemble
+from .description import Mechanism
+from .errors import SimulationError, StructureError
 from .kinetostatics import forces
 from .mjoptions import IMPEDANCE, PLACEHOLDER, Settings
 from .mjloops import closure_diag, closure_forces, closure_jacobian, mechanism_size
@@ -163,14 +164,39 @@ def sigma_min(model: mujoco.MjModel, jac: np.ndarray, drive_joint: str, size: fl
     return float(s[-1]) if s.size else 1.0
 
 
-def settings_for(asm: Assembly) -> Settings:
-    """Settings derived for the description's own drive (ω at the range's end if ε ≠ 0)."""
+def settings_for(source: Mechanism | Assembly) -> Settings:
+    """Settings derived for the description's own drive (ω at the range's end if ε ≠ 0).
+    Without a closed form (groups of class III and higher) they come from the crank speed and
+    the masses alone (``crank_only``)."""
     from .mjcf import write_mjcf
 
-    d = asm.mechanism.drive
+    mech = source if isinstance(source, Mechanism) else source.mechanism
+    d = mech.drive
     w_end = math.sqrt(max(d.omega**2 + 2 * d.epsilon * (d.stop - d.start), 0.0))
-    model = mujoco.MjModel.from_xml_string(write_mjcf(asm, PLACEHOLDER))
-    return derive(asm, model, omega=max(abs(d.omega), w_end), epsilon=d.epsilon)[0]
+    omega = max(abs(d.omega), w_end)
+    if isinstance(source, Mechanism):
+        try:
+            source = assemble(source)
+        except StructureError:
+            return crank_only(mech, omega)
+    model = mujoco.MjModel.from_xml_string(write_mjcf(source, PLACEHOLDER))
+    return derive(source, model, omega=omega, epsilon=d.epsilon)[0]
+
+
+def crank_only(mech: Mechanism, omega: float) -> Settings:
+    """Settings from the crank speed (τ = PHASE/ω) and, for the rotor, Σ (m·L² + I) over the
+    links (L the mechanism's size) instead of J(φ): for mechanisms the closed form does not
+    cover, so neither the loop forces nor J are known before the run."""
+    from .geometry import effective_mass_properties, link_shapes
+    from .pose import mechanism_size
+
+    shapes = link_shapes(mech)
+    size = mechanism_size(mech)
+    j = sum(mp.mass * size**2 + mp.inertia
+            for mp in (effective_mass_properties(mech, shapes, n) for n in mech.moving_links))
+    tau = round_down(PHASE / max(omega, 1e-300))
+    return Settings(timestep=tau / STEPS_PER_TAU, timeconst=tau, armature=round_down(ARMATURE_RATIO * j),
+                    label="from the crank speed (no closed form for this structure)")
 
 
 def apply(model: mujoco.MjModel, settings: Settings, drive_joint: str) -> None:

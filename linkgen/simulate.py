@@ -23,7 +23,8 @@ from .assembly import Assembly
 from .blocks import default_threads
 from .errors import AssemblyError, SimulationError, SingularityError
 from .kinematics import solve
-from .mjcf import site_name, spanning_tree, write_mjcf
+from .mjcf import sensor_name, spanning_tree, write_mjcf
+from .mjlog import no_log_file
 from .mjforces import has_loads, load_schedule
 from .mjloops import mechanism_size
 from .mjsample import Samples, read_samples
@@ -83,6 +84,7 @@ class Run:
     segments: int
 
 
+@no_log_file()
 def build_model(asm: Assembly, settings: Settings | None = None) -> mujoco.MjModel:
     """The compiled MJCF of the mechanism, with ``settings`` (default: derived)."""
     return mujoco.MjModel.from_xml_string(write_mjcf(asm, settings))
@@ -134,6 +136,7 @@ def _assembles(asm: Assembly, phi: np.ndarray) -> bool:
     return True
 
 
+@no_log_file()
 def simulate(asm: Assembly, *, revolutions: float = 1.0, omega: float | None = None,
              epsilon: float | None = None, settings: Settings | None = None, samples: int = 360,
              nthread: int | None = None, progress: Callable[[float, float], None] | None = None,
@@ -313,7 +316,7 @@ def _gap_sensors(asm: Assembly, model: mujoco.MjModel) -> list[tuple[int, int]]:
     out = []
     for pair in spanning_tree(asm).closures:
         point = asm.mechanism.revolute(pair.name).point
-        a, b = (model.sensor(f"pos_{site_name(asm, link, point)}").adr[0] for link in pair.links)
+        a, b = (model.sensor(sensor_name(asm, link, point)).adr[0] for link in pair.links)
         out.append((a, b))
     return out
 
