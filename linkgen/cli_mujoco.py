@@ -129,6 +129,7 @@ def _check_one(path: Path, report: Path | None, practical: bool, nthread: int | 
     from .assembly import assemble
     from .crosscheck import crosscheck
     from .errors import StructureError
+    from .files import message_for
     from .load import load
 
     t0 = time.perf_counter()
@@ -136,10 +137,10 @@ def _check_one(path: Path, report: Path | None, practical: bool, nthread: int | 
         asm = assemble(load(path))
     except StructureError as exc:
         return {"model": path.stem, "file": str(path), "ok": False,
-                "error": f"the closed form does not cover this mechanism ({exc}); `linkgen build` and "
+                "error": f"{path}: the closed form does not cover this mechanism ({exc}); `linkgen build` and "
                          f"`linkgen simulate` still work for it"}
     except LinkgenError as exc:
-        return {"model": path.stem, "file": str(path), "ok": False, "error": str(exc)}
+        return {"model": path.stem, "file": str(path), "ok": False, "error": message_for(path, exc)}
     cc = crosscheck(asm, practical=practical, nthread=nthread,
                     progress=_progress(asm.mechanism.name) if progress else None)
     out = {"file": str(path)} | cc.to_json()
@@ -207,11 +208,15 @@ def cmd_validate(args) -> int:
     if args.json:
         print(json.dumps(results[0] if len(results) == 1 else results, indent=2, allow_nan=False,
                          default=_json_default))
+    elif len(paths) == 1 and "error" in results[0]:
+        print(f"linkgen: error: {results[0]['error']}", file=sys.stderr)
     elif len(paths) == 1:
         print(_summary(results[0]))
     if report is not None:
         path = write_index(results, report, wall, cores)
         print(f"report: {path} ({len(paths)} model(s) in {wall:.1f} s, {cores:.2f} cores busy)", file=sys.stderr)
+    if any("error" in r for r in results):
+        return 2  # a file that could not be validated at all
     return 0 if all(r["ok"] for r in results) else 1
 
 

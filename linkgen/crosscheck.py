@@ -93,16 +93,18 @@ RETRY_MARGIN = 0.5
 MAX_ATTEMPTS = 3
 
 
-def finer(settings: Settings, ratio: float, exponent: float, steps_per_segment: int) -> Settings | None:
+def finer(settings: Settings, ratio: float, exponent: float, steps_per_segment: int,
+          tau_floor: float = 0.0) -> Settings | None:
     """Settings for another run after a miss whose worst error was ``ratio`` × its tolerance,
     or None when the step budget allows none.
 
     Both τ and dt are divided by k = (ratio/margin)^(1/p), keeping dt/τ, where p is how the
     errors scale with τ: 2 for the loop gap (∝ τ²), as assumed for the first retry; measured
     from the two previous runs for the next (near an assembly limit the amplified errors went as
-    τ^0.9 on the seven-link). The cost grows by k."""
+    τ^0.9 on the seven-link). The cost grows by k; τ stays above ``tau_floor``, the precision
+    floor (``mjsettings.precision_floor``)."""
     k = (ratio / RETRY_MARGIN) ** (1.0 / exponent) if math.isfinite(ratio) else 4.0
-    k = min(max(k, 2.0), MAX_STEPS / max(steps_per_segment, 1))
+    k = min(max(k, 2.0), MAX_STEPS / max(steps_per_segment, 1), settings.timeconst / max(tau_floor, 1e-300))
     if k < 1.5:
         return None
     k = math.ceil(k * 10) / 10
@@ -125,7 +127,8 @@ def crosscheck(asm: Assembly, *, practical: bool = True, progress=None, nthread:
             if not (drop > 1.2 and shrink > 1):
                 break  # finer settings stopped helping
             exponent = min(max(math.log(drop) / math.log(shrink), 0.5), 4.0)
-        nxt = finer(cmp.run.settings, last.worst_ratio, exponent, cmp.run.steps // max(cmp.run.segments, 1))
+        nxt = finer(cmp.run.settings, last.worst_ratio, exponent, cmp.run.steps // max(cmp.run.segments, 1),
+                    cmp.run.scales.tau_floor)
         if nxt is None:
             break
         again, cmp2 = _attempt(asm, nxt, progress, nthread)

@@ -25,14 +25,14 @@ does not depend on the last bits of a float.
 from __future__ import annotations
 
 import math
-from dataclasses import asdict, dataclass
+from dataclasses import asdict, dataclass, replace
 
 import mujoco
 import numpy as np
 
 from .assembly import Assembly, assemble
 from .description import Mechanism
-from .errors import SimulationError, StructureError
+from .errors import AssemblyError, SimulationError, SingularityError, StructureError
 from .kinetostatics import forces
 from .mjoptions import IMPEDANCE, PLACEHOLDER, Settings
 from .mjloops import closure_diag, closure_forces, closure_jacobian, mechanism_size
@@ -54,6 +54,11 @@ STEPS_PER_TAU = 20
 # Rotor inertia on the driven joint over the mechanism's peak reduced inertia J(φ): the speed
 # then changes by ~1e-6 relative over a revolution (comparisons use the measured speed anyway).
 ARMATURE_RATIO = 1e6
+# float64 rounding, the margin kept above it, and the error it must stay under relative to the
+# accelerations' scale (a tenth of compare.REL_TOL), for the loop-stiffness floor below.
+EPS = 2.220446049250313e-16
+PRECISION_MARGIN = 10.0
+SETTLE_ERROR = 1e-7
 # Crank angles scanned for the loop forces and conditioning.
 SCAN = 181
 # A run may take at most this many steps (per segment): 4e6 RK4 steps of a ten-link model are
@@ -76,6 +81,7 @@ class Scales:
     reduced_inertia: float
     tau_gap: float
     tau_phase: float
+    tau_floor: float
     capped: bool
 
     def to_json(self) -> dict:
@@ -138,7 +144,8 @@ def derive(asm: Assembly, model: mujoco.MjModel, *, omega: float, epsilon: float
     d = IMPEDANCE
     tau_gap = math.sqrt(gap / ((1 - d) * d * a_peak)) if a_peak > 1e-300 else math.inf
     tau_phase = PHASE / max(abs(omega), 1e-300)
-    tau = round_down(min(tau_gap, tau_phase))
+    tau_floor = precision_floor(size, omega, epsilon)
+    tau = round_down(max(min(tau_gap, tau_phase), tau_floor))
     dt = tau / STEPS_PER_TAU
     capped = False
     if duration is not None and duration / dt > MAX_STEPS:
@@ -148,8 +155,19 @@ def derive(asm: Assembly, model: mujoco.MjModel, *, omega: float, epsilon: float
     j_peak = float(np.abs(cf.reduced.inertia).max())
     armature = round_down(ARMATURE_RATIO * j_peak) if j_peak > 0 else 1.0
     settings = Settings(timestep=dt, timeconst=tau, armature=armature)
-    scales = Scales(size, abs(omega), a_peak, s_min, float(phi[k_min]), j_peak, tau_gap, tau_phase, capped)
+    scales = Scales(size, abs(omega), a_peak, s_min, float(phi[k_min]), j_peak, tau_gap, tau_phase, tau_floor,
+                    capped)
     return settings, scales
+
+
+def precision_floor(size: float, omega: float, epsilon: float = 0.0) -> float:
+    """The smallest loop time constant [s] float64 allows: the loop's stiffness 1/τ² turns the
+    rounding of positions (ε_mach·size) into accelerations of ε_mach·size/τ², which must stay
+    PRECISION_MARGIN times below SETTLE_ERROR of the accelerations' scale size·(ω² + |ε|).
+    (Measured on the seven-link near its assembly limit: τ = 2.6 µs, under this floor of 37 µs,
+    gave errors of 1e-3 everywhere where τ = 60 µs gave 1e-7 away from the limit.)"""
+    a_scale = size * (omega * omega + abs(epsilon))
+    return math.sqrt(PRECISION_MARGIN * EPS * size / (SETTLE_ERROR * max(a_scale, 1e-300)))
 
 
 def sigma_min(model: mujoco.MjModel, jac: np.ndarray, drive_joint: str, size: float) -> float:
@@ -180,7 +198,10 @@ def settings_for(source: Mechanism | Assembly) -> Settings:
         except StructureError:
             return crank_only(mech, omega)
     model = mujoco.MjModel.from_xml_string(write_mjcf(source, PLACEHOLDER))
-    return derive(source, model, omega=omega, epsilon=d.epsilon)[0]
+    try:
+        return derive(source, model, omega=omega, epsilon=d.epsilon)[0]
+    except (SimulationError, SingularityError, AssemblyError):  # a dead centre in the range: no loop forces there
+        return replace(crank_only(mech, omega), label="from the crank speed (the range has a singular pose)")
 
 
 def crank_only(mech: Mechanism, omega: float) -> Settings:

@@ -259,17 +259,21 @@ GLOBAL_SHARE = 1e-3
 
 
 def revolutes(desc: dict) -> list[tuple[str, str, tuple[str, str]]]:
-    """(name, point, (first, second)) of every revolute, by the README's convention: a point
-    on two links is a revolute named after it; on k > 2 links, k − 1 revolutes between the
-    first link listing it and each other one, named ``POINT:FIRST-OTHER``."""
+    """(name, point, (first, second)) of every revolute: a point on two links is a revolute
+    named after it. A point on k > 2 links (a compound hinge) carries k − 1 revolutes whose
+    pairing linkgen chooses in its decomposition (README, "Conventions"); they are taken from
+    linkgen, and every check that uses them (each link's balance, the net force a link gets at
+    a point) holds for any pairing."""
+    import linkgen
+
     carriers: dict[str, list[str]] = {}
     for name, spec in desc["links"].items():
         for p in spec["points"]:
             carriers.setdefault(p, []).append(name)
-    out = []
-    for p, names in carriers.items():
-        for other in names[1:]:
-            out.append((p if len(names) == 2 else f"{p}:{names[0]}-{other}", p, (names[0], other)))
+    out = [(p, p, (names[0], names[1])) for p, names in carriers.items() if len(names) == 2]
+    compound = {p for p, names in carriers.items() if len(names) > 2}
+    if compound:
+        out += [(j.name, j.point, j.links) for j in linkgen.from_dict(desc).revolutes if j.point in compound]
     return out
 
 
