@@ -1,9 +1,9 @@
 """Closed form against MuJoCo at the same crank states: errors per quantity.
 
 Every error is judged relative to a scale that cannot vanish: the larger of the quantity's
-own peak and the mechanism's natural scale for its kind (size L, L·ω, L·(ω² + |ε|) for
-points and sliders; 1 rad, ω, ω² + |ε| for links; the peak reaction F for forces and F·L for
-torques and moments). The loop gap is judged relative to L.
+own peak and the mechanism's natural scale for its kind (size L, L·ω, L·(ω² + |ε|) + |g| for
+points and sliders; 1 rad, ω, ω² + |ε| + |g|/L for links; the peak reaction F for forces and
+F·L for torques and moments). The loop gap is judged relative to L.
 """
 
 from __future__ import annotations
@@ -16,21 +16,12 @@ from .assembly import Assembly
 from .kinematics import solve
 from .kinetostatics import Forces, forces
 from .mjforces import ForceSamples, inverse_forces
-from .mjloops import mechanism_size
+from .mjloops import acceleration_scale, mechanism_size
 from .mjstate import joint_states
 from .motion import Motion
 from .simulate import Run
 
-# Every kinematic quantity within this fraction of its scale.
-REL_TOL = 1e-6
-# The loop gap, at every step of the compared part, within this fraction of the mechanism's size
-# (1e-8 m on the metre-sized bundled models; a gap turns into position errors of gap/σ, σ the
-# loop Jacobian's smallest singular value, see mjsettings).
-GAP_TOL = 1e-8
-# Forces: the forward run within this of the scale, like the kinematics it rests on; the inverse
-# route (closed-form state, no integration) within this, a few hundred roundings.
-FORCE_TOL = 1e-6
-INVERSE_TOL = 1e-10
+from .tolerances import FORCE_TOL, GAP_TOL, INVERSE_TOL, REL_TOL  # noqa: F401 (re-exported)
 
 
 @dataclass(frozen=True)
@@ -92,11 +83,12 @@ def _error(ours: np.ndarray, theirs: np.ndarray, scale: float, tol: float, wrap:
     return QuantityError(float(err.max()) if err.size else 0.0, peak, max(peak, scale), tol, err)
 
 
-def kinematic_scales(size: float, omega: np.ndarray, epsilon: np.ndarray) -> dict[str, float]:
-    """The natural scale of each kind of kinematic quantity."""
+def kinematic_scales(size: float, omega: np.ndarray, epsilon: np.ndarray, gravity: float = 0.0) -> dict[str, float]:
+    """The natural scale of each kind of kinematic quantity (``gravity`` [m/s²] its magnitude)."""
     w, e = float(np.abs(omega).max()), float(np.abs(epsilon).max())
-    return {"position": size, "velocity": size * w, "acceleration": size * (w * w + e), "angle": 1.0,
-            "angular_velocity": w, "angular_acceleration": w * w + e}
+    a = acceleration_scale(size, w, e, gravity)
+    return {"position": size, "velocity": size * w, "acceleration": a, "angle": 1.0,
+            "angular_velocity": w, "angular_acceleration": a / size}
 
 
 def force_scale(cf: Forces) -> float:
@@ -112,7 +104,7 @@ def compare(asm: Assembly, run: Run, *, inverse: bool = True) -> Comparison:
     phi, omega, epsilon = s.crank
     mo = solve(asm, phi).motion(omega, epsilon)
     size = mechanism_size(asm)
-    scale = kinematic_scales(size, omega, epsilon)
+    scale = kinematic_scales(size, omega, epsilon, float(np.hypot(*asm.mechanism.gravity)))
     out: dict[str, QuantityError] = {}
 
     def add(name: str, kind: str, ours: np.ndarray, theirs: np.ndarray, wrap: bool = False) -> None:

@@ -16,6 +16,12 @@ def mechanism_size(asm: Assembly) -> float:
     return float(np.hypot(*(xy.max(axis=0) - xy.min(axis=0))))
 
 
+def acceleration_scale(size: float, omega: float, epsilon: float, gravity: float) -> float:
+    """The accelerations' natural scale [m/s²]: size·(ω² + |ε|) + |g|. Gravity belongs in it:
+    at a slow crank the loop forces, and so MuJoCo's resolution of accelerations, are set by g."""
+    return size * (omega * omega + abs(epsilon)) + abs(gravity)
+
+
 def closure_jacobian(asm: Assembly, model: mujoco.MjModel, data: mujoco.MjData) -> np.ndarray:
     """In-plane rows (x, y per loop-closing revolute) of J = J_body1 − J_body2 at each
     closure's point, shape (2·closures, nv). Needs ``mj_kinematics`` and ``mj_comPos``."""

@@ -35,7 +35,8 @@ from .description import Mechanism
 from .errors import AssemblyError, SimulationError, SingularityError, StructureError
 from .kinetostatics import forces
 from .mjoptions import IMPEDANCE, PLACEHOLDER, Settings
-from .mjloops import closure_diag, closure_forces, closure_jacobian, mechanism_size
+from .tolerances import GAP_TOL, REL_TOL
+from .mjloops import acceleration_scale, closure_diag, closure_forces, closure_jacobian, mechanism_size
 from .mjstate import joint_states
 
 # Aimed-for loop gap relative to the size: a third of the gap tolerance (compare.GAP_TOL = 1e-8);
@@ -57,7 +58,7 @@ ARMATURE_RATIO = 1e6
 # float64 rounding, the margin kept above it, and the error it must stay under relative to the
 # accelerations' scale (a tenth of compare.REL_TOL), for the loop-stiffness floor below.
 EPS = 2.220446049250313e-16
-PRECISION_MARGIN = 10.0
+PRECISION_MARGIN = 1.0
 SETTLE_ERROR = 1e-7
 # Crank angles scanned for the loop forces and conditioning.
 SCAN = 181
@@ -144,8 +145,13 @@ def derive(asm: Assembly, model: mujoco.MjModel, *, omega: float, epsilon: float
     d = IMPEDANCE
     tau_gap = math.sqrt(gap / ((1 - d) * d * a_peak)) if a_peak > 1e-300 else math.inf
     tau_phase = PHASE / max(abs(omega), 1e-300)
-    tau_floor = precision_floor(size, omega, epsilon)
-    tau = round_down(max(min(tau_gap, tau_phase), tau_floor))
+    tau_floor = precision_floor(size, omega, epsilon, float(np.hypot(*asm.mechanism.gravity)))
+    tau = min(tau_gap, tau_phase)
+    if tau < tau_floor:
+        # Stiffer loops than float64 resolves: the gap (∝ τ²) and the rounding (∝ 1/τ²) are
+        # balanced at their tolerances, τ = √(τ at the gap tolerance · τ at the rounding one).
+        tau = math.sqrt(tau_gap * math.sqrt(GAP_TOL / GAP_TARGET) * tau_floor * math.sqrt(SETTLE_ERROR / REL_TOL))
+    tau = round_down(tau)
     dt = tau / STEPS_PER_TAU
     capped = False
     if duration is not None and duration / dt > MAX_STEPS:
@@ -160,13 +166,15 @@ def derive(asm: Assembly, model: mujoco.MjModel, *, omega: float, epsilon: float
     return settings, scales
 
 
-def precision_floor(size: float, omega: float, epsilon: float = 0.0) -> float:
+def precision_floor(size: float, omega: float, epsilon: float = 0.0, gravity: float = 0.0) -> float:
     """The smallest loop time constant [s] float64 allows: the loop's stiffness 1/τ² turns the
     rounding of positions (ε_mach·size) into accelerations of ε_mach·size/τ², which must stay
-    PRECISION_MARGIN times below SETTLE_ERROR of the accelerations' scale size·(ω² + |ε|).
-    (Measured on the seven-link near its assembly limit: τ = 2.6 µs, under this floor of 37 µs,
-    gave errors of 1e-3 everywhere where τ = 60 µs gave 1e-7 away from the limit.)"""
-    a_scale = size * (omega * omega + abs(epsilon))
+    PRECISION_MARGIN times below SETTLE_ERROR of the accelerations' scale size·(ω² + |ε|) + |g|.
+    Measured: the seven-link near its assembly limit at τ = 2.6 µs (a fifth of this floor, 12 µs)
+    was off by 1e-3 everywhere where τ = 60 µs gave 1e-7; a generated 5 cm linkage at ω = 0.8
+    rad/s improved from 1.3e-6 to 4e-7 when τ went from 1.5 to 0.75 of its floor (0.1 ms), so
+    the floor is not set higher."""
+    a_scale = acceleration_scale(size, omega, epsilon, gravity)
     return math.sqrt(PRECISION_MARGIN * EPS * size / (SETTLE_ERROR * max(a_scale, 1e-300)))
 
 

@@ -26,7 +26,7 @@ from .kinematics import solve
 from .mjcf import sensor_name, spanning_tree, write_mjcf
 from .mjlog import no_log_file
 from .mjforces import has_loads, load_schedule
-from .mjloops import mechanism_size
+from .mjloops import acceleration_scale, mechanism_size
 from .mjsample import Samples, read_samples
 from .mjoptions import PLACEHOLDER, Settings
 from .mjsettings import Scales, apply, derive
@@ -90,21 +90,22 @@ def build_model(asm: Assembly, settings: Settings | None = None) -> mujoco.MjMod
     return mujoco.MjModel.from_xml_string(write_mjcf(asm, settings))
 
 
-def settle_window(settings: Settings, scales: Scales | None, epsilon: float, target: float = SETTLE_TARGET) -> float:
+def settle_window(settings: Settings, scales: Scales | None, epsilon: float, target: float = SETTLE_TARGET,
+                  gravity: float = 0.0) -> float:
     """Time [s] after a start or a load step until the loop's transient has decayed to
     SETTLE_TARGET of the quantities' scales.
 
     A connect answers a step in its load like a critically damped oscillator of time constant
     τ: the error right after the step is (1 − d) times the loop acceleration a0 (the part the
     soft constraint lets through), and it decays as (1 + t/τ)·e^(−t/τ). Relative to the
-    accelerations' scale size·(ω² + |ε|), and amplified by 1/σ where the loops are
+    accelerations' scale size·(ω² + |ε|) + |g|, and amplified by 1/σ where the loops are
     ill-conditioned, this gives e0; the window is the t where the envelope brings e0 down to
     SETTLE_TARGET (at least 1 τ)."""
     d = settings.solimp[0] if settings.solimp else settings.impedance
     if scales is None:
         e0 = 1.0 - d
     else:
-        a_scale = scales.size * (scales.omega**2 + abs(epsilon))
+        a_scale = acceleration_scale(scales.size, scales.omega, epsilon, gravity)
         e0 = (1.0 - d) * max(1.0, scales.loop_acceleration / max(a_scale, 1e-300)) / min(1.0, scales.sigma_min)
     target = target / e0
     x = 1.0
@@ -179,8 +180,9 @@ def simulate(asm: Assembly, *, revolutions: float = 1.0, omega: float | None = N
     settings = derived if settings is None else settings
     apply(model, settings, mech.drive.joint)
     dt = settings.timestep
-    window = settle_window(settings, scales, eps)
-    lead_window = settle_window(settings, scales, eps, LEAD_TARGET)
+    g = float(np.hypot(*mech.gravity))
+    window = settle_window(settings, scales, eps, SETTLE_TARGET, g)
+    lead_window = settle_window(settings, scales, eps, LEAD_TARGET, g)
 
     # Samples over the range, and which are left out (load switches).
     phi_s = np.linspace(phi_a, phi_b, samples, endpoint=not full)
