@@ -108,13 +108,38 @@ def _motion_json(kin: Kinematics, omega: float, epsilon: float, i: int = 0) -> d
     }
 
 
-def _warn_singular(kin: Kinematics) -> None:
-    from .errors import angle_ranges, format_ranges
+# Exit status of a sampled run (--samples, --csv) in which some samples are singular and
+# --keep-singular was not given: the output is written, those rows marked (singular = 1), and
+# the status tells a script that it holds rows without meaning. 2 stays for errors (nothing
+# written); 1 is `linkgen validate`'s "the two sides disagree".
+SINGULAR_STATUS = 3
 
-    for label, mask in kin.near_singular.items():
-        if np.any(mask):
-            print(f"warning: group {label} is near a singular position at crank angles "
-                  f"{format_ranges(angle_ranges(kin.phi, mask))}", file=sys.stderr)
+
+def singular_groups(kin: Kinematics) -> list[str]:
+    """One line per group with singular samples in ``kin`` (solved with
+    ``on_singular="mark"``): the group, its crank-angle ranges, the count and the cause."""
+    from .errors import angle_ranges, format_ranges
+    from .kinematics import singular_cause
+
+    groups = {g.label: g for g in kin.assembly.structure.groups}
+    return [f"group {label} is singular at crank angles {format_ranges(angle_ranges(kin.phi, mask))} "
+            f"({int(np.count_nonzero(mask))} of {len(kin.phi)} samples: {singular_cause(groups[label])})"
+            for label, mask in kin.near_singular.items() if np.any(mask)]
+
+
+def report_singular(model: Path, kin: Kinematics | None, keep: bool) -> int:
+    """Tell stderr which samples were marked singular (naming ``model``, the groups and the
+    angles; ``kin`` None: none was); the command's exit status: 0 if none or ``keep``, else
+    SINGULAR_STATUS."""
+    lines = [] if kin is None else singular_groups(kin)
+    if not lines:
+        return 0
+    kind, tail = (("warning", "kept: --keep-singular") if keep else
+                  ("error", f"exit status {SINGULAR_STATUS}; --keep-singular accepts them"))
+    for line in lines:
+        print(f"linkgen: {kind}: {model}: {line}; marked singular = 1 in the output, every other value in "
+              f"those rows set to 0 ({tail})", file=sys.stderr)
+    return 0 if keep else SINGULAR_STATUS
 
 
 def drive_rates(mech, args) -> tuple[float, float]:
@@ -128,13 +153,19 @@ def drive_rates(mech, args) -> tuple[float, float]:
 CSV_CHUNK_ROWS = 4096
 
 
+def _text(column: np.ndarray) -> list[str]:
+    """A column's cells: whole numbers (booleans, integers) as such, floats at full precision."""
+    if column.dtype.kind in "biu":
+        return [str(int(x)) for x in column.tolist()]
+    return [repr(float(x)) for x in column.tolist()]
+
+
 def _write_csv(out, cols: list[str], data: list[np.ndarray]) -> int:
     writer = csv.writer(out)
     writer.writerow(cols)
     n = len(data[0]) if data else 0
     for start in range(0, n, CSV_CHUNK_ROWS):
-        block = np.column_stack([d[start:start + CSV_CHUNK_ROWS] for d in data])
-        writer.writerows([repr(float(x)) for x in row] for row in block)
+        writer.writerows(zip(*(_text(np.asarray(d[start:start + CSV_CHUNK_ROWS])) for d in data)))
     return n
 
 
@@ -192,6 +223,9 @@ def check_crank_options(args) -> None:
     if sampled and single:
         raise OptionError(f"{single[0]} cannot be combined with {sampled[0]}: {single[0]} is for one crank "
                           f"angle, {sampled[0]} for samples over the drive range")
+    if args.keep_singular and not sampled:
+        raise OptionError("--keep-singular is for samples (--samples, --csv); at one crank angle a singular "
+                          "position is an error")
 
 
 def cmd_analyze(args) -> int:
@@ -200,10 +234,9 @@ def cmd_analyze(args) -> int:
     omega, epsilon = drive_rates(mech, args)
     if args.samples is not None or args.csv is not None:
         phi = crank_grid(mech, args.samples or 360)
-        kin = solve(mech, phi)
-        _warn_singular(kin)
+        kin = solve(mech, phi, on_singular="mark")
         mo = kin.motion(omega, epsilon)
-        cols, data = ["phi"], [phi]
+        cols, data = ["phi", "singular"], [phi, kin.singular]
         for kind, table in (("point", mo.points), ("link", mo.links), ("slider", mo.sliders)):
             names = ("position", "velocity", "acceleration") if kind == "point" else (
                 ("angle", "angular_velocity", "angular_acceleration") if kind == "link"
@@ -217,10 +250,9 @@ def cmd_analyze(args) -> int:
                         cols.append(f"{n}.{qname}")
                         data.append(arr)
         write_rows(cols, data, args.csv)
-        return 0
+        return report_singular(args.model, kin, args.keep_singular)
     phi = mech.drive.start if args.angle is None else args.angle
     kin = solve(mech, np.array([phi]))
-    _warn_singular(kin)
     result = _motion_json(kin, omega, epsilon)
     check_finite(result)
     if args.json:
@@ -251,6 +283,10 @@ def add_crank_arguments(parser: argparse.ArgumentParser, example_angle: str) -> 
     parser.add_argument("--json", action="store_true", help="print one JSON object (not with --samples/--csv)")
     parser.add_argument("--samples", type=_positive_int, help="evaluate this many angles over the drive range")
     parser.add_argument("--csv", type=Path, help="write the samples as CSV to this file (not with --angle/--json)")
+    parser.add_argument("--keep-singular", action="store_true",
+                        help="with samples: exit 0 even if some are singular (by default such samples are "
+                             f"written marked, singular = 1, and the exit status is {SINGULAR_STATUS}); at one "
+                             "crank angle a singular position is always an error (status 2)")
 
 
 class _Parser(argparse.ArgumentParser):
