@@ -144,7 +144,8 @@ def test_near_singular_forces_are_no_longer_answered(tmp_path, capsys):
     head = lines[0].split(",")
     rows = [dict(zip(head, line.split(","))) for line in lines[1:]]
     assert [r["singular"] for r in rows] == ["1", "0", "0", "0", "0"] and float(rows[0]["phi"]) == 1e-16
-    assert all(abs(float(r["balancing_torque"])) < 1e4 for r in rows)  # largest at 3.0 rad: 1.1e3 N·m; the old answer at 1e-16 was -2.3e78
+    # the largest, at 3.0 rad, is 1.1e3 N·m; the old answer at 1e-16 was -2.3e78 N·m
+    assert all(abs(float(r["balancing_torque"])) < 1e4 for r in rows)
     assert captured.err.endswith(f"group {GROUP} is singular at crank angles 0.000° (1 of 5 samples: {CAUSE}); "
                                  "marked singular = 1 in the output, every other value in those rows set to 0 "
                                  "(exit status 3; --keep-singular accepts them)\n")
