@@ -20,6 +20,7 @@ import numpy as np
 
 from . import limits
 from .assembly import assemble
+from .cli_singular import SINGULAR_STATUS, report_singular
 from .errors import DescriptionError, LinkgenError
 from .files import atomic_open, message_for
 from .kinematics import Kinematics, solve
@@ -106,40 +107,6 @@ def _motion_json(kin: Kinematics, omega: float, epsilon: float, i: int = 0) -> d
         "sliders": {n: {"displacement": float(p[i]), "velocity": float(v[i]), "acceleration": float(a[i])}
                     for n, (p, v, a) in mo.sliders.items()},
     }
-
-
-# Exit status of a sampled run (--samples, --csv) in which some samples are singular and
-# --keep-singular was not given: the output is written, those rows marked (singular = 1), and
-# the status tells a script that it holds rows without meaning. 2 stays for errors (nothing
-# written); 1 is `linkgen validate`'s "the two sides disagree".
-SINGULAR_STATUS = 3
-
-
-def singular_groups(kin: Kinematics) -> list[str]:
-    """One line per group with singular samples in ``kin`` (solved with
-    ``on_singular="mark"``): the group, its crank-angle ranges, the count and the cause."""
-    from .errors import angle_ranges, format_ranges
-    from .kinematics import singular_cause
-
-    groups = {g.label: g for g in kin.assembly.structure.groups}
-    return [f"group {label} is singular at crank angles {format_ranges(angle_ranges(kin.phi, mask))} "
-            f"({int(np.count_nonzero(mask))} of {len(kin.phi)} samples: {singular_cause(groups[label])})"
-            for label, mask in kin.near_singular.items() if np.any(mask)]
-
-
-def report_singular(model: Path, kin: Kinematics | None, keep: bool) -> int:
-    """Tell stderr which samples were marked singular (naming ``model``, the groups and the
-    angles; ``kin`` None: none was); the command's exit status: 0 if none or ``keep``, else
-    SINGULAR_STATUS."""
-    lines = [] if kin is None else singular_groups(kin)
-    if not lines:
-        return 0
-    kind, tail = (("warning", "kept: --keep-singular") if keep else
-                  ("error", f"exit status {SINGULAR_STATUS}; --keep-singular accepts them"))
-    for line in lines:
-        print(f"linkgen: {kind}: {model}: {line}; marked singular = 1 in the output, every other value in "
-              f"those rows set to 0 ({tail})", file=sys.stderr)
-    return 0 if keep else SINGULAR_STATUS
 
 
 def drive_rates(mech, args) -> tuple[float, float]:

@@ -32,10 +32,10 @@ def forces_json(f: Forces, mech, i: int = 0) -> dict:
 
 
 def _columns(f: Forces) -> tuple[list[str], list[np.ndarray]]:
-    cols = ["phi", "singular", "balancing_torque", "power_balance_torque", "reduced_inertia", "reduced_inertia_derivative",
-            "reduced_moment"]
-    data = [f.phi, f.singular, f.balancing_torque, f.power_balance_torque, f.reduced.inertia, f.reduced.inertia_derivative,
-            f.reduced.moment]
+    cols = ["phi", "singular", "balancing_torque", "power_balance_torque", "reduced_inertia",
+            "reduced_inertia_derivative", "reduced_moment"]
+    data = [f.phi, f.singular, f.balancing_torque, f.power_balance_torque, f.reduced.inertia,
+            f.reduced.inertia_derivative, f.reduced.moment]
     for k, v in f.reactions.items():
         cols += [f"{k}.force.x", f"{k}.force.y"]
         data += [v[:, 0], v[:, 1]]
@@ -46,7 +46,8 @@ def _columns(f: Forces) -> tuple[list[str], list[np.ndarray]]:
 
 
 def cmd_forces(args) -> int:
-    from .cli import check_crank_options, check_finite, crank_grid, drive_rates, print_json, report_singular, write_rows
+    from .cli import check_crank_options, check_finite, crank_grid, drive_rates, print_json, write_rows
+    from .cli_singular import report_singular
     from .kinematics import solve
 
     check_crank_options(args)

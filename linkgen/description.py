@@ -44,7 +44,8 @@ def check_name(name: object, where: str) -> str:
     if not isinstance(name, str) or not _NAME.match(name):
         raise DescriptionError(
             shown_field(where), f"must be a name of letters, digits and '_' not starting with a digit, got "
-            f"{shown(name)}" + (f" ({len(name)} characters)" if isinstance(name, str) and len(name) > 60 else "")
+            f"{shown(name)}" + (f" ({len(name)} characters)" if isinstance(name, str) and shown(name) != repr(name)
+                                else "")
         )
     return name
 
