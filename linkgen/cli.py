@@ -1,9 +1,11 @@
 """Command-line interface: ``linkgen structure|analyze|forces|build|simulate|validate``.
 
 User mistakes (LinkgenError, missing files, bad arguments, conflicting options) print one
-line to stderr naming the file concerned and exit with status 2; no traceback. Output closed
-early by the reader (``linkgen analyze ... | head``) ends quietly with status 141, as a
-process stopped by SIGPIPE would.
+line to stderr naming the file concerned and exit with status 2; no traceback. A sampled run
+(``analyze``/``forces`` with --samples/--csv) writes singular samples marked (column
+``singular`` = 1) and exits with status 3 unless --keep-singular is given. Output closed early
+by the reader (``linkgen analyze ... | head``) ends quietly with status 141, as a process
+stopped by SIGPIPE would.
 """
 
 from __future__ import annotations
