@@ -1,9 +1,11 @@
 """Command-line interface: ``linkgen structure|analyze|forces|build|simulate|validate``.
 
 User mistakes (LinkgenError, missing files, bad arguments, conflicting options) print one
-line to stderr naming the file concerned and exit with status 2; no traceback. Output closed
-early by the reader (``linkgen analyze ... | head``) ends quietly with status 141, as a
-process stopped by SIGPIPE would.
+line to stderr naming the file concerned and exit with status 2; no traceback. A sampled run
+(``analyze``/``forces`` with --samples/--csv) writes singular samples marked (column
+``singular`` = 1) and exits with status 3 unless --keep-singular is given. Output closed early
+by the reader (``linkgen analyze ... | head``) ends quietly with status 141, as a process
+stopped by SIGPIPE would.
 """
 
 from __future__ import annotations
@@ -20,6 +22,7 @@ import numpy as np
 
 from . import limits
 from .assembly import assemble
+from .cli_singular import SINGULAR_STATUS, report_singular
 from .errors import DescriptionError, LinkgenError
 from .files import atomic_open, message_for
 from .kinematics import Kinematics, solve
@@ -108,15 +111,6 @@ def _motion_json(kin: Kinematics, omega: float, epsilon: float, i: int = 0) -> d
     }
 
 
-def _warn_singular(kin: Kinematics) -> None:
-    from .errors import angle_ranges, format_ranges
-
-    for label, mask in kin.near_singular.items():
-        if np.any(mask):
-            print(f"warning: group {label} is near a singular position at crank angles "
-                  f"{format_ranges(angle_ranges(kin.phi, mask))}", file=sys.stderr)
-
-
 def drive_rates(mech, args) -> tuple[float, float]:
     """ω [rad/s] and ε [rad/s²] from --omega/--epsilon, else the description's drive."""
     return (mech.drive.omega if args.omega is None else args.omega,
@@ -128,13 +122,19 @@ def drive_rates(mech, args) -> tuple[float, float]:
 CSV_CHUNK_ROWS = 4096
 
 
+def _text(column: np.ndarray) -> list[str]:
+    """A column's cells: whole numbers (booleans, integers) as such, floats at full precision."""
+    if column.dtype.kind in "biu":
+        return [str(int(x)) for x in column.tolist()]
+    return [repr(float(x)) for x in column.tolist()]
+
+
 def _write_csv(out, cols: list[str], data: list[np.ndarray]) -> int:
     writer = csv.writer(out)
     writer.writerow(cols)
     n = len(data[0]) if data else 0
     for start in range(0, n, CSV_CHUNK_ROWS):
-        block = np.column_stack([d[start:start + CSV_CHUNK_ROWS] for d in data])
-        writer.writerows([repr(float(x)) for x in row] for row in block)
+        writer.writerows(zip(*(_text(np.asarray(d[start:start + CSV_CHUNK_ROWS])) for d in data)))
     return n
 
 
@@ -192,6 +192,9 @@ def check_crank_options(args) -> None:
     if sampled and single:
         raise OptionError(f"{single[0]} cannot be combined with {sampled[0]}: {single[0]} is for one crank "
                           f"angle, {sampled[0]} for samples over the drive range")
+    if args.keep_singular and not sampled:
+        raise OptionError("--keep-singular is for samples (--samples, --csv); at one crank angle a singular "
+                          "position is an error")
 
 
 def cmd_analyze(args) -> int:
@@ -200,10 +203,9 @@ def cmd_analyze(args) -> int:
     omega, epsilon = drive_rates(mech, args)
     if args.samples is not None or args.csv is not None:
         phi = crank_grid(mech, args.samples or 360)
-        kin = solve(mech, phi)
-        _warn_singular(kin)
+        kin = solve(mech, phi, on_singular="mark")
         mo = kin.motion(omega, epsilon)
-        cols, data = ["phi"], [phi]
+        cols, data = ["phi", "singular"], [phi, kin.singular]
         for kind, table in (("point", mo.points), ("link", mo.links), ("slider", mo.sliders)):
             names = ("position", "velocity", "acceleration") if kind == "point" else (
                 ("angle", "angular_velocity", "angular_acceleration") if kind == "link"
@@ -217,10 +219,9 @@ def cmd_analyze(args) -> int:
                         cols.append(f"{n}.{qname}")
                         data.append(arr)
         write_rows(cols, data, args.csv)
-        return 0
+        return report_singular(args.model, kin, args.keep_singular)
     phi = mech.drive.start if args.angle is None else args.angle
     kin = solve(mech, np.array([phi]))
-    _warn_singular(kin)
     result = _motion_json(kin, omega, epsilon)
     check_finite(result)
     if args.json:
@@ -251,6 +252,10 @@ def add_crank_arguments(parser: argparse.ArgumentParser, example_angle: str) -> 
     parser.add_argument("--json", action="store_true", help="print one JSON object (not with --samples/--csv)")
     parser.add_argument("--samples", type=_positive_int, help="evaluate this many angles over the drive range")
     parser.add_argument("--csv", type=Path, help="write the samples as CSV to this file (not with --angle/--json)")
+    parser.add_argument("--keep-singular", action="store_true",
+                        help="with samples: exit 0 even if some are singular (by default such samples are "
+                             f"written marked, singular = 1, and the exit status is {SINGULAR_STATUS}); at one "
+                             "crank angle a singular position is always an error (status 2)")
 
 
 class _Parser(argparse.ArgumentParser):

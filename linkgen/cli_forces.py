@@ -32,10 +32,10 @@ def forces_json(f: Forces, mech, i: int = 0) -> dict:
 
 
 def _columns(f: Forces) -> tuple[list[str], list[np.ndarray]]:
-    cols = ["phi", "balancing_torque", "power_balance_torque", "reduced_inertia", "reduced_inertia_derivative",
-            "reduced_moment"]
-    data = [f.phi, f.balancing_torque, f.power_balance_torque, f.reduced.inertia, f.reduced.inertia_derivative,
-            f.reduced.moment]
+    cols = ["phi", "singular", "balancing_torque", "power_balance_torque", "reduced_inertia",
+            "reduced_inertia_derivative", "reduced_moment"]
+    data = [f.phi, f.singular, f.balancing_torque, f.power_balance_torque, f.reduced.inertia,
+            f.reduced.inertia_derivative, f.reduced.moment]
     for k, v in f.reactions.items():
         cols += [f"{k}.force.x", f"{k}.force.y"]
         data += [v[:, 0], v[:, 1]]
@@ -46,7 +46,8 @@ def _columns(f: Forces) -> tuple[list[str], list[np.ndarray]]:
 
 
 def cmd_forces(args) -> int:
-    from .cli import _warn_singular, check_crank_options, check_finite, crank_grid, drive_rates, print_json, write_rows
+    from .cli import check_crank_options, check_finite, crank_grid, drive_rates, print_json, write_rows
+    from .cli_singular import report_singular
     from .kinematics import solve
 
     check_crank_options(args)
@@ -54,11 +55,12 @@ def cmd_forces(args) -> int:
     omega, epsilon = drive_rates(mech, args)
     if args.samples is not None or args.csv is not None:
         phi = crank_grid(mech, args.samples or 360)
-        _warn_singular(solve(mech, phi))
-        write_rows(*_columns(forces(mech, phi, omega, epsilon)), args.csv)
-        return 0
+        f = forces(mech, phi, omega, epsilon, on_singular="mark")
+        write_rows(*_columns(f), args.csv)
+        # which groups: a second kinematic pass, only when some sample is marked
+        kin = solve(mech, phi, on_singular="mark") if f.singular.any() else None
+        return report_singular(args.model, kin, args.keep_singular)
     phi = mech.drive.start if args.angle is None else args.angle
-    _warn_singular(solve(mech, np.array([phi])))
     f = forces(mech, np.array([phi]), omega, epsilon)
     result = forces_json(f, mech)
     check_finite(dict(result, power_balance_torque=float(f.power_balance_torque[0])))

@@ -34,6 +34,7 @@ from types import MappingProxyType
 from typing import Mapping
 
 from .errors import DescriptionError
+from .units import shown, shown_field
 
 GROUND = "ground"
 _NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$")
@@ -42,7 +43,9 @@ _NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$")
 def check_name(name: object, where: str) -> str:
     if not isinstance(name, str) or not _NAME.match(name):
         raise DescriptionError(
-            where, f"must be a name of letters, digits and '_' not starting with a digit, got {name!r}"
+            shown_field(where), f"must be a name of letters, digits and '_' not starting with a digit, got "
+            f"{shown(name)}" + (f" ({len(name)} characters)" if isinstance(name, str) and shown(name) != repr(name)
+                                else "")
         )
     return name
 

@@ -35,9 +35,14 @@ _REASONS = {
 }
 
 
+def singular_cause(group: Group) -> str:
+    """Why a group is singular, in a few words (a dead centre, parallel guides)."""
+    return _REASONS[group.kind]
+
+
 def singular_reason(group: Group) -> str:
     """Why a group is singular, in words, with the rule."""
-    return (f"{_REASONS[group.kind]} (normalised transfer-function denominator below SINGULAR_TOL = "
+    return (f"{singular_cause(group)} (normalised transfer-function denominator below SINGULAR_TOL = "
             f"{SINGULAR_TOL:g}; transfer functions grow as its inverse)")
 
 

@@ -21,6 +21,18 @@ def shown(value: object) -> str:
     return _SHOWN.repr(value)
 
 
+# Longest field path a message quotes in full [characters], as long as a value is quoted; a
+# longer one (a huge name in it) keeps its beginning and says how much was left out.
+FIELD_SHOWN = 60
+
+
+def shown_field(field: str) -> str:
+    """A field path cut to FIELD_SHOWN characters (with the count of those left out)."""
+    if len(field) <= FIELD_SHOWN:
+        return field
+    return f"{field[:FIELD_SHOWN]}... ({len(field) - FIELD_SHOWN} more characters)"
+
+
 _ANGLE = re.compile(r"^\s*([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)\s*(deg|rad)\s*$")
 
 

@@ -248,3 +248,26 @@ def test_reversed_slot_coulisse_agrees_with_mujoco():
     cmp = compare(asm, simulate(asm))
     bad = {k: q.relative_error for k, q in cmp.quantities.items() if not q.ok}
     assert not bad, bad
+
+
+@pytest.mark.parametrize("reversed_slot", [False, True], ids=["slot", "reversed_slot"])
+def test_mujoco_is_started_in_the_sketched_mode(reversed_slot):
+    # `linkgen validate` once reported agreement for the wrong mode: MuJoCo is started from the
+    # closed form's pose, so both sides shared it. The pose MuJoCo is given must hold the rocker
+    # at the angle by hand, and MuJoCo's own loop-closure residuals must vanish there.
+    import mujoco
+
+    from linkgen.simulate import build_model, joint_state
+
+    asm = assemble(from_dict(coulisse(reversed_slot)))
+    model = build_model(asm)
+    data = mujoco.MjData(model)
+    phi = math.atan2(A[1], A[0]) + np.radians(np.arange(0.0, 360.0, 45.0))
+    rocker = model.body("rocker").id
+    for p, hand in zip(phi, _rocker_by_hand(phi)):
+        data.qpos[:] = joint_state(asm, model, float(p), 0.0, 0.0)[0]
+        mujoco.mj_forward(model, data)
+        angle = math.atan2(data.xmat[rocker][3], data.xmat[rocker][0])
+        assert abs(np.angle(np.exp(1j * (angle - hand)))) < HAND_ANGLE_TOL
+        closure = data.efc_pos[data.efc_type == mujoco.mjtConstraint.mjCNSTR_EQUALITY]
+        assert closure.size and np.abs(closure).max() < HAND_ANGLE_TOL * CRANK

@@ -181,3 +181,17 @@ def test_csv_in_chunks_is_the_whole_table(tmp_path, monkeypatch, capsys):
     lines = (tmp_path / "t.csv").read_text().splitlines()
     assert lines[0] == "a,b"
     assert lines[1:] == [f"{a!r},{b!r}" for a, b in zip(x.tolist(), (x**2).tolist())]
+
+
+def test_validate_folder_reports_every_bad_file(tmp_path, capsys):
+    # `validate DIR` once stopped at the first bad file; now each is reported and the status is 2.
+    # (Two bad files keep the test fast: a good one costs a MuJoCo run; `build DIR` above shows
+    # the good files around a bad one being processed.)
+    models = tmp_path / "models"
+    models.mkdir()
+    (models / "a.toml").write_bytes(b"\xff\xfe binary")
+    (models / "b.toml").write_text("[mechanism]\nname = 'x'\n")
+    assert main(["validate", str(models), "--report", str(tmp_path / "report")]) == 2
+    out = capsys.readouterr().out
+    assert f"{models / 'a.toml'}: is not UTF-8 text (byte 0xff at line 1, offset 0)" in out
+    assert f"{models / 'b.toml'}: description.drive: is required" in out

@@ -67,6 +67,18 @@ def test_deep_value_in_a_field_is_quoted_short(tmp_path):
     assert _error(path) == f"{path}: points.O: must be a list of 2 numbers [x, y], got [[[[...]]]]"
 
 
+def test_huge_bad_name_is_quoted_short(tmp_path):
+    # a name of a million characters that is not a name: the message quotes its beginning, once
+    # in the field (its first 60 characters of the 1000008 of 'points.<name>') and once as the
+    # value, and says how long it is
+    name = "9" + "a" * 10**6
+    text = FOURBAR.read_text().replace("O = [0.0, 0.0]", f"O = [0.0, 0.0]\n{name} = [1.0, 1.0]")
+    path = _write(tmp_path, text.encode())
+    message = _error(path)
+    assert message == (f"{path}: points.9{'a' * 52}... (999948 more characters): must be a name of letters, digits "
+                       f"and '_' not starting with a digit, got '9{'a' * 26}...{'a' * 28}' (1000001 characters)")
+
+
 def test_integer_beyond_float_range(tmp_path):
     text = FOURBAR.read_text().replace("omega = 10.0", "omega = " + "9" * 400)
     path = _write(tmp_path, text.encode())
