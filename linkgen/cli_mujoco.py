@@ -153,6 +153,11 @@ def _check_one(path: Path, report: Path | None, practical: bool, nthread: int | 
     return out
 
 
+def _num(x, spec: str) -> str:
+    """A figure of the JSON results, or "–" where a failed run left none (null)."""
+    return "–" if x is None else format(x, spec)
+
+
 def _summary(r: dict) -> str:
     if "error" in r:
         return f"{r['model']:<22} FAIL {r['error']}"
@@ -169,13 +174,15 @@ def _summary(r: dict) -> str:
     shown = r.get("diagnosis", [])[:DIAGNOSIS_LINES]
     for d in shown:
         rng = ", ".join(f"{a:.1f}°..{b:.1f}°" for a, b in d["ranges_deg"][:3])
-        lines.append(f"    {d['quantity']}: {d['relative_error']:.2e} (tolerance {d['tolerance']:g}) at {rng}: "
+        lines.append(f"    {d['quantity']}: {_num(d['relative_error'], '.2e')} (tolerance {d['tolerance']:g}) at {rng}: "
                      f"{d['cause']} — {d['detail']}")
     if len(r.get("diagnosis", [])) > len(shown):
         lines.append(f"    … and {len(r['diagnosis']) - len(shown)} more quantities (see --json)")
     if r.get("diagnosis"):
-        tried = "; ".join(f"timestep {a['settings']['timestep']:.3g} s, loop τ {a['settings']['timeconst']:.3g} s → "
-                          f"worst {a['worst']} at {a['worst_error_over_tolerance']:.2g}× its tolerance"
+        tried = "; ".join((f"timestep {a['settings']['timestep']:.3g} s, loop τ {a['settings']['timeconst']:.3g} s"
+                           if a["settings"] else "derived settings")
+                          + (f" → failed: {a['error']}" if a["error"] else
+                             f" → worst {a['worst']} at {_num(a['worst_error_over_tolerance'], '.2g')}× its tolerance")
                           for a in r.get("attempts", []))
         lines.append(f"    tried: {tried}")
     return "\n".join(lines)

@@ -17,23 +17,29 @@ from .practical import PracticalRow, practical_study
 from .simulate import simulate, steps_per_revolution
 
 
+def finite_or_none(x: float) -> float | None:
+    """JSON carries no NaN or Infinity: a value that is not finite (a run that failed) is null."""
+    return float(x) if math.isfinite(x) else None
+
+
 @dataclass(frozen=True)
 class Attempt:
     """One run: its settings, whether everything held, the worst quantity (error/tolerance),
     steps and wall time [s], or the error that stopped it."""
 
-    settings: Settings
+    settings: Settings | None  # None: the run failed before its settings were derived
     ok: bool
     worst: str
     worst_ratio: float
     steps: int
     wall: float
     error: str | None = None
+    capped: bool = False  # a step budget coarsened the settings
 
     def to_json(self) -> dict:
-        return {"settings": self.settings.to_json(), "ok": self.ok, "worst": self.worst,
-                "worst_error_over_tolerance": self.worst_ratio, "steps": self.steps, "wall_s": self.wall,
-                "error": self.error}
+        return {"settings": self.settings.to_json() if self.settings else None, "ok": self.ok, "worst": self.worst,
+                "worst_error_over_tolerance": finite_or_none(self.worst_ratio), "steps": self.steps,
+                "wall_s": self.wall, "error": self.error, "capped_by_step_budget": self.capped}
 
 
 @dataclass(frozen=True)
@@ -79,12 +85,14 @@ def _attempt(asm: Assembly, settings: Settings | None, progress, nthread) -> tup
     try:
         run = simulate(asm, settings=settings, progress=progress, nthread=nthread)
     except SimulationError as exc:
-        s = settings or Settings(timestep=math.nan, timeconst=math.nan)
-        return Attempt(s, False, "run", math.inf, 0, 0.0, str(exc)), None
+        scales = getattr(exc, "scales", None)
+        return Attempt(getattr(exc, "settings", settings), False, "run", math.inf, 0, 0.0, str(exc),
+                       bool(scales and scales.capped and settings is None)), None
     cmp = compare(asm, run)
     worst = max(cmp.quantities, key=lambda k: cmp.quantities[k].relative_error / cmp.quantities[k].tolerance)
     q = cmp.quantities[worst]
-    return Attempt(run.settings, cmp.ok, worst, q.relative_error / q.tolerance, run.steps, run.wall), cmp
+    return Attempt(run.settings, cmp.ok, worst, q.relative_error / q.tolerance, run.steps, run.wall,
+                   capped=bool(run.scales.capped and settings is None)), cmp
 
 
 # Aim of a further run: the worst error at this fraction of its tolerance.
@@ -140,7 +148,8 @@ def crosscheck(asm: Assembly, *, practical: bool = True, progress=None, nthread:
     if cmp is not None and not cmp.ok:
         findings = diagnose(cmp)
     elif cmp is None:
-        findings = [Finding("run", [], math.inf, 0.0, "run failed", first.error or "")]
+        findings = [Finding("run", [], math.inf, 0.0, "time budget" if first.capped else "run failed",
+                            first.error or "")]
     rows = practical_study(asm, cmp.run.settings, nthread=nthread) if (practical and cmp is not None) else []
     return CrossCheck(asm.mechanism.name, cmp, tuple(attempts), tuple(findings), tuple(rows))
 

@@ -35,7 +35,8 @@ class Finding:
     def to_json(self) -> dict:
         return {"quantity": self.quantity,
                 "ranges_deg": [[math.degrees(a), math.degrees(b)] for a, b in self.ranges],
-                "relative_error": self.relative_error, "tolerance": self.tolerance,
+                "relative_error": self.relative_error if math.isfinite(self.relative_error) else None,
+                "tolerance": self.tolerance,
                 "cause": self.cause, "detail": self.detail}
 
     def text(self) -> str:

@@ -132,11 +132,27 @@ class TreeInfo:
 
 
 def spanning_tree(source: Mechanism | Assembly) -> TreeInfo:
-    """The drive pair first, then every prismatic, then revolutes (Kruskal); the rest close loops."""
+    """The drive pair first, then every prismatic, then revolutes (Kruskal) from the lightest
+    pair up; the rest close loops.
+
+    A connect is soft: it opens by (1 − d)·d·τ²·A·λ, A the inverse inertia its two bodies
+    present (MuJoCo's diagonal approximation, dominated by the lighter body). Taking the pairs
+    at light links into the tree first leaves the loops to be closed between heavy links, where
+    A is small: with a 0.1 g block between 10 kg links, closing at the block's pin instead of
+    between the heavy links multiplies A, and so the gap, by 1e5. Pairs are ranked by the
+    lighter of their two links' masses (ground counts as infinitely heavy); ties keep the
+    description's order."""
     mech = _mechanism(source)
+    cached = mech.__dict__.get("_linkgen_spanning_tree")
+    if cached is not None:
+        return cached
     pairs = pairs_of(mech)
     drive = next(p for p in pairs if p.kind == "R" and p.name == mech.drive.joint)
-    ordered = [drive] + [p for p in pairs if p.kind == "P"] + [p for p in pairs if p.kind == "R" and p is not drive]
+    shapes = link_shapes(mech)
+    mass = {n: effective_mass_properties(mech, shapes, n).mass for n in mech.moving_links} | {GROUND: math.inf}
+    revolutes = sorted((p for p in pairs if p.kind == "R" and p is not drive),
+                       key=lambda p: min(mass[p.links[0]], mass[p.links[1]]))
+    ordered = [drive] + [p for p in pairs if p.kind == "P"] + revolutes
     root = {n: n for n in mech.link_names}
 
     def find(n):
@@ -164,7 +180,9 @@ def spanning_tree(source: Mechanism | Assembly) -> TreeInfo:
                 tree.append((parent, child, p))
                 seen.add(child)
                 frontier.append(child)
-    return TreeInfo(tuple(tree), tuple(closures))
+    info = TreeInfo(tuple(tree), tuple(closures))
+    mech.__dict__["_linkgen_spanning_tree"] = info  # the Mechanism is frozen: derived once
+    return info
 
 
 def written_inertial(mech: Mechanism, shapes: dict[str, LinkShape], link: str) -> MassProperties:

@@ -62,9 +62,9 @@ PRECISION_MARGIN = 1.0
 SETTLE_ERROR = 1e-7
 # Crank angles scanned for the loop forces and conditioning.
 SCAN = 181
-# A run may take at most this many steps (per segment): 4e6 RK4 steps of a ten-link model are
-# about a minute here. Beyond it the settings are coarsened and the result says so.
-MAX_STEPS = 4_000_000
+# A run may take at most this many steps (per segment): 1e6 RK4 steps of a ten-link model are
+# about 20 s here. Beyond it the settings are coarsened and the result says so.
+MAX_STEPS = 1_000_000
 
 
 @dataclass(frozen=True)
@@ -160,7 +160,8 @@ def derive(asm: Assembly, model: mujoco.MjModel, *, omega: float, epsilon: float
         capped = True
     j_peak = float(np.abs(cf.reduced.inertia).max())
     armature = round_down(ARMATURE_RATIO * j_peak) if j_peak > 0 else 1.0
-    settings = Settings(timestep=dt, timeconst=tau, armature=armature)
+    settings = Settings(timestep=dt, timeconst=tau, armature=armature,
+                        label="derived, coarsened to the step budget" if capped else "derived")
     scales = Scales(size, abs(omega), a_peak, s_min, float(phi[k_min]), j_peak, tau_gap, tau_phase, tau_floor,
                     capped)
     return settings, scales

@@ -42,12 +42,15 @@ class PracticalRow:
 
     def to_json(self) -> dict:
         s = self.settings
+        def value(x: float) -> float | None:  # JSON carries no NaN: a failed run's figures are null
+            return float(x) if math.isfinite(x) else None
+
         return {"label": s.label, "timestep": s.timestep, "integrator": s.integrator,
                 "solref": [s.timeconst, 1.0], "solimp": [float(x) for x in s.solimp_text.split()],
-                "loop_gap_relative": self.gap, "reaction_error_relative": self.reaction_error,
-                "driving_torque_error_relative": self.torque_error,
-                "steps_per_revolution": self.steps_per_revolution, "wall_s_per_revolution": self.wall_per_revolution,
-                "failure": self.failure}
+                "loop_gap_relative": value(self.gap), "reaction_error_relative": value(self.reaction_error),
+                "driving_torque_error_relative": value(self.torque_error),
+                "steps_per_revolution": value(self.steps_per_revolution),
+                "wall_s_per_revolution": value(self.wall_per_revolution), "failure": self.failure}
 
 
 def ladder(validation: Settings) -> list[Settings]:

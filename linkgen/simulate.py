@@ -179,6 +179,18 @@ def simulate(asm: Assembly, *, revolutions: float = 1.0, omega: float | None = N
     derived, scales = derive(asm, model, omega=w_peak, epsilon=eps, duration=duration)
     settings = derived if settings is None else settings
     apply(model, settings, mech.drive.joint)
+    try:
+        return _run(asm, model, settings, scales, w0, eps, phi_a, phi_b, full, duration, samples, nthread, progress,
+                    gap_abort, wall0)
+    except SimulationError as exc:  # the settings it ran with, and whether a step budget capped them
+        exc.settings, exc.scales = settings, scales
+        raise
+
+
+def _run(asm: Assembly, model: mujoco.MjModel, settings: Settings, scales: Scales, w0: float, eps: float,
+         phi_a: float, phi_b: float, full: bool, duration: float, samples: int, nthread: int | None,
+         progress, gap_abort: float, wall0: float) -> Run:
+    mech = asm.mechanism
     dt = settings.timestep
     g = float(np.hypot(*mech.gravity))
     window = settle_window(settings, scales, eps, SETTLE_TARGET, g)

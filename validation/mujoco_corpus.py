@@ -12,7 +12,6 @@ limits, sizes 1 cm..30 m, ω 0.1..300 rad/s) and runs ``linkgen.crosscheck.cross
 from __future__ import annotations
 
 import argparse
-import math
 import multiprocessing
 import sys
 import time
@@ -83,7 +82,7 @@ def main() -> int:
                 worst["loop gap / size"] = (r["gap"], "loop_gap", r["seed"])
             slow.append((r.get("wall", 0.0), r["seed"], r.get("steps")))
             if r["outcome"] != "ok":
-                msg = r.get("message") or "; ".join(f"{d['quantity']} {d['relative_error']:.1e} {d['cause']}"
+                msg = r.get("message") or "; ".join(f"{d['quantity']} {d['relative_error'] or float('inf'):.1e} {d['cause']}"
                                                    for d in r.get("diagnosis", []))
                 print(f"seed {r['seed']}: {r['outcome']}: {msg.strip().splitlines()[-1][:300]}", file=sys.stderr)
                 if args.out:
