@@ -413,3 +413,30 @@ def random_description(rng: np.random.Generator, *, max_groups: int = 4, margin_
 
 
 __all__ = ["KINDS", "random_description", "to_toml"]
+
+
+def scaled(desc: dict, factor: float, omega: float | None = None, gravity: bool = True) -> dict:
+    """A copy of a TOML-shaped description with every length multiplied by ``factor`` (points,
+    ``length``, ``shape``, guide offsets, centres of mass; explicit inertias by factor², masses
+    and linear densities kept), the crank speed set to ``omega`` if given, and gravity off
+    unless ``gravity``: the same mechanism at another size or speed, for scaling studies."""
+    import copy
+
+    out = copy.deepcopy(desc)
+    out["points"] = {k: [factor * x for x in v] for k, v in out["points"].items()}
+    for link in out["links"].values():
+        if "length" in link:
+            link["length"] *= factor
+        if "shape" in link:
+            link["shape"] = {k: [factor * x for x in v] for k, v in link["shape"].items()}
+        if "inertial" in link:
+            link["inertial"] = dict(link["inertial"], com=[factor * x for x in link["inertial"]["com"]],
+                                    inertia=link["inertial"]["inertia"] * factor**2)
+    for pj in out.get("prismatic", {}).values():
+        if "offset" in pj:
+            pj["offset"] *= factor
+    if omega is not None:
+        out["drive"]["omega"] = omega
+    if not gravity:
+        out["mechanism"]["gravity"] = [0.0, 0.0]
+    return out

@@ -16,6 +16,7 @@ from conftest import ROOT
 from linkgen import assemble, from_dict, load
 from linkgen.cli import main
 from linkgen.compare import GAP_TOL, compare
+from linkgen.corpus import scaled
 from linkgen.crosscheck import crosscheck
 from linkgen.mjcf import write_mjcf
 from linkgen.mjoptions import PLACEHOLDER
@@ -30,18 +31,6 @@ GAP_PREDICTION_BAND = (0.5, 1.05)
 
 def _desc(name: str) -> dict:
     return tomllib.loads((ROOT / "models" / f"{name}.toml").read_text())
-
-
-def _scaled(desc: dict, factor: float, omega: float, gravity: bool = True) -> dict:
-    out = json.loads(json.dumps(desc))
-    out["points"] = {k: [factor * x for x in v] for k, v in out["points"].items()}
-    for link in out["links"].values():
-        if "length" in link:
-            link["length"] *= factor
-    out["drive"]["omega"] = omega
-    if not gravity:
-        out["mechanism"]["gravity"] = [0.0, 0.0]
-    return out
 
 
 @pytest.mark.parametrize("name", ["fourbar", "seven_link", "ga31"])
@@ -59,7 +48,7 @@ def test_the_settings_rule_predicts_the_loop_gap(name):
 @pytest.mark.parametrize("omega", [0.1, 1.0, 10.0, 100.0, 1000.0])
 def test_a_revolution_costs_the_same_steps_at_any_speed_and_size(omega, factor):
     # without gravity or loads the loop forces scale with ω², so τ is set by the crank's period
-    asm = assemble(from_dict(_scaled(_desc("fourbar"), factor, omega, gravity=False)))
+    asm = assemble(from_dict(scaled(_desc("fourbar"), factor, omega, gravity=False)))
     model = mujoco.MjModel.from_xml_string(write_mjcf(asm, PLACEHOLDER))
     settings, scales = derive(asm, model, omega=omega)
     assert scales.tau_phase < scales.tau_gap
@@ -69,7 +58,7 @@ def test_a_revolution_costs_the_same_steps_at_any_speed_and_size(omega, factor):
 
 @pytest.mark.parametrize("omega, factor", [(1000.0, 30.0), (300.0, 0.01), (0.3, 1.0)])
 def test_extreme_speeds_and_sizes_validate(omega, factor):
-    cc = crosscheck(assemble(from_dict(_scaled(_desc("fourbar"), factor, omega))), practical=False)
+    cc = crosscheck(assemble(from_dict(scaled(_desc("fourbar"), factor, omega))), practical=False)
     assert cc.ok, cc.to_json()["diagnosis"]
     assert len(cc.attempts) == 1  # the derived settings hold at the first run
 

@@ -21,19 +21,9 @@ OMEGAS = (0.1, 1.0, 10.0, 100.0, 1000.0)
 SIZES = (0.01, 1.0, 30.0)  # scale factor on the four-bar's lengths (its size is ~1.2 m)
 
 
-def scaled(desc: dict, factor: float, omega: float) -> dict:
-    """The description with every length multiplied by ``factor`` and the crank speed set."""
-    out = json.loads(json.dumps(desc))
-    out["points"] = {k: [factor * x for x in v] for k, v in out["points"].items()}
-    for link in out["links"].values():
-        if "length" in link:
-            link["length"] *= factor
-    out["drive"]["omega"] = omega
-    return out
-
-
 def one(path: str, omega: float, factor: float) -> dict:
     from linkgen import assemble, from_dict
+    from linkgen.corpus import scaled
     from linkgen.crosscheck import crosscheck
 
     t0 = time.perf_counter()
