@@ -80,12 +80,18 @@ def _progress(name: str):
 
 def cmd_simulate(args) -> int:
     from .assembly import assemble
+    from .errors import StructureError
     from .load import load
     from .simulate import simulate, steps_per_revolution
 
     if args.out is not None and args.out.suffix not in (".npz", ".csv"):
         raise DescriptionError("--out", f"must end in .npz or .csv, got {str(args.out)!r}")
-    asm = assemble(load(args.model))
+    mech = load(args.model)
+    try:
+        asm = assemble(mech)
+    except StructureError as exc:
+        raise StructureError(f"{exc}. `linkgen simulate` starts and reads its runs through the closed form, which "
+                             f"does not cover this mechanism yet; `linkgen build` writes its MJCF") from None
     run = simulate(asm, revolutions=args.revolutions, omega=args.omega, epsilon=args.epsilon,
                    samples=args.samples, progress=_progress(asm.mechanism.name))
     s = run.samples
@@ -137,8 +143,8 @@ def _check_one(path: Path, report: Path | None, practical: bool, nthread: int | 
         asm = assemble(load(path))
     except StructureError as exc:
         return {"model": path.stem, "file": str(path), "ok": False,
-                "error": f"{path}: the closed form does not cover this mechanism ({exc}); `linkgen build` and "
-                         f"`linkgen simulate` still work for it"}
+                "error": f"{path}: the closed form does not cover this mechanism ({exc}); `linkgen build` still "
+                         f"writes its MJCF"}
     except LinkgenError as exc:
         return {"model": path.stem, "file": str(path), "ok": False, "error": message_for(path, exc)}
     cc = crosscheck(asm, practical=practical, nthread=nthread,

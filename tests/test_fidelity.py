@@ -181,3 +181,13 @@ def test_steps_per_revolution_is_reported():
     asm = assemble(load(ROOT / "models" / "fourbar.toml"))
     run = simulate(asm, samples=36)
     assert steps_per_revolution(run) == pytest.approx(2 * math.pi / (10.0 * run.settings.timestep), rel=1e-6)
+
+
+def test_class_three_is_built_and_the_closed_form_says_it_does_not_cover_it(tmp_path, capsys):
+    triad = ROOT / "tests" / "data" / "triad_sixbar.toml"
+    assert main(["build", str(triad), "-o", str(tmp_path / "triad.xml")]) == 0
+    assert mujoco.MjModel.from_xml_path(str(tmp_path / "triad.xml")).neq == 2
+    for command in ("validate", "simulate"):
+        assert main([command, str(triad)]) == 2
+        err = capsys.readouterr().err
+        assert str(triad) in err and "class III" in err and "`linkgen build`" in err
