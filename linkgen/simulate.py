@@ -141,7 +141,7 @@ def _assembles(asm: Assembly, phi: np.ndarray) -> bool:
 def simulate(asm: Assembly, *, revolutions: float = 1.0, omega: float | None = None,
              epsilon: float | None = None, settings: Settings | None = None, samples: int = 360,
              nthread: int | None = None, progress: Callable[[float, float], None] | None = None,
-             gap_abort: float = GAP_ABORT) -> Run:
+             gap_abort: float = GAP_ABORT, settle: bool = True) -> Run:
     """Drive the crank over its range (``revolutions`` times for a full-turn range) and sample.
 
     Args:
@@ -153,6 +153,8 @@ def simulate(asm: Assembly, *, revolutions: float = 1.0, omega: float | None = N
         progress: called as progress(fraction done, seconds elapsed) after each chunk of steps
             once a run has lasted PROGRESS_AFTER seconds.
         gap_abort: the loop gap, as a fraction of the size, at which the run stops.
+        settle: leave out the samples in settling windows (after the start where no lead-in is
+            possible, after load switches); False keeps every sample, transients included.
 
     Raises:
         SimulationError: the run diverged, MuJoCo warned, or the loop gap passed GAP_ABORT of
@@ -181,7 +183,7 @@ def simulate(asm: Assembly, *, revolutions: float = 1.0, omega: float | None = N
     apply(model, settings, mech.drive.joint)
     try:
         return _run(asm, model, settings, scales, w0, eps, phi_a, phi_b, full, duration, samples, nthread, progress,
-                    gap_abort, wall0)
+                    gap_abort, wall0, settle)
     except SimulationError as exc:  # the settings it ran with, and whether a step budget capped them
         exc.settings, exc.scales = settings, scales
         raise
@@ -189,11 +191,11 @@ def simulate(asm: Assembly, *, revolutions: float = 1.0, omega: float | None = N
 
 def _run(asm: Assembly, model: mujoco.MjModel, settings: Settings, scales: Scales, w0: float, eps: float,
          phi_a: float, phi_b: float, full: bool, duration: float, samples: int, nthread: int | None,
-         progress, gap_abort: float, wall0: float) -> Run:
+         progress, gap_abort: float, wall0: float, settle: bool) -> Run:
     mech = asm.mechanism
     dt = settings.timestep
     g = float(np.hypot(*mech.gravity))
-    window = settle_window(settings, scales, eps, SETTLE_TARGET, g)
+    window = settle_window(settings, scales, eps, SETTLE_TARGET, g) if settle else 0.0
     lead_window = settle_window(settings, scales, eps, LEAD_TARGET, g)
 
     # Samples over the range, and which are left out (load switches).
@@ -218,7 +220,7 @@ def _run(asm: Assembly, model: mujoco.MjModel, settings: Settings, scales: Scale
         t_start[0] = 0.0
         t_start = np.maximum(t_start, 0.0)
         hit = t_s <= lead_window
-        if hit.any():
+        if hit.any() and settle:
             keep &= ~hit
             left.append(LeftOut("start", phi_a, float(phi_s[hit].max()), int(hit.sum())))
     seg_of = np.clip(np.searchsorted(bounds, phi_s, side="right") - 1, 0, nseg - 1)
