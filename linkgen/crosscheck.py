@@ -125,6 +125,7 @@ def crosscheck(asm: Assembly, *, practical: bool = True, progress=None, nthread:
     first, cmp = _attempt(asm, None, progress, nthread)
     attempts = [first]
     exponent = 2.0
+    exhausted = False  # a finer run would pass the step budget or the float64 floor
     while (cmp is not None and not cmp.ok and len(attempts) < MAX_ATTEMPTS
            and not (cmp.run.scales and cmp.run.scales.capped)):
         last = attempts[-1]
@@ -138,6 +139,7 @@ def crosscheck(asm: Assembly, *, practical: bool = True, progress=None, nthread:
         nxt = finer(cmp.run.settings, last.worst_ratio, exponent, cmp.run.steps // max(cmp.run.segments, 1),
                     cmp.run.scales.tau_floor)
         if nxt is None:
+            exhausted = True
             break
         again, cmp2 = _attempt(asm, nxt, progress, nthread)
         attempts.append(again)
@@ -146,7 +148,7 @@ def crosscheck(asm: Assembly, *, practical: bool = True, progress=None, nthread:
         cmp = cmp2
     findings: list[Finding] = []
     if cmp is not None and not cmp.ok:
-        findings = diagnose(cmp)
+        findings = diagnose(cmp, budget_exhausted=exhausted)
     elif cmp is None:
         findings = [Finding("run", [], math.inf, 0.0, "time budget" if first.capped else "run failed",
                             first.error or "")]

@@ -54,8 +54,9 @@ def _sigma_at(cmp: Comparison, k: int) -> float:
     return sigma_min(model, closure_jacobian(cmp.assembly, model, d), cmp.assembly.mechanism.drive.joint, cmp.size)
 
 
-def diagnose(cmp: Comparison) -> list[Finding]:
-    """A Finding for every quantity over its tolerance, the worst first."""
+def diagnose(cmp: Comparison, budget_exhausted: bool = False) -> list[Finding]:
+    """A Finding for every quantity over its tolerance, the worst first; ``budget_exhausted``:
+    no finer run fitted the step budget (or the float64 floor on τ)."""
     run = cmp.run
     phi = run.samples.crank[0]
     switches = [lo.phi_from for lo in run.left_out if lo.reason == "load switch"]
@@ -83,6 +84,10 @@ def diagnose(cmp: Comparison) -> list[Finding]:
                 cause = "near-singular"
                 detail = (f"the loop constraints are ill-conditioned there (condition number {1 / sig:.3g} at "
                           f"{math.degrees(phi[k]):.2f}°): MuJoCo's integration and loop-gap errors are amplified")
+            elif budget_exhausted:
+                cause = "time budget"
+                detail = (f"worst at {math.degrees(phi[k]):.2f}° (condition number {1 / sig:.3g}, loop gap "
+                          f"{run.gap_max:.2g} m); a finer run would pass the step budget or float64's floor on τ")
             else:
                 cause = "integration error"
                 detail = (f"worst at {math.degrees(phi[k]):.2f}° (condition number {1 / sig:.3g}, loop gap "
