@@ -26,19 +26,13 @@ from .kinematics import solve
 from .mjcf import sensor_name, spanning_tree, write_mjcf
 from .mjlog import no_log_file
 from .mjforces import has_loads, load_schedule
-from .mjloops import acceleration_scale, mechanism_size
+from .mjloops import mechanism_size
 from .mjsample import Samples, read_samples
 from .mjoptions import PLACEHOLDER, Settings
 from .mjsettings import Scales, apply, derive
 from .mjstate import initial_state, joint_state, joint_states
+from .mjtiming import LEAD_TARGET, SETTLE_TARGET, crank_phi, crank_time, settle_window, switch_angles
 
-# The error a settling window must decay to, relative to the quantity's scale: a tenth of the
-# comparison tolerance (compare.REL_TOL = 1e-6).
-SETTLE_TARGET = 1e-7
-# The lead-in before each segment costs only steps, no samples: it is aimed 1000× lower, which
-# near an assembly limit the start transient needs (seven-link 5° from its limit, τ = 0.1 ms:
-# first sample 1.9e-6 with a lead-in for 1e-7, 7.1e-7 with one for 1e-10).
-LEAD_TARGET = 1e-10
 # A run whose loop gap passes this fraction of the mechanism's size has failed (not a result):
 # the loop has come apart, far beyond anything the comparison could judge.
 GAP_ABORT = 1e-4
@@ -90,45 +84,6 @@ def build_model(asm: Assembly, settings: Settings | None = None) -> mujoco.MjMod
     return mujoco.MjModel.from_xml_string(write_mjcf(asm, settings))
 
 
-def settle_window(settings: Settings, scales: Scales | None, epsilon: float, target: float = SETTLE_TARGET,
-                  gravity: float = 0.0) -> float:
-    """Time [s] after a start or a load step until the loop's transient has decayed to
-    SETTLE_TARGET of the quantities' scales.
-
-    A connect answers a step in its load like a critically damped oscillator of time constant
-    τ: the error right after the step is (1 − d) times the loop acceleration a0 (the part the
-    soft constraint lets through), and it decays as (1 + t/τ)·e^(−t/τ). Relative to the
-    accelerations' scale size·(ω² + |ε|) + |g|, and amplified by 1/σ where the loops are
-    ill-conditioned, this gives e0; the window is the t where the envelope brings e0 down to
-    SETTLE_TARGET (at least 1 τ)."""
-    d = settings.solimp[0] if settings.solimp else settings.impedance
-    if scales is None:
-        e0 = 1.0 - d
-    else:
-        a_scale = acceleration_scale(scales.size, scales.omega, epsilon, gravity)
-        e0 = (1.0 - d) * max(1.0, scales.loop_acceleration / max(a_scale, 1e-300)) / min(1.0, scales.sigma_min)
-    target = target / e0
-    x = 1.0
-    if target < 1.0:
-        lo, hi = 0.0, 200.0
-        for _ in range(100):  # (1 + x)·e^(−x) decreases monotonically for x > 0
-            x = 0.5 * (lo + hi)
-            lo, hi = (x, hi) if (1 + x) * math.exp(-x) > target else (lo, x)
-        x = hi
-    return max(1.0, x) * settings.timeconst
-
-
-def _crank_time(phi: np.ndarray, phi0: float, omega: float, eps: float) -> np.ndarray:
-    """Time [s] at which the crank, at φ0 with speed ω at t = 0 and acceleration ε, reaches φ."""
-    dphi = np.asarray(phi, dtype=float) - phi0
-    if eps == 0.0:
-        return dphi / omega
-    disc = omega * omega + 2.0 * eps * dphi
-    if np.any(disc <= 0):
-        raise SimulationError(f"with ε = {eps:g} rad/s² the crank stops before it covers the range")
-    return (np.sqrt(disc) - omega) / eps
-
-
 def _assembles(asm: Assembly, phi: np.ndarray) -> bool:
     try:
         solve(asm, phi)
@@ -175,7 +130,7 @@ def simulate(asm: Assembly, *, revolutions: float = 1.0, omega: float | None = N
     if not full and revolutions != 1.0:
         raise SimulationError(f"the crank turns only over its range of {math.degrees(span):.6g}°: revolutions must be 1")
     phi_a, phi_b = mech.drive.start, mech.drive.start + span * revolutions
-    duration = float(_crank_time(np.array([phi_b]), phi_a, w0, eps)[0])
+    duration = float(crank_time(np.array([phi_b]), phi_a, w0, eps)[0])
     w_peak = max(w0, abs(w0 + eps * duration))
     model = mujoco.MjModel.from_xml_string(write_mjcf(asm, PLACEHOLDER))
     derived, scales = derive(asm, model, omega=w_peak, epsilon=eps, duration=duration)
@@ -200,11 +155,11 @@ def _run(asm: Assembly, model: mujoco.MjModel, settings: Settings, scales: Scale
 
     # Samples over the range, and which are left out (load switches).
     phi_s = np.linspace(phi_a, phi_b, samples, endpoint=not full)
-    t_s = _crank_time(phi_s, phi_a, w0, eps)
+    t_s = crank_time(phi_s, phi_a, w0, eps)
     keep = np.ones(samples, dtype=bool)
     left: list[LeftOut] = []
-    for sw in _switch_angles(mech, phi_a, phi_b):
-        t_sw = float(_crank_time(np.array([sw]), phi_a, w0, eps)[0])
+    for sw in switch_angles(mech, phi_a, phi_b):
+        t_sw = float(crank_time(np.array([sw]), phi_a, w0, eps)[0])
         hit = (t_s >= t_sw) & (t_s <= t_sw + window)
         if hit.any():
             keep &= ~hit
@@ -213,9 +168,9 @@ def _run(asm: Assembly, model: mujoco.MjModel, settings: Settings, scales: Scale
     # Segments: equal parts of the range, each started a window early.
     nseg = max(1, min(default_threads() if nthread is None else nthread, samples))
     bounds = np.linspace(phi_a, phi_b, nseg + 1)
-    t_bounds = _crank_time(bounds, phi_a, w0, eps)
+    t_bounds = crank_time(bounds, phi_a, w0, eps)
     t_start = t_bounds[:-1] - lead_window
-    lead = _crank_phi(t_start[0], phi_a, w0, eps)
+    lead = crank_phi(t_start[0], phi_a, w0, eps)
     if not full and not _assembles(asm, np.linspace(lead, phi_a, 16)):  # the range starts near a limit
         t_start[0] = 0.0
         t_start = np.maximum(t_start, 0.0)
@@ -233,7 +188,7 @@ def _run(asm: Assembly, model: mujoco.MjModel, settings: Settings, scales: Scale
     state = np.zeros((nseg, nstate))
     for k in range(nseg):
         d = datas[0]
-        phi_k = _crank_phi(t_start[k], phi_a, w0, eps)
+        phi_k = crank_phi(t_start[k], phi_a, w0, eps)
         d.qpos[:], d.qvel[:] = initial_state(asm, model, phi_k, w0 + eps * t_start[k])
         d.time = t_start[k]
         mujoco.mj_getState(model, d, state[k], mujoco.mjtState.mjSTATE_FULLPHYSICS)
@@ -253,7 +208,7 @@ def _run(asm: Assembly, model: mujoco.MjModel, settings: Settings, scales: Scale
         ctrl = np.full((nseg, n, model.nu), drive_ctrl)
         t_step = t_start[:, None] + (c0 + 1 + np.arange(n))[None, :] * dt  # time after each step
         if loads:
-            phis = _crank_phi(t_step - dt, phi_a, w0, eps)  # the angle at the step's start
+            phis = crank_phi(t_step - dt, phi_a, w0, eps)  # the angle at the step's start
             xfrc = np.stack([load_schedule(asm, model, phis[k]) for k in range(nseg)])
             ctrl = np.concatenate([ctrl, xfrc], axis=2)
         states, sensors = rollout.rollout(model, datas, state, ctrl, control_spec=spec, nstep=n)
@@ -267,7 +222,7 @@ def _run(asm: Assembly, model: mujoco.MjModel, settings: Settings, scales: Scale
             g = np.where(live, gap, 0.0)
             k, i = np.unravel_index(int(np.argmax(g)), g.shape)
             if g[k, i] > gap_max:
-                gap_max, gap_at = float(g[k, i]), float(_crank_phi(t_step[k, i], phi_a, w0, eps))
+                gap_max, gap_at = float(g[k, i]), float(crank_phi(t_step[k, i], phi_a, w0, eps))
             if gap_max > gap_abort * size:
                 raise SimulationError(_where(f"the loop gap reached {gap_max:.3g} m ({gap_max / size:.2g} of the "
                                              f"mechanism's size, limit {gap_abort:g})", float(t_step[k, i]),
@@ -302,29 +257,10 @@ def steps_per_revolution(run: Run) -> float:
     return 2 * math.pi / (w * run.settings.timestep) if w > 0 else math.nan
 
 
-def _crank_phi(t, phi0: float, omega: float, eps: float):
-    return phi0 + omega * np.asarray(t) + 0.5 * eps * np.asarray(t) ** 2
-
-
 def _where(what: str, t: float, phi0: float, w0: float, eps: float, settings: Settings) -> str:
-    phi = float(_crank_phi(t, phi0, w0, eps))
+    phi = float(crank_phi(t, phi0, w0, eps))
     return (f"{what} at crank angle {math.degrees(phi):.3f}° (t = {t:.6g} s) with timestep {settings.timestep:g} s "
             f"and loop time constant {settings.timeconst:g} s")
-
-
-def _switch_angles(mech, phi_a: float, phi_b: float) -> list[float]:
-    """Crank angles in [φa, φb] where a stroke-limited force switches on or off."""
-    out = []
-    for f in mech.forces:
-        if f.stroke is None or f.stroke[1] - f.stroke[0] >= 2 * math.pi:
-            continue
-        for edge in f.stroke:
-            k = math.ceil((phi_a - edge) / (2 * math.pi))
-            a = edge + 2 * math.pi * k
-            while a <= phi_b:
-                out.append(a)
-                a += 2 * math.pi
-    return sorted(out)
 
 
 def _gap_sensors(asm: Assembly, model: mujoco.MjModel) -> list[tuple[int, int]]:
