@@ -87,8 +87,9 @@ def vec(*xs: float) -> str:
     return " ".join(fmt(x) for x in xs)
 
 
-def _mechanism(source: Mechanism | Assembly) -> Mechanism:
-    return source.mechanism if isinstance(source, Assembly) else source
+def _mechanism(source) -> Mechanism:
+    """The description of a Mechanism, an Assembly or a ``mjposed.Posed``."""
+    return source if isinstance(source, Mechanism) else source.mechanism
 
 
 def body_name(link: str) -> str:

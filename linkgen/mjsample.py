@@ -14,7 +14,6 @@ import mujoco
 import numpy as np
 
 from .assembly import Assembly
-from .kinematics import solve
 from .mjcf import DRIVE_ACTUATOR, body_name, spanning_tree
 from .mjforces import ForceSamples, apply_loads, forward_forces
 
@@ -50,9 +49,10 @@ def moving_points(mech) -> list[str]:
 
 
 def read_samples(asm: Assembly, model: mujoco.MjModel, time: np.ndarray, qpos: np.ndarray, qvel: np.ndarray,
-                 drive_ctrl: float) -> Samples:
+                 drive_ctrl: float, slider_ref: dict[str, float]) -> Samples:
     """Every compared quantity at the states (time (m,), qpos (m, nq), qvel (m, nv)); the
-    motor pushes ``drive_ctrl`` [N·m]."""
+    motor pushes ``drive_ctrl`` [N·m]; ``slider_ref`` [m] is each slider's displacement at the
+    reference pose (``mjposed.slider_reference``)."""
     mech = asm.mechanism
     m = time.shape[0]
     d = mujoco.MjData(model)
@@ -65,7 +65,6 @@ def read_samples(asm: Assembly, model: mujoco.MjModel, time: np.ndarray, qpos: n
     crank = np.zeros((m, 3))
     viol, torque, inertia = np.zeros(m), np.zeros(m), np.zeros(m)
     tree = spanning_tree(asm)
-    ref = solve(asm, np.array([asm.sketch_phi]))
     r6, mv, states = np.zeros(6), np.zeros(model.nv), []
     for k in range(m):
         d.qpos[:], d.qvel[:], d.time = qpos[k], qvel[k], time[k]
@@ -96,7 +95,7 @@ def read_samples(asm: Assembly, model: mujoco.MjModel, time: np.ndarray, qpos: n
             if pair.kind == "P":
                 j = model.joint(pair.name)
                 sign = 1.0 if child == asm.guides[pair.name].slider else -1.0
-                s0 = ref.sliders[pair.name].v[0]
+                s0 = slider_ref[pair.name]
                 out_sld[pair.name][k] = (s0 + sign * d.qpos[j.qposadr[0]], sign * d.qvel[j.dofadr[0]],
                                          sign * d.qacc[j.dofadr[0]])
         crank[k] = (out_lnk[mech.crank][k][0], d.qvel[crank_j.dofadr[0]], d.qacc[crank_j.dofadr[0]])

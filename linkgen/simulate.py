@@ -29,7 +29,9 @@ from .mjforces import has_loads, load_schedule
 from .mjloops import mechanism_size
 from .mjsample import Samples, read_samples
 from .mjoptions import PLACEHOLDER, Settings
-from .mjsettings import Scales, apply, derive
+from .mjposed import Posed, slider_reference, torque_schedule
+from .mjsettings import Scales, apply, crank_only, derive
+from .pose import state, tree_state
 from .mjstate import initial_state, joint_state, joint_states
 from .mjtiming import LEAD_TARGET, SETTLE_TARGET, crank_phi, crank_time, settle_window, switch_angles
 
@@ -67,7 +69,7 @@ class Run:
 
     model: mujoco.MjModel
     settings: Settings
-    scales: Scales
+    scales: Scales | None  # None where the closed form does not cover the mechanism
     samples: Samples
     steps: int
     wall: float
@@ -84,16 +86,27 @@ def build_model(asm: Assembly, settings: Settings | None = None) -> mujoco.MjMod
     return mujoco.MjModel.from_xml_string(write_mjcf(asm, settings))
 
 
-def _assembles(asm: Assembly, phi: np.ndarray) -> bool:
+def _assembles(asm: Assembly | Posed, phi: np.ndarray) -> bool:
     try:
-        solve(asm, phi)
+        if isinstance(asm, Posed):
+            state(asm.mechanism, phi)
+        else:
+            solve(asm, phi)
     except (AssemblyError, SingularityError):
         return False
     return True
 
 
+def _start_state(asm: Assembly | Posed, model: mujoco.MjModel, phi: float, omega: float):
+    """qpos, qvel at crank angle φ [rad] and speed ω [rad/s]: closed form, or the numeric pose."""
+    if isinstance(asm, Posed):
+        qpos, qvel = tree_state(asm.mechanism, model, [phi], omega)
+        return qpos[0], qvel[0]
+    return initial_state(asm, model, phi, omega)
+
+
 @no_log_file()
-def simulate(asm: Assembly, *, revolutions: float = 1.0, omega: float | None = None,
+def simulate(asm: Assembly | Posed, *, revolutions: float = 1.0, omega: float | None = None,
              epsilon: float | None = None, settings: Settings | None = None, samples: int = 360,
              nthread: int | None = None, progress: Callable[[float, float], None] | None = None,
              gap_abort: float = GAP_ABORT, settle: bool = True) -> Run:
@@ -102,7 +115,9 @@ def simulate(asm: Assembly, *, revolutions: float = 1.0, omega: float | None = N
     Args:
         omega, epsilon: crank speed at the range's start [rad/s] (> 0) and constant
             acceleration [rad/s²]; default the description's drive.
-        settings: MuJoCo settings; default derived from the mechanism (``mjsettings.derive``).
+        settings: MuJoCo settings; default derived from the mechanism (``mjsettings.derive``;
+            from the crank speed alone for a ``Posed`` mechanism, which the closed form does not
+            cover: then gravity and link torques are the only loads).
         samples: sampled states over the range (before left-out windows).
         nthread: threads (= segments of the range); default every core.
         progress: called as progress(fraction done, seconds elapsed) after each chunk of steps
@@ -132,8 +147,12 @@ def simulate(asm: Assembly, *, revolutions: float = 1.0, omega: float | None = N
     phi_a, phi_b = mech.drive.start, mech.drive.start + span * revolutions
     duration = float(crank_time(np.array([phi_b]), phi_a, w0, eps)[0])
     w_peak = max(w0, abs(w0 + eps * duration))
-    model = mujoco.MjModel.from_xml_string(write_mjcf(asm, PLACEHOLDER))
-    derived, scales = derive(asm, model, omega=w_peak, epsilon=eps, duration=duration)
+    if isinstance(asm, Posed):
+        model = mujoco.MjModel.from_xml_string(write_mjcf(mech, PLACEHOLDER))
+        derived, scales = crank_only(mech, w_peak), None
+    else:
+        model = mujoco.MjModel.from_xml_string(write_mjcf(asm, PLACEHOLDER))
+        derived, scales = derive(asm, model, omega=w_peak, epsilon=eps, duration=duration)
     settings = derived if settings is None else settings
     apply(model, settings, mech.drive.joint)
     try:
@@ -144,7 +163,8 @@ def simulate(asm: Assembly, *, revolutions: float = 1.0, omega: float | None = N
         raise
 
 
-def _run(asm: Assembly, model: mujoco.MjModel, settings: Settings, scales: Scales, w0: float, eps: float,
+def _run(asm: Assembly | Posed, model: mujoco.MjModel, settings: Settings, scales: Scales | None, w0: float,
+         eps: float,
          phi_a: float, phi_b: float, full: bool, duration: float, samples: int, nthread: int | None,
          progress, gap_abort: float, wall0: float, settle: bool) -> Run:
     mech = asm.mechanism
@@ -189,7 +209,7 @@ def _run(asm: Assembly, model: mujoco.MjModel, settings: Settings, scales: Scale
     for k in range(nseg):
         d = datas[0]
         phi_k = crank_phi(t_start[k], phi_a, w0, eps)
-        d.qpos[:], d.qvel[:] = initial_state(asm, model, phi_k, w0 + eps * t_start[k])
+        d.qpos[:], d.qvel[:] = _start_state(asm, model, phi_k, w0 + eps * t_start[k])
         d.time = t_start[k]
         mujoco.mj_getState(model, d, state[k], mujoco.mjtState.mjSTATE_FULLPHYSICS)
     drive_ctrl = settings.armature * eps
@@ -209,7 +229,8 @@ def _run(asm: Assembly, model: mujoco.MjModel, settings: Settings, scales: Scale
         t_step = t_start[:, None] + (c0 + 1 + np.arange(n))[None, :] * dt  # time after each step
         if loads:
             phis = crank_phi(t_step - dt, phi_a, w0, eps)  # the angle at the step's start
-            xfrc = np.stack([load_schedule(asm, model, phis[k]) for k in range(nseg)])
+            xfrc = np.stack([torque_schedule(asm, model, n) if isinstance(asm, Posed)
+                             else load_schedule(asm, model, phis[k]) for k in range(nseg)])
             ctrl = np.concatenate([ctrl, xfrc], axis=2)
         states, sensors = rollout.rollout(model, datas, state, ctrl, control_spec=spec, nstep=n)
         steps_total += n * nseg
@@ -246,7 +267,8 @@ def _run(asm: Assembly, model: mujoco.MjModel, settings: Settings, scales: Scale
         raise SimulationError(f"every sample falls in a settling window: the loops take {window:.3g} s to settle "
                               f"with timestep {settings.timestep:g} s and loop time constant {settings.timeconst:g} s, "
                               f"and the range lasts {duration:.3g} s")
-    sampled = read_samples(asm, model, got[idx, 0], got[idx, 1:1 + model.nq], got[idx, 1 + model.nq:], drive_ctrl)
+    sampled = read_samples(asm, model, got[idx, 0], got[idx, 1:1 + model.nq], got[idx, 1 + model.nq:], drive_ctrl,
+                           slider_reference(asm))
     return Run(model, settings, scales, sampled, steps_total, _time.perf_counter() - wall0, gap_max, gap_at,
                window, tuple(left), nseg)
 
