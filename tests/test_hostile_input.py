@@ -9,7 +9,7 @@ import tomllib
 import pytest
 
 from conftest import ROOT
-from linkgen import DescriptionError, from_dict, limits, load
+from linkgen import DescriptionError, from_dict, load
 from linkgen.cli import main
 from linkgen.kinetostatics import forces
 
