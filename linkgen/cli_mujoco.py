@@ -248,7 +248,8 @@ def default_workers() -> int:
 
 
 def add_commands(sub) -> None:
-    from .cli import _float_arg, _positive_int
+    from . import limits
+    from .cli import _float_arg, _positive_int, rate_arg
 
     b = sub.add_parser("build", help="write the MJCF of a model, or of every model in a folder")
     b.add_argument("model", type=Path)
@@ -259,8 +260,10 @@ def add_commands(sub) -> None:
     s.add_argument("model", type=Path, help="description file (.toml)")
     s.add_argument("--revolutions", type=_float_arg, default=1.0,
                    help="turns of the crank for a full-turn range (default 1)")
-    s.add_argument("--omega", type=_float_arg, help="crank speed at the start [rad/s] (default: the description's)")
-    s.add_argument("--epsilon", type=_float_arg, help="crank acceleration [rad/s²] (default: the description's)")
+    s.add_argument("--omega", type=rate_arg(limits.MAX_OMEGA, "rad/s"),
+                   help="crank speed at the start [rad/s] (default: the description's)")
+    s.add_argument("--epsilon", type=rate_arg(limits.MAX_EPSILON, "rad/s²"),
+                   help="crank acceleration [rad/s²] (default: the description's)")
     s.add_argument("--samples", type=_positive_int, default=360, help="sampled states over the range (default 360)")
     s.add_argument("--out", type=Path, help="write the samples to FILE.npz or FILE.csv (SI units)")
     s.set_defaults(func=cmd_simulate)

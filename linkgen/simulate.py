@@ -257,11 +257,14 @@ def _run(asm: Assembly | Posed, model: mujoco.MjModel, settings: Settings, scale
         if progress is not None and elapsed > PROGRESS_AFTER:
             progress(done / nsteps, elapsed)
     for d in datas:
-        for w in d.warning:
+        for kind, w in enumerate(d.warning):
             if w.number:
-                raise SimulationError(f"MuJoCo warned during the run ({w.number} times, last at step {w.lastinfo}); "
-                                      f"settings: timestep {settings.timestep:g} s, loop time constant "
-                                      f"{settings.timeconst:g} s")
+                name = mujoco.mjtWarning(kind).name.removeprefix("mjWARN_")
+                why = (" (MuJoCo rejects joint accelerations beyond mjMAXVAL = 1e10 rad/s² or m/s²: the "
+                       "crank is too fast for MuJoCo)" if name == "BADQACC" else "")
+                raise SimulationError(f"MuJoCo warned during the run: {name}{why}, {w.number} times, last at step "
+                                      f"{w.lastinfo}; settings: timestep {settings.timestep:g} s, loop time "
+                                      f"constant {settings.timeconst:g} s")
     idx = np.flatnonzero(keep)
     if idx.shape[0] < 2:
         raise SimulationError(f"every sample falls in a settling window: the loops take {window:.3g} s to settle "

@@ -13,7 +13,7 @@ import pytest
 
 import linkgen.simulate as simulate_module
 from conftest import ROOT
-from linkgen import assemble, from_dict, load
+from linkgen import SimulationError, assemble, from_dict, load
 from linkgen.cli import main
 from linkgen.compare import GAP_TOL, REL_TOL, compare
 from linkgen.geometry import link_shapes
@@ -211,3 +211,10 @@ def test_class_three_is_built_simulated_and_the_closed_form_says_it_does_not_cov
                 np.testing.assert_allclose(pos, ref.point(link, local), rtol=0, atol=REL_TOL * size)
                 np.testing.assert_allclose(vel, ref.point_velocity(link, local), rtol=0,
                                            atol=REL_TOL * size * float(np.abs(omega).max()))
+
+
+def test_a_crank_too_fast_for_mujoco_is_named():
+    asm = assemble(load(ROOT / "models" / "fourbar.toml"))
+    with pytest.raises(SimulationError, match=r"MuJoCo warned during the run: BADQACC \(MuJoCo rejects joint "
+                                              r"accelerations beyond mjMAXVAL = 1e10"):
+        simulate(asm, omega=1e6, samples=12)
