@@ -161,12 +161,9 @@ def _check_one(path: Path, report: Path | None, practical: bool, nthread: int | 
     return out
 
 
-def _num(x, spec: str) -> str:
-    """A figure of the JSON results, or "–" where a failed run left none (null)."""
-    return "–" if x is None else format(x, spec)
-
-
 def _summary(r: dict) -> str:
+    from .report import number as _num
+
     if "error" in r:
         return f"{r['model']:<22} FAIL {r['error']}"
     lines = []
@@ -197,6 +194,7 @@ def _summary(r: dict) -> str:
 
 
 def cmd_validate(args) -> int:
+    from .blocks import default_threads
     from .report import write_index
 
     paths = _models(args.model)
@@ -208,7 +206,7 @@ def cmd_validate(args) -> int:
         results = [_check_one(paths[0], report, practical, None, True)]
     else:  # models side by side in processes (each draws its own figures), one thread each
         ctx = multiprocessing.get_context("spawn")
-        with ProcessPoolExecutor(max_workers=min(len(paths), default_workers()), mp_context=ctx) as pool:
+        with ProcessPoolExecutor(max_workers=min(len(paths), default_threads()), mp_context=ctx) as pool:
             futures = [pool.submit(_check_one, p, report, practical, 1, False) for p in paths]
             results = []
             for fut in futures:
@@ -239,12 +237,6 @@ def _json_default(x):
     if isinstance(x, (np.floating, np.integer)):
         return x.item()
     raise TypeError(f"not JSON serialisable: {type(x).__name__}")
-
-
-def default_workers() -> int:
-    from .blocks import default_threads
-
-    return default_threads()
 
 
 def add_commands(sub) -> None:

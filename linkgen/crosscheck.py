@@ -13,13 +13,8 @@ from .diagnose import Finding, diagnose
 from .errors import SimulationError
 from .mjoptions import Settings
 from .mjsettings import MAX_STEPS
-from .practical import PracticalRow, practical_study
+from .practical import PracticalRow, finite_or_none, practical_study
 from .simulate import simulate, steps_per_revolution
-
-
-def finite_or_none(x: float) -> float | None:
-    """JSON carries no NaN or Infinity: a value that is not finite (a run that failed) is null."""
-    return float(x) if math.isfinite(x) else None
 
 
 @dataclass(frozen=True)
@@ -81,9 +76,10 @@ class CrossCheck:
         return out
 
 
-def _attempt(asm: Assembly, settings: Settings | None, progress, nthread) -> tuple[Attempt, Comparison | None]:
+def _attempt(asm: Assembly, settings: Settings | None, progress, nthread,
+             scales=None) -> tuple[Attempt, Comparison | None]:
     try:
-        run = simulate(asm, settings=settings, progress=progress, nthread=nthread)
+        run = simulate(asm, settings=settings, progress=progress, nthread=nthread, scales=scales)
     except SimulationError as exc:
         scales = getattr(exc, "scales", None)
         return Attempt(getattr(exc, "settings", settings), False, "run", math.inf, 0, 0.0, str(exc),
@@ -141,7 +137,7 @@ def crosscheck(asm: Assembly, *, practical: bool = True, progress=None, nthread:
         if nxt is None:
             exhausted = True
             break
-        again, cmp2 = _attempt(asm, nxt, progress, nthread)
+        again, cmp2 = _attempt(asm, nxt, progress, nthread, cmp.run.scales)
         attempts.append(again)
         if cmp2 is None:
             break
@@ -152,7 +148,7 @@ def crosscheck(asm: Assembly, *, practical: bool = True, progress=None, nthread:
     elif cmp is None:
         findings = [Finding("run", [], math.inf, 0.0, "time budget" if first.capped else "run failed",
                             first.error or "")]
-    rows = practical_study(asm, cmp.run.settings, nthread=nthread) if (practical and cmp is not None) else []
+    rows = practical_study(asm, cmp.run.settings, nthread=nthread, scales=cmp.run.scales) if (practical and cmp is not None) else []
     return CrossCheck(asm.mechanism.name, cmp, tuple(attempts), tuple(findings), tuple(rows))
 
 

@@ -62,6 +62,7 @@ def diagnose(cmp: Comparison, budget_exhausted: bool = False) -> list[Finding]:
     switches = [lo.phi_from for lo in run.left_out if lo.reason == "load switch"]
     reach = SWITCH_REACH * run.window * float(np.abs(run.samples.crank[1]).max())
     out = []
+    sigma: dict[int, float] = {}  # per sample: the failing quantities share their worst samples
     for name, q in cmp.quantities.items():
         if q.ok:
             continue
@@ -79,7 +80,7 @@ def diagnose(cmp: Comparison, budget_exhausted: bool = False) -> list[Finding]:
             detail = (f"within {reach * 180 / math.pi:.3g}° after a load switches, the loops' transient "
                       f"(settling window {run.window * 1e3:.3g} ms) is still decaying")
         else:
-            sig = _sigma_at(cmp, k)
+            sig = sigma[k] if k in sigma else sigma.setdefault(k, _sigma_at(cmp, k))
             if sig < NEAR_SINGULAR_SIGMA:
                 cause = "near-singular"
                 detail = (f"the loop constraints are ill-conditioned there (condition number {1 / sig:.3g} at "

@@ -35,6 +35,7 @@ from .kinematics import solve
 from .loads import applied_loads, stroke_active
 from .mjcf import DRIVE_ACTUATOR, TreeInfo, body_name, link_name, site_name, spanning_tree
 from .mjlog import no_log_file
+from .mjloops import closure_jacobian
 
 
 @dataclass(frozen=True)
@@ -105,17 +106,12 @@ def inverse_forces(asm: Assembly, model: mujoco.MjModel, data: mujoco.MjData, ph
             mujoco.mj_applyFT(model, data, data.xfrc_applied[b, :3], data.xfrc_applied[b, 3:],
                               data.xipos[b], b, applied)
     crank = model.joint(asm.mechanism.drive.joint)
-    cols, anchors = [], []
-    jp1, jp2 = np.zeros((3, model.nv)), np.zeros((3, model.nv))
+    cols = list(closure_jacobian(asm, model, data))
+    anchors = []
     for pair in info.closures:
         eq = model.equality(pair.name).id
         b1, b2 = model.eq_obj1id[eq], model.eq_obj2id[eq]
         point = data.site(site_name(asm, link_name(model.body(b1).name), asm.mechanism.revolute(pair.name).point)).xpos.copy()
-        mujoco.mj_jac(model, data, jp1, None, point, b1)
-        jp2[:] = 0.0
-        if b2 > 0:
-            mujoco.mj_jac(model, data, jp2, None, point, b2)
-        cols += [jp1[0] - jp2[0], jp1[1] - jp2[1]]
         anchors.append((pair, eq, b1, b2, point))
     drive = np.zeros(model.nv)
     drive[crank.dofadr[0]] = 1.0

@@ -28,6 +28,11 @@ SAMPLES = 120
 GAP_REPORT_LIMIT = 0.2
 
 
+def finite_or_none(x: float) -> float | None:
+    """JSON carries no NaN or Infinity: a value that is not finite (a run that failed) is null."""
+    return float(x) if math.isfinite(x) else None
+
+
 @dataclass(frozen=True)
 class PracticalRow:
     """One setting: its label and values, loop gap relative to the size, reaction error
@@ -44,15 +49,12 @@ class PracticalRow:
 
     def to_json(self) -> dict:
         s = self.settings
-        def value(x: float) -> float | None:  # JSON carries no NaN: a failed run's figures are null
-            return float(x) if math.isfinite(x) else None
-
         return {"label": s.label, "timestep": s.timestep, "integrator": s.integrator,
                 "solref": [s.timeconst, 1.0], "solimp": [float(x) for x in s.solimp_text.split()],
-                "loop_gap_relative": value(self.gap), "reaction_error_relative": value(self.reaction_error),
-                "driving_torque_error_relative": value(self.torque_error),
-                "steps_per_revolution": value(self.steps_per_revolution),
-                "wall_s_per_revolution": value(self.wall_per_revolution), "failure": self.failure}
+                "loop_gap_relative": finite_or_none(self.gap), "reaction_error_relative": finite_or_none(self.reaction_error),
+                "driving_torque_error_relative": finite_or_none(self.torque_error),
+                "steps_per_revolution": finite_or_none(self.steps_per_revolution),
+                "wall_s_per_revolution": finite_or_none(self.wall_per_revolution), "failure": self.failure}
 
 
 def ladder(validation: Settings) -> list[Settings]:
@@ -68,13 +70,15 @@ def ladder(validation: Settings) -> list[Settings]:
     return [user, rk4, stiff, mid, replace(validation, label="validation (derived)")]
 
 
-def practical_study(asm: Assembly, validation: Settings, *, nthread: int | None = None) -> list[PracticalRow]:
-    """One row per setting of ``ladder(validation)`` (one revolution, or the range)."""
+def practical_study(asm: Assembly, validation: Settings, *, nthread: int | None = None,
+                    scales=None) -> list[PracticalRow]:
+    """One row per setting of ``ladder(validation)`` (one revolution, or the range); ``scales``:
+    the validation run's (``Run.scales``), so that each run does not scan the range again."""
     rows = []
     for s in ladder(validation):
         try:
             run = simulate(asm, settings=s, samples=SAMPLES, nthread=nthread, gap_abort=GAP_REPORT_LIMIT,
-                           settle=False)  # what a user sees: transients included
+                           settle=False, scales=scales)  # what a user sees: transients included
             cmp = compare(asm, run, inverse=False)
         except SimulationError as exc:
             rows.append(PracticalRow(s, math.nan, math.nan, math.nan, math.nan, math.nan, str(exc)))

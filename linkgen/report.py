@@ -93,7 +93,7 @@ def plot_forces(cmp: Comparison, path: Path) -> None:
     plt.close(fig)
 
 
-def _num(x, spec: str) -> str:
+def number(x, spec: str) -> str:
     """A figure of the JSON results, or "–" where a failed run left none (null)."""
     return "–" if x is None else format(x, spec)
 
@@ -151,7 +151,7 @@ def write_index(results: list[dict], out: Path, wall: float, cores: float) -> Pa
             lines += ["**Diagnosis**", ""]
             for d in r["diagnosis"]:
                 rng = ", ".join(f"{a:.1f}°..{b:.1f}°" for a, b in d["ranges_deg"][:3])
-                lines.append(f"- `{d['quantity']}` {_num(d['relative_error'], '.2e')} (tolerance {d['tolerance']:g}) at {rng}: "
+                lines.append(f"- `{d['quantity']}` {number(d['relative_error'], '.2e')} (tolerance {d['tolerance']:g}) at {rng}: "
                              f"{d['cause']} — {d['detail']}")
             lines.append("")
         if r["left_out"]:
@@ -168,9 +168,9 @@ def write_index(results: list[dict], out: Path, wall: float, cores: float) -> Pa
                                  f"failed: {p['failure']} |  |  |  |  |")
                     continue
                 lines.append(f"| {p['label']} | {p['timestep']:.3g} | {p['integrator']} | {p['solref'][0]:.3g} | "
-                             f"{_num(p['loop_gap_relative'], '.1e')} | {_num(p['reaction_error_relative'], '.1e')} | "
-                             f"{_num(p['driving_torque_error_relative'], '.1e')} | "
-                             f"{_num(p['steps_per_revolution'], '.0f')} | {_num(p['wall_s_per_revolution'], '.3f')} |")
+                             f"{number(p['loop_gap_relative'], '.1e')} | {number(p['reaction_error_relative'], '.1e')} | "
+                             f"{number(p['driving_torque_error_relative'], '.1e')} | "
+                             f"{number(p['steps_per_revolution'], '.0f')} | {number(p['wall_s_per_revolution'], '.3f')} |")
             lines.append("")
         lines += ["| quantity | max abs error | peak | scale | relative | tolerance | ok |", "|---|---|---|---|---|---|---|"]
         for k, q in r["quantities"].items():

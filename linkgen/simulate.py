@@ -109,7 +109,7 @@ def _start_state(asm: Assembly | Posed, model: mujoco.MjModel, phi: float, omega
 def simulate(asm: Assembly | Posed, *, revolutions: float = 1.0, omega: float | None = None,
              epsilon: float | None = None, settings: Settings | None = None, samples: int = 360,
              nthread: int | None = None, progress: Callable[[float, float], None] | None = None,
-             gap_abort: float = GAP_ABORT, settle: bool = True) -> Run:
+             gap_abort: float = GAP_ABORT, settle: bool = True, scales: Scales | None = None) -> Run:
     """Drive the crank over its range (``revolutions`` times for a full-turn range) and sample.
 
     Args:
@@ -125,6 +125,8 @@ def simulate(asm: Assembly | Posed, *, revolutions: float = 1.0, omega: float | 
         gap_abort: the loop gap, as a fraction of the size, at which the run stops.
         settle: leave out the samples in settling windows (after the start where no lead-in is
             possible, after load switches); False keeps every sample, transients included.
+        scales: what an earlier run of the same mechanism, speed and range derived its settings
+            from (``Run.scales``); given with ``settings``, the scan is not repeated.
 
     Raises:
         SimulationError: the run diverged, MuJoCo warned, or the loop gap passed GAP_ABORT of
@@ -149,11 +151,12 @@ def simulate(asm: Assembly | Posed, *, revolutions: float = 1.0, omega: float | 
     w_peak = max(w0, abs(w0 + eps * duration))
     if isinstance(asm, Posed):
         model = mujoco.MjModel.from_xml_string(write_mjcf(mech, PLACEHOLDER))
-        derived, scales = crank_only(mech, w_peak), None
+        settings, scales = crank_only(mech, w_peak) if settings is None else settings, None
     else:
         model = mujoco.MjModel.from_xml_string(write_mjcf(asm, PLACEHOLDER))
-        derived, scales = derive(asm, model, omega=w_peak, epsilon=eps, duration=duration)
-    settings = derived if settings is None else settings
+        if settings is None or scales is None:
+            derived, scales = derive(asm, model, omega=w_peak, epsilon=eps, duration=duration)
+            settings = derived if settings is None else settings
     apply(model, settings, mech.drive.joint)
     try:
         return _run(asm, model, settings, scales, w0, eps, phi_a, phi_b, full, duration, samples, nthread, progress,
