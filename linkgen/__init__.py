@@ -1,7 +1,7 @@
 """linkgen: planar linkages → MuJoCo MJCF, cross-checked against closed-form Assur-group solutions."""
 
-from .assembly import Assembly, assemble
-from .description import (
+from linkgen.planar.assembly import Assembly, assemble
+from linkgen.model.description import (
     Drive,
     Link,
     LinkTorque,
@@ -11,7 +11,7 @@ from .description import (
     Prismatic,
     Revolute,
 )
-from .errors import (
+from linkgen.errors import (
     ArgumentError,
     AssemblyError,
     BalanceError,
@@ -23,10 +23,10 @@ from .errors import (
     StructureError,
     ValidationError,
 )
-from .kinematics import Kinematics, solve, solve_motion
-from .load import from_dict, load
-from .motion import Motion
-from .structure import Group, GroupKind, Structure, analyze
+from linkgen.planar.kinematics import Kinematics, solve, solve_motion
+from linkgen.model.reader import from_dict, load
+from linkgen.planar.motion import Motion
+from linkgen.planar.structure import Group, GroupKind, Structure, analyze
 
 __all__ = [
     "Drive", "Link", "LinkTorque", "MassProperties", "Mechanism", "PointForce", "Prismatic", "Revolute",

@@ -7,8 +7,8 @@ import pytest
 
 from conftest import MODELS
 from linkgen import ArgumentError, AssemblyError, LinkgenError, assemble, load, solve, solve_motion
-from linkgen import blocks
-from linkgen.cli import crank_grid
+from linkgen.planar import blocks
+from linkgen.cli.common import crank_grid
 
 # A block size that divides nothing in sight, so the last block is short.
 ODD_BLOCK = 37

@@ -6,7 +6,7 @@ import math
 import pytest
 
 from conftest import ROOT
-from linkgen.cli import main
+from linkgen.cli.main import main
 
 MODELS = ROOT / "models"
 

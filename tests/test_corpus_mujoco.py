@@ -8,11 +8,11 @@ import math
 import numpy as np
 import pytest
 
-import linkgen.crosscheck as crosscheck_module
-import linkgen.mjsettings as mjsettings
+import linkgen.crosscheck.run as crosscheck_module
+import linkgen.mujoco.settings as mjsettings
 from linkgen import assemble, from_dict
-from linkgen.corpus import random_description
-from linkgen.crosscheck import crosscheck
+from linkgen.planar.corpus import random_description
+from linkgen.crosscheck.run import crosscheck
 
 # A small step budget keeps each run under a few seconds; what needs more is reported as a
 # "time budget" failure, which the test accepts as explained.

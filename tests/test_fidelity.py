@@ -11,21 +11,21 @@ import mujoco
 import numpy as np
 import pytest
 
-import linkgen.simulate as simulate_module
+import linkgen.mujoco.simulate as simulate_module
 from conftest import ROOT
 from linkgen import SimulationError, assemble, from_dict, load
-from linkgen.cli import main
-from linkgen.compare import GAP_TOL, REL_TOL, compare
-from linkgen.geometry import link_shapes
-from linkgen.mjposed import posed
-from linkgen.pose import mechanism_size as compare_size
-from linkgen.pose import state
-from linkgen.corpus import scaled
-from linkgen.crosscheck import crosscheck
-from linkgen.mjcf import write_mjcf
-from linkgen.mjoptions import PLACEHOLDER
-from linkgen.mjsettings import PHASE, STEPS_PER_TAU, derive
-from linkgen.simulate import simulate, steps_per_revolution
+from linkgen.cli.main import main
+from linkgen.crosscheck.compare import GAP_TOL, REL_TOL, compare
+from linkgen.model.geometry import link_shapes
+from linkgen.mujoco.posed import posed
+from linkgen.planar.pose import mechanism_size as compare_size
+from linkgen.planar.pose import state
+from linkgen.planar.corpus import scaled
+from linkgen.crosscheck.run import crosscheck
+from linkgen.mujoco.mjcf import write_mjcf
+from linkgen.mujoco.options import PLACEHOLDER
+from linkgen.mujoco.settings import PHASE, STEPS_PER_TAU, derive
+from linkgen.mujoco.simulate import simulate, steps_per_revolution
 
 # The loop gap MuJoCo shows against the one the settings rule predicts, (1 − d)·d·τ²·|A_diag·λ|
 # from the closed-form loop forces: the prediction is the steady gap, the measured one lags it

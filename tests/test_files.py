@@ -11,8 +11,8 @@ import pytest
 
 from conftest import ROOT
 from linkgen import DescriptionError
-from linkgen.cli import main
-from linkgen.files import atomic_open, atomic_output, atomic_write_text, run_each
+from linkgen.cli.main import main
+from linkgen.cli.files import atomic_open, atomic_output, atomic_write_text, run_each
 
 MODELS = ROOT / "models"
 FOURBAR = MODELS / "fourbar.toml"
@@ -144,7 +144,7 @@ def test_conflicting_options(tmp_path, capsys, monkeypatch, command, options, me
 
 @pytest.mark.parametrize("command", ["analyze", "forces"])
 def test_closed_pipe_ends_quietly(command):
-    proc = subprocess.Popen([sys.executable, "-m", "linkgen.cli", command, str(FOURBAR), "--samples", "5000"],
+    proc = subprocess.Popen([sys.executable, "-m", "linkgen", command, str(FOURBAR), "--samples", "5000"],
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, cwd=ROOT)
     first = proc.stdout.readline()  # 5000 rows: megabytes, far more than a pipe holds (64 KiB)
     proc.stdout.close()  # as `| head -1` does
@@ -173,7 +173,7 @@ def test_missing_output_folder(tmp_path):
 
 
 def test_csv_in_chunks_is_the_whole_table(tmp_path, monkeypatch, capsys):
-    import linkgen.cli as cli
+    import linkgen.cli.common as cli
 
     monkeypatch.setattr(cli, "CSV_CHUNK_ROWS", 7)  # 20 rows: two full chunks and a partial one
     x = np.linspace(-1.0, 1.0, 20) / 3.0

@@ -10,8 +10,8 @@ import pytest
 
 from conftest import ROOT
 from linkgen import DescriptionError, from_dict, load
-from linkgen.cli import main
-from linkgen.kinetostatics import forces
+from linkgen.cli.main import main
+from linkgen.planar.kinetostatics import forces
 
 FOURBAR = ROOT / "models" / "fourbar.toml"
 # Scaling laws hold to the measured 7e-13 of each quantity's peak (validation/limits_scan.py);
@@ -94,7 +94,7 @@ def test_device_instead_of_a_file():
 
 
 def test_file_too_large(tmp_path):
-    from linkgen.load import MAX_FILE_BYTES
+    from linkgen.model.reader import MAX_FILE_BYTES
 
     path = tmp_path / "big.toml"
     with open(path, "wb") as f:
@@ -220,7 +220,7 @@ def test_json_at_the_largest_rates_is_strict_and_finite(capsys):
 
 
 def test_non_finite_result_is_never_printed(capsys):
-    from linkgen.cli import print_json
+    from linkgen.cli.common import print_json
 
     with pytest.raises(Exception) as info:
         print_json({"points": {"O": {"acceleration": [0.0, float("-inf")]}}})

@@ -9,19 +9,20 @@ import pytest
 
 from conftest import MODELS, ROOT
 from linkgen import AssemblyError, DescriptionError, SimulationError, StructureError, assemble, from_dict, load, solve
-from linkgen.compare import compare
-from linkgen.geometry import link_shapes
-from linkgen.mjcf import (
+from linkgen.crosscheck.compare import compare
+from linkgen.model.geometry import link_shapes
+from linkgen.mujoco.mjcf import (
     MUJOCO_MIN_INERTIA,
     MUJOCO_MIN_MASS,
     body_name,
     site_name,
     write_mjcf,
 )
-from linkgen.mjlog import no_log_file
-from linkgen.pose import mechanism_size, state, tree_state
-from linkgen.mjoptions import Settings
-from linkgen.simulate import joint_states, simulate
+from linkgen.mujoco.log import no_log_file
+from linkgen.mujoco.state import tree_state
+from linkgen.planar.pose import mechanism_size, state
+from linkgen.mujoco.options import Settings
+from linkgen.mujoco.simulate import joint_states, simulate
 
 TRIAD = ROOT / "tests" / "data" / "triad_sixbar.toml"
 # The numeric pose against the closed form, relative to the mechanism's size (and size·ω for

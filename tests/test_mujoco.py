@@ -8,11 +8,11 @@ import pytest
 
 from conftest import MODELS, ROOT
 from linkgen import SimulationError, assemble, load
-from linkgen.cli import main
-from linkgen.compare import FORCE_TOL, GAP_TOL, INVERSE_TOL, REL_TOL, compare
-from linkgen.mjcf import write_mjcf
-from linkgen.mjoptions import Settings
-from linkgen.simulate import simulate
+from linkgen.cli.main import main
+from linkgen.crosscheck.compare import FORCE_TOL, GAP_TOL, INVERSE_TOL, REL_TOL, compare
+from linkgen.mujoco.mjcf import write_mjcf
+from linkgen.mujoco.options import Settings
+from linkgen.mujoco.simulate import simulate
 
 # Constraints at qpos0: the reference pose is the closed-form assembly, so only rounding of
 # the %.17g-printed body placements remains.

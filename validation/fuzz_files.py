@@ -17,7 +17,7 @@ from pathlib import Path
 import numpy as np
 
 from linkgen import DescriptionError, LinkgenError, load, solve
-from linkgen.kinetostatics import forces
+from linkgen.planar.kinetostatics import forces
 
 MODELS = sorted((Path(__file__).resolve().parent.parent / "models").glob("*.toml"))
 _NUMBER = re.compile(rb"-?\d+\.?\d*(?:e-?\d+)?")

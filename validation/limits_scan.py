@@ -18,8 +18,8 @@ from pathlib import Path
 import numpy as np
 
 from linkgen import LinkgenError, from_dict, solve
-from linkgen.kinetostatics import forces
-from linkgen.cli import crank_grid
+from linkgen.planar.kinetostatics import forces
+from linkgen.cli.common import crank_grid
 
 MODELS = Path(__file__).resolve().parent.parent / "models"
 SAMPLES = 24

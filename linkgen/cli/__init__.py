@@ -1,0 +1,1 @@
+"""The ``linkgen`` command: one module per command group (closed-form, forces, MuJoCo)."""

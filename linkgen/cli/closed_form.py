@@ -1,0 +1,84 @@
+"""``linkgen structure`` and ``linkgen analyze``: the closed form from the command line."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from linkgen.cli.common import (check_crank_options, check_finite, crank_grid, drive_rates, print_json,
+                                write_rows)
+from linkgen.cli.singular import report_singular
+from linkgen.model.reader import load
+from linkgen.planar.assembly import assemble
+from linkgen.planar.kinematics import Kinematics, solve
+
+
+def _motion_json(kin: Kinematics, omega: float, epsilon: float, i: int = 0) -> dict:
+    mo = kin.motion(omega, epsilon)
+    return {
+        "points": {n: {"position": p[i].tolist(), "velocity": v[i].tolist(), "acceleration": a[i].tolist()}
+                   for n, (p, v, a) in mo.points.items()},
+        "links": {n: {"angle": float(p[i]), "angular_velocity": float(v[i]), "angular_acceleration": float(a[i])}
+                  for n, (p, v, a) in mo.links.items()},
+        "sliders": {n: {"displacement": float(p[i]), "velocity": float(v[i]), "acceleration": float(a[i])}
+                    for n, (p, v, a) in mo.sliders.items()},
+    }
+
+
+def cmd_structure(args) -> int:
+    asm = assemble(load(args.model))
+    s = asm.structure
+    print(f"mechanism: {asm.mechanism.name}")
+    print(f"mobility W = 3·n - 2·p5 = 3·{s.moving_links} - 2·{s.lower_pairs} = {s.mobility}")
+    print(f"input link: I(0,1) crank {s.crank!r}, driven at {s.drive.name!r}")
+    for g, m in zip(s.groups, asm.branches):
+        pairs = ", ".join(f"{p.kind} {p.name}" for p in g.pairs)
+        print(f"group {g.label}: pairs {pairs}; attached to {list(g.known)}; assembly mode m = {m:+d}")
+    print(f"structure formula: {s.formula}")
+    return 0
+
+
+def cmd_analyze(args) -> int:
+    check_crank_options(args)
+    mech = load(args.model)
+    omega, epsilon = drive_rates(mech, args)
+    if args.samples is not None or args.csv is not None:
+        phi = crank_grid(mech, args.samples or 360)
+        kin = solve(mech, phi, on_singular="mark")
+        mo = kin.motion(omega, epsilon)
+        cols, data = ["phi", "singular"], [phi, kin.singular]
+        for kind, table in (("point", mo.points), ("link", mo.links), ("slider", mo.sliders)):
+            names = ("position", "velocity", "acceleration") if kind == "point" else (
+                ("angle", "angular_velocity", "angular_acceleration") if kind == "link"
+                else ("displacement", "velocity", "acceleration"))
+            for n, arrays in table.items():
+                for qname, arr in zip(names, arrays):
+                    if arr.ndim == 2:
+                        cols += [f"{n}.{qname}.x", f"{n}.{qname}.y"]
+                        data += [arr[:, 0], arr[:, 1]]
+                    else:
+                        cols.append(f"{n}.{qname}")
+                        data.append(arr)
+        write_rows(cols, data, args.csv)
+        return report_singular(args.model, kin, args.keep_singular)
+    phi = mech.drive.start if args.angle is None else args.angle
+    kin = solve(mech, np.array([phi]))
+    result = _motion_json(kin, omega, epsilon)
+    check_finite(result)
+    if args.json:
+        print_json(result)
+        return 0
+    print(f"{mech.name}: φ = {math.degrees(phi):.6g}° ({phi:.9g} rad), ω = {omega:g} rad/s, ε = {epsilon:g} rad/s²")
+    print(f"{'point':<10}{'x [m]':>14}{'y [m]':>14}{'vx [m/s]':>14}{'vy [m/s]':>14}{'ax [m/s²]':>14}{'ay [m/s²]':>14}")
+    for n, q in result["points"].items():
+        print(f"{n:<10}" + "".join(f"{x:>14.6g}" for x in q["position"] + q["velocity"] + q["acceleration"]))
+    print(f"{'link':<10}{'angle [rad]':>14}{'ω [rad/s]':>14}{'ε [rad/s²]':>14}")
+    for n, q in result["links"].items():
+        print(f"{n:<10}{q['angle']:>14.6g}{q['angular_velocity']:>14.6g}{q['angular_acceleration']:>14.6g}")
+    if result["sliders"]:
+        print(f"{'slider':<10}{'s [m]':>14}{'v [m/s]':>14}{'a [m/s²]':>14}")
+        for n, q in result["sliders"].items():
+            print(f"{n:<10}{q['displacement']:>14.6g}{q['velocity']:>14.6g}{q['acceleration']:>14.6g}")
+    return 0
+

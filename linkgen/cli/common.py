@@ -1,0 +1,179 @@
+"""What the commands share: option parsers with units, the crank grid, CSV and JSON output,
+the checks of conflicting options."""
+
+from __future__ import annotations
+
+import argparse
+import csv
+import json
+import math
+import sys
+from pathlib import Path
+
+import numpy as np
+
+from linkgen.errors import DescriptionError, LinkgenError
+from linkgen.model import limits
+from linkgen.model.units import parse_angle
+from linkgen.cli.files import atomic_open
+from linkgen.cli.singular import SINGULAR_STATUS
+
+
+def crank_grid(mech, samples: int) -> np.ndarray:
+    """``samples`` crank angles [rad] over the drive range (a full turn excludes its end)."""
+    d = mech.drive
+    full = d.stop - d.start >= 2 * math.pi - 1e-12
+    return np.linspace(d.start, d.stop, samples, endpoint=not full)
+
+
+def _angle_arg(text: str) -> float:
+    try:
+        x = parse_angle(text if text.strip().endswith(("deg", "rad")) else float(text), "--angle")
+    except (ValueError, DescriptionError) as exc:
+        raise argparse.ArgumentTypeError(f"expected radians or e.g. '30deg', got {text!r}") from exc
+    if abs(x) > limits.MAX_ANGLE:
+        raise argparse.ArgumentTypeError(f"expected an angle within ±{limits.MAX_ANGLE:g} rad (linkgen's limits, "
+                                         f"see the README), got {text!r}")
+    return x
+
+
+def _float_arg(text: str) -> float:
+    try:
+        x = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a number, got {text!r}") from None
+    if not math.isfinite(x):
+        raise argparse.ArgumentTypeError(f"expected a finite number, got {text!r}")
+    return x
+
+
+def rate_arg(limit: float, unit: str):
+    """An argparse type: a finite number with |x| <= ``limit`` (see linkgen.limits)."""
+
+    def parse(text: str) -> float:
+        x = _float_arg(text)
+        if abs(x) > limit:
+            raise argparse.ArgumentTypeError(f"expected a number within ±{limit:g} {unit} (linkgen's limits, "
+                                             f"see the README), got {text!r}")
+        return x
+
+    return parse
+
+
+# Most crank angles one command evaluates (--samples): the benchmark's size; the solution's
+# arrays then take some 0.3 GB and the CSV about 1 GB.
+MAX_SAMPLES = 10**6
+
+
+def _positive_int(text: str) -> int:
+    try:
+        n = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a whole number, got {text!r}") from None
+    if not 1 <= n <= MAX_SAMPLES:
+        raise argparse.ArgumentTypeError(f"expected a whole number from 1 to {MAX_SAMPLES}, got {text!r}")
+    return n
+
+
+def drive_rates(mech, args) -> tuple[float, float]:
+    """ω [rad/s] and ε [rad/s²] from --omega/--epsilon, else the description's drive."""
+    return (mech.drive.omega if args.omega is None else args.omega,
+            mech.drive.epsilon if args.epsilon is None else args.epsilon)
+
+
+# Rows formatted at a time when writing CSV: bounds the text held in memory (~4096 rows ×
+# 40 columns × 25 characters = 4 MB) whatever the number of samples.
+CSV_CHUNK_ROWS = 4096
+
+
+def _text(column: np.ndarray) -> list[str]:
+    """A column's cells: whole numbers (booleans, integers) as such, floats at full precision."""
+    if column.dtype.kind in "biu":
+        return [str(int(x)) for x in column.tolist()]
+    return [repr(float(x)) for x in column.tolist()]
+
+
+def _write_csv(out, cols: list[str], data: list[np.ndarray]) -> int:
+    writer = csv.writer(out)
+    writer.writerow(cols)
+    n = len(data[0]) if data else 0
+    for start in range(0, n, CSV_CHUNK_ROWS):
+        writer.writerows(zip(*(_text(np.asarray(d[start:start + CSV_CHUNK_ROWS])) for d in data)))
+    return n
+
+
+def write_rows(cols: list[str], data: list[np.ndarray], path: Path | None) -> None:
+    """Columns (each (n,)) as CSV with a header, full precision, to ``path`` (written
+    atomically) or stdout."""
+    if path is None:
+        _write_csv(sys.stdout, cols, data)
+        return
+    with atomic_open(path) as out:
+        n = _write_csv(out, cols, data)
+    print(f"wrote {n} crank angles × {len(cols)} columns to {path}", file=sys.stderr)
+
+
+class OptionError(LinkgenError):
+    """Command-line options that contradict each other (not about a file)."""
+
+
+def _first_non_finite(obj, where: str = "") -> str | None:
+    """The key path of the first NaN or infinity in a JSON-like structure, or None."""
+    if isinstance(obj, float):
+        return None if math.isfinite(obj) else where or "value"
+    if isinstance(obj, dict):
+        items = ((f"{where}.{k}" if where else str(k), v) for k, v in obj.items())
+    elif isinstance(obj, (list, tuple)):
+        items = ((f"{where}[{i}]", v) for i, v in enumerate(obj))
+    else:
+        return None
+    for path, v in items:
+        found = _first_non_finite(v, path)
+        if found:
+            return found
+    return None
+
+
+def check_finite(obj) -> None:
+    """Raise LinkgenError naming the first NaN or infinity in a JSON-like result: such a value
+    is never printed (and JSON has no such values)."""
+    bad = _first_non_finite(obj)
+    if bad is not None:
+        raise LinkgenError(f"the result is not finite at {bad} (the computation overflowed or hit a singular "
+                           "position); nothing was printed")
+
+
+def print_json(obj) -> None:
+    """``obj`` as strict JSON on stdout (checked by ``check_finite`` first)."""
+    check_finite(obj)
+    print(json.dumps(obj, indent=2, allow_nan=False))
+
+
+def check_crank_options(args) -> None:
+    """One crank state (--angle, --json) and samples (--samples, --csv) exclude each other."""
+    sampled = [o for o, v in (("--samples", args.samples), ("--csv", args.csv)) if v is not None]
+    single = [o for o, v in (("--angle", args.angle), ("--json", args.json or None)) if v is not None]
+    if sampled and single:
+        raise OptionError(f"{single[0]} cannot be combined with {sampled[0]}: {single[0]} is for one crank "
+                          f"angle, {sampled[0]} for samples over the drive range")
+    if args.keep_singular and not sampled:
+        raise OptionError("--keep-singular is for samples (--samples, --csv); at one crank angle a singular "
+                          "position is an error")
+
+
+def add_crank_arguments(parser: argparse.ArgumentParser, example_angle: str) -> None:
+    """MODEL, one crank state (--angle, --omega, --epsilon, --json) or samples (--samples, --csv)."""
+    parser.add_argument("model", type=Path)
+    parser.add_argument("--angle", type=_angle_arg, help=f"crank angle: radians, or e.g. {example_angle}")
+    parser.add_argument("--omega", type=rate_arg(limits.MAX_OMEGA, "rad/s"),
+                        help="crank speed [rad/s] (default: the description's)")
+    parser.add_argument("--epsilon", type=rate_arg(limits.MAX_EPSILON, "rad/s²"),
+                        help="crank acceleration [rad/s²] (default: the description's)")
+    parser.add_argument("--json", action="store_true", help="print one JSON object (not with --samples/--csv)")
+    parser.add_argument("--samples", type=_positive_int, help="evaluate this many angles over the drive range")
+    parser.add_argument("--csv", type=Path, help="write the samples as CSV to this file (not with --angle/--json)")
+    parser.add_argument("--keep-singular", action="store_true",
+                        help="with samples: exit 0 even if some are singular (by default such samples are "
+                             f"written marked, singular = 1, and the exit status is {SINGULAR_STATUS}); at one "
+                             "crank angle a singular position is always an error (status 2)")
+

@@ -1,0 +1,273 @@
+"""CLI commands that need MuJoCo: build, simulate, validate."""
+
+from __future__ import annotations
+
+import json
+import multiprocessing
+import os
+import sys
+import time
+from concurrent.futures import ProcessPoolExecutor
+from pathlib import Path
+
+import numpy as np
+
+from linkgen.errors import DescriptionError, LinkgenError
+
+REPORT_DIR = Path("validation/report")
+# Diagnosis lines printed per model (the JSON has them all).
+DIAGNOSIS_LINES = 5
+
+
+def _models(path: Path) -> list[Path]:
+    """The description files a command runs on: ``path`` itself, or a folder's ``*.toml`` in
+    name order."""
+    if path.is_dir():
+        found = sorted(p for p in path.glob("*.toml") if not p.is_dir())
+        if not found:
+            raise DescriptionError("", "no *.toml descriptions in this folder", str(path))
+        return found
+    return [path]
+
+
+def _build_one(path: Path, out: Path) -> Path:
+    """Compile ``path``'s MJCF in MuJoCo and write it atomically to ``out``."""
+    import mujoco
+
+    from linkgen.cli.files import atomic_write_text
+    from linkgen.model.reader import load
+    from linkgen.mujoco.mjcf import write_mjcf
+    from linkgen.mujoco.log import no_log_file
+
+    xml = write_mjcf(load(path))  # any structure class: the MJCF needs no Assur groups
+    try:
+        with no_log_file():
+            mujoco.MjModel.from_xml_string(xml)  # always compile what we write
+    except ValueError as exc:
+        raise LinkgenError(f"MuJoCo rejects the generated model: {str(exc).strip()}") from None
+    atomic_write_text(out, xml)
+    print(f"wrote {out}", file=sys.stderr)
+    return out
+
+
+def cmd_build(args) -> int:
+    """One file (to -o or next to it), or every *.toml of a folder next to itself: a bad file
+    is reported as ``FILE: message`` and the others are still built; status 2 if any failed."""
+    from linkgen.cli.common import OptionError
+    from linkgen.cli.files import run_each
+
+    if args.output is not None and args.model.is_dir():
+        raise OptionError(f"-o/--output writes one model, but {str(args.model)!r} is a folder (a folder's models "
+                          "are written next to their descriptions)")
+    paths = _models(args.model)
+    if len(paths) == 1 and not args.model.is_dir():
+        _build_one(paths[0], args.output or paths[0].with_suffix(".xml"))
+        return 0
+    outcomes = run_each(paths, lambda p: _build_one(p, p.with_suffix(".xml")))
+    bad = [o for o in outcomes if not o.ok]
+    if bad:
+        print(f"linkgen: {len(bad)} of {len(outcomes)} descriptions failed", file=sys.stderr)
+    return 2 if bad else 0
+
+
+def _progress(name: str):
+    def report(fraction: float, elapsed: float) -> None:
+        eta = elapsed * (1 - fraction) / max(fraction, 1e-9)
+        print(f"{name}: MuJoCo run {100 * fraction:5.1f}% ({elapsed:.1f} s, about {eta:.0f} s left)",
+              file=sys.stderr, flush=True)
+    return report
+
+
+def cmd_simulate(args) -> int:
+    from linkgen.planar.assembly import assemble
+    from linkgen.errors import StructureError
+    from linkgen.model.reader import load
+    from linkgen.mujoco.posed import posed
+    from linkgen.mujoco.simulate import simulate, steps_per_revolution
+
+    if args.out is not None and args.out.suffix not in (".npz", ".csv"):
+        raise DescriptionError("--out", f"must end in .npz or .csv, got {str(args.out)!r}")
+    mech = load(args.model)
+    try:
+        asm = assemble(mech)
+    except StructureError as exc:  # no Assur groups needed: the numeric pose starts the run
+        print(f"{args.model}: the closed form does not cover this mechanism ({exc}); MuJoCo runs it from the "
+              f"numeric pose, with settings from the crank speed", file=sys.stderr)
+        asm = posed(mech)
+    run = simulate(asm, revolutions=args.revolutions, omega=args.omega, epsilon=args.epsilon,
+                   samples=args.samples, progress=_progress(asm.mechanism.name))
+    s = run.samples
+    arrays = {"time": s.time, "qpos": s.qpos, "qvel": s.qvel, "loop_gap": s.violation,
+              "phi": s.crank[0], "omega": s.crank[1], "epsilon": s.crank[2], "drive_torque": s.drive_torque}
+    for p, (x, v, a) in s.points.items():
+        arrays |= {f"points.{p}.position": x, f"points.{p}.velocity": v, f"points.{p}.acceleration": a}
+    for n, (x, v, a) in s.links.items():
+        arrays |= {f"links.{n}.angle": x, f"links.{n}.angular_velocity": v, f"links.{n}.angular_acceleration": a}
+    for n, (x, v, a) in s.sliders.items():
+        arrays |= {f"sliders.{n}.displacement": x, f"sliders.{n}.velocity": v, f"sliders.{n}.acceleration": a}
+    f = s.forces  # forward route, linkgen.kinetostatics' sign conventions
+    arrays |= {f"reactions.{k}.force": v for k, v in f.reactions.items()}
+    arrays |= {f"prismatic.{k}.normal_force": v for k, v in f.normal_force.items()}
+    arrays |= {f"prismatic.{k}.moment": v for k, v in f.moment.items()}
+    arrays["reduced_inertia"] = s.reduced_inertia
+    if args.out is not None and args.out.suffix == ".npz":
+        np.savez(args.out, **arrays)
+    elif args.out is not None:
+        header, data = [], []
+        for k, v in arrays.items():
+            if k in ("qpos", "qvel"):
+                continue
+            if v.ndim == 2:
+                header += [f"{k}.x", f"{k}.y"]
+                data += [v[:, 0], v[:, 1]]
+            else:
+                header.append(k)
+                data.append(v)
+        np.savetxt(args.out, np.column_stack(data), delimiter=",", header=",".join(header), comments="", fmt="%.17g")
+    st = run.settings
+    print(f"{asm.mechanism.name}: {run.steps} steps ({steps_per_revolution(run):.0f} per revolution) in {run.wall:.2f} s "
+          f"on {run.segments} thread(s); timestep {st.timestep:g} s, loop time constant {st.timeconst:g} s; "
+          f"largest loop gap {run.gap_max:.3g} m; {s.time.shape[0]} samples"
+          + (f"; wrote {args.out}" if args.out else ""))
+    return 0
+
+
+def _check_one(path: Path, report: Path | None, practical: bool, nthread: int | None, progress: bool) -> dict:
+    """Validate one file (in a worker process for folders); draws its figures if ``report``."""
+    from linkgen.planar.assembly import assemble
+    from linkgen.crosscheck.run import crosscheck
+    from linkgen.errors import StructureError
+    from linkgen.cli.files import message_for
+    from linkgen.model.reader import load
+
+    t0 = time.perf_counter()
+    try:
+        asm = assemble(load(path))
+    except StructureError as exc:
+        return {"model": path.stem, "file": str(path), "ok": False,
+                "error": f"{path}: the closed form does not cover this mechanism ({exc}); `linkgen build` and "
+                         f"`linkgen simulate` still work for it"}
+    except LinkgenError as exc:
+        return {"model": path.stem, "file": str(path), "ok": False, "error": message_for(path, exc)}
+    cc = crosscheck(asm, practical=practical, nthread=nthread,
+                    progress=_progress(asm.mechanism.name) if progress else None)
+    out = {"file": str(path)} | cc.to_json()
+    if report is not None and cc.comparison is not None:
+        from linkgen.crosscheck.report import plot_model
+
+        report.mkdir(parents=True, exist_ok=True)
+        out["figures"] = plot_model(cc.comparison, report)
+    out["total_wall_s"] = time.perf_counter() - t0
+    return out
+
+
+def _summary(r: dict) -> str:
+    from linkgen.crosscheck.report import number as _num
+
+    if "error" in r:
+        return f"{r['model']:<22} FAIL {r['error']}"
+    lines = []
+    if "quantities" in r:
+        q = r["quantities"]
+        worst = max(q, key=lambda k: q[k]["relative_error"] / q[k]["tolerance"])
+        gap = r["loop_gap"]
+        lines.append(f"{r['model']:<22} {'ok  ' if r['ok'] else 'FAIL'} worst {worst} {q[worst]['relative_error']:.2e} "
+                     f"(tolerance {q[worst]['tolerance']:g}), loop gap {gap['relative']:.1e} of the size, "
+                     f"{r['steps']} steps, {r['total_wall_s']:.2f} s")
+    else:
+        lines.append(f"{r['model']:<22} FAIL")
+    shown = r.get("diagnosis", [])[:DIAGNOSIS_LINES]
+    for d in shown:
+        rng = ", ".join(f"{a:.1f}°..{b:.1f}°" for a, b in d["ranges_deg"][:3])
+        lines.append(f"    {d['quantity']}: {_num(d['relative_error'], '.2e')} (tolerance {d['tolerance']:g}) at {rng}: "
+                     f"{d['cause']} — {d['detail']}")
+    if len(r.get("diagnosis", [])) > len(shown):
+        lines.append(f"    … and {len(r['diagnosis']) - len(shown)} more quantities (see --json)")
+    if r.get("diagnosis"):
+        tried = "; ".join((f"timestep {a['settings']['timestep']:.3g} s, loop τ {a['settings']['timeconst']:.3g} s"
+                           if a["settings"] else "derived settings")
+                          + (f" → failed: {a['error']}" if a["error"] else
+                             f" → worst {a['worst']} at {_num(a['worst_error_over_tolerance'], '.2g')}× its tolerance")
+                          for a in r.get("attempts", []))
+        lines.append(f"    tried: {tried}")
+    return "\n".join(lines)
+
+
+def cmd_validate(args) -> int:
+    from linkgen.planar.blocks import default_threads
+    from linkgen.crosscheck.report import write_index
+
+    paths = _models(args.model)
+    report = args.report if args.report is not None else (REPORT_DIR if args.model.is_dir() else None)
+    practical = not args.no_practical
+    t0 = time.perf_counter()
+    cpu0 = os.times()
+    if len(paths) == 1:
+        results = [_check_one(paths[0], report, practical, None, True)]
+    else:  # models side by side in processes (each draws its own figures), one thread each
+        ctx = multiprocessing.get_context("spawn")
+        with ProcessPoolExecutor(max_workers=min(len(paths), default_threads()), mp_context=ctx) as pool:
+            futures = [pool.submit(_check_one, p, report, practical, 1, False) for p in paths]
+            results = []
+            for fut in futures:
+                r = fut.result()
+                results.append(r)
+                if not args.json:
+                    print(_summary(r), flush=True)
+    wall = time.perf_counter() - t0
+    cpu1 = os.times()
+    cores = (cpu1.children_user + cpu1.children_system + cpu1.user + cpu1.system
+             - cpu0.children_user - cpu0.children_system - cpu0.user - cpu0.system) / max(wall, 1e-9)
+    if args.json:
+        print(json.dumps(results[0] if len(results) == 1 else results, indent=2, allow_nan=False,
+                         default=_json_default))
+    elif len(paths) == 1 and "error" in results[0]:
+        print(f"linkgen: error: {results[0]['error']}", file=sys.stderr)
+    elif len(paths) == 1:
+        print(_summary(results[0]))
+    if report is not None:
+        path = write_index(results, report, wall, cores)
+        print(f"report: {path} ({len(paths)} model(s) in {wall:.1f} s, {cores:.2f} cores busy)", file=sys.stderr)
+    if any("error" in r for r in results):
+        return 2  # a file that could not be validated at all
+    return 0 if all(r["ok"] for r in results) else 1
+
+
+def _json_default(x):
+    if isinstance(x, (np.floating, np.integer)):
+        return x.item()
+    raise TypeError(f"not JSON serialisable: {type(x).__name__}")
+
+
+def add_commands(sub) -> None:
+    from linkgen.model import limits
+    from linkgen.cli.common import _float_arg, _positive_int, rate_arg
+
+    b = sub.add_parser("build", help="write the MJCF of a model, or of every model in a folder")
+    b.add_argument("model", type=Path)
+    b.add_argument("-o", "--output", type=Path, help="output file (one model file only, not a folder)")
+    b.set_defaults(func=cmd_build)
+
+    s = sub.add_parser("simulate", help="run the driven crank in MuJoCo with settings derived from the mechanism")
+    s.add_argument("model", type=Path, help="description file (.toml)")
+    s.add_argument("--revolutions", type=_float_arg, default=1.0,
+                   help="turns of the crank for a full-turn range (default 1)")
+    s.add_argument("--omega", type=rate_arg(limits.MAX_OMEGA, "rad/s"),
+                   help="crank speed at the start [rad/s] (default: the description's)")
+    s.add_argument("--epsilon", type=rate_arg(limits.MAX_EPSILON, "rad/s²"),
+                   help="crank acceleration [rad/s²] (default: the description's)")
+    s.add_argument("--samples", type=_positive_int, default=360, help="sampled states over the range (default 360)")
+    s.add_argument("--out", type=Path, help="write the samples to FILE.npz or FILE.csv (SI units)")
+    s.set_defaults(func=cmd_simulate)
+
+    v = sub.add_parser("validate", help="closed form against MuJoCo; a folder also writes the report")
+    v.add_argument("model", type=Path, help="description file (.toml) or a folder of them")
+    v.add_argument("--json", action="store_true", help="print the results as JSON")
+    v.add_argument("--report", type=Path, help=f"write the report (Markdown and plots) into this folder "
+                                               f"(default for a folder: {REPORT_DIR})")
+    v.add_argument("--no-practical", action="store_true",
+                   help="skip the runs at MuJoCo's usual settings (the practical-settings table)")
+    v.set_defaults(func=cmd_validate)
+
+
+__all__ = ["add_commands", "LinkgenError"]

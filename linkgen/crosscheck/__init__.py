@@ -1,0 +1,2 @@
+"""MuJoCo against the closed form: tolerances, comparison, diagnosis of failures, the cost of
+practical settings and the report."""

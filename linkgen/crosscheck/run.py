@@ -1,0 +1,155 @@
+"""One mechanism through MuJoCo and the closed form: settings derived, run, compared, retried
+once with finer settings when it misses, failures diagnosed; plus what MuJoCo's usual settings
+cost in accuracy (``practical``)."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, replace
+
+from linkgen.planar.assembly import Assembly
+from linkgen.crosscheck.compare import Comparison, compare
+from linkgen.crosscheck.diagnose import Finding, diagnose
+from linkgen.errors import SimulationError
+from linkgen.mujoco.options import Settings
+from linkgen.mujoco.settings import MAX_STEPS
+from linkgen.crosscheck.practical import PracticalRow, finite_or_none, practical_study
+from linkgen.mujoco.simulate import simulate, steps_per_revolution
+
+
+@dataclass(frozen=True)
+class Attempt:
+    """One run: its settings, whether everything held, the worst quantity (error/tolerance),
+    steps and wall time [s], or the error that stopped it."""
+
+    settings: Settings | None  # None: the run failed before its settings were derived
+    ok: bool
+    worst: str
+    worst_ratio: float
+    steps: int
+    wall: float
+    error: str | None = None
+    capped: bool = False  # a step budget coarsened the settings
+
+    def to_json(self) -> dict:
+        return {"settings": self.settings.to_json() if self.settings else None, "ok": self.ok, "worst": self.worst,
+                "worst_error_over_tolerance": finite_or_none(self.worst_ratio), "steps": self.steps,
+                "wall_s": self.wall, "error": self.error, "capped_by_step_budget": self.capped}
+
+
+@dataclass(frozen=True)
+class CrossCheck:
+    """The final comparison (None if every run failed), the attempts, the diagnosis of what
+    missed, and the practical-settings table."""
+
+    model: str
+    comparison: Comparison | None
+    attempts: tuple[Attempt, ...]
+    diagnosis: tuple[Finding, ...]
+    practical: tuple[PracticalRow, ...]
+
+    @property
+    def ok(self) -> bool:
+        return self.comparison is not None and self.comparison.ok and not self.diagnosis
+
+    def to_json(self) -> dict:
+        out: dict = {"model": self.model, "ok": self.ok}
+        c = self.comparison
+        if c is not None:
+            run = c.run
+            out |= {
+                "settings": run.settings.to_json(),
+                "scales": run.scales.to_json() if run.scales else None,
+                "size_m": c.size,
+                "steps": run.steps, "segments": run.segments, "wall_s": run.wall,
+                "steps_per_revolution": steps_per_revolution(run),
+                "settling_window_s": run.window,
+                "samples_compared": int(run.samples.time.shape[0]),
+                "left_out": [lo.to_json() for lo in run.left_out],
+                "loop_gap": {"max_m": c.gap.max_abs_error, "relative": c.gap.relative_error,
+                             "tolerance": c.gap.tolerance, "at_deg": math.degrees(run.gap_max_at), "ok": c.gap.ok},
+                "quantities": {k: q.to_json() for k, q in c.quantities.items() if k != "loop_gap"},
+            }
+        out["diagnosis"] = [f.to_json() for f in self.diagnosis]
+        out["attempts"] = [a.to_json() for a in self.attempts]
+        out["practical_settings"] = [r.to_json() for r in self.practical]
+        return out
+
+
+def _attempt(asm: Assembly, settings: Settings | None, progress, nthread,
+             scales=None) -> tuple[Attempt, Comparison | None]:
+    try:
+        run = simulate(asm, settings=settings, progress=progress, nthread=nthread, scales=scales)
+    except SimulationError as exc:
+        scales = getattr(exc, "scales", None)
+        return Attempt(getattr(exc, "settings", settings), False, "run", math.inf, 0, 0.0, str(exc),
+                       bool(scales and scales.capped and settings is None)), None
+    cmp = compare(asm, run)
+    worst = max(cmp.quantities, key=lambda k: cmp.quantities[k].relative_error / cmp.quantities[k].tolerance)
+    q = cmp.quantities[worst]
+    return Attempt(run.settings, cmp.ok, worst, q.relative_error / q.tolerance, run.steps, run.wall,
+                   capped=bool(run.scales.capped and settings is None)), cmp
+
+
+# Aim of a further run: the worst error at this fraction of its tolerance.
+RETRY_MARGIN = 0.5
+# Runs at most (the derived settings, then finer ones while the errors miss and fall).
+MAX_ATTEMPTS = 3
+
+
+def finer(settings: Settings, ratio: float, exponent: float, steps_per_segment: int,
+          tau_floor: float = 0.0) -> Settings | None:
+    """Settings for another run after a miss whose worst error was ``ratio`` × its tolerance,
+    or None when the step budget allows none.
+
+    Both τ and dt are divided by k = (ratio/margin)^(1/p), keeping dt/τ, where p is how the
+    errors scale with τ: 2 for the loop gap (∝ τ²), as assumed for the first retry; measured
+    from the two previous runs for the next (near an assembly limit the amplified errors went as
+    τ^0.9 on the seven-link). The cost grows by k; τ stays above ``tau_floor``, the precision
+    floor (``mujoco.settings.precision_floor``)."""
+    k = (ratio / RETRY_MARGIN) ** (1.0 / exponent) if math.isfinite(ratio) else 4.0
+    k = min(max(k, 2.0), MAX_STEPS / max(steps_per_segment, 1), settings.timeconst / max(tau_floor, 1e-300))
+    if k < 1.5:
+        return None
+    k = math.ceil(k * 10) / 10
+    return replace(settings, timeconst=settings.timeconst / k, timestep=settings.timestep / k,
+                   label=f"after a miss: τ and timestep ÷{k:g}")
+
+
+def crosscheck(asm: Assembly, *, practical: bool = True, progress=None, nthread: int | None = None) -> CrossCheck:
+    """Validate ``asm`` in MuJoCo against the closed form (see the module docstring)."""
+    first, cmp = _attempt(asm, None, progress, nthread)
+    attempts = [first]
+    exponent = 2.0
+    exhausted = False  # a finer run would pass the step budget or the float64 floor
+    while (cmp is not None and not cmp.ok and len(attempts) < MAX_ATTEMPTS
+           and not (cmp.run.scales and cmp.run.scales.capped)):
+        last = attempts[-1]
+        if len(attempts) >= 2:  # how the errors fell with τ between the last two runs
+            prev = attempts[-2]
+            drop = prev.worst_ratio / last.worst_ratio
+            shrink = prev.settings.timeconst / last.settings.timeconst
+            if not (drop > 1.2 and shrink > 1):
+                break  # finer settings stopped helping
+            exponent = min(max(math.log(drop) / math.log(shrink), 0.5), 4.0)
+        nxt = finer(cmp.run.settings, last.worst_ratio, exponent, cmp.run.steps // max(cmp.run.segments, 1),
+                    cmp.run.scales.tau_floor)
+        if nxt is None:
+            exhausted = True
+            break
+        again, cmp2 = _attempt(asm, nxt, progress, nthread, cmp.run.scales)
+        attempts.append(again)
+        if cmp2 is None:
+            break
+        cmp = cmp2
+    findings: list[Finding] = []
+    if cmp is not None and not cmp.ok:
+        findings = diagnose(cmp, budget_exhausted=exhausted)
+    elif cmp is None:
+        findings = [Finding("run", [], math.inf, 0.0, "time budget" if first.capped else "run failed",
+                            first.error or "")]
+    rows = practical_study(asm, cmp.run.settings, nthread=nthread, scales=cmp.run.scales) if (practical and cmp is not None) else []
+    return CrossCheck(asm.mechanism.name, cmp, tuple(attempts), tuple(findings), tuple(rows))
+
+
+__all__ = ["Attempt", "CrossCheck", "crosscheck", "finer"]

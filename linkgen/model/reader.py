@@ -1,0 +1,232 @@
+"""Strict TOML loader: every table and key is checked; unknown keys are errors."""
+
+from __future__ import annotations
+
+import tomllib
+from pathlib import Path
+from typing import Any
+
+from linkgen.model.description import (
+    Drive,
+    Link,
+    LinkTorque,
+    MassProperties,
+    Mechanism,
+    PointForce,
+    Prismatic,
+)
+from linkgen.model.names import check_name
+from linkgen.errors import DescriptionError
+from linkgen.model.units import finite, parse_angle, shown, vector2
+
+_TOP = {"mechanism", "points", "links", "prismatic", "drive", "force", "torque"}
+_MECH = {"name", "title", "gravity"}
+_LINK = {"points", "length", "inertial", "density", "shape"}
+_INERTIAL = {"mass", "com", "inertia"}
+_PRISMATIC = {"slider", "guide", "point", "through", "angle", "offset"}
+_DRIVE = {"joint", "omega", "epsilon", "range"}
+_FORCE = {"link", "point", "force", "stroke"}
+_TORQUE = {"link", "torque"}
+
+
+def _table(value: Any, where: str) -> dict:
+    if not isinstance(value, dict):
+        raise DescriptionError(where, f"must be a table, got {shown(value)}")
+    return value
+
+
+def _keys(table: dict, allowed: set[str], required: set[str], where: str) -> None:
+    for key in table:
+        if key not in allowed:
+            name = key if len(key) <= 60 else shown(key)  # a hostile file's key may be megabytes long
+            raise DescriptionError(f"{where}.{name}", f"unknown key; allowed keys: {sorted(allowed)}")
+    for key in sorted(required):
+        if key not in table:
+            raise DescriptionError(f"{where}.{key}", "is required")
+
+
+def _str(value: Any, where: str) -> str:
+    if not isinstance(value, str):
+        raise DescriptionError(where, f"must be a string, got {shown(value)}")
+    return value
+
+
+_BOM = b"\xef\xbb\xbf"
+# Largest description file [bytes]: a 5000-group chain takes about 1 MB (some 200 bytes a group);
+# beyond 64 MiB a file is not a description, and reading it whole would only spend memory.
+MAX_FILE_BYTES = 64 * 2**20
+
+
+def load(path: str | Path) -> Mechanism:
+    """Read and validate a TOML description (UTF-8, with or without a byte-order mark).
+
+    Raises:
+        DescriptionError: with ``source`` = the file, for a missing or unreadable file, bytes
+            that are not UTF-8 text, invalid or too deeply nested TOML, and every problem
+            found while building the Mechanism from it.
+    """
+    path = Path(path)
+    source = str(path)
+    if path.is_dir():
+        raise DescriptionError("", "is a folder; give one description file", source)
+    if not path.exists():
+        raise DescriptionError("", "no such description file", source)
+    if not path.is_file():
+        raise DescriptionError("", "is not a regular file (a device, pipe or socket); give a description file",
+                               source)
+    try:
+        size = path.stat().st_size
+        if size > MAX_FILE_BYTES:
+            raise DescriptionError("", f"is {size} bytes; a description is at most {MAX_FILE_BYTES} bytes", source)
+        raw = path.read_bytes()
+    except OSError as exc:
+        raise DescriptionError("", f"cannot be read: {exc.strerror or exc}", source) from None
+    return loads(raw, source)
+
+
+def loads(raw: bytes | str, source: str = "<description>") -> Mechanism:
+    """A Mechanism from the bytes (or text) of a TOML description; errors name ``source``."""
+    if isinstance(raw, bytes):
+        if raw.startswith(_BOM):
+            raw = raw[len(_BOM):]
+        try:
+            text = raw.decode("utf-8")
+        except UnicodeDecodeError as exc:
+            line = raw[:exc.start].count(b"\n") + 1
+            raise DescriptionError(
+                "", f"is not UTF-8 text (byte {raw[exc.start]:#04x} at line {line}, offset {exc.start}); "
+                "a description is a UTF-8 TOML file", source) from None
+    else:
+        text = raw.removeprefix("\ufeff")
+    if "\x00" in text:
+        raise DescriptionError("", "contains NUL bytes: a description is a UTF-8 TOML text file", source)
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise DescriptionError("", f"not valid TOML: {exc}", source) from None
+    except RecursionError:
+        # tomllib parses nested arrays and inline tables recursively
+        raise DescriptionError("", "nested too deeply to parse: a description needs at most a few "
+                               "levels of tables and arrays", source) from None
+    try:
+        return from_dict(data)
+    except DescriptionError as exc:
+        raise exc.in_file(source) from None
+
+
+def from_dict(data: dict) -> Mechanism:
+    """Build a Mechanism from the parsed TOML structure."""
+    _keys(data, _TOP, {"mechanism", "points", "links", "drive"}, "description")
+    mech = _table(data["mechanism"], "mechanism")
+    _keys(mech, _MECH, {"name"}, "mechanism")
+    points = {
+        check_name(name, f"points.{name}"): vector2(xy, f"points.{name}")
+        for name, xy in _table(data["points"], "points").items()
+    }
+    links = tuple(_link(name, spec) for name, spec in _table(data["links"], "links").items())
+    prismatics = tuple(
+        _prismatic(name, spec) for name, spec in _table(data.get("prismatic", {}), "prismatic").items()
+    )
+    return Mechanism(
+        name=_str(mech["name"], "mechanism.name"),
+        title=_str(mech.get("title", ""), "mechanism.title"),
+        points=points,
+        links=links,
+        prismatics=prismatics,
+        drive=_drive(_table(data["drive"], "drive")),
+        gravity=vector2(mech.get("gravity", [0.0, 0.0]), "mechanism.gravity"),
+        forces=tuple(_force(i, f) for i, f in enumerate(_list(data.get("force", []), "force"))),
+        torques=tuple(_torque(i, t) for i, t in enumerate(_list(data.get("torque", []), "torque"))),
+    )
+
+
+def _list(value: Any, where: str) -> list:
+    if not isinstance(value, list):
+        raise DescriptionError(where, f"must be an array of tables ([[{where}]]), got {shown(value)}")
+    return value
+
+
+def _link(name: str, spec: Any) -> Link:
+    where = f"links.{name}"
+    spec = _table(spec, where)
+    _keys(spec, _LINK, {"points"}, where)
+    pts = spec["points"]
+    if not isinstance(pts, list):
+        raise DescriptionError(f"{where}.points", f"must be a list of point names, got {shown(pts)}")
+    inertial = None
+    if "inertial" in spec:
+        t = _table(spec["inertial"], f"{where}.inertial")
+        _keys(t, _INERTIAL, _INERTIAL, f"{where}.inertial")
+        inertial = MassProperties(
+            mass=finite(t["mass"], f"{where}.inertial.mass"),
+            com=vector2(t["com"], f"{where}.inertial.com"),
+            inertia=finite(t["inertia"], f"{where}.inertial.inertia"),
+        )
+    shape = None
+    if "shape" in spec:
+        shape = {p: vector2(xy, f"{where}.shape.{p}") for p, xy in _table(spec["shape"], f"{where}.shape").items()}
+    return Link(
+        name=name,
+        shape=shape,
+        points=tuple(_str(p, f"{where}.points[{i}]") for i, p in enumerate(pts)),
+        length=finite(spec["length"], f"{where}.length") if "length" in spec else None,
+        inertial=inertial,
+        density=finite(spec["density"], f"{where}.density") if "density" in spec else None,
+    )
+
+
+def _prismatic(name: str, spec: Any) -> Prismatic:
+    where = f"prismatic.{name}"
+    spec = _table(spec, where)
+    _keys(spec, _PRISMATIC, {"slider", "guide", "point", "through"}, where)
+    return Prismatic(
+        name=name,
+        slider=_str(spec["slider"], f"{where}.slider"),
+        guide=_str(spec["guide"], f"{where}.guide"),
+        point=_str(spec["point"], f"{where}.point"),
+        through=_str(spec["through"], f"{where}.through"),
+        angle=parse_angle(spec.get("angle", 0.0), f"{where}.angle"),
+        offset=finite(spec.get("offset", 0.0), f"{where}.offset"),
+    )
+
+
+def _drive(spec: dict) -> Drive:
+    _keys(spec, _DRIVE, {"joint", "omega"}, "drive")
+    start, stop = 0.0, None
+    if "range" in spec:
+        r = spec["range"]
+        if not isinstance(r, list) or len(r) != 2:
+            raise DescriptionError("drive.range", f"must be [from, to], got {shown(r)}")
+        start, stop = parse_angle(r[0], "drive.range[0]"), parse_angle(r[1], "drive.range[1]")
+    kwargs = {} if stop is None else {"start": start, "stop": stop}
+    return Drive(
+        joint=_str(spec["joint"], "drive.joint"),
+        omega=finite(spec["omega"], "drive.omega"),
+        epsilon=finite(spec.get("epsilon", 0.0), "drive.epsilon"),
+        **kwargs,
+    )
+
+
+def _force(i: int, spec: Any) -> PointForce:
+    where = f"force[{i}]"
+    spec = _table(spec, where)
+    _keys(spec, _FORCE, {"link", "point", "force"}, where)
+    stroke = None
+    if "stroke" in spec:
+        s = spec["stroke"]
+        if not isinstance(s, list) or len(s) != 2:
+            raise DescriptionError(f"{where}.stroke", f"must be [from, to], got {shown(s)}")
+        stroke = (parse_angle(s[0], f"{where}.stroke[0]"), parse_angle(s[1], f"{where}.stroke[1]"))
+    return PointForce(
+        link=_str(spec["link"], f"{where}.link"),
+        point=_str(spec["point"], f"{where}.point"),
+        force=vector2(spec["force"], f"{where}.force"),
+        stroke=stroke,
+    )
+
+
+def _torque(i: int, spec: Any) -> LinkTorque:
+    where = f"torque[{i}]"
+    spec = _table(spec, where)
+    _keys(spec, _TORQUE, _TORQUE, where)
+    return LinkTorque(link=_str(spec["link"], f"{where}.link"), torque=finite(spec["torque"], f"{where}.torque"))

@@ -1,0 +1,263 @@
+"""MJCF writer: the validated description as a MuJoCo model with loop-closing constraints.
+
+One body per moving link, its frame the link's local frame placed at the assembled sketch
+pose (so every constraint holds at qpos0); hinge/slide joints along a spanning tree that
+contains every prismatic pair; an equality ``connect`` for each loop-closing revolute.
+The reference pose is the closed form's for an Assembly (or a Mechanism whose structure
+decomposes into class-II groups), else the numeric one of ``linkgen.planar.pose`` (class III and
+higher: MuJoCo needs a spanning tree and connects, not Assur groups).
+Output is deterministic: fixed element order, one number format (``%.17g``).
+
+Names. A user's name matches ``[A-Za-z_][A-Za-z0-9_]*``; linkgen uses it as-is only for the
+object it names, and every name linkgen makes up contains ``:``, which user names cannot:
+    * body = the link's name (ground is MuJoCo's world body); a link named ``world`` (MuJoCo's
+      name for the world body) becomes body ``link:world`` (``body_name``/``link_name``);
+    * joint = the pair's name (a revolute is named after its point, ``POINT:FIRST-OTHER`` at a
+      compound hinge; a prismatic pair by its own name); connect = the closing revolute's name;
+    * site = ``POINT`` on the first link that lists the point, ``POINT:LINK`` on the others;
+    * sensor ``pos:SITE`` (the site's world position); actuator ``drive:motor`` on the drive joint;
+    * geoms ``LINK:bar:P-Q`` (a bar from the link's first point P to its point Q),
+      ``ground:pivot:P``, ``LINK:block``, ``LINK:dot``, ``LINK:guide:PRISMATIC``; light
+      ``light:sun``; materials ``mat:ground``, ``mat:crank``, ``mat:link``, ``mat:slider``.
+
+Geoms are visual only (contype = conaffinity = 0; inertials are explicit) and sized as
+fractions of the mechanism's size, so a 2 cm and a 30 m mechanism read the same.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, replace
+
+import mujoco
+import numpy as np
+from lxml import etree
+
+from linkgen.planar.assembly import Assembly, assemble
+from linkgen.model.description import GROUND, MassProperties, Mechanism
+from linkgen.errors import AssemblyError, DescriptionError, SimulationError, SingularityError, StructureError
+from linkgen.model.geometry import GuideShape, LinkShape, effective_mass_properties, guide_shapes, link_shapes
+from linkgen.planar.kinematics import solve
+from linkgen.mujoco.options import PLACEHOLDER, Settings
+from linkgen.planar.pose import mechanism_size, reference_pose
+from linkgen.mujoco.settings import crank_only, derive
+from linkgen.mujoco.tree import DRIVE_ACTUATOR, body_name, sensor_name, site_name, spanning_tree
+
+# Integration and constraint settings come from the mechanism (linkgen.mujoco.settings): the loop
+# time constant from the predicted loop gap and the crank speed, the timestep from it, the
+# rotor inertia (armature of the driven joint, which holds the crank speed) from J(φ). The
+# crank is driven by that rotor started at ω, plus a motor torque armature·ε for a constant ε:
+# a velocity servo would fight the constraints.
+
+# MuJoCo's compiler (mujoco 4.0, user_model.cc CheckBodyMassInertia) rejects a moving body whose
+# mass or any diagonal inertia is below mjMINVAL = 1e-15; measured by bisection on a one-body
+# model: mass 1e-15 kg compiles, 9.999999e-16 does not; diaginertia 1e-15 kg·m² compiles, below
+# does not. A link's planar inertia I is written as diaginertia (I/2, I/2, I) (a lamina), so the
+# written I must be ≥ 2e-15 kg·m².
+MUJOCO_MIN_MASS = 1e-15  # kg
+MUJOCO_MIN_INERTIA = 1e-15  # kg·m², each diagonal entry
+# MuJoCo needs a positive rotational inertia even where the description gives 0 (a point mass,
+# or a block that only translates). The floor is mass·(INERTIA_FLOOR·L)², L the link's span (the
+# mechanism's size for a one-point link), and at least MuJoCo's own limit: on a rotating link it
+# adds at most INERTIA_FLOOR² = 1e-12 of mass·L²·α to the forces (the inverse route's tolerance
+# is 1e-10; a floor of 1e-4 showed there as 2e-8), or 2e-15 kg·m²·α where that is larger (tiny
+# point masses); a block that only translates never feels it.
+INERTIA_FLOOR = 1e-6
+
+# Visual sizes as fractions of the mechanism's size (a 1.2 m four-bar: 12 mm bar radius).
+BAR_RADIUS = 0.01
+PIVOT_SIZE = (0.015, 0.005)  # radius, half-height
+BLOCK_SIZE = (0.03, 0.018, 0.012)  # half-sizes
+SITE_SIZE = 0.008
+GUIDE_SIZE = (0.1, 0.004)  # least half-length, half-thickness
+# A bar shorter than its radius would hide inside its end pivots; it is not drawn (a coincident
+# tracer point gives none). MuJoCo rejects a capsule whose fromto points are closer than 1e-7 m
+# ("fromto points too close", measured by bisection on mujoco 4.0): bars under 10× that are not
+# drawn either, whatever the mechanism's size.
+MIN_BAR = BAR_RADIUS
+MUJOCO_MIN_BAR = 1e-6  # m
+
+
+def fmt(x: float) -> str:
+    x = float(x)
+    return "0" if x == 0.0 else repr(x)
+
+
+def vec(*xs: float) -> str:
+    return " ".join(fmt(x) for x in xs)
+
+
+def written_inertial(mech: Mechanism, shapes: dict[str, LinkShape], link: str) -> MassProperties:
+    """A moving link's mass properties as the MJCF gives them: the inertia raised to the floor
+    (INERTIA_FLOOR). Raises DescriptionError, naming the field, for a mass MuJoCo cannot take."""
+    mp = effective_mass_properties(mech, shapes, link)
+    spec = mech.link(link)
+    if not mp.mass >= MUJOCO_MIN_MASS:
+        field = (f"links.{link}.inertial.mass" if spec.inertial is not None else
+                 f"links.{link}.density" if spec.density is not None else f"links.{link}")
+        raise DescriptionError(field, f"gives a mass of {mp.mass!r} kg; MuJoCo needs at least {MUJOCO_MIN_MASS:g} kg")
+    span = shapes[link].span() or mechanism_size(mech)
+    inertia = max(mp.inertia, mp.mass * (INERTIA_FLOOR * span) ** 2, 2 * MUJOCO_MIN_INERTIA)
+    return MassProperties(mp.mass, mp.com, inertia)
+
+
+@dataclass(frozen=True)
+class _Source:
+    """What the writer reads: the mechanism, shapes, guides and the reference pose
+    {link: (origin (2,) [m], angle [rad])}."""
+
+    mech: Mechanism
+    shapes: dict[str, LinkShape]
+    guides: dict[str, GuideShape]
+    pose: dict[str, tuple[np.ndarray, float]]
+    size: float
+
+
+def _source(source: Mechanism | Assembly) -> _Source:
+    if isinstance(source, Mechanism):
+        try:
+            source = assemble(source)
+        except StructureError:  # not class II: the numeric pose needs no groups
+            mech = source
+            ref = reference_pose(mech)
+            shapes = link_shapes(mech)
+            pose = {n: (ref.origin[n][0], float(ref.angle[n][0])) for n in mech.link_names}
+            return _Source(mech, shapes, guide_shapes(mech, shapes), pose, mechanism_size(mech))
+    mech = source.mechanism
+    ref = solve(source, np.array([source.sketch_phi]))
+    pose = {n: (ref.links[n].origin.p[0], float(ref.links[n].angle.v[0])) for n in mech.link_names}
+    return _Source(mech, source.shapes, source.guides, pose, mechanism_size(mech))
+
+
+def settings_for(source: Mechanism | Assembly) -> Settings:
+    """Settings derived for the description's own drive (ω at the range's end if ε ≠ 0).
+    Without a closed form (groups of class III and higher) they come from the crank speed and
+    the masses alone (``crank_only``)."""
+    mech = source if isinstance(source, Mechanism) else source.mechanism
+    d = mech.drive
+    w_end = math.sqrt(max(d.omega**2 + 2 * d.epsilon * (d.stop - d.start), 0.0))
+    omega = max(abs(d.omega), w_end)
+    if isinstance(source, Mechanism):
+        try:
+            source = assemble(source)
+        except StructureError:
+            return crank_only(mech, omega)
+    model = mujoco.MjModel.from_xml_string(write_mjcf(source, PLACEHOLDER))
+    try:
+        return derive(source, model, omega=omega, epsilon=d.epsilon)[0]
+    except (SimulationError, SingularityError, AssemblyError):  # a dead centre in the range: no loop forces there
+        return replace(crank_only(mech, omega), label="from the crank speed (the range has a singular pose)")
+
+
+def write_mjcf(source: Mechanism | Assembly, settings: Settings | None = None) -> str:
+    """The MJCF text of a mechanism (any structure class) or of an assembled one, with
+    ``settings`` (default: derived from the mechanism and its drive,
+    ``settings_for``)."""
+    src = _source(source)
+    if settings is None:
+        settings = settings_for(source)
+    mech, pose, size = src.mech, src.pose, src.size
+    info = spanning_tree(mech)
+
+    root = etree.Element("mujoco", model=mech.name)
+    etree.SubElement(root, "compiler", angle="radian", inertiafromgeom="false", autolimits="true")
+    etree.SubElement(root, "option", timestep=fmt(settings.timestep), integrator=settings.integrator,
+                     solver="Newton", iterations=str(settings.iterations), tolerance=fmt(settings.tolerance),
+                     gravity=vec(mech.gravity[0], mech.gravity[1], 0.0))
+    default = etree.SubElement(root, "default")
+    etree.SubElement(default, "geom", contype="0", conaffinity="0", group="0")
+    visual = etree.SubElement(root, "visual")
+    etree.SubElement(visual, "global", offwidth="1280", offheight="960")
+    asset = etree.SubElement(root, "asset")
+    for name, rgba in (("ground", "0.5 0.5 0.5 1"), ("crank", "0.85 0.3 0.2 1"), ("link", "0.25 0.45 0.8 1"),
+                       ("slider", "0.3 0.7 0.35 1")):
+        etree.SubElement(asset, "material", name=f"mat:{name}", rgba=rgba)
+
+    world = etree.SubElement(root, "worldbody")
+    etree.SubElement(world, "light", name="light:sun", pos=vec(0.0, 0.0, 5.0 * size), dir="0 0 -1",
+                     directional="true")
+    _link_visuals(src, world, GROUND, "mat:ground")
+    bodies = {GROUND: world}
+    for parent, child, pair in info.tree:
+        (po, pa), (co, ca) = pose[parent], pose[child]
+        c, s = math.cos(pa), math.sin(pa)
+        d = co - po
+        rel = (c * d[0] + s * d[1], -s * d[0] + c * d[1])
+        half = 0.5 * (ca - pa)
+        body = etree.SubElement(bodies[parent], "body", name=body_name(child), pos=vec(rel[0], rel[1], 0.0),
+                                quat=vec(math.cos(half), 0.0, 0.0, math.sin(half)))
+        mp = written_inertial(mech, src.shapes, child)
+        etree.SubElement(body, "inertial", pos=vec(mp.com[0], mp.com[1], 0.0), mass=fmt(mp.mass),
+                         diaginertia=vec(mp.inertia / 2, mp.inertia / 2, mp.inertia))
+        if pair.kind == "R":
+            point = mech.revolute(pair.name).point
+            local = src.shapes[child].local[point]
+            attrs = dict(name=pair.name, type="hinge", pos=vec(local[0], local[1], 0.0), axis="0 0 1")
+            if pair.name == mech.drive.joint:
+                attrs["armature"] = fmt(settings.armature)
+            etree.SubElement(body, "joint", **attrs)
+        else:
+            g = src.guides[pair.name]
+            direction = pose[g.guide][1] + g.alpha - ca
+            etree.SubElement(body, "joint", name=pair.name, type="slide",
+                             axis=vec(math.cos(direction), math.sin(direction), 0.0))
+        material = "mat:crank" if child == mech.crank else (
+            "mat:slider" if len(mech.link(child).points) == 1 else "mat:link")
+        _link_visuals(src, body, child, material)
+        bodies[child] = body
+
+    equality = etree.SubElement(root, "equality")
+    for pair in info.closures:
+        point = mech.revolute(pair.name).point
+        a, b = pair.links
+        if a == GROUND:  # body1 must be a body; swap so that world is body2
+            a, b = b, a
+        local = src.shapes[a].local[point]
+        attrs = dict(name=pair.name, anchor=vec(local[0], local[1], 0.0), solref=settings.solref,
+                     solimp=settings.solimp_text)
+        etree.SubElement(equality, "connect", body1=body_name(a), **({"body2": body_name(b)} if b != GROUND else {}),
+                         **attrs)
+    actuator = etree.SubElement(root, "actuator")
+    etree.SubElement(actuator, "motor", name=DRIVE_ACTUATOR, joint=mech.drive.joint, gear="1")
+    sensor = etree.SubElement(root, "sensor")
+    for link in mech.links:
+        for p in link.points:
+            etree.SubElement(sensor, "framepos", name=sensor_name(mech, link.name, p), objtype="site",
+                             objname=site_name(mech, link.name, p))
+    return etree.tostring(root, pretty_print=True, encoding="unicode")
+
+
+def _link_visuals(src: _Source, body, link: str, material: str) -> None:
+    mech, size = src.mech, src.size
+    shape = src.shapes[link]
+    names = mech.link(link).points
+    pts = [shape.local[p] for p in names]
+    if link == GROUND:
+        for p, xy in zip(names, pts):
+            etree.SubElement(body, "geom", name=f"{GROUND}:pivot:{p}", type="cylinder",
+                             size=vec(PIVOT_SIZE[0] * size, PIVOT_SIZE[1] * size),
+                             pos=vec(xy[0], xy[1], -2 * PIVOT_SIZE[1] * size), material=material)
+    elif len(pts) == 1:
+        etree.SubElement(body, "geom", name=f"{link}:block", type="box", size=vec(*(h * size for h in BLOCK_SIZE)),
+                         pos=vec(pts[0][0], pts[0][1], 0.0), material=material)
+    else:
+        bars = [(q, xy) for q, xy in zip(names[1:], pts[1:])
+                if math.hypot(xy[0] - pts[0][0], xy[1] - pts[0][1]) >= max(MIN_BAR * size, MUJOCO_MIN_BAR)]
+        for q, xy in bars:
+            etree.SubElement(body, "geom", name=f"{link}:bar:{names[0]}-{q}", type="capsule",
+                             size=fmt(BAR_RADIUS * size),
+                             fromto=vec(pts[0][0], pts[0][1], 0.0, xy[0], xy[1], 0.0), material=material)
+        if not bars:  # every point within a bar radius of the first
+            etree.SubElement(body, "geom", name=f"{link}:dot", type="sphere", size=fmt(BAR_RADIUS * size),
+                             pos=vec(pts[0][0], pts[0][1], 0.0), material=material)
+    for pj in mech.prismatics:
+        if pj.guide == link:
+            g = src.guides[pj.name]
+            etree.SubElement(body, "geom", name=f"{link}:guide:{pj.name}", type="box",
+                             size=vec(max(shape.span(), GUIDE_SIZE[0] * size), GUIDE_SIZE[1] * size,
+                                      GUIDE_SIZE[1] * size),
+                             pos=vec(g.base[0], g.base[1], -5 * GUIDE_SIZE[1] * size),
+                             euler=vec(0.0, 0.0, g.alpha), material="mat:ground")
+    for p, xy in zip(names, pts):
+        etree.SubElement(body, "site", name=site_name(mech, link, p), pos=vec(xy[0], xy[1], 0.0),
+                         size=fmt(SITE_SIZE * size))

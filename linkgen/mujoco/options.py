@@ -1,0 +1,53 @@
+"""The MuJoCo settings a model is written and run with (derived per mechanism by
+``linkgen.mujoco.settings``)."""
+
+from __future__ import annotations
+
+from dataclasses import asdict, dataclass
+
+# MuJoCo clamps the impedance at mjMAXIMP = 0.9999: the stiffest a soft constraint gets.
+IMPEDANCE = 0.9999
+# Newton iterations per step at tolerance 0: converged to rounding on every bundled model.
+SOLVER_ITERATIONS = 50
+
+
+def _fmt(x: float) -> str:
+    return repr(float(x))
+
+
+@dataclass(frozen=True)
+class Settings:
+    """What a MuJoCo run uses: timestep [s], loop time constant τ [s] and impedance,
+    integrator, solver iterations and tolerance, rotor inertia on the driven joint [kg·m²]."""
+
+    timestep: float
+    timeconst: float
+    impedance: float = IMPEDANCE
+    integrator: str = "RK4"
+    iterations: int = SOLVER_ITERATIONS
+    tolerance: float = 0.0
+    armature: float = 1e4
+    solimp: tuple[float, ...] | None = None  # None: (impedance, impedance, 0.001)
+    label: str = "derived"
+
+    @property
+    def solref(self) -> str:
+        return f"{_fmt(self.timeconst)} 1"
+
+    @property
+    def solimp_text(self) -> str:
+        imp = self.solimp if self.solimp is not None else (self.impedance, self.impedance, 0.001)
+        return " ".join(_fmt(x) for x in imp)
+
+    def to_json(self) -> dict:
+        out = asdict(self)
+        out["solimp"] = [float(x) for x in self.solimp_text.split()]
+        return out
+
+
+
+# What a model is compiled with before its own settings are known (to read its masses and loop
+# Jacobians): the values that suit a metre-sized linkage at 10 rad/s.
+PLACEHOLDER = Settings(timestep=5e-5, timeconst=1e-3, armature=1e4, label="placeholder")
+
+__all__ = ["IMPEDANCE", "PLACEHOLDER", "SOLVER_ITERATIONS", "Settings"]

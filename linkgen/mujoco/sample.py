@@ -1,0 +1,112 @@
+"""Reading every compared quantity from MuJoCo at sampled states, by name.
+
+At each sampled state (time, qpos, qvel) of a run: ``mj_forward`` + ``mj_rnePostConstraint``
+with the run's drive torque and loads, then point, link and slider motion, the loop gap, the
+forces of the forward route (``linkgen.mujoco.forces``) and the reduced inertia (kinetic energy).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import mujoco
+import numpy as np
+
+from linkgen.planar.assembly import Assembly
+from linkgen.mujoco.tree import DRIVE_ACTUATOR, body_name, spanning_tree
+from linkgen.mujoco.forces import ForceSamples, apply_loads, forward_forces
+
+
+@dataclass(frozen=True)
+class Samples:
+    """MuJoCo quantities at m sampled states, in crank-angle order.
+
+    ``time`` (m,) [s]; ``qpos`` (m, nq), ``qvel`` (m, nv); ``crank`` = (φ, ω, ε) each (m,);
+    ``points[name]`` = (pos, vel, acc) each (m, 2); ``links[name]`` = (angle, angular velocity,
+    angular acceleration) each (m,); ``sliders[name]`` = (s, v, a) each (m,); ``violation``
+    (m,) [m] the largest loop gap; ``drive_torque`` (m,) [N·m]; ``forces``: reactions and the
+    balancing torque (forward route); ``reduced_inertia`` (m,) [kg·m²]: q̇ᵀ·M·q̇/ω² less the
+    rotor's armature.
+    """
+
+    time: np.ndarray
+    qpos: np.ndarray
+    qvel: np.ndarray
+    crank: tuple[np.ndarray, np.ndarray, np.ndarray]
+    points: dict
+    links: dict
+    sliders: dict
+    violation: np.ndarray
+    drive_torque: np.ndarray
+    forces: ForceSamples
+    reduced_inertia: np.ndarray
+
+
+def moving_points(mech) -> list[str]:
+    ground = set(mech.link("ground").points)
+    return [p for p in mech.points if p not in ground]
+
+
+def read_samples(asm: Assembly, model: mujoco.MjModel, time: np.ndarray, qpos: np.ndarray, qvel: np.ndarray,
+                 drive_ctrl: float, slider_ref: dict[str, float]) -> Samples:
+    """Every compared quantity at the states (time (m,), qpos (m, nq), qvel (m, nv)); the
+    motor pushes ``drive_ctrl`` [N·m]; ``slider_ref`` [m] is each slider's displacement at the
+    reference pose (``mujoco.posed.slider_reference``)."""
+    mech = asm.mechanism
+    m = time.shape[0]
+    d = mujoco.MjData(model)
+    crank_j = model.joint(mech.drive.joint)
+    armature = float(model.dof_armature[crank_j.dofadr[0]])  # the rotor
+    g = np.array(mech.gravity)
+    out_pts = {p: np.zeros((m, 3, 2)) for p in moving_points(mech)}
+    out_lnk = {n: np.zeros((m, 3)) for n in mech.moving_links}
+    out_sld = {n: np.zeros((m, 3)) for n in asm.guides}
+    crank = np.zeros((m, 3))
+    viol, torque, inertia = np.zeros(m), np.zeros(m), np.zeros(m)
+    tree = spanning_tree(asm)
+    r6, mv, states = np.zeros(6), np.zeros(model.nv), []
+    for k in range(m):
+        d.qpos[:], d.qvel[:], d.time = qpos[k], qvel[k], time[k]
+        d.ctrl[:] = drive_ctrl
+        mujoco.mj_kinematics(model, d)
+        mujoco.mj_comPos(model, d)
+        crank_body = d.body(body_name(mech.crank))
+        apply_loads(asm, model, d, math.atan2(crank_body.xmat[3], crank_body.xmat[0]))
+        mujoco.mj_forward(model, d)
+        mujoco.mj_rnePostConstraint(model, d)
+        states.append(forward_forces(asm, model, d))
+        mujoco.mj_mulM(model, d, mv, d.qvel)
+        w = d.qvel[crank_j.dofadr[0]]
+        inertia[k] = float(d.qvel @ mv) / (w * w) - armature
+        for p in out_pts:
+            sid = model.site(p).id
+            mujoco.mj_objectVelocity(model, d, mujoco.mjtObj.mjOBJ_SITE, sid, r6, 0)
+            v = r6[3:5].copy()
+            mujoco.mj_objectAcceleration(model, d, mujoco.mjtObj.mjOBJ_SITE, sid, r6, 0)
+            out_pts[p][k] = (d.site(p).xpos[:2], v, r6[3:5] + g)  # MuJoCo reports a - g
+        for n in out_lnk:
+            b = d.body(body_name(n))
+            mujoco.mj_objectVelocity(model, d, mujoco.mjtObj.mjOBJ_BODY, b.id, r6, 0)
+            w = r6[2]
+            mujoco.mj_objectAcceleration(model, d, mujoco.mjtObj.mjOBJ_BODY, b.id, r6, 0)
+            out_lnk[n][k] = (math.atan2(b.xmat[3], b.xmat[0]), w, r6[2])
+        for parent, child, pair in tree.tree:
+            if pair.kind == "P":
+                j = model.joint(pair.name)
+                sign = 1.0 if child == asm.guides[pair.name].slider else -1.0
+                s0 = slider_ref[pair.name]
+                out_sld[pair.name][k] = (s0 + sign * d.qpos[j.qposadr[0]], sign * d.qvel[j.dofadr[0]],
+                                         sign * d.qacc[j.dofadr[0]])
+        crank[k] = (out_lnk[mech.crank][k][0], d.qvel[crank_j.dofadr[0]], d.qacc[crank_j.dofadr[0]])
+        viol[k] = np.abs(d.efc_pos[: d.ne]).max() if d.ne else 0.0
+        torque[k] = d.actuator(DRIVE_ACTUATOR).force[0] - armature * d.qacc[crank_j.dofadr[0]]
+    phi = np.unwrap(crank[:, 0])  # continuous over the run; the closed form is 2π-periodic
+    return Samples(time, qpos, qvel, (phi, crank[:, 1], crank[:, 2]),
+                   {p: tuple(a[:, j] for j in range(3)) for p, a in out_pts.items()},
+                   {n: tuple(a[:, j] for j in range(3)) for n, a in out_lnk.items()},
+                   {n: tuple(a[:, j] for j in range(3)) for n, a in out_sld.items()},
+                   viol, torque, ForceSamples.stack(states), inertia)
+
+
+__all__ = ["Samples", "moving_points", "read_samples"]

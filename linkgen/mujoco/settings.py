@@ -1,0 +1,224 @@
+"""MuJoCo settings derived from the mechanism: loop-closure time constant, timestep, rotor.
+
+A ``connect`` is soft. With impedance d and time constant τ (damping ratio 1) MuJoCo's
+constraint acceleration is a1 = (1 − d)·a0 + d·(−b·ṙ − k·r), k = 1/(d²τ²), b = 2/(dτ), where a0
+is the acceleration the loop would open with if the constraint pushed nothing. MuJoCo
+regularises the constraint with R = (1 − d)/d·A_diag (A_diag its approximate inverse inertia,
+``efc_diagA``), so a loop held steady by force λ opens by r = R·λ/k = (1 − d)·d·τ²·A_diag·λ.
+The closed form knows λ at every crank angle and MuJoCo knows A_diag at the closed-form pose:
+before the run, ``derive`` scans the range for the peak of a0 = |A_diag·λ| and picks
+
+    τ = min(τ_gap, τ_phase):
+        τ_gap   so that the predicted gap is GAP_TARGET·L·σ (L the mechanism's size, σ the
+                smallest singular value of the loop Jacobian over the non-driven joints, which
+                turns a gap into a joint-position error of gap/σ);
+        τ_phase = PHASE / ω: the loop answers a change of load within PHASE radians of crank.
+    dt = τ / STEPS_PER_TAU (RK4 integrates the constraint's own dynamics, frequency 1/τ).
+
+The cost per revolution is 2π·STEPS_PER_TAU/(ω·τ): constant (2π·STEPS_PER_TAU/PHASE) while
+inertia sets τ, growing only where gravity or loads dominate the loop forces at a slow crank
+(then τ_gap < τ_phase). The rotor inertia that holds the crank speed is ARMATURE_RATIO times the
+mechanism's peak reduced inertia. Values are rounded down to a few steps per decade so that written MJCF
+does not depend on the last bits of a float.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import asdict, dataclass
+
+import mujoco
+import numpy as np
+
+from linkgen.planar.assembly import Assembly
+from linkgen.model.description import Mechanism
+from linkgen.errors import SimulationError
+from linkgen.planar.kinetostatics import forces
+from linkgen.mujoco.options import IMPEDANCE, Settings
+from linkgen.crosscheck.tolerances import GAP_TOL, REL_TOL
+from linkgen.mujoco.loops import acceleration_scale, closure_diag, closure_forces, closure_jacobian, mechanism_size
+from linkgen.mujoco.state import joint_states
+
+# Aimed-for loop gap relative to the size: a third of the gap tolerance (compare.GAP_TOL = 1e-8);
+# the prediction below is itself an upper bound (measured gaps 0.5-0.9 of it).
+GAP_TARGET = 3e-9
+# Aimed-for joint-position error relative to the size: a tenth of compare.REL_TOL. A gap r moves
+# the joints by up to r/σ, so near a dead centre (small σ) the gap is aimed lower.
+POSITION_TARGET = 1e-7
+# Crank angle [rad] within which a loop answers a load change. 0.01 rad is the measured setting
+# that holds the four-bar at ω = 10 rad/s (τ = 1 ms) to 2e-7 of its accelerations.
+PHASE = 0.01
+# RK4 steps per loop time constant. Measured on the four-bar (τ = 1 ms): dt = τ/10 leaves the
+# accelerations 3.3e-6 of their peak off, τ/20 1.9e-7 (the constraint's stiffness 1/τ² turns an
+# integration error of the gap into an acceleration error).
+STEPS_PER_TAU = 20
+# Rotor inertia on the driven joint over the mechanism's peak reduced inertia J(φ): the speed
+# then changes by ~1e-6 relative over a revolution (comparisons use the measured speed anyway).
+ARMATURE_RATIO = 1e6
+# float64 rounding, the margin kept above it, and the error it must stay under relative to the
+# accelerations' scale (a tenth of compare.REL_TOL), for the loop-stiffness floor below.
+EPS = 2.220446049250313e-16
+PRECISION_MARGIN = 1.0
+SETTLE_ERROR = 1e-7
+# Crank angles scanned for the loop forces and conditioning.
+SCAN = 181
+# A run may take at most this many steps (per segment): 1e6 RK4 steps of a ten-link model are
+# about 20 s here. Beyond it the settings are coarsened and the result says so.
+MAX_STEPS = 1_000_000
+
+
+@dataclass(frozen=True)
+class Scales:
+    """What the settings were derived from: size [m], crank speed [rad/s], peak loop
+    acceleration a0 [m/s²], smallest loop-Jacobian singular value σ (dimensionless) and the
+    crank angle [rad] where it occurs, peak reduced inertia [kg·m²], and the two candidate
+    time constants [s]."""
+
+    size: float
+    omega: float
+    loop_acceleration: float
+    sigma_min: float
+    sigma_min_at: float
+    reduced_inertia: float
+    tau_gap: float
+    tau_phase: float
+    tau_floor: float
+    capped: bool
+
+    def to_json(self) -> dict:
+        return asdict(self)
+
+
+_STEPS = (8, 6, 5, 4, 3, 2.5, 2, 1.5, 1.2, 1)
+
+
+def round_down(x: float) -> float:
+    """The largest of (1, 1.2, 1.5, 2, 2.5, 3, 4, 5, 6, 8) × 10^k not above x (x > 0): at most
+    20 % below x, and the same value whatever the last bits of x."""
+    k = math.floor(math.log10(x))
+    for m in _STEPS:
+        v = float(f"{m}e{k}")
+        if v <= x * (1 + 1e-9):
+            return v
+    return float(f"8e{k - 1}")
+
+
+def scan_angles(asm: Assembly, n: int = SCAN) -> np.ndarray:
+    d = asm.mechanism.drive
+    full = d.stop - d.start >= 2 * math.pi - 1e-12
+    return np.linspace(d.start, d.stop, n, endpoint=not full)
+
+
+def derive(asm: Assembly, model: mujoco.MjModel, *, omega: float, epsilon: float = 0.0,
+           duration: float | None = None) -> tuple[Settings, Scales]:
+    """Settings for a run at crank speed ω [rad/s] (peak over the run) and ε [rad/s²].
+
+    ``model`` is any compiled model of the mechanism (its joints and masses are read, not its
+    options). ``duration`` [s], if given, caps the steps at MAX_STEPS."""
+
+    phi = scan_angles(asm)
+    n = phi.shape[0]
+    w = np.full(n, abs(omega))
+    e = np.full(n, epsilon)
+    cf = forces(asm, phi, w, e)
+    qpos, qvel, _ = joint_states(asm, model, phi, w, e)
+    data = mujoco.MjData(model)
+    size = mechanism_size(asm)
+    a0, sigma = np.zeros(n), np.zeros(n)
+    for k in range(n):
+        data.qpos[:], data.qvel[:] = qpos[k], qvel[k]
+        mujoco.mj_forward(model, data)
+        jac = closure_jacobian(asm, model, data)
+        if jac.shape[0] == 0:
+            sigma[k] = 1.0
+            continue
+        lam = closure_forces(asm, model, cf.reactions, k).reshape(-1, 2)
+        a0[k] = float(np.linalg.norm(closure_diag(asm, model, data) * lam, axis=1).max())
+        sigma[k] = sigma_min(model, jac, asm.mechanism.drive.joint, size)
+    a_peak = max(float(a0.max()), 1e-300)
+    k_min = int(np.argmin(sigma))
+    s_min = float(sigma[k_min])
+    if not s_min > 0.0:
+        raise SimulationError(f"the loop constraints are singular at crank angle {math.degrees(phi[k_min]):.3f}° "
+                              f"(the loops' Jacobian loses rank): no settings can hold them there")
+    gap = size * min(GAP_TARGET, POSITION_TARGET * s_min)
+    d = IMPEDANCE
+    tau_gap = math.sqrt(gap / ((1 - d) * d * a_peak)) if a_peak > 1e-300 else math.inf
+    tau_phase = PHASE / max(abs(omega), 1e-300)
+    tau_floor = precision_floor(size, omega, epsilon, float(np.hypot(*asm.mechanism.gravity)))
+    tau = min(tau_gap, tau_phase)
+    if tau < tau_floor:
+        # Stiffer loops than float64 resolves: the gap (∝ τ²) and the rounding (∝ 1/τ²) are
+        # balanced at their tolerances, τ = √(τ at the gap tolerance · τ at the rounding one).
+        tau = math.sqrt(tau_gap * math.sqrt(GAP_TOL / GAP_TARGET) * tau_floor * math.sqrt(SETTLE_ERROR / REL_TOL))
+    tau = round_down(tau)
+    dt = tau / STEPS_PER_TAU
+    capped = False
+    if duration is not None and duration / dt > MAX_STEPS:
+        dt = duration / MAX_STEPS
+        tau = dt * STEPS_PER_TAU
+        capped = True
+    j_peak = float(np.abs(cf.reduced.inertia).max())
+    armature = round_down(ARMATURE_RATIO * j_peak) if j_peak > 0 else 1.0
+    settings = Settings(timestep=dt, timeconst=tau, armature=armature,
+                        label="derived, coarsened to the step budget" if capped else "derived")
+    scales = Scales(size, abs(omega), a_peak, s_min, float(phi[k_min]), j_peak, tau_gap, tau_phase, tau_floor,
+                    capped)
+    return settings, scales
+
+
+def precision_floor(size: float, omega: float, epsilon: float = 0.0, gravity: float = 0.0) -> float:
+    """The smallest loop time constant [s] float64 allows: the loop's stiffness 1/τ² turns the
+    rounding of positions (ε_mach·size) into accelerations of ε_mach·size/τ², which must stay
+    PRECISION_MARGIN times below SETTLE_ERROR of the accelerations' scale size·(ω² + |ε|) + |g|.
+    Measured: the seven-link near its assembly limit at τ = 2.6 µs (a fifth of this floor, 12 µs)
+    was off by 1e-3 everywhere where τ = 60 µs gave 1e-7; a generated 5 cm linkage at ω = 0.8
+    rad/s improved from 1.3e-6 to 4e-7 when τ went from 1.5 to 0.75 of its floor (0.1 ms), so
+    the floor is not set higher."""
+    a_scale = acceleration_scale(size, omega, epsilon, gravity)
+    return math.sqrt(PRECISION_MARGIN * EPS * size / (SETTLE_ERROR * max(a_scale, 1e-300)))
+
+
+def sigma_min(model: mujoco.MjModel, jac: np.ndarray, drive_joint: str, size: float) -> float:
+    """Smallest singular value of the loop Jacobian ``jac`` (rows, nv) over the non-driven
+    joints, hinge columns scaled by 1/size [m] so that every column is dimensionless."""
+    crank = model.joint(drive_joint).dofadr[0]
+    cols = [i for i in range(model.nv) if i != crank]
+    scale = np.array([1.0 / size if model.jnt_type[model.dof_jntid[i]] == mujoco.mjtJoint.mjJNT_HINGE else 1.0
+                      for i in cols])
+    j = jac[:, cols] * scale
+    s = np.linalg.svd(j, compute_uv=False)
+    return float(s[-1]) if s.size else 1.0
+
+
+def crank_only(mech: Mechanism, omega: float) -> Settings:
+    """Settings from the crank speed (τ = PHASE/ω) and, for the rotor, Σ (m·L² + I) over the
+    links (L the mechanism's size) instead of J(φ): for mechanisms the closed form does not
+    cover, so neither the loop forces nor J are known before the run."""
+    from linkgen.model.geometry import effective_mass_properties, link_shapes
+    from linkgen.planar.pose import mechanism_size
+
+    shapes = link_shapes(mech)
+    size = mechanism_size(mech)
+    j = sum(mp.mass * size**2 + mp.inertia
+            for mp in (effective_mass_properties(mech, shapes, n) for n in mech.moving_links))
+    tau = round_down(PHASE / max(omega, 1e-300))
+    return Settings(timestep=tau / STEPS_PER_TAU, timeconst=tau, armature=round_down(ARMATURE_RATIO * j),
+                    label="from the crank speed (no closed form for this structure)")
+
+
+def apply(model: mujoco.MjModel, settings: Settings, drive_joint: str) -> None:
+    """Put ``settings`` into a compiled model (timestep, integrator, solver, every connect's
+    solref/solimp, the rotor inertia on the driven joint)."""
+    model.opt.timestep = settings.timestep
+    model.opt.integrator = getattr(mujoco.mjtIntegrator, f"mjINT_{settings.integrator.upper()}")
+    model.opt.iterations = settings.iterations
+    model.opt.tolerance = settings.tolerance
+    model.eq_solref[:] = (settings.timeconst, 1.0)
+    model.eq_solimp[:, :3] = [float(x) for x in settings.solimp_text.split()][:3]
+    if settings.solimp is not None and len(settings.solimp) == 5:
+        model.eq_solimp[:, 3:5] = settings.solimp[3:5]
+    model.dof_armature[model.joint(drive_joint).dofadr[0]] = settings.armature
+
+
+__all__ = ["Scales", "Settings", "apply", "derive", "round_down", "scan_angles", "sigma_min"]

@@ -1,0 +1,103 @@
+"""The package's layout: one subpackage per pipeline stage, no import cycles, small modules.
+
+Import edges are read from the source (``ast``), counting imports inside functions too;
+imports under ``if TYPE_CHECKING:`` are annotations only and do not count."""
+
+from __future__ import annotations
+
+import ast
+from pathlib import Path
+
+import linkgen
+
+PACKAGE = Path(linkgen.__file__).parent
+STAGES = ("model", "planar", "mujoco", "crosscheck", "cli")
+# A module past ~300 lines is asking to be split (the project's style guide); 450 leaves room
+# for a generator of test mechanisms (planar/corpus.py), the largest module, and no more.
+MAX_LINES = 450
+
+
+def _modules() -> dict[str, Path]:
+    out = {}
+    for p in PACKAGE.rglob("*.py"):
+        parts = p.relative_to(PACKAGE.parent).with_suffix("").parts
+        name = ".".join(parts[:-1] if parts[-1] == "__init__" else parts)
+        out[name] = p
+    return out
+
+
+def _type_checking_nodes(tree: ast.AST) -> set[int]:
+    skip = set()
+    for node in ast.walk(tree):
+        if isinstance(node, ast.If) and getattr(node.test, "id", None) == "TYPE_CHECKING":
+            skip |= {id(n) for n in ast.walk(node)}
+    return skip
+
+
+def _edges(mods: dict[str, Path]) -> dict[str, set[str]]:
+    edges = {m: set() for m in mods}
+    for m, p in mods.items():
+        tree = ast.parse(p.read_text(encoding="utf-8"))
+        skip = _type_checking_nodes(tree)
+        for node in ast.walk(tree):
+            if id(node) in skip:
+                continue
+            if isinstance(node, ast.ImportFrom) and node.module and node.module.startswith("linkgen"):
+                assert node.level == 0, f"{p}: relative import; the package uses absolute imports"
+                targets = {f"{node.module}.{a.name}" for a in node.names} | {node.module}
+                edges[m] |= {t for t in targets if t in mods and t not in ("linkgen", m)}
+            elif isinstance(node, ast.Import):
+                edges[m] |= {a.name for a in node.names if a.name in mods and a.name != m}
+    return edges
+
+
+def _cycle(edges: dict[str, set[str]]) -> list[str] | None:
+    state: dict[str, int] = {}
+    path: list[str] = []
+
+    def visit(v: str) -> list[str] | None:
+        state[v] = 1
+        path.append(v)
+        for w in sorted(edges[v]):
+            if state.get(w) == 1:
+                return path[path.index(w):] + [w]
+            if w not in state and (found := visit(w)):
+                return found
+        state[v] = 2
+        path.pop()
+        return None
+
+    for v in sorted(edges):
+        if v not in state and (found := visit(v)):
+            return found
+    return None
+
+
+def test_stages_are_subpackages():
+    for stage in STAGES:
+        assert (PACKAGE / stage / "__init__.py").is_file(), stage
+    loose = sorted(p.name for p in PACKAGE.glob("*.py"))
+    assert loose == ["__init__.py", "__main__.py", "errors.py"], loose
+
+
+def test_no_import_cycles():
+    assert _cycle(_edges(_modules())) is None
+
+
+def test_the_cycle_finder_finds_a_cycle():
+    assert _cycle({"a": {"b"}, "b": {"c"}, "c": {"a"}}) == ["a", "b", "c", "a"]
+    assert _cycle({"a": {"b"}, "b": set()}) is None
+
+
+def test_no_module_is_too_long():
+    long = {str(p.relative_to(PACKAGE)): n for p in PACKAGE.rglob("*.py")
+            if (n := len(p.read_text(encoding="utf-8").splitlines())) > MAX_LINES}
+    assert not long, long
+
+
+def test_the_model_stage_does_not_reach_mujoco_or_the_cli():
+    edges = _edges(_modules())
+    for m, targets in edges.items():
+        if m.startswith(("linkgen.model", "linkgen.planar")):
+            bad = {t for t in targets if t.startswith(("linkgen.mujoco", "linkgen.crosscheck", "linkgen.cli"))}
+            assert not bad, (m, bad)
