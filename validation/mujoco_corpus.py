@@ -25,7 +25,7 @@ KINDS = {"kinematics": ("points.", "links.", "sliders."), "forces (forward)": ("
          "balancing_torque", "reduced_inertia"), "forces (inverse)": ("inverse.",)}
 
 
-def run_one(seed: int, margin: float) -> dict:
+def run_one(seed: int, margin: float, max_steps: int) -> dict:
     import traceback
 
     from linkgen import LinkgenError, assemble, from_dict
@@ -36,7 +36,7 @@ def run_one(seed: int, margin: float) -> dict:
     out = {"seed": seed, "toml": to_toml(desc), "omega": desc["drive"]["omega"]}
     t0 = time.perf_counter()
     try:
-        cc = crosscheck(assemble(from_dict(desc)), practical=False, nthread=1)
+        cc = crosscheck(assemble(from_dict(desc)), practical=False, nthread=1, max_steps=max_steps)
     except LinkgenError as exc:
         out |= {"outcome": f"error: {type(exc).__name__}", "message": str(exc)}
         return out
@@ -64,6 +64,8 @@ def main() -> int:
     ap.add_argument("--margin", type=float, default=5.0, help="range clearance from assembly limits [deg]")
     ap.add_argument("--out", type=Path, help="write failing mechanisms here as TOML")
     ap.add_argument("--workers", type=int, default=2)
+    ap.add_argument("--max-steps", type=int, default=1_000_000,
+                    help="step budget per run (a run needing more is reported, not started)")
     args = ap.parse_args()
     t0 = time.perf_counter()
     counts: Counter = Counter()
@@ -71,7 +73,7 @@ def main() -> int:
     slow = []
     ctx = multiprocessing.get_context("spawn")
     with ProcessPoolExecutor(args.workers, mp_context=ctx) as pool:
-        futs = [pool.submit(run_one, s, args.margin) for s in range(args.seed, args.seed + args.n)]
+        futs = [pool.submit(run_one, s, args.margin, args.max_steps) for s in range(args.seed, args.seed + args.n)]
         for i, fut in enumerate(as_completed(futs), 1):
             r = fut.result()
             counts[r["outcome"]] += 1

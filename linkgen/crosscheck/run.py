@@ -77,9 +77,9 @@ class CrossCheck:
 
 
 def _attempt(asm: Assembly, settings: Settings | None, progress, nthread,
-             scales=None) -> tuple[Attempt, Comparison | None]:
+             scales=None, max_steps: int = MAX_STEPS) -> tuple[Attempt, Comparison | None]:
     try:
-        run = simulate(asm, settings=settings, progress=progress, nthread=nthread, scales=scales)
+        run = simulate(asm, settings=settings, progress=progress, nthread=nthread, scales=scales, max_steps=max_steps)
     except SimulationError as exc:
         scales = getattr(exc, "scales", None)
         return Attempt(getattr(exc, "settings", settings), False, "run", math.inf, 0, 0.0, str(exc),
@@ -98,7 +98,7 @@ MAX_ATTEMPTS = 3
 
 
 def finer(settings: Settings, ratio: float, exponent: float, steps_per_segment: int,
-          tau_floor: float = 0.0) -> Settings | None:
+          tau_floor: float = 0.0, max_steps: int = MAX_STEPS) -> Settings | None:
     """Settings for another run after a miss whose worst error was ``ratio`` × its tolerance,
     or None when the step budget allows none.
 
@@ -108,7 +108,7 @@ def finer(settings: Settings, ratio: float, exponent: float, steps_per_segment: 
     τ^0.9 on the seven-link). The cost grows by k; τ stays above ``tau_floor``, the precision
     floor (``mujoco.settings.precision_floor``)."""
     k = (ratio / RETRY_MARGIN) ** (1.0 / exponent) if math.isfinite(ratio) else 4.0
-    k = min(max(k, 2.0), MAX_STEPS / max(steps_per_segment, 1), settings.timeconst / max(tau_floor, 1e-300))
+    k = min(max(k, 2.0), max_steps / max(steps_per_segment, 1), settings.timeconst / max(tau_floor, 1e-300))
     if k < 1.5:
         return None
     k = math.ceil(k * 10) / 10
@@ -116,9 +116,11 @@ def finer(settings: Settings, ratio: float, exponent: float, steps_per_segment: 
                    label=f"after a miss: τ and timestep ÷{k:g}")
 
 
-def crosscheck(asm: Assembly, *, practical: bool = True, progress=None, nthread: int | None = None) -> CrossCheck:
-    """Validate ``asm`` in MuJoCo against the closed form (see the module docstring)."""
-    first, cmp = _attempt(asm, None, progress, nthread)
+def crosscheck(asm: Assembly, *, practical: bool = True, progress=None, nthread: int | None = None,
+               max_steps: int = MAX_STEPS) -> CrossCheck:
+    """Validate ``asm`` in MuJoCo against the closed form (see the module docstring);
+    ``max_steps``: the step budget of each run, per segment (``mujoco.settings.MAX_STEPS``)."""
+    first, cmp = _attempt(asm, None, progress, nthread, max_steps=max_steps)
     attempts = [first]
     exponent = 2.0
     exhausted = False  # a finer run would pass the step budget or the float64 floor
@@ -133,11 +135,11 @@ def crosscheck(asm: Assembly, *, practical: bool = True, progress=None, nthread:
                 break  # finer settings stopped helping
             exponent = min(max(math.log(drop) / math.log(shrink), 0.5), 4.0)
         nxt = finer(cmp.run.settings, last.worst_ratio, exponent, cmp.run.steps // max(cmp.run.segments, 1),
-                    cmp.run.scales.tau_floor)
+                    cmp.run.scales.tau_floor, max_steps)
         if nxt is None:
             exhausted = True
             break
-        again, cmp2 = _attempt(asm, nxt, progress, nthread, cmp.run.scales)
+        again, cmp2 = _attempt(asm, nxt, progress, nthread, cmp.run.scales, max_steps)
         attempts.append(again)
         if cmp2 is None:
             break

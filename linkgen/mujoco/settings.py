@@ -38,6 +38,7 @@ from linkgen.mujoco.options import IMPEDANCE, Settings
 from linkgen.crosscheck.tolerances import GAP_TOL, REL_TOL
 from linkgen.mujoco.loops import acceleration_scale, closure_diag, closure_forces, closure_jacobian, mechanism_size
 from linkgen.mujoco.state import joint_states
+from linkgen.mujoco.tree import spanning_tree
 
 # Aimed-for loop gap relative to the size: a third of the gap tolerance (compare.GAP_TOL = 1e-8);
 # the prediction below is itself an upper bound (measured gaps 0.5-0.9 of it).
@@ -60,6 +61,11 @@ ARMATURE_RATIO = 1e6
 EPS = 2.220446049250313e-16
 PRECISION_MARGIN = 1.0
 SETTLE_ERROR = 1e-7
+# Before a run coarsened to its step budget, it is not started when even GAP_PREDICTION_LOW
+# times its predicted gap (Scales.predicted_gap) exceeds the gap tolerance. Measured ratios of
+# gap to prediction at coarsened settings (generated mechanisms, max_groups=3, budget 150 000):
+# 0.073 (seed 131) to 5.8 (seed 125); the floor is 2.4 below the lowest.
+GAP_PREDICTION_LOW = 0.03
 # Crank angles scanned for the loop forces and conditioning.
 SCAN = 181
 # A run may take at most this many steps (per segment): 1e6 RK4 steps of a ten-link model are
@@ -84,6 +90,17 @@ class Scales:
     tau_phase: float
     tau_floor: float
     capped: bool
+    acceleration_scale: float = math.nan  # size·(ω² + |ε|) + |g| [m/s²]
+    tau_needed: float = math.nan  # the derived τ before a step budget coarsened it [s]
+    loop_acceleration_closure: str = ""  # the loop-closing joint where a0 peaks
+    loop_acceleration_at: float = math.nan  # the crank angle where a0 peaks [rad]
+    loop_inverse_inertia: float = math.nan  # MuJoCo's A_diag there [1/kg]
+    loop_force: float = math.nan  # the loop force λ there [N]
+
+    def predicted_gap(self, timeconst: float) -> float:
+        """The loop gap [m] a run with loop time constant ``timeconst`` [s] is predicted to
+        reach, (1 − d)·d·τ²·a0 (an upper bound: measured gaps 0.5–0.9 of it)."""
+        return (1 - IMPEDANCE) * IMPEDANCE * timeconst**2 * self.loop_acceleration
 
     def to_json(self) -> dict:
         return asdict(self)
@@ -110,11 +127,11 @@ def scan_angles(asm: Assembly, n: int = SCAN) -> np.ndarray:
 
 
 def derive(asm: Assembly, model: mujoco.MjModel, *, omega: float, epsilon: float = 0.0,
-           duration: float | None = None) -> tuple[Settings, Scales]:
+           duration: float | None = None, max_steps: int = MAX_STEPS) -> tuple[Settings, Scales]:
     """Settings for a run at crank speed ω [rad/s] (peak over the run) and ε [rad/s²].
 
     ``model`` is any compiled model of the mechanism (its joints and masses are read, not its
-    options). ``duration`` [s], if given, caps the steps at MAX_STEPS."""
+    options). ``duration`` [s], if given, caps the steps at ``max_steps``."""
 
     phi = scan_angles(asm)
     n = phi.shape[0]
@@ -125,6 +142,8 @@ def derive(asm: Assembly, model: mujoco.MjModel, *, omega: float, epsilon: float
     data = mujoco.MjData(model)
     size = mechanism_size(asm)
     a0, sigma = np.zeros(n), np.zeros(n)
+    where = np.zeros(n, dtype=int)  # the closure where a0 peaks at each angle
+    inv_inertia, force = np.zeros(n), np.zeros(n)
     for k in range(n):
         data.qpos[:], data.qvel[:] = qpos[k], qvel[k]
         mujoco.mj_forward(model, data)
@@ -133,7 +152,11 @@ def derive(asm: Assembly, model: mujoco.MjModel, *, omega: float, epsilon: float
             sigma[k] = 1.0
             continue
         lam = closure_forces(asm, model, cf.reactions, k).reshape(-1, 2)
-        a0[k] = float(np.linalg.norm(closure_diag(asm, model, data) * lam, axis=1).max())
+        per = np.linalg.norm(closure_diag(asm, model, data) * lam, axis=1)
+        where[k] = int(np.argmax(per))
+        a0[k] = float(per[where[k]])
+        inv_inertia[k] = float(np.abs(closure_diag(asm, model, data)[where[k]]).max())
+        force[k] = float(np.linalg.norm(lam[where[k]]))
         sigma[k] = sigma_min(model, jac, asm.mechanism.drive.joint, size)
     a_peak = max(float(a0.max()), 1e-300)
     k_min = int(np.argmin(sigma))
@@ -152,19 +175,43 @@ def derive(asm: Assembly, model: mujoco.MjModel, *, omega: float, epsilon: float
         # balanced at their tolerances, τ = √(τ at the gap tolerance · τ at the rounding one).
         tau = math.sqrt(tau_gap * math.sqrt(GAP_TOL / GAP_TARGET) * tau_floor * math.sqrt(SETTLE_ERROR / REL_TOL))
     tau = round_down(tau)
+    tau_needed = tau
     dt = tau / STEPS_PER_TAU
     capped = False
-    if duration is not None and duration / dt > MAX_STEPS:
-        dt = duration / MAX_STEPS
+    if duration is not None and duration / dt > max_steps:
+        dt = duration / max_steps
         tau = dt * STEPS_PER_TAU
         capped = True
     j_peak = float(np.abs(cf.reduced.inertia).max())
     armature = round_down(ARMATURE_RATIO * j_peak) if j_peak > 0 else 1.0
     settings = Settings(timestep=dt, timeconst=tau, armature=armature,
                         label="derived, coarsened to the step budget" if capped else "derived")
+    k_a = int(np.argmax(a0))
+    closures = spanning_tree(asm).closures
     scales = Scales(size, abs(omega), a_peak, s_min, float(phi[k_min]), j_peak, tau_gap, tau_phase, tau_floor,
-                    capped)
+                    capped, acceleration_scale(size, omega, epsilon, float(np.hypot(*asm.mechanism.gravity))),
+                    tau_needed, closures[where[k_a]].name if closures else "", float(phi[k_a]),
+                    float(inv_inertia[k_a]), float(force[k_a]))
     return settings, scales
+
+
+def check_budget(scales: Scales, settings: Settings, duration: float, max_steps: int) -> None:
+    """Raise SimulationError, before any step, when the step budget forces a loop time constant
+    at which even the lowest measured fraction of the predicted gap exceeds the gap tolerance."""
+    gap = scales.predicted_gap(settings.timeconst)
+    if GAP_PREDICTION_LOW * gap <= GAP_TOL * scales.size:
+        return
+    need = duration * STEPS_PER_TAU / scales.tau_needed
+    a_scale = max(scales.acceleration_scale, 1e-300)
+    raise SimulationError(
+        f"not run: the loops need a time constant of {scales.tau_needed:.3g} s ({need:.3g} steps per segment) to "
+        f"hold their gap under {GAP_TOL:g} of the size {scales.size:.3g} m; the step budget of {max_steps:g} "
+        f"allows {settings.timeconst:.3g} s, where the gap is predicted at {gap / scales.size:.2g} of the size. "
+        f"The stiffest loop closes at joint {scales.loop_acceleration_closure!r}: at "
+        f"{math.degrees(scales.loop_acceleration_at):.1f}° it carries {scales.loop_force:.3g} N through bodies whose "
+        f"inverse inertia is {scales.loop_inverse_inertia:.3g} 1/kg, a loop acceleration of "
+        f"{scales.loop_acceleration:.3g} m/s² ({scales.loop_acceleration / a_scale:.3g}× the mechanism's own scale "
+        f"size·(ω² + |ε|) + |g|); the run lasts {duration:.3g} s. A larger step budget (max_steps) would run it")
 
 
 def precision_floor(size: float, omega: float, epsilon: float = 0.0, gravity: float = 0.0) -> float:
@@ -221,4 +268,4 @@ def apply(model: mujoco.MjModel, settings: Settings, drive_joint: str) -> None:
     model.dof_armature[model.joint(drive_joint).dofadr[0]] = settings.armature
 
 
-__all__ = ["Scales", "Settings", "apply", "derive", "round_down", "scan_angles", "sigma_min"]
+__all__ = ["Scales", "Settings", "apply", "check_budget", "derive", "round_down", "scan_angles", "sigma_min"]

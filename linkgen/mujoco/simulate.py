@@ -31,7 +31,7 @@ from linkgen.mujoco.loops import mechanism_size
 from linkgen.mujoco.sample import Samples, read_samples
 from linkgen.mujoco.options import PLACEHOLDER, Settings
 from linkgen.mujoco.posed import Posed, slider_reference, torque_schedule
-from linkgen.mujoco.settings import Scales, apply, crank_only, derive
+from linkgen.mujoco.settings import MAX_STEPS, Scales, apply, check_budget, crank_only, derive
 from linkgen.mujoco.state import tree_state
 from linkgen.planar.pose import state
 from linkgen.mujoco.state import initial_state, joint_state, joint_states
@@ -111,7 +111,8 @@ def _start_state(asm: Assembly | Posed, model: mujoco.MjModel, phi: float, omega
 def simulate(asm: Assembly | Posed, *, revolutions: float = 1.0, omega: float | None = None,
              epsilon: float | None = None, settings: Settings | None = None, samples: int = 360,
              nthread: int | None = None, progress: Callable[[float, float], None] | None = None,
-             gap_abort: float = GAP_ABORT, settle: bool = True, scales: Scales | None = None) -> Run:
+             gap_abort: float = GAP_ABORT, settle: bool = True, scales: Scales | None = None,
+             max_steps: int = MAX_STEPS) -> Run:
     """Drive the crank over its range (``revolutions`` times for a full-turn range) and sample.
 
     Args:
@@ -129,6 +130,9 @@ def simulate(asm: Assembly | Posed, *, revolutions: float = 1.0, omega: float | 
             possible, after load switches); False keeps every sample, transients included.
         scales: what an earlier run of the same mechanism, speed and range derived its settings
             from (``Run.scales``); given with ``settings``, the scan is not repeated.
+        max_steps: the step budget per segment for derived settings; beyond it they are
+            coarsened, and a run whose loop gap is then predicted past its tolerance
+            is not started (``mujoco.settings.check_budget``).
 
     Raises:
         SimulationError: the run diverged, MuJoCo warned, or the loop gap passed GAP_ABORT of
@@ -157,10 +161,12 @@ def simulate(asm: Assembly | Posed, *, revolutions: float = 1.0, omega: float | 
     else:
         model = mujoco.MjModel.from_xml_string(write_mjcf(asm, PLACEHOLDER))
         if settings is None or scales is None:
-            derived, scales = derive(asm, model, omega=w_peak, epsilon=eps, duration=duration)
+            derived, scales = derive(asm, model, omega=w_peak, epsilon=eps, duration=duration, max_steps=max_steps)
             settings = derived if settings is None else settings
     apply(model, settings, mech.drive.joint)
     try:
+        if scales is not None and scales.capped and settings.label.startswith("derived"):
+            check_budget(scales, settings, duration, max_steps)
         return _run(asm, model, settings, scales, w0, eps, phi_a, phi_b, full, duration, samples, nthread, progress,
                     gap_abort, wall0, settle)
     except SimulationError as exc:  # the settings it ran with, and whether a step budget capped them
