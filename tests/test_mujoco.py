@@ -69,7 +69,7 @@ def test_report_is_written(tmp_path):
     main(["validate", str(ROOT / "models"), "--report", str(tmp_path)])
     text = (tmp_path / "README.md").read_text()
     assert "| fourbar | yes |" in text
-    assert (tmp_path / "fourbar.png").stat().st_size > 10_000
+    assert (tmp_path / "fourbar_kinematics.png").stat().st_size > 10_000
 
 
 def test_constant_angular_acceleration_is_followed():
