@@ -8,6 +8,7 @@ F·L for torques and moments). The loop gap is judged relative to L.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -15,6 +16,7 @@ import numpy as np
 from linkgen.planar.assembly import Assembly
 from linkgen.planar.kinematics import solve
 from linkgen.planar.kinetostatics import Forces, forces
+from linkgen.planar.loads import mass_table
 from linkgen.mujoco.forces import ForceSamples, inverse_forces
 from linkgen.mujoco.loops import acceleration_scale, mechanism_size
 from linkgen.mujoco.state import joint_states
@@ -91,10 +93,16 @@ def kinematic_scales(size: float, omega: np.ndarray, epsilon: np.ndarray, gravit
             "angular_velocity": w, "angular_acceleration": a / size}
 
 
-def force_scale(cf: Forces) -> float:
-    """The peak reaction [N] over every pair (revolute reactions and prismatic normal forces)."""
+def force_scale(cf: Forces, asm: Assembly, size: float, acceleration: float) -> float:
+    """The larger of the peak reaction [N] over every pair (revolute reactions and prismatic
+    normal forces) and a floor that cannot vanish: the moving masses at the acceleration scale
+    [m/s²] plus the applied forces and torques/size (a rotor turning on its own axis carries no
+    reaction at all)."""
+    mech = asm.mechanism
+    floor = (sum(mp.mass for mp in mass_table(asm).values()) * acceleration
+             + sum(math.hypot(*f.force) for f in mech.forces) + sum(abs(m.torque) for m in mech.torques) / size)
     return max([float(np.linalg.norm(r, axis=1).max()) for r in cf.reactions.values()]
-               + [float(np.abs(n).max()) for n in cf.normal_force.values()] + [0.0])
+               + [float(np.abs(n).max()) for n in cf.normal_force.values()] + [floor])
 
 
 def compare(asm: Assembly, run: Run, *, inverse: bool = True) -> Comparison:
@@ -121,9 +129,10 @@ def compare(asm: Assembly, run: Run, *, inverse: bool = True) -> Comparison:
             add(f"sliders.{n}.{q}", {"displacement": "position"}.get(q, q), mo.sliders[n][j], mj[j])
     cf = forces(asm, phi, omega, epsilon)
     inv = _inverse(asm, run) if inverse else None
-    _force_errors(cf, s.forces, "", FORCE_TOL, size, out)
+    f_scale = force_scale(cf, asm, size, scale["acceleration"])
+    _force_errors(cf, s.forces, "", FORCE_TOL, size, out, f_scale)
     if inv is not None:
-        _force_errors(cf, inv, "inverse.", INVERSE_TOL, size, out)
+        _force_errors(cf, inv, "inverse.", INVERSE_TOL, size, out, f_scale)
     j = cf.reduced.inertia
     out["reduced_inertia"] = _error(j, s.reduced_inertia, 0.0, FORCE_TOL)
     gap = max(run.gap_max, float(s.violation.max()) if s.violation.size else 0.0)
@@ -143,10 +152,9 @@ def _inverse(asm: Assembly, run: Run) -> ForceSamples:
 
 
 def _force_errors(cf: Forces, mj: ForceSamples, prefix: str, tol: float, size: float,
-                  out: dict[str, QuantityError]) -> None:
-    """Errors of every force quantity against the peak reaction F (forces) or F·size (torques,
-    moments)."""
-    f_scale = force_scale(cf)
+                  out: dict[str, QuantityError], f_scale: float) -> None:
+    """Errors of every force quantity against the force scale F (``force_scale``) or F·size
+    (torques, moments)."""
 
     def add(name, ours, theirs, scale):
         out[prefix + name] = _error(ours, theirs, scale, tol)

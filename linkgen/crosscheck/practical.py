@@ -13,7 +13,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from linkgen.planar.assembly import Assembly
-from linkgen.crosscheck.compare import compare, force_scale
+from linkgen.crosscheck.compare import compare, force_scale, kinematic_scales
 from linkgen.errors import SimulationError
 from linkgen.mujoco.options import Settings
 from linkgen.mujoco.simulate import simulate, steps_per_revolution
@@ -84,7 +84,8 @@ def practical_study(asm: Assembly, validation: Settings, *, nthread: int | None 
             rows.append(PracticalRow(s, math.nan, math.nan, math.nan, math.nan, math.nan, str(exc)))
             continue
         cf = cmp.closed_forces
-        f = force_scale(cf)
+        f = force_scale(cf, asm, cmp.size, kinematic_scales(cmp.size, *run.samples.crank[1:],
+                                                             float(np.hypot(*asm.mechanism.gravity)))["acceleration"])
         reac = [np.linalg.norm(run.samples.forces.reactions[k] - v, axis=1).max() for k, v in cf.reactions.items()]
         reac += [np.abs(run.samples.forces.normal_force[k] - v).max() for k, v in cf.normal_force.items()]
         torque = float(np.abs(run.samples.forces.balancing_torque - cf.balancing_torque).max())

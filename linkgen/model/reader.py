@@ -15,11 +15,12 @@ from linkgen.model.description import (
     PointForce,
     Prismatic,
 )
+from linkgen.model.machine import machine_from_dict
 from linkgen.model.names import check_name
 from linkgen.errors import DescriptionError
 from linkgen.model.units import finite, parse_angle, shown, vector2
 
-_TOP = {"mechanism", "points", "links", "prismatic", "drive", "force", "torque"}
+_TOP = {"mechanism", "points", "links", "prismatic", "drive", "force", "torque", "machine"}
 _MECH = {"name", "title", "gravity"}
 _LINK = {"points", "length", "inertial", "density", "shape"}
 _INERTIAL = {"mass", "com", "inertia"}
@@ -109,7 +110,9 @@ def loads(raw: bytes | str, source: str = "<description>") -> Mechanism:
         raise DescriptionError("", "nested too deeply to parse: a description needs at most a few "
                                "levels of tables and arrays", source) from None
     try:
-        return from_dict(data)
+        mech = from_dict(data)
+        machine_from_dict(data)  # checked with the rest; linkgen.dynamics reads it
+        return mech
     except DescriptionError as exc:
         raise exc.in_file(source) from None
 

@@ -265,7 +265,16 @@ def apply(model: mujoco.MjModel, settings: Settings, drive_joint: str) -> None:
     model.eq_solimp[:, :3] = [float(x) for x in settings.solimp_text.split()][:3]
     if settings.solimp is not None and len(settings.solimp) == 5:
         model.eq_solimp[:, 3:5] = settings.solimp[3:5]
-    model.dof_armature[model.joint(drive_joint).dofadr[0]] = settings.armature
+    set_armature(model, model.joint(drive_joint).dofadr[0], settings.armature)
 
 
-__all__ = ["Scales", "Settings", "apply", "check_budget", "derive", "round_down", "scan_angles", "sigma_min"]
+def set_armature(model: mujoco.MjModel, dof: int, armature: float) -> None:
+    """Set a compiled model's armature [kg·m²] on one dof. MuJoCo also keeps the armature in
+    ``dof_M0`` (the mass matrix diagonal at qpos0, computed at compile time), which it uses as
+    the whole inertia of a "simple" body (a crank alone turning about its centre of mass): that
+    copy is moved by the same amount, and nothing else of the compiled constants changes."""
+    model.dof_M0[dof] += armature - model.dof_armature[dof]
+    model.dof_armature[dof] = armature
+
+
+__all__ = ["Scales", "Settings", "apply", "check_budget", "derive", "set_armature", "round_down", "scan_angles", "sigma_min"]

@@ -1,0 +1,162 @@
+"""``linkgen dynamics`` and ``linkgen flywheel``: the machine driven by its motor."""
+
+from __future__ import annotations
+
+import argparse
+import math
+from pathlib import Path
+
+import numpy as np
+
+from linkgen.cli.common import OptionError, print_json, write_rows
+
+
+def _positive(text: str) -> float:
+    try:
+        x = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a number, got {text!r}") from None
+    if not (math.isfinite(x) and x > 0):
+        raise argparse.ArgumentTypeError(f"expected a finite number > 0, got {text!r}")
+    return x
+
+
+def _samples(text: str) -> int:
+    try:
+        n = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a whole number, got {text!r}") from None
+    if not 2 <= n <= 10**6:
+        raise argparse.ArgumentTypeError(f"expected 2 to 1000000 samples, got {n}")
+    return n
+
+
+def cmd_dynamics(args) -> int:
+    from linkgen.dynamics.machine import run_machine
+    from linkgen.dynamics.plots import plot_run
+    from linkgen.dynamics.reduced import reduce
+    from linkgen.dynamics.study import cycle_forces, load_machine
+
+    if args.csv is not None and args.json:
+        raise OptionError("--csv and --json are two outputs of the same run: give one")
+    asm, machine = load_machine(args.model)
+    name = asm.mechanism.name
+    duration = args.duration if args.duration is not None else machine.duration
+    run = run_machine(machine, reduce(asm, machine.process_load), samples=args.samples, duration=duration)
+    forces = cycle_forces(asm, run)
+    mj = None
+    if args.mujoco:
+        from linkgen.mujoco.machine import run_machine_mujoco
+
+        mj = run_machine_mujoco(asm, machine, run.t)
+    out = {"model": name, "duration": duration, "samples": args.samples, "motor": machine.motor.kind,
+           "units": {"t": "s", "phi": "rad", "omega": "rad/s", "epsilon": "rad/s²", "motor_torque": "N·m (motor shaft)",
+                     "current": "A", "twist": "rad", "inertia": "kg·m²"},
+           "added_inertia": machine.added_inertia,
+           "steady": run.steady.to_json() if run.steady else None, "startup_time": run.startup_time,
+           "peak_motor_torque": float(np.abs(run.motor_torque).max()),
+           "forces_over_steady_cycle": forces.to_json() if forces else None}
+    if mj is not None:
+        phi_c, w_c = run.state_at(mj.t)
+        peak = float(np.abs(w_c).max()) or 1.0
+        out["mujoco"] = {"steps": mj.steps, "timestep": mj.timestep,
+                         "omega_error_relative": float(np.abs(mj.omega - w_c).max() / peak),
+                         "phi_error_rad": float(np.abs(mj.phi - phi_c).max())}
+    if args.report is not None:
+        args.report.mkdir(parents=True, exist_ok=True)
+        fig = args.report / f"{name}_machine.png"
+        plot_run(name, run, fig, mj)
+        out["figure"] = str(fig)
+    if args.csv is not None:
+        cols = ["t", "phi", "omega", "epsilon", "motor_torque"]
+        data = [run.t, run.phi, run.omega, run.epsilon, run.motor_torque]
+        for c, arr in (("current", run.current), ("twist", run.twist), ("shaft_torque", run.shaft_torque)):
+            if arr is not None:
+                cols.append(c)
+                data.append(arr)
+        write_rows(cols, data, args.csv)
+        return 0
+    if args.json:
+        print_json(out)
+        return 0
+    print(f"{name}: {machine.motor.kind} motor, {duration:g} s from {machine.start_speed:g} rad/s, "
+          f"rotor + flywheel {machine.added_inertia:.6g} kg·m² at the crank")
+    if run.steady is None:
+        print("  no steady cycle within the duration (two successive turns never repeated): give a longer "
+              "--duration or [machine] duration")
+    else:
+        s = run.steady
+        print(f"  steady cycle from t = {s.t_start:.4g} s: period {s.period:.6g} s, ω_mean {s.omega_mean:.6g} rad/s, "
+              f"ω_min {s.omega_min:.6g}, ω_max {s.omega_max:.6g}, δ = {s.delta:.4g}")
+        print(f"  start-up time {run.startup_time:.4g} s (ω within the steady band ±1 % of ω_mean from then on)"
+              if run.startup_time is not None else "  start-up: ω had not settled into the steady band by the end")
+    print(f"  peak motor torque {out['peak_motor_torque']:.6g} N·m")
+    if forces:
+        print(f"  along the real motion: peak balancing torque {forces.balancing_torque:.6g} N·m at "
+              f"{math.degrees(forces.balancing_torque_at) % 360:.1f}°")
+        for k, (f, a) in forces.reactions.items():
+            print(f"    reaction {k}: {f:.6g} N at {math.degrees(a) % 360:.1f}°")
+    if mj is not None:
+        m = out["mujoco"]
+        print(f"  MuJoCo ({m['steps']} steps of {m['timestep']:.3g} s): ω within {m['omega_error_relative']:.2e} of "
+              f"its peak, φ within {m['phi_error_rad']:.2e} rad")
+    if "figure" in out:
+        print(f"  figure: {out['figure']}")
+    return 0
+
+
+def cmd_flywheel(args) -> int:
+    from linkgen.dynamics.flywheel import fluctuation
+    from linkgen.dynamics.plots import plot_flywheel
+    from linkgen.dynamics.reduced import reduce
+    from linkgen.dynamics.study import flywheel_study, load_machine
+
+    asm, machine = load_machine(args.model)
+    fw, delta_check = flywheel_study(asm, machine, args.delta, args.omega)
+    out = {"model": asm.mechanism.name, "delta": args.delta, "omega_mean": fw.omega_mean,
+           "inertia_required": fw.inertia, "driving_torque": fw.driving_torque, "energy_swing": fw.energy_swing,
+           "delta_integrated": delta_check,
+           "units": {"inertia_required": "kg·m² at the crank, beyond the mechanism and the rotor",
+                     "driving_torque": "N·m", "energy_swing": "J", "omega_mean": "rad/s"}}
+    if args.report is not None:
+        args.report.mkdir(parents=True, exist_ok=True)
+        red = reduce(asm, machine.process_load)
+        added = machine.rotor_inertia * machine.gear_ratio**2
+        js = np.geomspace(max(fw.inertia, 1e-6) / 30, max(fw.inertia, 1e-6) * 30, 40)
+        ds = np.array([fluctuation(red, j, fw.omega_mean, added) for j in js])
+        fig = args.report / f"{asm.mechanism.name}_flywheel.png"
+        plot_flywheel(asm.mechanism.name, js, ds, (fw.inertia, args.delta), fig)
+        out["figure"] = str(fig)
+    if args.json:
+        print_json(out)
+        return 0
+    print(f"{out['model']}: flywheel for δ = {args.delta:g} at ω_mean = {fw.omega_mean:g} rad/s: "
+          f"{fw.inertia:.6g} kg·m² at the crank (beyond the mechanism and the rotor)")
+    print(f"  driving torque (mean resisting) {fw.driving_torque:.6g} N·m, largest energy swing {fw.energy_swing:.6g} J")
+    print(f"  integrated with it: δ = {delta_check:.6g}")
+    return 0
+
+
+def add_command(sub) -> None:
+    d = sub.add_parser("dynamics", help="the machine driven by its motor ([machine] table): start-up, steady "
+                                        "cycle, speed fluctuation, forces along the real motion")
+    d.add_argument("model", type=Path, help="description with a [machine] table")
+    d.add_argument("--duration", type=_positive, help="seconds of machine time (default: [machine] duration)")
+    d.add_argument("--samples", type=_samples, default=2000, help="time samples in the output (no unit; default 2000)")
+    d.add_argument("--csv", type=Path, help="write t [s], phi [rad], omega [rad/s], epsilon [rad/s²], "
+                                            "motor_torque [N·m] (and current [A], twist [rad]) to this CSV file")
+    d.add_argument("--json", action="store_true", help="print one JSON object")
+    d.add_argument("--report", type=Path, help="folder for the figure ω(t), M(t), ω(M)")
+    d.add_argument("--mujoco", action="store_true", help="also run the full linkage in MuJoCo and compare ω(t), φ(t)")
+    d.set_defaults(func=cmd_dynamics)
+    f = sub.add_parser("flywheel", help="the flywheel inertia for a speed fluctuation δ (energy method), "
+                                        "checked by integration")
+    f.add_argument("model", type=Path, help="description with a [machine] table")
+    f.add_argument("--delta", type=_positive, required=True, help="coefficient of speed fluctuation (no unit), e.g. 0.02")
+    f.add_argument("--omega", type=_positive, help="mean crank speed [rad/s] (default: the drive's omega)")
+    f.add_argument("--json", action="store_true", help="print one JSON object")
+    f.add_argument("--report", type=Path, help="folder for the figure δ against flywheel inertia")
+    f.set_defaults(func=cmd_flywheel)
+
+
+__all__ = ["add_command", "cmd_dynamics", "cmd_flywheel"]

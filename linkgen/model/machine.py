@@ -1,0 +1,194 @@
+"""The ``[machine]`` table of a description: what drives the crank when its speed is not
+prescribed — a motor (through a gearbox), the rotor's and a flywheel's inertia, an optional
+elastic shaft between rotor and crank, and a process load over the crank angle.
+
+    [machine]
+    rotor_inertia = 0.5          # kg·m², on the motor shaft
+    gear_ratio = 1.0             # motor speed / crank speed (> 0)
+    gear_efficiency = 1.0        # (0, 1]: the crank gets ratio·efficiency·motor torque
+    flywheel_inertia = 0.0       # kg·m², on the crank
+    start_speed = 0.0            # crank speed at t = 0 [rad/s] (from rest by default)
+    duration = 5.0               # s of machine time to integrate (default 10 s)
+
+    [machine.motor]              # kind = "constant" | "linear" | "induction" | "dc"
+    kind = "linear"
+    stall_torque = 2000.0        # N·m at standstill
+    no_load_speed = 6.0          # rad/s where the torque falls to 0
+
+    [machine.shaft]              # optional: rotor and crank joined by a torsion spring
+    stiffness = 2000.0           # N·m/rad
+    damping = 0.7                # N·m·s/rad
+    backlash = 0.0               # rad, the total dead zone of the coupling
+
+    [machine.process_load]       # optional: a resisting torque on the crank over φ
+    angles = ["0deg", "90deg", "180deg", "270deg"]   # over one turn, increasing
+    torque = [100.0, 150.0, 100.0, 50.0]             # N·m against the rotation
+
+Motor kinds and their keys (SI): ``constant``: torque [N·m]; ``linear``: stall_torque [N·m],
+no_load_speed [rad/s] (M = M0·(1 − ω/ω0)); ``induction`` (Kloss's formula from catalogue data):
+rated_power [W], synchronous_speed [rad/s], rated_slip, breakdown_ratio (M_max/M_rated > 1);
+``dc`` (armature circuit L·di/dt = U − R·i − k_e·ω, M = k_t·i): voltage [V], resistance [Ω],
+inductance [H], torque_constant [N·m/A], emf_constant [V·s/rad].
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from linkgen.errors import DescriptionError
+from linkgen.model.units import finite, parse_angle, shown
+
+MOTOR_KEYS = {
+    "constant": ("torque",),
+    "linear": ("stall_torque", "no_load_speed"),
+    "induction": ("rated_power", "synchronous_speed", "rated_slip", "breakdown_ratio"),
+    "dc": ("voltage", "resistance", "inductance", "torque_constant", "emf_constant"),
+}
+_MACHINE = {"rotor_inertia", "gear_ratio", "gear_efficiency", "flywheel_inertia", "start_speed", "duration",
+            "motor", "shaft", "process_load"}
+DEFAULT_DURATION = 10.0  # s
+
+
+@dataclass(frozen=True)
+class Motor:
+    """A motor law: ``kind`` (see MOTOR_KEYS) and its parameters [SI]."""
+
+    kind: str
+    params: tuple[tuple[str, float], ...]
+
+    def __getattr__(self, name: str) -> float:
+        for k, v in self.params:
+            if k == name:
+                return v
+        raise AttributeError(name)
+
+
+@dataclass(frozen=True)
+class Shaft:
+    """Torsion spring and damper between the rotor (after the gearbox) and the crank."""
+
+    stiffness: float  # N·m/rad
+    damping: float  # N·m·s/rad
+    backlash: float = 0.0  # rad, total dead zone
+
+
+@dataclass(frozen=True)
+class ProcessLoad:
+    """A resisting torque on the crank [N·m] at crank angles [rad] over one turn (periodic)."""
+
+    angles: tuple[float, ...]
+    torque: tuple[float, ...]
+
+
+@dataclass(frozen=True)
+class Machine:
+    motor: Motor
+    rotor_inertia: float = 0.0
+    gear_ratio: float = 1.0
+    gear_efficiency: float = 1.0
+    flywheel_inertia: float = 0.0
+    start_speed: float = 0.0
+    duration: float = DEFAULT_DURATION
+    shaft: Shaft | None = None
+    process_load: ProcessLoad | None = None
+
+    @property
+    def added_inertia(self) -> float:
+        """Rotor and flywheel reduced to the crank [kg·m²] (the rotor's through the gear ratio²)."""
+        return self.rotor_inertia * self.gear_ratio**2 + self.flywheel_inertia
+
+
+def _number(t: dict, key: str, where: str, *, low: float = -math.inf, strict: bool = False, default=None) -> float:
+    if key not in t:
+        if default is None:
+            raise DescriptionError(f"{where}.{key}", "is required")
+        return default
+    x = finite(t[key], f"{where}.{key}")
+    if x < low or (strict and x == low):
+        raise DescriptionError(f"{where}.{key}", f"must be {'>' if strict else '>='} {low:g}, got {shown(t[key])}")
+    return x
+
+
+def _table(x, where: str) -> dict:
+    if not isinstance(x, dict):
+        raise DescriptionError(where, f"must be a table, got {shown(x)}")
+    return x
+
+
+def _only(t: dict, allowed, where: str) -> None:
+    for k in t:
+        if k not in allowed:
+            raise DescriptionError(f"{where}.{k}", f"unknown key; allowed keys: {sorted(allowed)}")
+
+
+def _motor(t: dict) -> Motor:
+    where = "machine.motor"
+    kind = t.get("kind")
+    if kind not in MOTOR_KEYS:
+        raise DescriptionError(f"{where}.kind", f"must be one of {sorted(MOTOR_KEYS)}, got {shown(kind)}")
+    keys = MOTOR_KEYS[kind]
+    _only(t, {"kind", *keys}, where)
+    strict_positive = {"no_load_speed", "rated_power", "synchronous_speed", "resistance", "torque_constant",
+                       "emf_constant"}
+    params = []
+    for k in keys:
+        low = 0.0 if (k in strict_positive or k in ("stall_torque", "inductance")) else -math.inf
+        params.append((k, _number(t, k, where, low=low, strict=k in strict_positive)))
+    m = Motor(kind, tuple(params))
+    if kind == "induction":
+        if not 0.0 < m.rated_slip < 1.0:
+            raise DescriptionError(f"{where}.rated_slip", f"must be in (0, 1), got {m.rated_slip!r}")
+        if not m.breakdown_ratio > 1.0:
+            raise DescriptionError(f"{where}.breakdown_ratio", f"must be > 1 (M_max / M_rated), got {m.breakdown_ratio!r}")
+    return m
+
+
+def machine_from_dict(data: dict) -> Machine | None:
+    """The ``[machine]`` table of a parsed description, or None if it has none."""
+    if "machine" not in data:
+        return None
+    t = _table(data["machine"], "machine")
+    _only(t, _MACHINE, "machine")
+    if "motor" not in t:
+        raise DescriptionError("machine.motor", "is required: a [machine.motor] table with a kind")
+    shaft = None
+    if "shaft" in t:
+        s = _table(t["shaft"], "machine.shaft")
+        _only(s, {"stiffness", "damping", "backlash"}, "machine.shaft")
+        shaft = Shaft(_number(s, "stiffness", "machine.shaft", low=0.0, strict=True),
+                      _number(s, "damping", "machine.shaft", low=0.0, default=0.0),
+                      _number(s, "backlash", "machine.shaft", low=0.0, default=0.0))
+    load = None
+    if "process_load" in t:
+        p = _table(t["process_load"], "machine.process_load")
+        _only(p, {"angles", "torque"}, "machine.process_load")
+        for k in ("angles", "torque"):
+            if not isinstance(p.get(k), list) or len(p[k]) < 3:
+                raise DescriptionError(f"machine.process_load.{k}", f"must be a list of at least 3 values, got {shown(p.get(k))}")
+        ang = [parse_angle(a, f"machine.process_load.angles[{i}]") for i, a in enumerate(p["angles"])]
+        tq = [finite(x, f"machine.process_load.torque[{i}]") for i, x in enumerate(p["torque"])]
+        if len(ang) != len(tq):
+            raise DescriptionError("machine.process_load", f"angles ({len(ang)}) and torque ({len(tq)}) differ in length")
+        if not (np.all(np.diff(ang) > 0) and ang[-1] - ang[0] < 2 * math.pi):
+            raise DescriptionError("machine.process_load.angles", "must increase and span less than one turn")
+        load = ProcessLoad(tuple(ang), tuple(tq))
+    eff = _number(t, "gear_efficiency", "machine", low=0.0, strict=True, default=1.0)
+    if eff > 1.0:
+        raise DescriptionError("machine.gear_efficiency", f"must be in (0, 1], got {eff!r}")
+    return Machine(
+        motor=_motor(_table(t["motor"], "machine.motor")),
+        rotor_inertia=_number(t, "rotor_inertia", "machine", low=0.0, default=0.0),
+        gear_ratio=_number(t, "gear_ratio", "machine", low=0.0, strict=True, default=1.0),
+        gear_efficiency=eff,
+        flywheel_inertia=_number(t, "flywheel_inertia", "machine", low=0.0, default=0.0),
+        start_speed=_number(t, "start_speed", "machine", low=0.0, default=0.0),
+        duration=_number(t, "duration", "machine", low=0.0, strict=True, default=DEFAULT_DURATION),
+        shaft=shaft,
+        process_load=load,
+    )
+
+
+__all__ = ["MOTOR_KEYS", "Machine", "Motor", "ProcessLoad", "Shaft", "machine_from_dict"]
