@@ -2,11 +2,17 @@
 prescribed speed. The rotor and flywheel are the crank joint's armature (J_rotor·u² + J_f); a
 constant or linear motor is the drive actuator with an affine bias, u·η·M0 − u²·η·(M0/ω0)·q̇,
 which MuJoCo integrates exactly like the closed form's law (no control input); an induction or DC
-motor and the process load are torques computed each step at the step's mid-point crank angle
-(qfrc_applied, held over one RK4 step: a mid-point rule, second order in the timestep).
+motor and the process load are torques computed each step at the step's mid-point (crank angle,
+speed, and the DC current advanced exactly over half a step at that speed), held over one RK4
+step (qfrc_applied): a mid-point rule, second order in the timestep.
 
-Not covered here: an elastic shaft (rotor as a second body) and the mechanism's own
-[[force]]/[[torque]] loads (gravity is MuJoCo's own); such a machine raises SimulationError."""
+An elastic shaft makes the rotor a body of its own on the crank's axis (joint ``machine:rotor``,
+its armature J_rotor·u², angles reduced to the crank), joined to the crank by a fixed tendon
+(rotor − crank) whose stiffness, damping and dead band (springlength ±backlash/2) are the
+shaft's; the motor (``machine:motor``) then acts on the rotor.
+
+Not covered here: the mechanism's own [[force]]/[[torque]] loads (gravity is MuJoCo's own); such
+a machine raises SimulationError."""
 
 from __future__ import annotations
 
@@ -27,6 +33,8 @@ from linkgen.mujoco.settings import apply, derive, set_armature
 from linkgen.mujoco.state import initial_state
 from linkgen.mujoco.tree import DRIVE_ACTUATOR
 from linkgen.planar.assembly import Assembly
+
+ROTOR, SHAFT, MOTOR = "machine:rotor", "machine:shaft", "machine:motor"
 
 
 @dataclass(frozen=True)
@@ -59,20 +67,27 @@ def _peak_speed(machine: Machine, asm: Assembly) -> float:
 def run_machine_mujoco(asm: Assembly, machine: Machine, t: np.ndarray) -> MujocoMachineRun:
     """Run the machine in MuJoCo from its start speed and sample at times ``t`` (n,) [s]."""
     mech = asm.mechanism
-    if machine.shaft is not None:
-        raise SimulationError("the MuJoCo machine does not model an elastic shaft yet; compare the closed form only")
     if mech.forces or mech.torques:
         raise SimulationError("the MuJoCo machine applies gravity, the motor and the process load only; this "
                               "description also has [[force]]/[[torque]] loads")
-    model = mujoco.MjModel.from_xml_string(write_mjcf(asm, PLACEHOLDER))
+    xml = write_mjcf(asm, PLACEHOLDER)
+    model = mujoco.MjModel.from_xml_string(xml)
     settings, _ = derive(asm, model, omega=_peak_speed(machine, asm))
+    if machine.shaft is not None:
+        model = mujoco.MjModel.from_xml_string(_with_shaft(xml, mech, machine))
     apply(model, settings, mech.drive.joint)
-    dof = model.joint(mech.drive.joint).dofadr[0]
-    set_armature(model, dof, machine.added_inertia)
+    crank = model.joint(mech.drive.joint).dofadr[0]
+    if machine.shaft is not None:
+        set_armature(model, crank, machine.flywheel_inertia)
+        dof = model.joint(ROTOR).dofadr[0]
+        set_armature(model, dof, machine.rotor_inertia * machine.gear_ratio**2)
+    else:
+        dof = crank
+        set_armature(model, dof, machine.added_inertia)
     u, eta, mot = machine.gear_ratio, machine.gear_efficiency, machine.motor
     model.actuator_gainprm[:] = 0.0
     model.actuator_biasprm[:] = 0.0
-    act = model.actuator(DRIVE_ACTUATOR).id
+    act = model.actuator(MOTOR if machine.shaft is not None else DRIVE_ACTUATOR).id
     model.actuator_gaintype[act] = mujoco.mjtGain.mjGAIN_FIXED
     model.actuator_biastype[act] = mujoco.mjtBias.mjBIAS_AFFINE
     model.actuator_ctrllimited[act] = 0
@@ -87,40 +102,71 @@ def run_machine_mujoco(asm: Assembly, machine: Machine, t: np.ndarray) -> Mujoco
     load = process_torque_function(machine.process_load)
     phi0 = mech.drive.start
     qpos, qvel = initial_state(asm, model, phi0, machine.start_speed)
+    adr = model.joint(mech.drive.joint).qposadr[0]
+    if machine.shaft is not None:  # the rotor starts with the crank: no twist
+        qpos[model.joint(ROTOR).qposadr[0]], qvel[dof] = qpos[adr], qvel[crank]
     data.qpos[:], data.qvel[:] = qpos, qvel
-    current = float(motors.dc_static_current(mot, u * machine.start_speed)) if motors.has_current(mot) and machine.start_speed > 0 else 0.0
+    current = (float(motors.dc_static_current(mot, u * machine.start_speed))
+               if motors.has_current(mot) and machine.start_speed > 0 else 0.0)
     dt = model.opt.timestep
     t = np.asarray(t, dtype=float)
     out_t, out_phi, out_w, out_m = (np.empty_like(t) for _ in range(4))
     phi_c = phi0  # the crank angle, unwrapped
-    adr = model.joint(mech.drive.joint).qposadr[0]
     q_prev = float(data.qpos[adr])
     k, steps = 0, 0
     while k < t.size:
         while k < t.size and t[k] <= data.time + 0.5 * dt:
-            w = float(data.qvel[dof])
-            out_t[k], out_phi[k], out_w[k] = data.time, phi_c, w
-            out_m[k] = _motor_torque(mot, u * w, current)
+            out_t[k], out_phi[k], out_w[k] = data.time, phi_c, float(data.qvel[crank])
+            out_m[k] = _motor_torque(mot, u * float(data.qvel[dof]), current)
             k += 1
         if k >= t.size:
             break
-        w = float(data.qvel[dof])
-        mid = phi_c + 0.5 * dt * w
-        tau = -float(load(mid))
+        mid = phi_c + 0.5 * dt * float(data.qvel[crank])
+        data.qfrc_applied[:] = 0.0
+        data.qfrc_applied[crank] = -float(load(mid))
+        w_mid = float(data.qvel[dof]) + (0.5 * dt * float(data.qacc[dof]) if steps else 0.0)
         if per_step:
-            w_mid = w + 0.5 * dt * float(data.qacc[dof]) if steps else w
-            tau += u * eta * _motor_torque(mot, u * w_mid, current)
-        data.qfrc_applied[dof] = tau
+            i_mid = _current_after(mot, u * w_mid, current, 0.5 * dt) if motors.has_current(mot) else current
+            data.qfrc_applied[dof] += u * eta * _motor_torque(mot, u * w_mid, i_mid)
         mujoco.mj_step(model, data)
         steps += 1
         if motors.has_current(mot):
-            current += dt * float(motors.dc_current_rate(mot, u * float(data.qvel[dof]), current))
+            current = _current_after(mot, u * w_mid, current, dt)
         q = float(data.qpos[adr])
         phi_c += (q - q_prev + math.pi) % (2 * math.pi) - math.pi
         q_prev = q
         if not np.isfinite(data.qvel).all():
             raise SimulationError(f"the MuJoCo machine diverged at t = {data.time:.6g} s")
     return MujocoMachineRun(out_t, out_phi, out_w, out_m, steps, dt)
+
+
+def _with_shaft(xml: str, mech, machine: Machine) -> str:
+    """The MJCF with a rotor body on the crank's axis, the shaft as a fixed tendon and the
+    motor on the rotor (see the module docstring)."""
+    from lxml import etree
+
+    root = etree.fromstring(xml.encode())
+    pivot = mech.points[mech.drive.joint.split(":")[0]]
+    world = root.find("worldbody")
+    body = etree.SubElement(world, "body", name=ROTOR, pos=f"{pivot[0]!r} {pivot[1]!r} 0")
+    etree.SubElement(body, "inertial", pos="0 0 0", mass="1", diaginertia="1e-6 1e-6 1e-6")
+    etree.SubElement(body, "joint", name=ROTOR, type="hinge", axis="0 0 1")
+    s = machine.shaft
+    tendon = root.find("tendon") if root.find("tendon") is not None else etree.SubElement(root, "tendon")
+    fixed = etree.SubElement(tendon, "fixed", name=SHAFT, stiffness=repr(s.stiffness), damping=repr(s.damping),
+                             springlength=f"{-s.backlash / 2!r} {s.backlash / 2!r}")
+    etree.SubElement(fixed, "joint", joint=ROTOR, coef="1")
+    etree.SubElement(fixed, "joint", joint=mech.drive.joint, coef="-1")
+    actuator = root.find("actuator")
+    etree.SubElement(actuator, "general", name=MOTOR, joint=ROTOR, gainprm="0", biastype="affine")
+    return etree.tostring(root, encoding="unicode")
+
+
+def _current_after(mot, w_motor: float, current: float, h: float) -> float:
+    """The DC armature current after h [s] at a constant motor speed: the exact solution of
+    L·di/dt = U − R·i − k_e·ω, i_ss + (i − i_ss)·exp(−R·h/L)."""
+    i_ss = float(motors.dc_static_current(mot, w_motor))
+    return i_ss + (current - i_ss) * math.exp(-mot.resistance * h / mot.inductance)
 
 
 def _motor_torque(mot, w_motor: float, current: float) -> float:
