@@ -187,3 +187,17 @@ def test_a_rotor_alone_validates_with_its_armature_in_effect():
     assert cc.ok, cc.to_json()["diagnosis"]
     q = cc.comparison.quantities["reduced_inertia"]
     assert q.relative_error < 1e-9 and q.peak == pytest.approx(30.0, rel=1e-12)
+
+
+def test_an_induction_motor_runs_the_same_in_mujoco():
+    """Kloss's law has no MuJoCo element: its torque is applied each step at the mid-step speed."""
+    from dataclasses import replace
+
+    asm, machine = load_machine(MODELS / "machine_slider_crank.toml")
+    kloss = Motor("induction", (("rated_power", 15000.0), ("synchronous_speed", 104.72), ("rated_slip", 0.05),
+                                ("breakdown_ratio", 2.5)))
+    machine = replace(machine, motor=kloss, gear_ratio=10.0, gear_efficiency=0.95)
+    run = run_machine(machine, reduce(asm, machine.process_load), samples=101, duration=0.3)
+    mj = run_machine_mujoco(asm, machine, run.t)
+    phi, w = run.state_at(mj.t)
+    assert np.abs(mj.omega - w).max() <= MUJOCO_TOL * np.abs(w).max()
