@@ -1,0 +1,98 @@
+"""Cam motion programs: rise–dwell–return–dwell segments with the classical laws, as follower
+displacement s(θ) [m] and its derivatives with respect to the cam angle θ [rad] (s′, s″, s‴);
+the time derivatives follow as v = s′·ω, a = s″·ω² + s′·ε, j = s‴·ω³ (+ terms in ε, ε̇).
+
+Each law is a rise of height h over a span β, in x = (θ − θ0)/β ∈ [0, 1]:
+    harmonic:   s = h/2·(1 − cos πx)
+    cycloidal:  s = h·(x − sin 2πx / 2π)
+    poly345:    s = h·(10x³ − 15x⁴ + 6x⁵)
+A return is the rise mirrored (h − s of the same law); a dwell keeps s. Angles are radians, the
+cam angle is measured from the program's start and taken modulo the sum of the spans (2π).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+LAWS = ("harmonic", "cycloidal", "poly345")
+KINDS = ("rise", "dwell", "return")
+
+
+def rise(law: str, x: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """A unit rise over a unit span: s and its first three derivatives in x, each like x."""
+    x = np.asarray(x, dtype=float)
+    if law == "harmonic":
+        p = math.pi
+        return (0.5 * (1 - np.cos(p * x)), 0.5 * p * np.sin(p * x), 0.5 * p * p * np.cos(p * x),
+                -0.5 * p**3 * np.sin(p * x))
+    if law == "cycloidal":
+        p = 2 * math.pi
+        return x - np.sin(p * x) / p, 1 - np.cos(p * x), p * np.sin(p * x), p * p * np.cos(p * x)
+    if law == "poly345":
+        return (10 * x**3 - 15 * x**4 + 6 * x**5, 30 * x**2 - 60 * x**3 + 30 * x**4,
+                60 * x - 180 * x**2 + 120 * x**3, 60 - 360 * x + 360 * x**2)
+    raise ValueError(f"unknown law {law!r}; known: {LAWS}")
+
+
+@dataclass(frozen=True)
+class Segment:
+    """One part of the program: ``kind`` rise/dwell/return, its ``law`` (not for a dwell), the
+    cam angle it spans [rad] and, for a rise or return, its height [m]."""
+
+    kind: str
+    span: float
+    law: str = ""
+    height: float = 0.0
+
+
+@dataclass(frozen=True)
+class Program:
+    """Segments in order; their spans add up to one turn."""
+
+    segments: tuple[Segment, ...]
+
+    def __post_init__(self):
+        total = sum(s.span for s in self.segments)
+        if abs(total - 2 * math.pi) > 1e-9:
+            raise ValueError(f"the segments span {math.degrees(total):.6g}°, not 360°")
+        for s in self.segments:
+            if s.kind not in KINDS or not s.span > 0 or (s.kind != "dwell" and s.law not in LAWS):
+                raise ValueError(f"bad segment {s}")
+
+    @property
+    def stroke(self) -> float:
+        """The largest displacement [m] over the program."""
+        return float(self.displacement(np.linspace(0, 2 * math.pi, 4097))[0].max())
+
+    def displacement(self, theta) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """s [m], ds/dθ [m/rad], d²s/dθ² [m/rad²], d³s/dθ³ [m/rad³] at cam angles θ (n,)."""
+        th = np.mod(np.asarray(theta, dtype=float), 2 * math.pi)
+        out = [np.zeros_like(th) for _ in range(4)]
+        start, level = 0.0, 0.0
+        for seg in self.segments:
+            inside = (th >= start) & (th < start + seg.span)
+            if seg.kind == "dwell":
+                out[0][inside] = level
+            else:
+                sign = 1.0 if seg.kind == "rise" else -1.0
+                x = (th[inside] - start) / seg.span
+                d = rise(seg.law, x)
+                for k in range(4):
+                    out[k][inside] = sign * seg.height * d[k] / seg.span**k
+                out[0][inside] += level
+                level += sign * seg.height
+            start += seg.span
+        return tuple(out)
+
+
+def motion(program: Program, theta, omega: float, epsilon: float = 0.0):
+    """Follower displacement [m], velocity [m/s], acceleration [m/s²] and jerk [m/s³] at cam
+    angles θ, cam speed ω [rad/s] and constant cam acceleration ε [rad/s²]."""
+    s, s1, s2, s3 = program.displacement(theta)
+    return s, s1 * omega, s2 * omega**2 + s1 * epsilon, s3 * omega**3 + 3 * s2 * omega * epsilon
+
+
+__all__ = ["KINDS", "LAWS", "Program", "Segment", "motion", "rise"]
