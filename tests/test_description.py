@@ -69,7 +69,7 @@ def test_fourbar_loads(tmp_path):
          "drive.range: must be [from, to] with from < to <= from + 360deg, got [0.17453292519943295, "
          "0.08726646259971647] rad"),
         (("omega = 1.0", 'omega = 1.0\nrange = ["10 grad", "5deg"]'),
-         "drive.range[0]: must be an angle: a number in rad or a string like '30deg' or '0.5rad', got '10 grad'"),
+         "drive.range[0]: must be an angle: a number in rad or a string like '30deg', '30°' or '0.5rad', got '10 grad'"),
         (("B = [1.0143, 0.6999]", "B = [1.0143, -0.3]"),
          "points.B: the sketch puts it at (1.0143, -0.3) m but link 'coupler' assembles it at (1.01429, -0.699854) m "
          "on the nearest branch, 0.4 m away (allowed 0.0212 m = 0.02 of the sketch's size); correct the sketch or "

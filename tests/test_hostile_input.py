@@ -64,7 +64,7 @@ def test_deep_nesting(tmp_path, text):
 def test_deep_value_in_a_field_is_quoted_short(tmp_path):
     text = FOURBAR.read_text().replace("O = [0.0, 0.0]", "O = " + "[" * 200 + "]" * 200)
     path = _write(tmp_path, text.encode())
-    assert _error(path) == f"{path}: points.O: must be a list of 2 numbers [x, y], got [[[[...]]]]"
+    assert _error(path) == f"{path}: points.O: must be a list of 2 lengths [x, y], got [[[[...]]]]"
 
 
 def test_huge_bad_name_is_quoted_short(tmp_path):

@@ -18,7 +18,7 @@ from linkgen.model.description import (
 from linkgen.model.machine import machine_from_dict
 from linkgen.model.names import check_name
 from linkgen.errors import DescriptionError
-from linkgen.model.units import finite, parse_angle, shown, vector2
+from linkgen.model.units import angular_acceleration, angular_speed, finite, length, parse_angle, point2, shown, vector2
 
 _TOP = {"mechanism", "points", "links", "prismatic", "drive", "force", "torque", "machine"}
 _MECH = {"name", "title", "gravity"}
@@ -123,7 +123,7 @@ def from_dict(data: dict) -> Mechanism:
     mech = _table(data["mechanism"], "mechanism")
     _keys(mech, _MECH, {"name"}, "mechanism")
     points = {
-        check_name(name, f"points.{name}"): vector2(xy, f"points.{name}")
+        check_name(name, f"points.{name}"): point2(xy, f"points.{name}")
         for name, xy in _table(data["points"], "points").items()
     }
     links = tuple(_link(name, spec) for name, spec in _table(data["links"], "links").items())
@@ -162,17 +162,17 @@ def _link(name: str, spec: Any) -> Link:
         _keys(t, _INERTIAL, _INERTIAL, f"{where}.inertial")
         inertial = MassProperties(
             mass=finite(t["mass"], f"{where}.inertial.mass"),
-            com=vector2(t["com"], f"{where}.inertial.com"),
+            com=point2(t["com"], f"{where}.inertial.com"),
             inertia=finite(t["inertia"], f"{where}.inertial.inertia"),
         )
     shape = None
     if "shape" in spec:
-        shape = {p: vector2(xy, f"{where}.shape.{p}") for p, xy in _table(spec["shape"], f"{where}.shape").items()}
+        shape = {p: point2(xy, f"{where}.shape.{p}") for p, xy in _table(spec["shape"], f"{where}.shape").items()}
     return Link(
         name=name,
         shape=shape,
         points=tuple(_str(p, f"{where}.points[{i}]") for i, p in enumerate(pts)),
-        length=finite(spec["length"], f"{where}.length") if "length" in spec else None,
+        length=length(spec["length"], f"{where}.length") if "length" in spec else None,
         inertial=inertial,
         density=finite(spec["density"], f"{where}.density") if "density" in spec else None,
     )
@@ -189,7 +189,7 @@ def _prismatic(name: str, spec: Any) -> Prismatic:
         point=_str(spec["point"], f"{where}.point"),
         through=_str(spec["through"], f"{where}.through"),
         angle=parse_angle(spec.get("angle", 0.0), f"{where}.angle"),
-        offset=finite(spec.get("offset", 0.0), f"{where}.offset"),
+        offset=length(spec.get("offset", 0.0), f"{where}.offset"),
     )
 
 
@@ -204,8 +204,8 @@ def _drive(spec: dict) -> Drive:
     kwargs = {} if stop is None else {"start": start, "stop": stop}
     return Drive(
         joint=_str(spec["joint"], "drive.joint"),
-        omega=finite(spec["omega"], "drive.omega"),
-        epsilon=finite(spec.get("epsilon", 0.0), "drive.epsilon"),
+        omega=angular_speed(spec["omega"], "drive.omega"),
+        epsilon=angular_acceleration(spec.get("epsilon", 0.0), "drive.epsilon"),
         **kwargs,
     )
 

@@ -33,7 +33,8 @@ def shown_field(field: str) -> str:
     return f"{field[:FIELD_SHOWN]}... ({len(field) - FIELD_SHOWN} more characters)"
 
 
-_ANGLE = re.compile(r"^\s*([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)\s*(deg|rad)\s*$")
+_NUMBER = r"([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)"
+_ANGLE = re.compile(r"^\s*" + _NUMBER + r"\s*(deg|°|rad)\s*$")
 
 
 def parse_angle(value: object, field: str) -> float:
@@ -46,10 +47,50 @@ def parse_angle(value: object, field: str) -> float:
         m = _ANGLE.match(value)
         if m:
             x = float(m.group(1))
-            return finite(math.radians(x) if m.group(2) == "deg" else x, field)
+            return finite(math.radians(x) if m.group(2) in ("deg", "°") else x, field)
     raise DescriptionError(
-        field, f"must be an angle: a number in rad or a string like '30deg' or '0.5rad', got {shown(value)}"
+        field, f"must be an angle: a number in rad or a string like '30deg', '30°' or '0.5rad', got {shown(value)}"
     )
+
+
+# Units a description may give, each as its factor to SI.
+LENGTH_UNITS = {"m": 1.0, "cm": 1e-2, "mm": 1e-3}
+SPEED_UNITS = {"rad/s": 1.0, "rpm": 2 * math.pi / 60, "deg/s": math.pi / 180}
+ACCELERATION_UNITS = {"rad/s2": 1.0, "rad/s²": 1.0, "rpm/s": 2 * math.pi / 60, "deg/s2": math.pi / 180,
+                      "deg/s²": math.pi / 180}
+
+
+def _with_unit(value: object, field: str, units: dict[str, float], what: str, examples: str) -> float:
+    """A number in SI, or a string "<number><unit>" (spaces allowed) with one of ``units``."""
+    if isinstance(value, (int, float)) and not isinstance(value, bool):
+        return finite(value, field)
+    if isinstance(value, str):
+        m = re.match(r"^\s*" + _NUMBER + r"\s*(\S+)\s*$", value)
+        if m and m.group(2) in units:
+            return finite(float(m.group(1)) * units[m.group(2)], field)
+    raise DescriptionError(field, f"must be {what}: a number in SI or a string like {examples}, got {shown(value)}")
+
+
+def length(value: object, field: str) -> float:
+    """A length [m] from a number (metres) or "200mm", "20cm", "0.2m"."""
+    return _with_unit(value, field, LENGTH_UNITS, "a length", "'200mm', '20cm' or '0.2m'")
+
+
+def angular_speed(value: object, field: str) -> float:
+    """An angular speed [rad/s] from a number (rad/s) or "100rpm", "10rad/s", "30deg/s"."""
+    return _with_unit(value, field, SPEED_UNITS, "an angular speed", "'100rpm' or '10rad/s'")
+
+
+def angular_acceleration(value: object, field: str) -> float:
+    """An angular acceleration [rad/s²] from a number or "2rad/s2", "2rad/s²", "60rpm/s"."""
+    return _with_unit(value, field, ACCELERATION_UNITS, "an angular acceleration", "'2rad/s2' or '60rpm/s'")
+
+
+def point2(value: object, field: str) -> tuple[float, float]:
+    """A 2-vector of lengths [m], each a number (metres) or a string with a length unit."""
+    if not isinstance(value, (list, tuple)) or len(value) != 2:
+        raise DescriptionError(field, f"must be a list of 2 lengths [x, y], got {shown(value)}")
+    return (length(value[0], f"{field}[0]"), length(value[1], f"{field}[1]"))
 
 
 def finite(value: object, field: str) -> float:
