@@ -14,7 +14,9 @@ MODELS = ROOT / "models"
 def test_analyze_seven_link_json(capsys):
     assert main(["analyze", str(MODELS / "seven_link.toml"), "--angle", "38.117deg", "--omega", "4", "--json"]) == 0
     out = json.loads(capsys.readouterr().out)
-    assert set(out) == {"points", "links", "sliders"}
+    assert set(out) == {"model", "phi", "omega", "epsilon", "units", "points", "links", "sliders"}
+    assert out["model"] == "seven_link" and out["omega"] == 4.0 and out["epsilon"] == 0.0
+    assert out["phi"] == 38.117 * 3.141592653589793 / 180 and out["units"]["acceleration"] == "m/s²"
     assert set(out["points"]) == {"O", "A", "G", "B", "C", "E", "F"}
     assert set(out["links"]) == {"ground", "crank", "block", "rocker", "rod", "slider", "coupler", "lever"}
     assert set(out["sliders"]) == {"block", "slider"}
@@ -31,7 +33,7 @@ def test_analyze_seven_link_json(capsys):
 
 
 def test_analyze_angle_in_radians_equals_degrees(capsys):
-    main(["analyze", str(MODELS / "fourbar.toml"), "--angle", "0.5", "--json"])
+    main(["analyze", str(MODELS / "fourbar.toml"), "--angle", "0.5rad", "--json"])
     rad = json.loads(capsys.readouterr().out)
     main(["analyze", str(MODELS / "fourbar.toml"), "--angle", f"{math.degrees(0.5)!r}deg", "--json"])
     deg = json.loads(capsys.readouterr().out)
@@ -43,7 +45,7 @@ def test_analyze_csv_over_a_revolution(tmp_path, capsys):
     assert main(["analyze", str(MODELS / "fourbar.toml"), "--samples", "360", "--csv", str(out)]) == 0
     lines = out.read_text().splitlines()
     assert len(lines) == 361
-    assert lines[0].startswith("phi,singular,O.position.x,O.position.y,")
+    assert lines[0].startswith("phi [rad],singular,O.position.x [m],O.position.y [m],")
     assert {line.split(",")[1] for line in lines[1:]} == {"0"}  # the four-bar has no singular pose
 
 
@@ -111,10 +113,10 @@ def test_sampled_run_marks_singular_samples(tmp_path, capsys, command):
     for r in rows:
         assert all(math.isfinite(float(v)) for v in r.values())
     if command == "analyze":  # the rows in between are ordinary: x_B = h / tan φ by hand
-        phi = float(rows[60]["phi"])
-        assert float(rows[60]["B.position.x"]) == pytest.approx(0.2 / math.tan(phi), rel=1e-12)
+        phi = float(rows[60]["phi [rad]"])
+        assert float(rows[60]["B.position.x [m]"]) == pytest.approx(0.2 / math.tan(phi), rel=1e-12)
     else:
-        assert float(rows[0]["balancing_torque"]) == 0.0 and float(rows[60]["balancing_torque"]) != 0.0
+        assert float(rows[0]["balancing_torque [N·m]"]) == 0.0 and float(rows[60]["balancing_torque [N·m]"]) != 0.0
     # asked to keep them: the same file, a warning and status 0
     first = out.read_text()
     assert main([command, str(model), "--samples", "181", "--csv", str(out), "--keep-singular"]) == 0
@@ -128,13 +130,13 @@ def test_near_singular_forces_are_no_longer_answered(tmp_path, capsys):
     # The reported case: at a transfer-function denominator of 1e-16 `linkgen forces` printed a
     # balancing torque of -2.3e78 N·m with a warning and exit status 0.
     tangent = MODELS / "tangent_prp.toml"
-    assert main(["forces", str(tangent), "--angle", "1e-16"]) == 2
+    assert main(["forces", str(tangent), "--angle", "1e-16rad"]) == 2
     captured = capsys.readouterr()
     assert captured.out == ""
     assert captured.err == (f"linkgen: error: {tangent}: group {GROUP} is singular at crank angles 0.000°: {CAUSE} "
                             "(normalised transfer-function denominator below SINGULAR_TOL = 0.0001; transfer "
                             "functions grow as its inverse)\n")
-    assert main(["analyze", str(tangent), "--angle", "1e-16", "--json"]) == 2
+    assert main(["analyze", str(tangent), "--angle", "1e-16rad", "--json"]) == 2
     assert capsys.readouterr().err == captured.err
     # sampled from that angle on: the sample is marked, every number finite, status 3
     model = _tangent(tmp_path, "[1e-16, 3.0]")
@@ -143,15 +145,15 @@ def test_near_singular_forces_are_no_longer_answered(tmp_path, capsys):
     lines = captured.out.splitlines()
     head = lines[0].split(",")
     rows = [dict(zip(head, line.split(","))) for line in lines[1:]]
-    assert [r["singular"] for r in rows] == ["1", "0", "0", "0", "0"] and float(rows[0]["phi"]) == 1e-16
+    assert [r["singular"] for r in rows] == ["1", "0", "0", "0", "0"] and float(rows[0]["phi [rad]"]) == 1e-16
     # the largest, at 3.0 rad, is 1.1e3 N·m; the old answer at 1e-16 was -2.3e78 N·m
-    assert all(abs(float(r["balancing_torque"])) < 1e4 for r in rows)
+    assert all(abs(float(r["balancing_torque [N·m]"])) < 1e4 for r in rows)
     assert captured.err.endswith(f"group {GROUP} is singular at crank angles 0.000° (1 of 5 samples: {CAUSE}); "
                                  "marked singular = 1 in the output, every other value in those rows set to 0 "
                                  "(exit status 3; --keep-singular accepts them)\n")
 
 
-@pytest.mark.parametrize("options", [[], ["--angle", "1"], ["--json"]])
+@pytest.mark.parametrize("options", [[], ["--angle", "1rad"], ["--json"]])
 def test_keep_singular_is_for_samples(tmp_path, capsys, monkeypatch, options):
     monkeypatch.chdir(tmp_path)
     assert main(["forces", str(MODELS / "fourbar.toml"), "--keep-singular", *options]) == 2

@@ -125,9 +125,9 @@ def test_output_pointing_at_a_folder(tmp_path, capsys):
 
 @pytest.mark.parametrize("command", ["analyze", "forces"])
 @pytest.mark.parametrize("options, message", [
-    (["--angle", "1", "--samples", "3"], "--angle cannot be combined with --samples: --angle is for one crank "
+    (["--angle", "1rad", "--samples", "3"], "--angle cannot be combined with --samples: --angle is for one crank "
                                          "angle, --samples for samples over the drive range"),
-    (["--angle", "1", "--csv", "x.csv"], "--angle cannot be combined with --csv: --angle is for one crank angle, "
+    (["--angle", "1rad", "--csv", "x.csv"], "--angle cannot be combined with --csv: --angle is for one crank angle, "
                                          "--csv for samples over the drive range"),
     (["--json", "--samples", "3"], "--json cannot be combined with --samples: --json is for one crank angle, "
                                    "--samples for samples over the drive range"),
@@ -150,7 +150,7 @@ def test_closed_pipe_ends_quietly(command):
     proc.stdout.close()  # as `| head -1` does
     err = proc.stderr.read()
     assert proc.wait(timeout=120) == 141
-    assert first.startswith(b"phi,")
+    assert first.startswith(b"phi [rad],")
     assert err == b""
 
 

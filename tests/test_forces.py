@@ -183,7 +183,7 @@ def test_forces_cli_samples_and_errors(tmp_path, capsys):
     csv_path = tmp_path / "f.csv"
     assert main(["forces", str(ROOT / "models" / "ga2.toml"), "--samples", "36", "--csv", str(csv_path)]) == 0
     rows = csv_path.read_text().splitlines()
-    assert len(rows) == 37 and rows[0].startswith("phi,singular,balancing_torque,power_balance_torque")
+    assert len(rows) == 37 and rows[0].startswith("phi [rad],singular,balancing_torque [N·m],power_balance_torque [N·m]")
     assert main(["forces", str(tmp_path / "none.toml")]) == 2
     assert "no such description file" in capsys.readouterr().err
 

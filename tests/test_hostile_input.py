@@ -195,9 +195,9 @@ def test_corners_of_the_limits_scale_exactly(s, mu, w):
 
 @pytest.mark.parametrize("option, value, message", [
     ("--omega", "1.3e154", "expected a number within ±1e+30 rad/s (linkgen's limits, see the README), got '1.3e154'"),
-    ("--epsilon", "-inf", "expected a finite number, got '-inf'"),
-    ("--omega", "nan", "expected a finite number, got 'nan'"),
-    ("--omega", "[1, 2]", "expected a number, got '[1, 2]'"),
+    ("--epsilon", "-inf", "expected a number in rad/s² or one with its unit (e.g. 60rpm/s), got '-inf'"),
+    ("--omega", "nan", "expected a number in rad/s or one with its unit (e.g. 100rpm), got 'nan'"),
+    ("--omega", "[1, 2]", "expected a number in rad/s or one with its unit (e.g. 100rpm), got '[1, 2]'"),
     ("--samples", "1000001", "expected a whole number from 1 to 1000000, got '1000001'"),
 ])
 def test_rates_on_the_command_line(capsys, option, value, message):

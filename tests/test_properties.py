@@ -133,7 +133,7 @@ def test_written_description_replays_with_the_cli(tmp_path, capsys):
         path = tmp_path / f"m{seed}.toml"
         path.write_text(to_toml(desc))
         phi0 = ic.sketch_phi(desc)
-        assert main(["forces", str(path), "--angle", repr(phi0), "--json"]) == 0
+        assert main(["forces", str(path), "--angle", f"{phi0!r}rad", "--json"]) == 0
         got = json.loads(capsys.readouterr().out)["balancing_torque"]
         want = forces(linkgen.from_dict(desc), [phi0], desc["drive"]["omega"], 0.0).balancing_torque[0]
         assert got == want

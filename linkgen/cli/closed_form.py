@@ -14,9 +14,15 @@ from linkgen.planar.assembly import assemble
 from linkgen.planar.kinematics import Kinematics, solve
 
 
-def _motion_json(kin: Kinematics, omega: float, epsilon: float, i: int = 0) -> dict:
+UNITS = {"phi": "rad", "omega": "rad/s", "epsilon": "rad/s²", "position": "m", "velocity": "m/s",
+         "acceleration": "m/s²", "angle": "rad", "angular_velocity": "rad/s", "angular_acceleration": "rad/s²",
+         "displacement": "m", "d/dphi": "per rad", "d2/dphi2": "per rad²"}
+
+
+def _motion_json(kin: Kinematics, omega: float, epsilon: float, i: int = 0, model: str = "") -> dict:
     mo = kin.motion(omega, epsilon)
     return {
+        "model": model, "phi": float(kin.phi[i]), "omega": float(omega), "epsilon": float(epsilon), "units": UNITS,
         "points": {n: {"position": p[i].tolist(), "velocity": v[i].tolist(), "acceleration": a[i].tolist()}
                    for n, (p, v, a) in mo.points.items()},
         "links": {n: {"angle": float(p[i]), "angular_velocity": float(v[i]), "angular_acceleration": float(a[i])}
@@ -60,11 +66,16 @@ def cmd_analyze(args) -> int:
                     else:
                         cols.append(f"{n}.{qname}")
                         data.append(arr)
-        write_rows(cols, data, args.csv)
+        if args.transfer:
+            c2, d2 = _transfer_columns(kin)
+            cols, data = cols + c2, data + d2
+        write_rows(cols, data, args.csv, units=True)
         return report_singular(args.model, kin, args.keep_singular)
     phi = mech.drive.start if args.angle is None else args.angle
     kin = solve(mech, np.array([phi]))
-    result = _motion_json(kin, omega, epsilon)
+    result = _motion_json(kin, omega, epsilon, model=mech.name)
+    if args.transfer:
+        result["transfer"] = _transfer_json(kin)
     check_finite(result)
     if args.json:
         print_json(result)
@@ -80,5 +91,41 @@ def cmd_analyze(args) -> int:
         print(f"{'slider':<10}{'s [m]':>14}{'v [m/s]':>14}{'a [m/s²]':>14}")
         for n, q in result["sliders"].items():
             print(f"{n:<10}{q['displacement']:>14.6g}{q['velocity']:>14.6g}{q['acceleration']:>14.6g}")
+    if args.transfer:
+        tr = result["transfer"]
+        print("transfer functions (derivatives with respect to the crank angle φ)")
+        print(f"{'point':<10}{'dx/dφ [m]':>14}{'dy/dφ [m]':>14}{'d²x/dφ² [m]':>14}{'d²y/dφ² [m]':>14}")
+        for n, q in tr["points"].items():
+            print(f"{n:<10}" + "".join(f"{x:>14.6g}" for x in q["d/dphi"] + q["d2/dphi2"]))
+        for kind, unit in (("links", "rad/rad"), ("sliders", "m/rad")):
+            if tr[kind]:
+                print(f"{kind[:-1]:<10}{'d/dφ [' + unit + ']':>18}{'d²/dφ² [' + unit + ']':>18}")
+                for n, q in tr[kind].items():
+                    print(f"{n:<10}{q['d/dphi']:>18.6g}{q['d2/dphi2']:>18.6g}")
     return 0
+
+
+def _transfer_json(kin: Kinematics, i: int = 0) -> dict:
+    """First and second derivatives with respect to φ: points [m/rad, m/rad²], link angles
+    [rad/rad, rad/rad²], slider displacements [m/rad, m/rad²]."""
+    return {"points": {n: {"d/dphi": v.d1[i].tolist(), "d2/dphi2": v.d2[i].tolist()} for n, v in kin.points.items()},
+            "links": {n: {"d/dphi": float(lp.angle.d1[i]), "d2/dphi2": float(lp.angle.d2[i])}
+                      for n, lp in kin.links.items()},
+            "sliders": {n: {"d/dphi": float(s.d1[i]), "d2/dphi2": float(s.d2[i])} for n, s in kin.sliders.items()}}
+
+
+def _transfer_columns(kin: Kinematics) -> tuple[list[str], list[np.ndarray]]:
+    cols, data = [], []
+    n_phi = kin.phi.shape[0]
+    for n, v in kin.points.items():
+        for tag, arr in (("d1", v.d1), ("d2", v.d2)):
+            arr = np.broadcast_to(arr, (n_phi, 2))
+            cols += [f"{n}.position.{tag}.x", f"{n}.position.{tag}.y"]
+            data += [arr[:, 0], arr[:, 1]]
+    for kind, table in (("angle", {n: lp.angle for n, lp in kin.links.items()}), ("displacement", kin.sliders)):
+        for n, s in table.items():
+            for tag, arr in (("d1", s.d1), ("d2", s.d2)):
+                cols.append(f"{n}.{kind}.{tag}")
+                data.append(np.broadcast_to(arr, (n_phi,)))
+    return cols, data
 

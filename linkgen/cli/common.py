@@ -28,9 +28,16 @@ def crank_grid(mech, samples: int) -> np.ndarray:
 
 def _angle_arg(text: str) -> float:
     try:
-        x = parse_angle(text if text.strip().endswith(("deg", "rad")) else float(text), "--angle")
-    except (ValueError, DescriptionError) as exc:
-        raise argparse.ArgumentTypeError(f"expected radians or e.g. '30deg', got {text!r}") from exc
+        float(text)
+    except ValueError:
+        pass
+    else:
+        raise argparse.ArgumentTypeError(f"an angle needs its unit: write {text}deg or {text}rad (or {text}°), "
+                                         f"got {text!r}")
+    try:
+        x = parse_angle(text, "--angle")
+    except DescriptionError as exc:
+        raise argparse.ArgumentTypeError(f"expected an angle like 30deg, 30° or 0.52rad, got {text!r}") from exc
     if abs(x) > limits.MAX_ANGLE:
         raise argparse.ArgumentTypeError(f"expected an angle within ±{limits.MAX_ANGLE:g} rad (linkgen's limits, "
                                          f"see the README), got {text!r}")
@@ -48,10 +55,21 @@ def _float_arg(text: str) -> float:
 
 
 def rate_arg(limit: float, unit: str):
-    """An argparse type: a finite number with |x| <= ``limit`` (see linkgen.limits)."""
+    """An argparse type: a finite number with |x| <= ``limit`` (see linkgen.limits), in ``unit``
+    (rad/s or rad/s²) or with its own unit (100rpm, 2rad/s2, 60rpm/s)."""
+    from linkgen.model.units import angular_acceleration, angular_speed
+
+    read = angular_speed if unit == "rad/s" else angular_acceleration
 
     def parse(text: str) -> float:
-        x = _float_arg(text)
+        try:
+            x = _float_arg(text)
+        except argparse.ArgumentTypeError:
+            try:
+                x = read(text, "option")
+            except DescriptionError:
+                raise argparse.ArgumentTypeError(f"expected a number in {unit} or one with its unit "
+                                                 f"(e.g. {'100rpm' if unit == 'rad/s' else '60rpm/s'}), got {text!r}") from None
         if abs(x) > limit:
             raise argparse.ArgumentTypeError(f"expected a number within ±{limit:g} {unit} (linkgen's limits, "
                                              f"see the README), got {text!r}")
@@ -102,9 +120,35 @@ def _write_csv(out, cols: list[str], data: list[np.ndarray]) -> int:
     return n
 
 
-def write_rows(cols: list[str], data: list[np.ndarray], path: Path | None) -> None:
+# Units of the columns ``analyze`` and ``forces`` write, by the quantity in the column's name.
+_COLUMN_UNITS = (("angular_velocity", "rad/s"), ("angular_acceleration", "rad/s²"), ("velocity", "m/s"),
+                 ("acceleration", "m/s²"), ("normal_force", "N"), ("moment", "N·m"), ("force", "N"),
+                 ("balancing_torque", "N·m"), ("power_balance_torque", "N·m"), ("reduced_inertia_derivative",
+                 "kg·m²/rad"), ("reduced_inertia", "kg·m²"), ("reduced_moment", "N·m"), ("angle", "rad"),
+                 ("position", "m"), ("displacement", "m"))
+
+
+def with_unit(col: str) -> str:
+    """A column name with its unit in brackets (``phi [rad]``, ``B.velocity.x [m/s]``,
+    ``B.position.d1.x [m/rad]``); ``singular`` (0 or 1) has none."""
+    if col == "phi":
+        return "phi [rad]"
+    parts = col.split(".")
+    unit = next((u for q, u in _COLUMN_UNITS if q in parts), None)
+    if unit is None:
+        return col
+    if "d1" in parts:
+        unit += "/rad"
+    elif "d2" in parts:
+        unit += "/rad²"
+    return f"{col} [{unit}]"
+
+
+def write_rows(cols: list[str], data: list[np.ndarray], path: Path | None, units: bool = False) -> None:
     """Columns (each (n,)) as CSV with a header, full precision, to ``path`` (written
-    atomically) or stdout."""
+    atomically) or stdout; ``units``: each header with its unit (``with_unit``)."""
+    if units:
+        cols = [with_unit(c) for c in cols]
     if path is None:
         _write_csv(sys.stdout, cols, data)
         return
@@ -163,14 +207,15 @@ def check_crank_options(args) -> None:
 
 def add_crank_arguments(parser: argparse.ArgumentParser, example_angle: str) -> None:
     """MODEL, one crank state (--angle, --omega, --epsilon, --json) or samples (--samples, --csv)."""
-    parser.add_argument("model", type=Path)
-    parser.add_argument("--angle", type=_angle_arg, help=f"crank angle: radians, or e.g. {example_angle}")
+    parser.add_argument("model", type=Path, help="description file (.toml)")
+    parser.add_argument("--angle", type=_angle_arg,
+                        help=f"crank angle with its unit, e.g. {example_angle}, 30° or 0.52rad (default: the range's start)")
     parser.add_argument("--omega", type=rate_arg(limits.MAX_OMEGA, "rad/s"),
-                        help="crank speed [rad/s] (default: the description's)")
+                        help="crank speed [rad/s], or with a unit, e.g. 100rpm (default: the description's)")
     parser.add_argument("--epsilon", type=rate_arg(limits.MAX_EPSILON, "rad/s²"),
-                        help="crank acceleration [rad/s²] (default: the description's)")
+                        help="crank acceleration [rad/s²], or with a unit, e.g. 60rpm/s (default: the description's)")
     parser.add_argument("--json", action="store_true", help="print one JSON object (not with --samples/--csv)")
-    parser.add_argument("--samples", type=_positive_int, help="evaluate this many angles over the drive range")
+    parser.add_argument("--samples", type=_positive_int, help="evaluate this many angles over the drive range (no unit)")
     parser.add_argument("--csv", type=Path, help="write the samples as CSV to this file (not with --angle/--json)")
     parser.add_argument("--keep-singular", action="store_true",
                         help="with samples: exit 0 even if some are singular (by default such samples are "

@@ -56,7 +56,7 @@ def cmd_forces(args) -> int:
     if args.samples is not None or args.csv is not None:
         phi = crank_grid(mech, args.samples or 360)
         f = forces(mech, phi, omega, epsilon, on_singular="mark")
-        write_rows(*_columns(f), args.csv)
+        write_rows(*_columns(f), args.csv, units=True)
         # which groups: a second kinematic pass, only when some sample is marked
         kin = solve(mech, phi, on_singular="mark") if f.singular.any() else None
         return report_singular(args.model, kin, args.keep_singular)

@@ -21,6 +21,15 @@ from linkgen.cli.files import message_for
 from linkgen.errors import LinkgenError
 
 
+def _version() -> str:
+    from importlib.metadata import PackageNotFoundError, version
+
+    try:
+        return version("linkgen")
+    except PackageNotFoundError:  # run from a source tree that is not installed
+        return "(not installed)"
+
+
 class _Parser(argparse.ArgumentParser):
     """argparse with one-line errors (the usage is one ``--help`` away); subcommands inherit it."""
 
@@ -30,14 +39,17 @@ class _Parser(argparse.ArgumentParser):
 
 def build_parser() -> argparse.ArgumentParser:
     p = _Parser(prog="linkgen", description=__doc__.splitlines()[0])
+    p.add_argument("--version", action="version", version=f"linkgen {_version()}")
     sub = p.add_subparsers(dest="command", required=True)
 
     s = sub.add_parser("structure", help="mobility, Assur groups and the structure formula")
-    s.add_argument("model", type=Path)
+    s.add_argument("model", type=Path, help="description file (.toml)")
     s.set_defaults(func=closed_form.cmd_structure)
 
     a = sub.add_parser("analyze", help="closed-form positions, velocities and accelerations")
     add_crank_arguments(a, "38.117deg")
+    a.add_argument("--transfer", action="store_true",
+                   help="also the transfer functions d/dφ and d²/dφ² (m/rad, rad/rad; in the table, JSON or CSV)")
     a.set_defaults(func=closed_form.cmd_analyze)
 
     forces.add_command(sub)
@@ -46,9 +58,27 @@ def build_parser() -> argparse.ArgumentParser:
     return p
 
 
+# Options whose value may be negative with a unit ("-30deg"), which argparse would take for an option.
+_SIGNED = ("--angle", "--omega", "--epsilon")
+
+
+def _join_signed(argv: list[str]) -> list[str]:
+    """``--angle -30deg`` → ``--angle=-30deg``."""
+    out, i = [], 0
+    while i < len(argv):
+        a = argv[i]
+        if a in _SIGNED and i + 1 < len(argv) and argv[i + 1][:1] == "-" and argv[i + 1][1:2] in "0123456789.":
+            out.append(f"{a}={argv[i + 1]}")
+            i += 2
+            continue
+        out.append(a)
+        i += 1
+    return out
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = build_parser()
-    args = parser.parse_args(argv)
+    args = parser.parse_args(_join_signed(sys.argv[1:] if argv is None else list(argv)))
     try:
         status = args.func(args)
         sys.stdout.flush()  # a closed pipe shows here, not in the interpreter's exit

@@ -132,7 +132,8 @@ def cmd_simulate(args) -> int:
     return 0
 
 
-def _check_one(path: Path, report: Path | None, practical: bool, nthread: int | None, progress: bool) -> dict:
+def _check_one(path: Path, report: Path | None, practical: bool, nthread: int | None, progress: bool,
+               max_steps: int = 1_000_000) -> dict:
     """Validate one file (in a worker process for folders); draws its figures if ``report``."""
     from linkgen.planar.assembly import assemble
     from linkgen.crosscheck.run import crosscheck
@@ -149,7 +150,7 @@ def _check_one(path: Path, report: Path | None, practical: bool, nthread: int | 
                          f"`linkgen simulate` still work for it"}
     except LinkgenError as exc:
         return {"model": path.stem, "file": str(path), "ok": False, "error": message_for(path, exc)}
-    cc = crosscheck(asm, practical=practical, nthread=nthread,
+    cc = crosscheck(asm, practical=practical, nthread=nthread, max_steps=max_steps,
                     progress=_progress(asm.mechanism.name) if progress else None)
     out = {"file": str(path)} | cc.to_json()
     if report is not None and cc.comparison is not None:
@@ -203,11 +204,11 @@ def cmd_validate(args) -> int:
     t0 = time.perf_counter()
     cpu0 = os.times()
     if len(paths) == 1:
-        results = [_check_one(paths[0], report, practical, None, True)]
+        results = [_check_one(paths[0], report, practical, None, True, args.max_steps)]
     else:  # models side by side in processes (each draws its own figures), one thread each
         ctx = multiprocessing.get_context("spawn")
         with ProcessPoolExecutor(max_workers=min(len(paths), default_threads()), mp_context=ctx) as pool:
-            futures = [pool.submit(_check_one, p, report, practical, 1, False) for p in paths]
+            futures = [pool.submit(_check_one, p, report, practical, 1, False, args.max_steps) for p in paths]
             results = []
             for fut in futures:
                 r = fut.result()
@@ -242,6 +243,7 @@ def _json_default(x):
 def add_commands(sub) -> None:
     from linkgen.model import limits
     from linkgen.cli.common import _float_arg, _positive_int, rate_arg
+    from linkgen.mujoco.settings import MAX_STEPS
 
     b = sub.add_parser("build", help="write the MJCF of a model, or of every model in a folder")
     b.add_argument("model", type=Path)
@@ -256,7 +258,7 @@ def add_commands(sub) -> None:
                    help="crank speed at the start [rad/s] (default: the description's)")
     s.add_argument("--epsilon", type=rate_arg(limits.MAX_EPSILON, "rad/s²"),
                    help="crank acceleration [rad/s²] (default: the description's)")
-    s.add_argument("--samples", type=_positive_int, default=360, help="sampled states over the range (default 360)")
+    s.add_argument("--samples", type=_positive_int, default=360, help="sampled states over the range (no unit; default 360)")
     s.add_argument("--out", type=Path, help="write the samples to FILE.npz or FILE.csv (SI units)")
     s.set_defaults(func=cmd_simulate)
 
@@ -267,6 +269,9 @@ def add_commands(sub) -> None:
                                                f"(default for a folder: {REPORT_DIR})")
     v.add_argument("--no-practical", action="store_true",
                    help="skip the runs at MuJoCo's usual settings (the practical-settings table)")
+    v.add_argument("--max-steps", type=_positive_int, default=MAX_STEPS,
+                   help=f"step budget of each MuJoCo run, per segment (no unit; default {MAX_STEPS}); a run whose "
+                        f"loops need more is reported, not started")
     v.set_defaults(func=cmd_validate)
 
 
