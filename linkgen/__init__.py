@@ -1,4 +1,11 @@
-"""linkgen: planar linkages → MuJoCo MJCF, cross-checked against closed-form Assur-group solutions."""
+"""linkgen: planar linkages → MuJoCo MJCF, cross-checked against closed-form Assur-group solutions.
+
+    import linkgen
+    mech = linkgen.load("models/fourbar.toml")
+    linkgen.kinematics(mech, 0.5).points["B"].velocity      # (2,) [m/s]
+    linkgen.forces(mech, 0.5).balancing_torque              # [N·m]
+    linkgen.validate(mech).ok                               # MuJoCo against the closed form
+"""
 
 from linkgen.planar.assembly import Assembly, assemble
 from linkgen.model.description import (
@@ -27,10 +34,14 @@ from linkgen.planar.kinematics import Kinematics, solve, solve_motion
 from linkgen.model.reader import from_dict, load
 from linkgen.planar.motion import Motion
 from linkgen.planar.structure import Group, GroupKind, Structure, analyze
+from linkgen.api import (ForcesResult, KinematicsResult, Quantity, forces, kinematics, simulate, structure, validate,
+                         write_mjcf)
 
 __all__ = [
     "Drive", "Link", "LinkTorque", "MassProperties", "Mechanism", "PointForce", "Prismatic", "Revolute",
     "ArgumentError", "AssemblyError", "DescriptionError", "LinkgenError", "SimulationError", "SingularityError",
     "StructureError", "ValidationError", "BalanceError", "MagnitudeError", "Assembly", "Kinematics", "Motion", "assemble", "solve", "solve_motion",
     "from_dict", "load", "Group", "GroupKind", "Structure", "analyze",
+    "ForcesResult", "KinematicsResult", "Quantity", "forces", "kinematics", "simulate", "structure", "validate",
+    "write_mjcf",
 ]

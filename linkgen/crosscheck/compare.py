@@ -55,6 +55,10 @@ class Comparison:
     """Errors per quantity (``points.B.velocity``, ``links.rocker.angle``, …), the loop gap
     and the curves of both sides."""
 
+    def __repr__(self) -> str:
+        return f"Comparison({self.model!r}, ok={self.ok}, {len(self.quantities)} quantities)"
+
+
     model: str
     assembly: Assembly
     quantities: dict[str, QuantityError]

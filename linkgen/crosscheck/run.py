@@ -42,6 +42,10 @@ class CrossCheck:
     """The final comparison (None if every run failed), the attempts, the diagnosis of what
     missed, and the practical-settings table."""
 
+    def __repr__(self) -> str:
+        return f"CrossCheck({self.model!r}, ok={self.ok}, {len(self.attempts)} run(s), {len(self.diagnosis)} finding(s))"
+
+
     model: str
     comparison: Comparison | None
     attempts: tuple[Attempt, ...]

@@ -124,6 +124,10 @@ class LinkTorque:
 class Mechanism:
     """A validated planar mechanism. Raises DescriptionError on construction if invalid."""
 
+    def __repr__(self) -> str:
+        return f"Mechanism({self.name!r}, {len(self.links)} links, {len(self.points)} points)"
+
+
     name: str
     points: Mapping[str, tuple[float, float]]
     links: tuple[Link, ...]

@@ -69,6 +69,10 @@ class Run:
     part [m] and the crank angle [rad] where it occurred, the settling window [s] and what was
     left out."""
 
+    def __repr__(self) -> str:
+        return f"Run({self.steps} steps of {self.settings.timestep:.3g} s, {self.samples.time.shape[0]} samples)"
+
+
     model: mujoco.MjModel
     settings: Settings
     scales: Scales | None  # None where the closed form does not cover the mechanism

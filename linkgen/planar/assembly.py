@@ -33,6 +33,10 @@ _BRANCHED = (GroupKind.RRR, GroupKind.RRP, GroupKind.RPR)
 class Assembly:
     """A mechanism with its structure, shapes and each group's assembly mode."""
 
+    def __repr__(self) -> str:
+        return f"Assembly({self.mechanism.name!r}, {self.structure.formula})"
+
+
     mechanism: Mechanism
     structure: Structure
     shapes: dict[str, LinkShape]

@@ -63,6 +63,10 @@ class Kinematics:
             transfer functions are set to 0 and every value is finite but meaningless.
     """
 
+    def __repr__(self) -> str:
+        return f"Kinematics({self.assembly.mechanism.name!r}, {self.phi.shape[0]} angles, {len(self.points)} points)"
+
+
     assembly: Assembly
     phi: np.ndarray
     links: dict[str, LinkPose]

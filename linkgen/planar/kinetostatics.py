@@ -52,6 +52,10 @@ class Forces:
             force and torque is 0.
     """
 
+    def __repr__(self) -> str:
+        return f"Forces({self.phi.shape[0]} angles, {len(self.reactions)} reactions, {len(self.normal_force)} prismatic pairs)"
+
+
     phi: np.ndarray
     omega: np.ndarray
     epsilon: np.ndarray

@@ -25,6 +25,10 @@ class Motion:
     are set to 0; None when not known.
     """
 
+    def __repr__(self) -> str:
+        return f"Motion({len(np.atleast_1d(self.phi))} angles, {len(self.points)} points, {len(self.links)} links)"
+
+
     phi: np.ndarray
     omega: np.ndarray
     epsilon: np.ndarray

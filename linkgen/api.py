@@ -1,0 +1,247 @@
+"""The Python API, one function per CLI command, each taking a ``Mechanism`` (or an already
+assembled one) and returning named frozen results:
+
+    mech = linkgen.load("models/fourbar.toml")
+    k = linkgen.kinematics(mech, 0.5)            # φ = 0.5 rad: k.points["B"].position has shape (2,)
+    f = linkgen.forces(mech, np.linspace(0, 1, 50), omega=10.0)
+    f.columns()                                  # {"phi [rad]": (50,), "balancing_torque [N·m]": …}
+    linkgen.write_mjcf(mech); linkgen.validate(mech).ok
+
+Angles in rad, speeds in rad/s, SI throughout. A scalar φ gives scalar-shaped results (a point
+(2,), an angle a float); an array φ (n,) gives (n, 2) and (n,). ``to_dict()`` gives JSON-ready
+nested dicts with a ``units`` entry, ``columns()`` flat name → 1-D array columns (pandas-ready).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Mapping
+
+import numpy as np
+
+from linkgen.model.description import Mechanism
+from linkgen.planar.assembly import Assembly, assemble
+from linkgen.planar.kinematics import solve
+from linkgen.planar.kinetostatics import forces as _forces
+from linkgen.planar.structure import Structure, analyze
+
+UNITS = {"phi": "rad", "omega": "rad/s", "epsilon": "rad/s²", "position": "m", "velocity": "m/s",
+         "acceleration": "m/s²", "angle": "rad", "angular_velocity": "rad/s", "angular_acceleration": "rad/s²",
+         "displacement": "m", "d1": "per rad (m/rad or rad/rad)", "d2": "per rad²", "force": "N", "torque": "N·m",
+         "moment": "N·m", "inertia": "kg·m²"}
+
+
+def _assembly(source: Mechanism | Assembly) -> Assembly:
+    return source if isinstance(source, Assembly) else assemble(source)
+
+
+def _mech(source: Mechanism | Assembly) -> Mechanism:
+    return source if isinstance(source, Mechanism) else source.mechanism
+
+
+def _shape(x, scalar: bool):
+    x = np.asarray(x)
+    return (float(x[0]) if x.ndim == 1 else x[0].copy()) if scalar else x
+
+
+def _plain(x):
+    return float(x) if np.ndim(x) == 0 else np.asarray(x).tolist()
+
+
+@dataclass(frozen=True, repr=False)
+class Quantity:
+    """One point, link or slider: value (position [m], angle [rad] or displacement [m]), its
+    velocity, acceleration, and the transfer functions d/dφ, d²/dφ²."""
+
+    value: np.ndarray | float
+    velocity: np.ndarray | float
+    acceleration: np.ndarray | float
+    d1: np.ndarray | float
+    d2: np.ndarray | float
+
+    def __iter__(self):
+        return iter((self.value, self.velocity, self.acceleration))
+
+    @property
+    def position(self):
+        """A point's position [m] (the value)."""
+        return self.value
+
+    @property
+    def angle(self):
+        """A link's angle [rad] (the value)."""
+        return self.value
+
+    @property
+    def displacement(self):
+        """A slider's displacement [m] (the value)."""
+        return self.value
+
+    def to_dict(self) -> dict:
+        return {k: _plain(getattr(self, k)) for k in ("value", "velocity", "acceleration", "d1", "d2")}
+
+    def __repr__(self) -> str:
+        return f"Quantity(shape {np.shape(self.value)})"
+
+
+@dataclass(frozen=True, repr=False)
+class KinematicsResult:
+    """Points, links and sliders of a mechanism at crank angles φ, speed ω, acceleration ε."""
+
+    model: str
+    phi: np.ndarray | float
+    omega: np.ndarray | float
+    epsilon: np.ndarray | float
+    points: Mapping[str, Quantity]
+    links: Mapping[str, Quantity]
+    sliders: Mapping[str, Quantity]
+
+    def to_dict(self) -> dict:
+        return {"model": self.model, "phi": _plain(self.phi), "omega": _plain(self.omega),
+                "epsilon": _plain(self.epsilon), "units": UNITS,
+                **{kind: {n: q.to_dict() for n, q in getattr(self, kind).items()} for kind in ("points", "links", "sliders")}}
+
+    def columns(self) -> dict[str, np.ndarray]:
+        cols = {"phi [rad]": np.atleast_1d(self.phi)}
+        names = {"points": ("position", "m"), "links": ("angle", "rad"), "sliders": ("displacement", "m")}
+        for kind, (value, unit) in names.items():
+            for n, q in getattr(self, kind).items():
+                for label, x, u in ((value, q.value, unit), ("velocity", q.velocity, f"{unit}/s"),
+                                    ("acceleration", q.acceleration, f"{unit}/s²"), ("d1", q.d1, f"{unit}/rad"),
+                                    ("d2", q.d2, f"{unit}/rad²")):
+                    x = np.asarray(x)
+                    if kind == "points":
+                        x = x.reshape(-1, 2)
+                        cols[f"{n}.{label}.x [{u}]"], cols[f"{n}.{label}.y [{u}]"] = x[:, 0], x[:, 1]
+                    else:
+                        cols[f"{n}.{label} [{u}]"] = np.atleast_1d(x)
+        return cols
+
+    def __repr__(self) -> str:
+        n = np.size(self.phi)
+        return (f"KinematicsResult({self.model!r}, {n} angle{'s' if n != 1 else ''}, {len(self.points)} points, "
+                f"{len(self.links)} links, {len(self.sliders)} sliders)")
+
+
+def structure(source: Mechanism | Assembly) -> Structure:
+    """Mobility, the Assur groups and the structure formula (``linkgen structure``)."""
+    return analyze(_mech(source))
+
+
+def _rates(mech: Mechanism, omega, epsilon):
+    return (mech.drive.omega if omega is None else omega, mech.drive.epsilon if epsilon is None else epsilon)
+
+
+def kinematics(source: Mechanism | Assembly, phi, omega=None, epsilon=None) -> KinematicsResult:
+    """Positions, velocities, accelerations and transfer functions at crank angles φ [rad]
+    (scalar or (n,)), speed ω [rad/s] and acceleration ε [rad/s²] (default the description's)."""
+    asm = _assembly(source)
+    scalar = np.ndim(phi) == 0
+    phis = np.atleast_1d(np.asarray(phi, dtype=float))
+    w, e = _rates(asm.mechanism, omega, epsilon)
+    kin = solve(asm, phis)
+    mo = kin.motion(w, e)
+    n = phis.shape[0]
+
+    def q(vals, tf):
+        return Quantity(*(_shape(np.broadcast_to(v, (n,) + np.shape(v)[1:]), scalar) for v in vals),
+                        _shape(np.broadcast_to(tf.d1, (n,) + np.shape(tf.d1)[1:]), scalar),
+                        _shape(np.broadcast_to(tf.d2, (n,) + np.shape(tf.d2)[1:]), scalar))
+
+    return KinematicsResult(
+        asm.mechanism.name, float(phis[0]) if scalar else phis,
+        _shape(np.broadcast_to(mo.omega, (n,)), scalar), _shape(np.broadcast_to(mo.epsilon, (n,)), scalar),
+        {k: q(v, kin.points[k]) for k, v in mo.points.items()},
+        {k: q(v, kin.links[k].angle) for k, v in mo.links.items()},
+        {k: q(v, kin.sliders[k]) for k, v in mo.sliders.items()})
+
+
+@dataclass(frozen=True, repr=False)
+class ForcesResult:
+    """Balancing torque [N·m], revolute reactions [N] (2 components), prismatic normal forces
+    [N] and moments [N·m], and the reduced inertia J [kg·m²] at crank angles φ."""
+
+    model: str
+    phi: np.ndarray | float
+    balancing_torque: np.ndarray | float
+    reactions: Mapping[str, np.ndarray]
+    normal_force: Mapping[str, np.ndarray | float]
+    moment: Mapping[str, np.ndarray | float]
+    reduced_inertia: np.ndarray | float
+
+    def to_dict(self) -> dict:
+        return {"model": self.model, "phi": _plain(self.phi), "units": UNITS,
+                "balancing_torque": _plain(self.balancing_torque),
+                "reactions": {k: _plain(v) for k, v in self.reactions.items()},
+                "normal_force": {k: _plain(v) for k, v in self.normal_force.items()},
+                "moment": {k: _plain(v) for k, v in self.moment.items()},
+                "reduced_inertia": _plain(self.reduced_inertia)}
+
+    def columns(self) -> dict[str, np.ndarray]:
+        cols = {"phi [rad]": np.atleast_1d(self.phi), "balancing_torque [N·m]": np.atleast_1d(self.balancing_torque),
+                "reduced_inertia [kg·m²]": np.atleast_1d(self.reduced_inertia)}
+        for k, r in self.reactions.items():
+            r = np.asarray(r).reshape(-1, 2)
+            cols[f"{k}.force.x [N]"], cols[f"{k}.force.y [N]"] = r[:, 0], r[:, 1]
+        for k in self.normal_force:
+            cols[f"{k}.normal_force [N]"] = np.atleast_1d(self.normal_force[k])
+            cols[f"{k}.moment [N·m]"] = np.atleast_1d(self.moment[k])
+        return cols
+
+    def __repr__(self) -> str:
+        n = np.size(self.phi)
+        return (f"ForcesResult({self.model!r}, {n} angle{'s' if n != 1 else ''}, {len(self.reactions)} reactions, "
+                f"{len(self.normal_force)} prismatic pairs)")
+
+
+def forces(source: Mechanism | Assembly, phi, omega=None, epsilon=None) -> ForcesResult:
+    """Kinetostatics (``linkgen forces``) at crank angles φ [rad], speed ω, acceleration ε."""
+    asm = _assembly(source)
+    scalar = np.ndim(phi) == 0
+    phis = np.atleast_1d(np.asarray(phi, dtype=float))
+    w, e = _rates(asm.mechanism, omega, epsilon)
+    f = _forces(asm, phis, w, e)
+    return ForcesResult(asm.mechanism.name, float(phis[0]) if scalar else phis, _shape(f.balancing_torque, scalar),
+                        {k: _shape(v, scalar) for k, v in f.reactions.items()},
+                        {k: _shape(v, scalar) for k, v in f.normal_force.items()},
+                        {k: _shape(v, scalar) for k, v in f.moment.items()}, _shape(f.reduced.inertia, scalar))
+
+
+def write_mjcf(source: Mechanism | Assembly, settings=None) -> str:
+    """The MJCF text (``linkgen build``); any structure class."""
+    from linkgen.errors import StructureError
+    from linkgen.mujoco.mjcf import write_mjcf as _write
+
+    if isinstance(source, Mechanism):
+        try:
+            source = assemble(source)
+        except StructureError:  # class III and higher: MuJoCo needs no Assur groups
+            pass
+    return _write(source, settings)
+
+
+def simulate(source: Mechanism | Assembly, **options):
+    """A MuJoCo run over the drive range (``linkgen simulate``); options as
+    ``linkgen.mujoco.simulate.simulate``."""
+    from linkgen.errors import StructureError
+    from linkgen.mujoco.posed import posed
+    from linkgen.mujoco.simulate import simulate as _simulate
+
+    if isinstance(source, Mechanism):
+        try:
+            source = assemble(source)
+        except StructureError:
+            source = posed(source)
+    return _simulate(source, **options)
+
+
+def validate(source: Mechanism | Assembly, **options):
+    """MuJoCo against the closed form (``linkgen validate``): a ``CrossCheck`` with ``.ok``,
+    ``.to_json()`` and the diagnosis; options as ``linkgen.crosscheck.run.crosscheck``."""
+    from linkgen.crosscheck.run import crosscheck
+
+    return crosscheck(_assembly(source), **options)
+
+
+__all__ = ["ForcesResult", "KinematicsResult", "Quantity", "forces", "kinematics", "simulate", "structure",
+           "validate", "write_mjcf"]
