@@ -77,7 +77,7 @@ def test_stages_are_subpackages():
     for stage in STAGES:
         assert (PACKAGE / stage / "__init__.py").is_file(), stage
     loose = sorted(p.name for p in PACKAGE.glob("*.py"))
-    assert loose == ["__init__.py", "__main__.py", "errors.py"], loose
+    assert loose == ["__init__.py", "__main__.py", "api.py", "errors.py"], loose
 
 
 def test_no_import_cycles():
