@@ -1,6 +1,6 @@
 """Assembly: the structure, the link shapes and each Assur group's assembly mode.
 
-``assemble`` analyses the structure and takes each group's assembly mode (m = ±1 of seed 000)
+``assemble`` analyses the structure and takes each group's assembly mode (m = ±1 of the closed-form group formulas)
 from the sketch pose: the branch whose points land nearest the sketch *and* whose links lie at
 their sketch angles (a link's x axis points from its first point to its second; a one-point
 link's x axis is the world x axis in the sketch, and a slider keeps its sketch angle to its

@@ -1,6 +1,6 @@
 """Closed-form kinetostatics: joint reactions and the balancing torque, group by group.
 
-The method of seed 003 §1/§6: with d'Alembert's inertia loads (−m·a_S at the centre of
+The method of Buynachev, Bazhenov, Troitsky (2019), §1 and §6: with d'Alembert's inertia loads (−m·a_S at the centre of
 mass, −I·ε about it) every link is in equilibrium, and each class-II Assur group is
 statically determinate on its own — 6 equations (3 per link) in the 6 unknowns of its
 three pairs. The groups are solved from the last attached back to the first, each one's

@@ -2,7 +2,7 @@
 
 Every quantity is a triple (value, d/dφ, d²/dφ²) over an array of crank angles φ:
 points and vectors have shape (n, 2), angles and scalars shape (n,). The derivative
-formulas come from differentiating each constraint twice (seed 000's method written in
+formulas come from differentiating each constraint twice (the method of the closed-form Assur-group formulas, written in
 vector form); finite differences appear only in the tests.
 
 Layout, for speed: (n, 2) arrays are column-major (``x[:, 0]`` and ``x[:, 1]`` are
