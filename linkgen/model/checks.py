@@ -100,6 +100,14 @@ def _check_links(m: Mechanism) -> None:
                 raise DescriptionError(
                     f"{where}.points", f"the first two points {list(link.points[:2])} are {axis!r} m apart; "
                     f"linkgen needs at least {limits.MIN_LENGTH:g} m (its limits, see the README)")
+        if link.areal_density is not None:
+            for other in ("density", "inertial"):
+                if getattr(link, other) is not None:
+                    raise DescriptionError(f"{where}.areal_density", f"give one of areal_density, {other}, not both")
+            _positive(link.areal_density, f"{where}.areal_density", "kg/m²")
+            if _plate_area(m, link) <= 0.0:
+                raise DescriptionError(f"{where}.areal_density", "a plate needs at least three points not on one line; "
+                                       "for a bar between two points give density [kg/m]")
         if link.density is not None:
             if link.inertial is not None:
                 raise DescriptionError(f"{where}.density", "give either density or inertial, not both")
@@ -116,7 +124,7 @@ def _check_links(m: Mechanism) -> None:
                     f"{where}.inertial.inertia", f"must be >= 0 kg·m², got {link.inertial.inertia!r}"
                 )
         if link.name != GROUND:
-            _check_mass(link, axis)
+            _check_mass(link, axis, _plate_area(m, link) if link.areal_density is not None else 0.0)
     if GROUND not in seen:
         raise DescriptionError("links", f"a link named {GROUND!r} (the frame) is required")
     for p in m.points:
@@ -136,13 +144,23 @@ def _axis_length(m: Mechanism, link) -> float | None:
     return math.hypot(x1 - x0, y1 - y0)
 
 
-def _check_mass(link, axis: float | None) -> None:
+def _plate_area(m: Mechanism, link) -> float:
+    """Area [m²] of the convex hull of the link's points (shape or sketch coordinates)."""
+    from linkgen.model.plate import hull_area
+
+    pts = link.shape if link.shape is not None else m.points
+    return hull_area([pts[p] for p in link.points])
+
+
+def _check_mass(link, axis: float | None, area: float = 0.0) -> None:
     """The link's mass as MuJoCo will get it (explicit, density × length, or the defaults of
     linkgen.model.defaults) within [MIN_MASS, MAX_MASS]."""
 
     where = f"links.{link.name}"
     if link.inertial is not None:
         mass, how = link.inertial.mass, "as given"
+    elif link.areal_density is not None:
+        mass, how = link.areal_density * area, f"areal_density × area = {link.areal_density!r} kg/m² × {area!r} m²"
     elif link.density is not None:
         mass, how = link.density * axis, f"density × length = {link.density!r} kg/m × {axis!r} m"
     elif axis is None:

@@ -58,6 +58,8 @@ class Link:
         density: linear density of a uniform bar [kg/m] (two-point links), or None.
         shape: exact coordinates [m] of every point of the link in any rigid placement,
             or None to take the shape from the sketch (``length`` is the two-point shorthand).
+        areal_density: a uniform plate over the convex hull of the link's points [kg/m²]
+            (three points or more), or None.
     """
 
     name: str
@@ -66,6 +68,7 @@ class Link:
     inertial: MassProperties | None = None
     density: float | None = None
     shape: Mapping[str, tuple[float, float]] | None = None
+    areal_density: float | None = None
 
 
 @dataclass(frozen=True)

@@ -13,6 +13,7 @@ import numpy as np
 
 from linkgen.model.description import GROUND, MassProperties, Mechanism
 from linkgen.model.defaults import DEFAULT_BLOCK_INERTIA, DEFAULT_BLOCK_MASS, DEFAULT_DENSITY
+from linkgen.model.plate import plate_properties
 from linkgen.planar.primitives import (
     Scalar,
     Vec,
@@ -166,6 +167,8 @@ def mass_properties(mech: Mechanism, shapes: dict[str, LinkShape], name: str) ->
     link = mech.link(name)
     if link.inertial is not None:
         return link.inertial
+    if link.areal_density is not None:
+        return MassProperties(*plate_properties([shapes[name].local[p] for p in link.points], link.areal_density))
     if link.density is not None:
         a, b = (shapes[name].local[p] for p in link.points)
         length = float(np.hypot(*(b - a)))

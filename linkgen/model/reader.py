@@ -22,7 +22,7 @@ from linkgen.model.units import angular_acceleration, angular_speed, finite, len
 
 _TOP = {"mechanism", "points", "links", "prismatic", "drive", "force", "torque", "machine"}
 _MECH = {"name", "title", "gravity"}
-_LINK = {"points", "length", "inertial", "density", "shape"}
+_LINK = {"points", "length", "inertial", "density", "shape", "areal_density"}
 _INERTIAL = {"mass", "com", "inertia"}
 _PRISMATIC = {"slider", "guide", "point", "through", "angle", "offset"}
 _DRIVE = {"joint", "omega", "epsilon", "range"}
@@ -175,6 +175,7 @@ def _link(name: str, spec: Any) -> Link:
         length=length(spec["length"], f"{where}.length") if "length" in spec else None,
         inertial=inertial,
         density=finite(spec["density"], f"{where}.density") if "density" in spec else None,
+        areal_density=finite(spec["areal_density"], f"{where}.areal_density") if "areal_density" in spec else None,
     )
 
 
