@@ -73,7 +73,7 @@ def test_fourbar_loads(tmp_path):
         (("B = [1.0143, 0.6999]", "B = [1.0143, -0.3]"),
          "points.B: the sketch puts it at (1.0143, -0.3) m but link 'coupler' assembles it at (1.01429, -0.699854) m "
          "on the nearest branch, 0.4 m away (allowed 0.0212 m = 0.02 of the sketch's size); correct the sketch or "
-         "the link lengths"),
+         "the link lengths, or let `linkgen assemble --write` place the points"),
         (("omega = 1.0", 'omega = 1.0\n[[force]]\nlink = "rocker"\npoint = "A"\nforce = [1.0, 0.0]'),
          "force[0].point: 'A' is not a point of link 'rocker'"),
         (("omega = 1.0", 'omega = 1.0\n[[force]]\nlink = "rocker"\npoint = "B"\nforce = [1.0, 0.0]\n'

@@ -15,7 +15,7 @@ import os
 import sys
 from pathlib import Path
 
-from linkgen.cli import closed_form, dynamics, forces, mujoco
+from linkgen.cli import closed_form, dynamics, forces, mujoco, sketch
 from linkgen.cli.common import OptionError, add_crank_arguments
 from linkgen.cli.files import message_for
 from linkgen.errors import LinkgenError
@@ -55,6 +55,7 @@ def build_parser() -> argparse.ArgumentParser:
     forces.add_command(sub)
     mujoco.add_commands(sub)
     dynamics.add_command(sub)
+    sketch.add_command(sub)
     return p
 
 

@@ -33,10 +33,6 @@ _BRANCHED = (GroupKind.RRR, GroupKind.RRP, GroupKind.RPR)
 class Assembly:
     """A mechanism with its structure, shapes and each group's assembly mode."""
 
-    def __repr__(self) -> str:
-        return f"Assembly({self.mechanism.name!r}, {self.structure.formula})"
-
-
     mechanism: Mechanism
     structure: Structure
     shapes: dict[str, LinkShape]
@@ -44,9 +40,16 @@ class Assembly:
     branches: tuple[int, ...]
     sketch_phi: float
 
+    def __repr__(self) -> str:
+        return f"Assembly({self.mechanism.name!r}, {self.structure.formula})"
 
-def assemble(mech: Mechanism) -> Assembly:
+
+def assemble(mech: Mechanism, *, sketch_tolerance: float | None = SKETCH_TOLERANCE) -> Assembly:
     """Analyse the structure and take each group's assembly mode from the sketch pose.
+
+    ``sketch_tolerance``: how far [fraction of the sketch's size] the sketch may be from the
+    assembled pose; None skips the check (a rough sketch that only chooses the modes, as
+    ``linkgen assemble`` takes it).
 
     Raises:
         AssemblyError: a group cannot be assembled at the sketch's crank angle.
@@ -81,7 +84,8 @@ def assemble(mech: Mechanism) -> Assembly:
             )
         branches.append(best[1])
         poses[group.links[0]], poses[group.links[1]] = best[2], best[3]
-    _check_sketch(mech, shapes, poses)
+    if sketch_tolerance is not None:
+        _check_sketch(mech, shapes, poses, sketch_tolerance)
     return Assembly(mech, structure, shapes, guides, tuple(branches), float(phi0[0]))
 
 
@@ -121,8 +125,9 @@ def _sketch_error(mech: Mechanism, shapes: dict[str, LinkShape], poses: dict[str
     return err
 
 
-def _check_sketch(mech: Mechanism, shapes: dict[str, LinkShape], poses: dict[str, LinkPose]) -> None:
-    tol = SKETCH_TOLERANCE * _sketch_size(mech)
+def _check_sketch(mech: Mechanism, shapes: dict[str, LinkShape], poses: dict[str, LinkPose],
+                  fraction: float = SKETCH_TOLERANCE) -> None:
+    tol = fraction * _sketch_size(mech)
     for link in mech.links:
         for p in link.points:
             got = poses[link.name].point(shapes[link.name].local[p]).p[0]
@@ -133,5 +138,6 @@ def _check_sketch(mech: Mechanism, shapes: dict[str, LinkShape], poses: dict[str
                     f"points.{p}",
                     f"the sketch puts it at ({want[0]:.6g}, {want[1]:.6g}) m but link {link.name!r} assembles it at "
                     f"({got[0]:.6g}, {got[1]:.6g}) m on the nearest branch, {dev:.3g} m away (allowed {tol:.3g} m = "
-                    f"{SKETCH_TOLERANCE:g} of the sketch's size); correct the sketch or the link lengths",
+                    f"{fraction:g} of the sketch's size); correct the sketch or the link lengths, or let "
+                    f"`linkgen assemble --write` place the points",
                 )
