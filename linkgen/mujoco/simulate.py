@@ -159,6 +159,7 @@ def simulate(asm: Assembly | Posed, *, revolutions: float = 1.0, omega: float | 
     phi_a, phi_b = mech.drive.start, mech.drive.start + span * revolutions
     duration = float(crank_time(np.array([phi_b]), phi_a, w0, eps)[0])
     w_peak = max(w0, abs(w0 + eps * duration))
+    derived_here = settings is None
     if isinstance(asm, Posed):
         model = mujoco.MjModel.from_xml_string(write_mjcf(mech, PLACEHOLDER))
         settings, scales = crank_only(mech, w_peak) if settings is None else settings, None
@@ -169,7 +170,7 @@ def simulate(asm: Assembly | Posed, *, revolutions: float = 1.0, omega: float | 
             settings = derived if settings is None else settings
     apply(model, settings, mech.drive.joint)
     try:
-        if scales is not None and scales.capped and settings.label.startswith("derived"):
+        if derived_here and scales is not None and scales.capped:
             check_budget(scales, settings, duration, max_steps)
         return _run(asm, model, settings, scales, w0, eps, phi_a, phi_b, full, duration, samples, nthread, progress,
                     gap_abort, wall0, settle)
