@@ -56,7 +56,8 @@ def test_json_says_what_it_holds():
     a = json.loads(run("analyze", FOURBAR, "--angle", "10deg", "--json").stdout)
     assert {"model", "phi", "omega", "epsilon", "units"} <= set(a)
     assert a["model"] == "fourbar" and a["units"]["velocity"] == "m/s"
-    assert "balancing_torque" in out
+    assert "balancing_torque" in out and out["model"] == "fourbar" and out["phi"] == pytest.approx(math.radians(10))
+    assert out["units"]["force"] == "N" and out["omega"] == 10.0
 
 
 def test_csv_headers_carry_units():

@@ -62,7 +62,10 @@ def cmd_forces(args) -> int:
         return report_singular(args.model, kin, args.keep_singular)
     phi = mech.drive.start if args.angle is None else args.angle
     f = forces(mech, np.array([phi]), omega, epsilon)
-    result = forces_json(f, mech)
+    result = {"model": mech.name, "phi": float(phi), "omega": float(omega), "epsilon": float(epsilon),
+              "units": {"phi": "rad", "omega": "rad/s", "epsilon": "rad/s²", "force": "N", "torque": "N·m",
+                        "moment": "N·m", "reduced_inertia": "kg·m²", "reduced_inertia_derivative": "kg·m²/rad",
+                        "reduced_moment": "N·m"}} | forces_json(f, mech)
     check_finite(dict(result, power_balance_torque=float(f.power_balance_torque[0])))
     if args.json:
         print_json(result)
