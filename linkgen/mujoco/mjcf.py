@@ -41,6 +41,7 @@ from linkgen.planar.kinematics import solve
 from linkgen.mujoco.options import PLACEHOLDER, Settings
 from linkgen.planar.pose import mechanism_size, reference_pose
 from linkgen.mujoco.settings import crank_only, derive
+from linkgen.mujoco.scene import add_scene, add_scene_assets, add_servo, add_sketch_key, pose_extent, settings_comment
 from linkgen.mujoco.tree import DRIVE_ACTUATOR, body_name, sensor_name, site_name, spanning_tree
 
 # Integration and constraint settings come from the mechanism (linkgen.mujoco.settings): the loop
@@ -168,7 +169,9 @@ def write_mjcf(source: Mechanism | Assembly, settings: Settings | None = None) -
     etree.SubElement(default, "geom", contype="0", conaffinity="0", group="0")
     visual = etree.SubElement(root, "visual")
     etree.SubElement(visual, "global", offwidth="1280", offheight="960")
+    etree.SubElement(visual, "headlight", ambient="0.4 0.4 0.4", diffuse="0.6 0.6 0.6", specular="0.1 0.1 0.1")
     asset = etree.SubElement(root, "asset")
+    add_scene_assets(asset)
     for name, rgba in (("ground", "0.5 0.5 0.5 1"), ("crank", "0.85 0.3 0.2 1"), ("link", "0.25 0.45 0.8 1"),
                        ("slider", "0.3 0.7 0.35 1")):
         etree.SubElement(asset, "material", name=f"mat:{name}", rgba=rgba)
@@ -176,6 +179,7 @@ def write_mjcf(source: Mechanism | Assembly, settings: Settings | None = None) -
     world = etree.SubElement(root, "worldbody")
     etree.SubElement(world, "light", name="light:sun", pos=vec(0.0, 0.0, 5.0 * size), dir="0 0 -1",
                      directional="true")
+    add_scene(world, pose_extent(src), size)
     _link_visuals(src, world, GROUND, "mat:ground")
     bodies = {GROUND: world}
     for parent, child, pair in info.tree:
@@ -195,6 +199,10 @@ def write_mjcf(source: Mechanism | Assembly, settings: Settings | None = None) -
             attrs = dict(name=pair.name, type="hinge", pos=vec(local[0], local[1], 0.0), axis="0 0 1")
             if pair.name == mech.drive.joint:
                 attrs["armature"] = fmt(settings.armature)
+                d = mech.drive
+                if d.stop - d.start < 2 * math.pi - 1e-12:  # a viewer's crank stops at the range's ends
+                    ref = src.shapes[mech.crank].sketch_angle
+                    attrs.update(limited="true", range=vec(d.start - ref, d.stop - ref))
             etree.SubElement(body, "joint", **attrs)
         else:
             g = src.guides[pair.name]
@@ -219,11 +227,14 @@ def write_mjcf(source: Mechanism | Assembly, settings: Settings | None = None) -
                          **attrs)
     actuator = etree.SubElement(root, "actuator")
     etree.SubElement(actuator, "motor", name=DRIVE_ACTUATOR, joint=mech.drive.joint, gear="1")
+    add_servo(actuator, mech.drive.joint, settings.armature, mech.drive.omega)
     sensor = etree.SubElement(root, "sensor")
     for link in mech.links:
         for p in link.points:
             etree.SubElement(sensor, "framepos", name=sensor_name(mech, link.name, p), objtype="site",
                              objname=site_name(mech, link.name, p))
+    root.insert(0, etree.Comment(settings_comment(settings)))
+    add_sketch_key(root, source, mech)
     return etree.tostring(root, pretty_print=True, encoding="unicode")
 
 

@@ -38,6 +38,7 @@ from linkgen.mujoco.options import IMPEDANCE, Settings
 from linkgen.crosscheck.tolerances import GAP_TOL, REL_TOL
 from linkgen.mujoco.loops import acceleration_scale, closure_diag, closure_forces, closure_jacobian, mechanism_size
 from linkgen.mujoco.state import joint_states
+from linkgen.mujoco.scene import switch_off_servo
 from linkgen.mujoco.tree import spanning_tree
 
 # Aimed-for loop gap relative to the size: a third of the gap tolerance (compare.GAP_TOL = 1e-8);
@@ -266,6 +267,8 @@ def apply(model: mujoco.MjModel, settings: Settings, drive_joint: str) -> None:
     if settings.solimp is not None and len(settings.solimp) == 5:
         model.eq_solimp[:, 3:5] = settings.solimp[3:5]
     set_armature(model, model.joint(drive_joint).dofadr[0], settings.armature)
+    switch_off_servo(model)
+    model.jnt_limited[model.joint(drive_joint).id] = 0  # the range limit is for a viewer; runs lead in past it
 
 
 def set_armature(model: mujoco.MjModel, dof: int, armature: float) -> None:
