@@ -201,3 +201,14 @@ def test_an_induction_motor_runs_the_same_in_mujoco():
     mj = run_machine_mujoco(asm, machine, run.t)
     phi, w = run.state_at(mj.t)
     assert np.abs(mj.omega - w).max() <= MUJOCO_TOL * np.abs(w).max()
+
+
+def test_validate_includes_the_machine(capsys):
+    from linkgen.cli.main import main
+
+    assert main(["validate", str(MODELS / "motor_startup.toml"), "--json", "--no-practical"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    dyn = out["dynamics"]
+    assert dyn["ok"] and dyn["omega_error_relative"] <= MUJOCO_TOL and dyn["steps"] > 0 and out["ok"]
+    assert main(["validate", str(ROOT / "models" / "fourbar.toml"), "--json", "--no-practical"]) == 0
+    assert "dynamics" not in json.loads(capsys.readouterr().out)

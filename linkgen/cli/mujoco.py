@@ -162,6 +162,12 @@ def _check_one(path: Path, report: Path | None, practical: bool, nthread: int | 
     cc = crosscheck(asm, practical=practical, nthread=nthread, max_steps=max_steps,
                     progress=_progress(asm.mechanism.name) if progress else None)
     out = {"file": str(path)} | cc.to_json()
+    from linkgen.dynamics.study import compare_machine
+
+    dyn = compare_machine(path)
+    if dyn is not None:
+        out["dynamics"] = dyn
+        out["ok"] = bool(out["ok"] and dyn["ok"])
     if report is not None and cc.comparison is not None:
         from linkgen.crosscheck.report import plot_model
 
@@ -186,6 +192,12 @@ def _summary(r: dict) -> str:
                      f"{r['steps']} steps, {r['total_wall_s']:.2f} s")
     else:
         lines.append(f"{r['model']:<22} FAIL")
+    dyn = r.get("dynamics")
+    if dyn is not None:
+        lines.append(f"    machine: {dyn['skipped']}" if "skipped" in dyn else
+                     f"    machine driven by its motor, {dyn['duration_s']:g} s: MuJoCo's ω within "
+                     f"{dyn['omega_error_relative']:.2e} of its peak (tolerance {dyn['tolerance']:g})"
+                     + ("" if dyn["ok"] else " — over the tolerance"))
     shown = r.get("diagnosis", [])[:DIAGNOSIS_LINES]
     for d in shown:
         rng = ", ".join(f"{a:.1f}°..{b:.1f}°" for a, b in d["ranges_deg"][:3])

@@ -100,4 +100,37 @@ def flywheel_study(asm: Assembly, machine: Machine, delta: float, omega_mean: fl
     return fw, check_flywheel(red, machine, fw)
 
 
-__all__ = ["CycleForces", "check_flywheel", "cycle_forces", "flywheel_study", "load_machine"]
+
+
+# The machine comparison in ``linkgen validate``: MuJoCo's full linkage against the ODE over the
+# first COMPARE_SECONDS of the start-up (or the whole duration if shorter), ω within this of its
+# peak (measured 2.7e-9 to 1.3e-7 on the bundled machines, see tests/test_dynamics.py).
+COMPARE_SECONDS = 1.0
+MACHINE_TOL = 1e-6
+
+
+def compare_machine(path) -> dict | None:
+    """The dynamics comparison for a description with a ``[machine]`` table (None without one):
+    JSON-ready, with "ok", the relative ω error and the steps; a machine MuJoCo does not model
+    here says so in "skipped"."""
+    from linkgen.mujoco.machine import run_machine_mujoco
+
+    data = tomllib.loads(Path(path).read_bytes().decode("utf-8-sig"))
+    machine = machine_from_dict(data)
+    if machine is None:
+        return None
+    asm = assemble(load(path))
+    duration = min(machine.duration, COMPARE_SECONDS)
+    run = run_machine(machine, reduce(asm, machine.process_load), samples=201, duration=duration)
+    try:
+        mj = run_machine_mujoco(asm, machine, run.t)
+    except SimulationError as exc:
+        return {"ok": False, "skipped": str(exc), "duration_s": duration}
+    phi, w = run.state_at(mj.t)
+    err = float(np.abs(mj.omega - w).max() / max(float(np.abs(w).max()), 1e-300))
+    return {"ok": err <= MACHINE_TOL, "omega_error_relative": err, "tolerance": MACHINE_TOL,
+            "phi_error_rad": float(np.abs(mj.phi - phi).max()), "duration_s": duration, "steps": mj.steps,
+            "timestep": mj.timestep}
+
+
+__all__ = ["CycleForces", "check_flywheel", "compare_machine", "cycle_forces", "flywheel_study", "load_machine"]
