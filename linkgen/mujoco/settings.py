@@ -104,7 +104,8 @@ class Scales:
         return (1 - IMPEDANCE) * IMPEDANCE * timeconst**2 * self.loop_acceleration
 
     def to_json(self) -> dict:
-        return asdict(self)
+        """The fields, a non-finite number (no loop to close: τ_gap = ∞, no closure) as None."""
+        return {k: (None if isinstance(v, float) and not math.isfinite(v) else v) for k, v in asdict(self).items()}
 
 
 _STEPS = (8, 6, 5, 4, 3, 2.5, 2, 1.5, 1.2, 1)
