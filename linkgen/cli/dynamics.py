@@ -8,15 +8,12 @@ from pathlib import Path
 
 import numpy as np
 
-from linkgen.cli.common import OptionError, print_json, write_rows
+from linkgen.cli.common import OptionError, _float_arg, print_json, write_rows
 
 
 def _positive(text: str) -> float:
-    try:
-        x = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected a number, got {text!r}") from None
-    if not (math.isfinite(x) and x > 0):
+    x = _float_arg(text)
+    if not x > 0:
         raise argparse.ArgumentTypeError(f"expected a finite number > 0, got {text!r}")
     return x
 

@@ -77,7 +77,7 @@ def settings_comment(settings) -> str:
             f"loop-closing connects with time constant {settings.timeconst:g} s and impedance "
             f"{settings.impedance:g} (they hold the loop gap to ~1e-8 of the size), and a rotor inertia "
             f"(armature) of {settings.armature:g} kg·m² on the drive joint that keeps the crank speed constant. "
-            f"For a robot scene, linkgen build withpractical writes MuJoCo's usual settings instead. ")
+            f"For a robot scene, linkgen build with its practical option writes MuJoCo's usual settings instead. ")
 
 
 def add_sketch_key(root, source, mech) -> None:
