@@ -135,3 +135,8 @@ class SimulationError(LinkgenError):
 
 class ValidationError(LinkgenError):
     """A comparison was asked for that cannot be made (e.g. a timestep too coarse)."""
+
+
+class RenderError(LinkgenError):
+    """No OpenGL context could be opened for MuJoCo's offscreen rendering, or a frame size is
+    outside what the model's offscreen buffer holds."""

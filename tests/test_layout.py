@@ -11,7 +11,7 @@ from pathlib import Path
 import linkgen
 
 PACKAGE = Path(linkgen.__file__).parent
-STAGES = ("model", "planar", "mujoco", "crosscheck", "cli", "dynamics", "cams")
+STAGES = ("model", "planar", "mujoco", "crosscheck", "cli", "dynamics", "cams", "draw")
 # A module past ~300 lines is asking to be split (the project's style guide); 450 leaves room
 # for a generator of test mechanisms (planar/corpus.py), the largest module, and no more.
 MAX_LINES = 450

@@ -46,6 +46,10 @@ def cmd_structure(args) -> int:
 
 
 def cmd_analyze(args) -> int:
+    if args.summary:
+        from linkgen.cli.summary import cmd_summary
+
+        return cmd_summary(args)
     check_crank_options(args)
     mech = load(args.model)
     omega, epsilon = drive_rates(mech, args)

@@ -1,4 +1,4 @@
-"""Command-line interface: ``linkgen structure|analyze|forces|build|simulate|validate``.
+"""Command-line interface: ``linkgen structure|analyze|forces|build|simulate|validate|draw|animate|render``.
 
 User mistakes (LinkgenError, missing files, bad arguments, conflicting options) print one
 line to stderr naming the file concerned and exit with status 2; no traceback. A sampled run
@@ -15,7 +15,7 @@ import os
 import sys
 from pathlib import Path
 
-from linkgen.cli import closed_form, dynamics, forces, mujoco, sketch
+from linkgen.cli import closed_form, draw, dynamics, forces, mujoco, sketch
 from linkgen.cli.common import OptionError, add_crank_arguments
 from linkgen.cli.files import message_for
 from linkgen.errors import LinkgenError
@@ -50,17 +50,22 @@ def build_parser() -> argparse.ArgumentParser:
     add_crank_arguments(a, "38.117deg")
     a.add_argument("--transfer", action="store_true",
                    help="also the transfer functions d/dφ and d²/dφ² (m/rad, rad/rad; in the table, JSON or CSV)")
+    a.add_argument("--summary", action="store_true",
+                   help="print the design summary over the drive range (no unit; SI units and degrees in the text, "
+                        "radians in --json): stroke, swing, limit positions, time ratio, least transmission "
+                        "angles, peak torque and reactions")
     a.set_defaults(func=closed_form.cmd_analyze)
 
     forces.add_command(sub)
     mujoco.add_commands(sub)
     dynamics.add_command(sub)
     sketch.add_command(sub)
+    draw.add_commands(sub)
     return p
 
 
 # Options whose value may be negative with a unit ("-30deg"), which argparse would take for an option.
-_SIGNED = ("--angle", "--omega", "--epsilon")
+_SIGNED = ("--angle", "--angles", "--omega", "--epsilon")
 
 
 def _join_signed(argv: list[str]) -> list[str]:
@@ -77,7 +82,24 @@ def _join_signed(argv: list[str]) -> list[str]:
     return out
 
 
+def _mujoco_imports() -> str | None:
+    """None, or why MuJoCo cannot be imported (its OpenGL backend is chosen at import, from
+    MUJOCO_GL, and a backend this machine lacks fails there)."""
+    try:
+        import mujoco  # noqa: F401
+    except Exception as exc:  # noqa: BLE001 — any failure inside MuJoCo's import is reported as one line
+        gl = os.environ.get("MUJOCO_GL")
+        hint = (f"MUJOCO_GL={gl!r} names an OpenGL backend this machine cannot load; unset it or set it to "
+                f"egl or osmesa where installed" if gl else "reinstall the mujoco package")
+        return f"MuJoCo cannot be imported ({type(exc).__name__}: {exc}); {hint}"
+    return None
+
+
 def main(argv: list[str] | None = None) -> int:
+    problem = _mujoco_imports()
+    if problem:
+        print(f"linkgen: error: {problem}", file=sys.stderr)
+        return 2
     parser = build_parser()
     args = parser.parse_args(_join_signed(sys.argv[1:] if argv is None else list(argv)))
     try:

@@ -36,12 +36,13 @@ from lxml import etree
 from linkgen.planar.assembly import Assembly, assemble
 from linkgen.model.description import GROUND, MassProperties, Mechanism
 from linkgen.errors import AssemblyError, DescriptionError, SimulationError, SingularityError, StructureError
+from linkgen.model.plate import convex_hull, hull_area
 from linkgen.model.geometry import GuideShape, LinkShape, effective_mass_properties, guide_shapes, link_shapes
 from linkgen.planar.kinematics import solve
 from linkgen.mujoco.options import PLACEHOLDER, Settings
 from linkgen.planar.pose import mechanism_size, reference_pose
 from linkgen.mujoco.settings import crank_only, derive
-from linkgen.mujoco.scene import add_scene, add_scene_assets, add_servo, add_sketch_key, pose_extent, settings_comment
+from linkgen.mujoco.scene import add_scene, add_scene_assets, add_servo, add_sketch_key, motion_extent, settings_comment
 from linkgen.mujoco.tree import DRIVE_ACTUATOR, body_name, sensor_name, site_name, spanning_tree
 
 # Integration and constraint settings come from the mechanism (linkgen.mujoco.settings): the loop
@@ -67,7 +68,7 @@ INERTIA_FLOOR = 1e-6
 
 # Visual sizes as fractions of the mechanism's size (a 1.2 m four-bar: 12 mm bar radius).
 BAR_RADIUS = 0.01
-PIVOT_SIZE = (0.015, 0.005)  # radius, half-height
+PIVOT_SIZE = (0.02, 0.005)  # radius, half-height
 BLOCK_SIZE = (0.03, 0.018, 0.012)  # half-sizes
 SITE_SIZE = 0.008
 GUIDE_SIZE = (0.1, 0.004)  # least half-length, half-thickness
@@ -76,6 +77,10 @@ GUIDE_SIZE = (0.1, 0.004)  # least half-length, half-thickness
 # ("fromto points too close", measured by bisection on mujoco 4.0): bars under 10× that are not
 # drawn either, whatever the mechanism's size.
 MIN_BAR = BAR_RADIUS
+# A plate (link of three or more points) is this thin, half-thickness as a fraction of the size,
+# and a paler, half-transparent shade of its link's colour so that its bars show through.
+PLATE_HALF_THICKNESS = 0.003
+PLATE_RGBA = {"mat:crank": "0.95 0.6 0.5 0.6", "mat:link": "0.55 0.7 0.95 0.6"}
 MUJOCO_MIN_BAR = 1e-6  # m
 
 
@@ -169,17 +174,17 @@ def write_mjcf(source: Mechanism | Assembly, settings: Settings | None = None) -
     etree.SubElement(default, "geom", contype="0", conaffinity="0", group="0")
     visual = etree.SubElement(root, "visual")
     etree.SubElement(visual, "global", offwidth="1280", offheight="960")
-    etree.SubElement(visual, "headlight", ambient="0.4 0.4 0.4", diffuse="0.6 0.6 0.6", specular="0.1 0.1 0.1")
+    etree.SubElement(visual, "headlight", ambient="0.25 0.25 0.25", diffuse="0.45 0.45 0.45", specular="0.05 0.05 0.05")
     asset = etree.SubElement(root, "asset")
     add_scene_assets(asset)
-    for name, rgba in (("ground", "0.5 0.5 0.5 1"), ("crank", "0.85 0.3 0.2 1"), ("link", "0.25 0.45 0.8 1"),
+    for name, rgba in (("ground", "0.35 0.35 0.35 1"), ("crank", "0.85 0.3 0.2 1"), ("link", "0.25 0.45 0.8 1"),
                        ("slider", "0.3 0.7 0.35 1")):
         etree.SubElement(asset, "material", name=f"mat:{name}", rgba=rgba)
 
     world = etree.SubElement(root, "worldbody")
     etree.SubElement(world, "light", name="light:sun", pos=vec(0.0, 0.0, 5.0 * size), dir="0 0 -1",
-                     directional="true")
-    add_scene(world, pose_extent(src), size)
+                     directional="true", diffuse="0.35 0.35 0.35", specular="0.05 0.05 0.05")
+    add_scene(world, motion_extent(src), size)
     _link_visuals(src, world, GROUND, "mat:ground")
     bodies = {GROUND: world}
     for parent, child, pair in info.tree:
@@ -238,6 +243,20 @@ def write_mjcf(source: Mechanism | Assembly, settings: Settings | None = None) -
     return etree.tostring(root, pretty_print=True, encoding="unicode")
 
 
+def _plate(src: _Source, body, link: str, pts: list, material: str) -> None:
+    """A link of three or more points (not on one line) drawn as a thin plate over their convex hull."""
+    hull = convex_hull(pts)
+    if len(hull) < 3 or hull_area(pts) < (MIN_BAR * src.size) ** 2:
+        return
+    t = PLATE_HALF_THICKNESS * src.size
+    vertex = " ".join(vec(x, y, z) for z in (-t, t) for x, y in hull)
+    asset = body.getroottree().getroot().find("asset")
+    etree.SubElement(asset, "mesh", name=f"mesh:{link}", vertex=vertex)
+    shade = {"rgba": PLATE_RGBA[material]} if material in PLATE_RGBA else {}
+    etree.SubElement(body, "geom", name=f"{link}:plate", type="mesh", mesh=f"mesh:{link}", material=material,
+                     **shade)
+
+
 def _link_visuals(src: _Source, body, link: str, material: str) -> None:
     mech, size = src.mech, src.size
     shape = src.shapes[link]
@@ -258,6 +277,7 @@ def _link_visuals(src: _Source, body, link: str, material: str) -> None:
             etree.SubElement(body, "geom", name=f"{link}:bar:{names[0]}-{q}", type="capsule",
                              size=fmt(BAR_RADIUS * size),
                              fromto=vec(pts[0][0], pts[0][1], 0.0, xy[0], xy[1], 0.0), material=material)
+        _plate(src, body, link, pts, material)
         if not bars:  # every point within a bar radius of the first
             etree.SubElement(body, "geom", name=f"{link}:dot", type="sphere", size=fmt(BAR_RADIUS * size),
                              pos=vec(pts[0][0], pts[0][1], 0.0), material=material)

@@ -22,7 +22,10 @@ SERVO_TIME = 0.05
 # Floor below the mechanism's plane, as a fraction of its size (the pivots reach down 1 %).
 FLOOR_DEPTH = 0.05
 # The camera sees the mechanism's extent with this margin around it, at MuJoCo's 45° field of view.
-CAMERA_MARGIN = 1.4
+CAMERA_MARGIN = 1.2
+# The camera frames the extent for an image this much wider than tall (MuJoCo's viewer and
+# ``linkgen render``'s default 800×600 are 4:3); MuJoCo's field of view (45°) is vertical.
+CAMERA_ASPECT = 4.0 / 3.0
 
 
 def _vec(*xs: float) -> str:
@@ -32,8 +35,8 @@ def _vec(*xs: float) -> str:
 def add_scene_assets(asset) -> None:
     etree.SubElement(asset, "texture", name="tex:sky", type="skybox", builtin="gradient", rgb1="0.95 0.97 1",
                      rgb2="0.7 0.78 0.88", width="64", height="64")
-    etree.SubElement(asset, "texture", name="tex:floor", type="2d", builtin="checker", rgb1="0.92 0.92 0.9",
-                     rgb2="0.85 0.85 0.83", width="256", height="256")
+    etree.SubElement(asset, "texture", name="tex:floor", type="2d", builtin="checker", rgb1="0.82 0.82 0.8",
+                     rgb2="0.74 0.74 0.72", width="256", height="256")
     etree.SubElement(asset, "material", name="mat:floor", texture="tex:floor", texrepeat="8 8", reflectance="0")
 
 
@@ -48,6 +51,22 @@ def pose_extent(src) -> tuple[float, float, float, float]:
     return float(a[:, 0].min()), float(a[:, 0].max()), float(a[:, 1].min()), float(a[:, 1].max())
 
 
+# Crank angles over the drive's range at which the camera's extent is taken.
+EXTENT_SAMPLES = 73
+
+
+def motion_extent(src) -> tuple[float, float, float, float]:
+    """xmin, xmax, ymin, ymax [m] of every point over the drive's range (the reference pose's
+    extent, ``pose_extent``, where the range cannot be traced)."""
+    from linkgen.errors import LinkgenError
+    from linkgen.planar.positions import drive_angles, positions
+
+    try:
+        return positions(src.mech, drive_angles(src.mech, EXTENT_SAMPLES)).bounds()
+    except LinkgenError:
+        return pose_extent(src)
+
+
 def add_scene(world, extent: tuple[float, float, float, float], size: float) -> None:
     """Floor plane under the mechanism's plane and an ``overview`` camera looking down on it."""
     x0, x1, y0, y1 = extent
@@ -55,7 +74,8 @@ def add_scene(world, extent: tuple[float, float, float, float], size: float) -> 
     span = max(x1 - x0, y1 - y0, size)
     etree.SubElement(world, "geom", name="floor:plane", type="plane", pos=_vec(cx, cy, -FLOOR_DEPTH * size),
                      size=_vec(2 * span, 2 * span, 0.1 * span), material="mat:floor")
-    distance = CAMERA_MARGIN * 0.5 * span / math.tan(math.radians(22.5))
+    half = 0.5 * max(y1 - y0, (x1 - x0) / CAMERA_ASPECT, 0.25 * size)
+    distance = CAMERA_MARGIN * half / math.tan(math.radians(22.5))
     etree.SubElement(world, "camera", name="overview", pos=_vec(cx, cy, distance), xyaxes="1 0 0 0 1 0")
 
 
@@ -105,5 +125,5 @@ def switch_off_servo(model: mujoco.MjModel) -> None:
     model.actuator_gainprm[act, :] = 0.0
 
 
-__all__ = ["KEY", "SERVO", "add_scene", "add_scene_assets", "add_servo", "add_sketch_key", "pose_extent",
+__all__ = ["KEY", "SERVO", "add_scene", "add_scene_assets", "add_servo", "motion_extent", "add_sketch_key", "pose_extent",
            "settings_comment", "switch_off_servo"]

@@ -1,0 +1,173 @@
+"""``linkgen draw``, ``linkgen animate`` and ``linkgen render``: pictures of the mechanism."""
+
+from __future__ import annotations
+
+import argparse
+import math
+import sys
+from pathlib import Path
+
+import numpy as np
+
+from linkgen.cli.common import OptionError, _angle_arg, _positive_int
+
+FIGURE_FORMATS = ("png", "svg", "pdf")
+# A position plan of more positions than this is a smear, not a drawing.
+MAX_PLAN_POSITIONS = 73
+
+
+def _angle_part(text: str, unit: str | None) -> float:
+    t = text.strip()
+    for suffix, to_rad in (("deg", math.radians), ("°", math.radians), ("rad", float)):
+        if t.endswith(suffix):
+            return to_rad(float(t[: -len(suffix)]))
+    x = float(t)
+    return x if unit == "rad" else math.radians(x)
+
+
+def angles_arg(text: str) -> np.ndarray:
+    """``START:STOP:STEP``, in degrees unless a unit is given (``0:360:30``, ``0deg:180deg:15deg``,
+    ``0:3:0.5rad`` — a unit on the last part applies to the parts without one): the angles
+    START, START + STEP, … up to STOP [rad], STOP included when it falls on the grid (but not
+    when it repeats START a full turn later)."""
+    parts = text.split(":")
+    if len(parts) != 3:
+        raise argparse.ArgumentTypeError(f"expected START:STOP:STEP such as 0:360:30 (degrees) or 0:3.14:0.5rad, "
+                                         f"got {text!r}")
+    unit = "rad" if parts[2].strip().endswith("rad") else None
+    try:
+        start, stop, step = (_angle_part(p, unit) for p in parts)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected three numbers with an optional unit (deg, °, rad), got {text!r}") from None
+    if not all(math.isfinite(x) for x in (start, stop, step)) or step <= 0.0 or stop < start:
+        raise argparse.ArgumentTypeError(f"expected STEP > 0 and STOP >= START, got {text!r}")
+    count = int(math.floor((stop - start) / step * (1 + 1e-12))) + 1
+    if count > MAX_PLAN_POSITIONS:
+        raise argparse.ArgumentTypeError(f"{text!r} gives {count} positions; a position plan shows at most "
+                                         f"{MAX_PLAN_POSITIONS} (take a larger step)")
+    phi = start + step * np.arange(count)
+    if count > 1 and abs((phi[-1] - phi[0]) - 2 * math.pi) < 1e-9:
+        phi = phi[:-1]
+    return phi
+
+
+def _suffix(path: Path, allowed: tuple[str, ...], what: str) -> None:
+    kind = path.suffix.lstrip(".").lower()
+    if kind not in allowed:
+        raise OptionError(f"{path}: {what} is written as {', '.join('.' + a for a in allowed)}; "
+                          f"got {'.' + kind if kind else 'no suffix'}")
+
+
+def _in_range(mech, phi: np.ndarray, option: str) -> None:
+    d = mech.drive
+    if d.stop - d.start >= 2 * math.pi - 1e-12:
+        return
+    bad = phi[(phi < d.start - 1e-12) | (phi > d.stop + 1e-12)]
+    if bad.size:
+        raise OptionError(f"{option}: {math.degrees(float(bad[0])):.6g}° is outside the drive's range "
+                          f"{math.degrees(d.start):.6g}°..{math.degrees(d.stop):.6g}° (drive.start, drive.stop)")
+
+
+def _progress(label: str):
+    def report(done: int, total: int) -> None:
+        if sys.stderr.isatty() or done == total:
+            print(f"\r{label}: {done}/{total} frames", end="\n" if done == total else "", file=sys.stderr, flush=True)
+
+    return report
+
+
+def cmd_draw(args) -> int:
+    from linkgen.cli.files import atomic_output
+    from linkgen.draw.plan import plan_figure, skeleton_figure
+    from linkgen.model.reader import load
+
+    _suffix(args.output, FIGURE_FORMATS, "a drawing")
+    if args.angle is not None and args.angles is not None:
+        raise OptionError("--angle cannot be combined with --angles: --angle draws one position, --angles a plan")
+    mech = load(args.model)
+    if args.angles is not None:
+        _in_range(mech, args.angles, "--angles")
+        with atomic_output(args.output) as tmp:
+            plan_figure(mech, args.angles, tmp)
+        what = f"position plan of {len(args.angles)} positions"
+    else:
+        phi = mech.drive.start if args.angle is None else args.angle
+        _in_range(mech, np.array([phi]), "--angle")
+        with atomic_output(args.output) as tmp:
+            skeleton_figure(mech, phi, tmp)
+        what = f"skeleton at φ = {math.degrees(phi):.6g}°"
+    print(f"wrote {args.output}: {mech.name}, {what}")
+    return 0
+
+
+def cmd_animate(args) -> int:
+    from linkgen.cli.files import atomic_output
+    from linkgen.draw.animate import drawn_frames, frame_angles, mujoco_run_frames, save_animation
+    from linkgen.model.reader import load
+
+    _suffix(args.output, ("gif", "mp4"), "an animation")
+    mech = load(args.model)
+    phi = frame_angles(mech, args.frames)
+    shots = None
+    if args.mujoco:
+        print(f"running {mech.name} in MuJoCo over its drive range …", file=sys.stderr, flush=True)
+        phi, shots = mujoco_run_frames(mech, args.frames)
+    frames = drawn_frames(mech, phi, shots, progress=_progress(f"drawing {args.output.name}"))
+    with atomic_output(args.output) as tmp:
+        save_animation(frames, tmp, args.fps)
+    h, w = frames[0].shape[:2]
+    print(f"wrote {args.output}: {len(frames)} frames of {w}×{h} px at {args.fps} frames/s"
+          + (", closed form beside MuJoCo's run" if args.mujoco else ""))
+    return 0
+
+
+def cmd_render(args) -> int:
+    from PIL import Image
+
+    from linkgen.cli.files import atomic_output
+    from linkgen.draw.render import render_mechanism
+    from linkgen.model.reader import load
+
+    _suffix(args.output, ("png",), "a MuJoCo frame")
+    mech = load(args.model)
+    phi = mech.drive.start if args.angle is None else args.angle
+    _in_range(mech, np.array([phi]), "--angle")
+    _, frames = render_mechanism(mech, phi, args.width, args.height)
+    with atomic_output(args.output) as tmp:
+        Image.fromarray(frames[0]).save(tmp, format="PNG")
+    print(f"wrote {args.output}: MuJoCo frame of {mech.name} at φ = {math.degrees(phi):.6g}°, "
+          f"{args.width}×{args.height} px, camera 'overview'")
+    return 0
+
+
+def add_commands(sub) -> None:
+    d = sub.add_parser("draw", help="the mechanism's skeleton at one crank angle, or a position plan")
+    d.add_argument("model", type=Path, help="description file (.toml)")
+    d.add_argument("-o", "--output", type=Path, required=True, help="figure file: .png, .svg or .pdf")
+    d.add_argument("--angle", type=_angle_arg, help="crank angle with its unit, e.g. 30deg (default: the range's start)")
+    d.add_argument("--angles", type=angles_arg,
+                   help="a position plan at START:STOP:STEP, degrees unless a unit is given, e.g. 0:360:30 "
+                        "or 0:3.14:0.5rad; every moving point's path is traced over the drive's range")
+    d.set_defaults(func=cmd_draw)
+
+    a = sub.add_parser("animate", help="the mechanism moving over its drive range, with its point paths")
+    a.add_argument("model", type=Path, help="description file (.toml)")
+    a.add_argument("-o", "--output", type=Path, required=True,
+                   help="animation file: .gif, or .mp4 with the video extra (pip install 'linkgen[video]')")
+    a.add_argument("--frames", type=_positive_int, default=72, help="frames over the range (no unit; default 72)")
+    a.add_argument("--fps", type=_positive_int, default=24, help="frames per second of the file (default 24)")
+    a.add_argument("--mujoco", action="store_true",
+                   help="also run the mechanism in MuJoCo and show its rendered frames beside the closed-form "
+                        "drawing, at the crank angles MuJoCo reached (no unit; needs EGL or OSMesa without a display)")
+    a.set_defaults(func=cmd_animate)
+
+    r = sub.add_parser("render", help="a MuJoCo offscreen frame of the generated model at one crank angle")
+    r.add_argument("model", type=Path, help="description file (.toml)")
+    r.add_argument("-o", "--output", type=Path, required=True, help="image file (.png)")
+    r.add_argument("--angle", type=_angle_arg, help="crank angle with its unit, e.g. 30deg (default: the range's start)")
+    r.add_argument("--width", type=_positive_int, default=800, help="image width [px] (default 800, at most 1280)")
+    r.add_argument("--height", type=_positive_int, default=600, help="image height [px] (default 600, at most 960)")
+    r.set_defaults(func=cmd_render)
+
+
+__all__ = ["add_commands", "angles_arg"]

@@ -1,0 +1,1 @@
+"""Seeing the mechanism: skeleton drawings, position plans, animations and MuJoCo frames."""
