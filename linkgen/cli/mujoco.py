@@ -169,10 +169,12 @@ def _check_one(path: Path, report: Path | None, practical: bool, nthread: int | 
         out["dynamics"] = dyn
         out["ok"] = bool(out["ok"] and dyn["ok"])
     if report is not None and cc.comparison is not None:
-        from linkgen.crosscheck.report import plot_model
+        from linkgen.crosscheck.report import plot_mechanism, plot_model
+        from linkgen.planar.summary import summarize
 
         report.mkdir(parents=True, exist_ok=True)
-        out["figures"] = plot_model(cc.comparison, report)
+        out["figures"] = plot_mechanism(asm, report) + plot_model(cc.comparison, report)
+        out["summary"] = summarize(asm).to_dict()
     out["total_wall_s"] = time.perf_counter() - t0
     return out
 

@@ -8,6 +8,56 @@ from pathlib import Path
 from linkgen.crosscheck.figures import plot_model
 
 
+# Positions in the report's position plan of each model.
+PLAN_POSITIONS = 12
+
+
+def plot_mechanism(asm, out: Path) -> list[str]:
+    """The mechanism itself, first in its report section: its skeleton at the sketch's crank
+    angle and a position plan of PLAN_POSITIONS positions over the drive's range, into ``out``;
+    returns the file names."""
+    import numpy as np
+
+    from linkgen.draw.plan import plan_figure, skeleton_figure
+    from linkgen.planar.positions import drive_angles, positions
+
+    mech = asm.mechanism
+    paths = positions(mech, drive_angles(mech))
+    d = mech.drive
+    full = d.stop - d.start >= 2 * np.pi - 1e-12
+    plan = np.linspace(d.start, d.stop, PLAN_POSITIONS, endpoint=not full)
+    names = [f"{mech.name}_drawing.png", f"{mech.name}_plan.png"]
+    skeleton_figure(mech, asm.sketch_phi, out / names[0], paths=paths)
+    plan_figure(mech, plan, out / names[1], paths=paths)
+    return names
+
+
+def _summary_lines(s: dict) -> list[str]:
+    """The design summary (``DesignSummary.to_dict``) as Markdown lines."""
+    import math
+
+    deg = math.degrees
+    lines = ["**Design summary** (at the drive's ω and ε)", ""]
+    for name, o in s["outputs"].items():
+        if o["travel"] is None:
+            lines.append(f"- {o['kind']} `{name}`: turns fully round")
+            continue
+        travel = f"stroke {o['travel']:.6g} m" if o["kind"] == "slider" else f"swing {deg(o['travel']):.4g}°"
+        limits = ", ".join(f"{x['kind']} at φ = {deg(x['phi']):.4g}°" for x in o["limits"]) or "extremes at the range's ends"
+        ratio = f"; time ratio K = {o['time_ratio']:.4g}" if o["time_ratio"] is not None else ""
+        lines.append(f"- {o['kind']} `{name}`: {travel}; limit positions {limits}{ratio}")
+    for g, t in s["transmission"].items():
+        lines.append(f"- least transmission angle of {g}: {deg(t['minimum']):.4g}° at φ = {deg(t['at']):.4g}°")
+    if s["peak_balancing_torque"]:
+        t = s["peak_balancing_torque"]
+        lines.append(f"- peak balancing torque {t['value']:.4g} N·m at φ = {deg(t['at']):.4g}°")
+        worst = sorted(s["peak_reactions"].items(), key=lambda kv: -kv[1]["value"])[:3]
+        lines.append("- largest reactions: " + ", ".join(f"{k} {v['value']:.4g} N at {deg(v['at']):.4g}°" for k, v in worst))
+    elif s["forces_note"]:
+        lines.append(f"- {s['forces_note']}")
+    return lines + [""]
+
+
 def number(x, spec: str) -> str:
     """A figure of the JSON results, or "–" where a failed run left none (null)."""
     return "–" if x is None else format(x, spec)
@@ -54,6 +104,8 @@ def write_index(results: list[dict], out: Path, wall: float, cores: float) -> Pa
         lines += ["", f"## {r['model']}", ""]
         for fig in r.get("figures", []):
             lines += [f"![{fig}]({fig})", ""]
+        if r.get("summary"):
+            lines += _summary_lines(r["summary"])
         if r["diagnosis"]:
             lines += ["**Diagnosis**", ""]
             for d in r["diagnosis"]:
@@ -88,4 +140,4 @@ def write_index(results: list[dict], out: Path, wall: float, cores: float) -> Pa
     return path
 
 
-__all__ = ["number", "plot_model", "write_index"]
+__all__ = ["PLAN_POSITIONS", "number", "plot_mechanism", "plot_model", "write_index"]
