@@ -34,7 +34,7 @@ class Flywheel:
 
 
 def _cycle(red: Reduced):
-    phi = red.phi
+    phi = red.moment_phi
     m = red.moment_grid
     m_d = -float(np.trapezoid(m, phi) / (phi[-1] - phi[0]))
     de = np.concatenate([[0.0], np.cumsum(0.5 * (m[1:] + m[:-1] + 2 * m_d) * np.diff(phi))])

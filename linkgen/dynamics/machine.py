@@ -145,6 +145,14 @@ class _Model:
         return np.array(y, dtype=float)
 
 
+def motor_torque_at(machine: Machine, red: Reduced, y: np.ndarray) -> np.ndarray:
+    """The motor torque [N·m] on the motor shaft at ODE states ``y`` (k, n) (``MachineRun.solution``)."""
+    model = _Model(machine, red)
+    w_rotor = y[3] if model.shaft else y[1]
+    mm, _ = model.motor(w_rotor, y)
+    return np.asarray(mm, dtype=float) * np.ones(y.shape[1])
+
+
 def run_machine(machine: Machine, red: Reduced, *, samples: int = 2000, duration: float | None = None) -> MachineRun:
     """Integrate the machine from its start speed over ``duration`` [s] (default the
     description's) and sample it at ``samples`` equal time steps (the steady cycle and the

@@ -2,8 +2,8 @@
 ODE solver: J(φ) and dJ/dφ [kg·m²] by periodic cubic splines through the closed form on a grid,
 and the reduced moment of the loads M(φ) [N·m] (gravity, forces, torques, the process load).
 
-M(φ) jumps where a stroke-switched force switches; it is interpolated linearly between grid
-points, so a jump is spread over one grid step (2π/GRID rad)."""
+M(φ) is piecewise linear between grid points, and jumps exactly where a stroke-switched force
+switches (``tables``: the switch angles are in its grid twice)."""
 
 from __future__ import annotations
 
@@ -13,6 +13,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.interpolate import CubicSpline
 
+from linkgen.dynamics.tables import PeriodicTable, jump_grid, switch_angles
 from linkgen.errors import DescriptionError
 from linkgen.model.machine import ProcessLoad
 from linkgen.planar.assembly import Assembly
@@ -25,12 +26,13 @@ GRID = 4096
 
 @dataclass(frozen=True)
 class Reduced:
-    """Periodic splines of J, dJ/dφ over [0, 2π) and the grid values of M (linear)."""
+    """Periodic splines of J, dJ/dφ over [0, 2π) and the table of M (linear, with its jumps)."""
 
     phi: np.ndarray  # (GRID + 1,) [rad], from the drive's start over one turn
     inertia: CubicSpline
     inertia_derivative: CubicSpline
-    moment_grid: np.ndarray  # (GRID + 1,) [N·m]
+    moment_phi: np.ndarray  # (GRID + 1 + 2·switches,) [rad], non-decreasing; a switch angle twice
+    moment_grid: np.ndarray  # M at moment_phi [N·m]
 
     def j(self, phi):
         return self.inertia(self._wrap(phi))
@@ -39,7 +41,16 @@ class Reduced:
         return self.inertia_derivative(self._wrap(phi))
 
     def moment(self, phi):
-        return np.interp(self._wrap(phi), self.phi, self.moment_grid)
+        m = self._table.at(phi)
+        return m if np.ndim(m) else float(m)
+
+    @property
+    def _table(self) -> PeriodicTable:
+        table = self.__dict__.get("_cached_table")
+        if table is None:
+            table = PeriodicTable(self.moment_phi, self.moment_grid)
+            object.__setattr__(self, "_cached_table", table)
+        return table
 
     def _wrap(self, phi):
         return self.phi[0] + np.mod(np.asarray(phi, dtype=float) - self.phi[0], 2 * math.pi)
@@ -70,8 +81,11 @@ def reduce(asm: Assembly, load: ProcessLoad | None = None, grid: int = GRID) -> 
     f = forces(asm, phi[:-1], 0.0, 0.0)
     j = np.append(f.reduced.inertia, f.reduced.inertia[0])
     dj = np.append(f.reduced.inertia_derivative, f.reduced.inertia_derivative[0])
-    m = np.append(f.reduced.moment, f.reduced.moment[0]) - process_torque(load, phi)
-    return Reduced(phi, CubicSpline(phi, j, bc_type="periodic"), CubicSpline(phi, dj, bc_type="periodic"), m)
+    table_phi, where = jump_grid(d.start, grid, switch_angles(asm.mechanism, d.start))
+    m = forces(asm, where, 0.0, 0.0).reduced.moment - process_torque(load, where)
+    m[-1] = m[0]  # one turn on: the same load
+    return Reduced(phi, CubicSpline(phi, j, bc_type="periodic"), CubicSpline(phi, dj, bc_type="periodic"),
+                   table_phi, m)
 
 
 __all__ = ["GRID", "Reduced", "process_torque", "process_torque_function", "reduce"]

@@ -103,34 +103,82 @@ def flywheel_study(asm: Assembly, machine: Machine, delta: float, omega_mean: fl
 
 
 # The machine comparison in ``linkgen validate``: MuJoCo's full linkage against the ODE over the
-# first COMPARE_SECONDS of the start-up (or the whole duration if shorter), ω within this of its
-# peak (measured 2.7e-9 to 1.3e-7 on the bundled machines, see tests/test_dynamics.py).
+# first COMPARE_SECONDS of the start-up (or the whole duration if shorter); ``linkgen dynamics
+# --mujoco`` and validation/machines.py compare the start-up and STEADY_CYCLES steady cycles.
+# Each quantity within this of its peak (measured 7e-11 to 1.2e-7 over the first second on the
+# bundled machines, see tests/test_dynamics.py and the closing figures of validation/machines.py).
 COMPARE_SECONDS = 1.0
+STEADY_CYCLES = 10
 MACHINE_TOL = 1e-6
+# Samples of the compared window.
+COMPARE_SAMPLES = 2001
 
 
-def compare_machine(path) -> dict | None:
-    """The dynamics comparison for a description with a ``[machine]`` table (None without one):
-    JSON-ready, with "ok", the relative ω error and the steps; a machine MuJoCo does not model
-    here says so in "skipped"."""
+def _window(asm: Assembly, machine: Machine, cycles: int | None) -> tuple[MachineRun, float, Reduced]:
+    """The ODE run over the compared window: the first COMPARE_SECONDS, or with ``cycles`` the
+    start-up and that many steady cycles (the ODE is run long enough to find them)."""
+    red = reduce(asm, machine.process_load)
+    if cycles is None:
+        duration = min(machine.duration, COMPARE_SECONDS)
+        return run_machine(machine, red, samples=COMPARE_SAMPLES, duration=duration), duration, red
+    run = run_machine(machine, red, samples=16)
+    if run.steady is None:
+        raise SimulationError(f"no steady cycle within the machine's duration of {machine.duration:g} s; give a "
+                              f"longer [machine] duration to compare {cycles} steady cycles")
+    duration = run.steady.t_start + cycles * run.steady.period
+    return run_machine(machine, red, samples=COMPARE_SAMPLES, duration=duration), duration, red
+
+
+def _error(mj: np.ndarray | None, ref: np.ndarray | None, mask: np.ndarray) -> float | None:
+    if mj is None or ref is None or not mask.any():
+        return None
+    peak = float(np.abs(ref).max())
+    return float(np.abs(mj[mask] - ref[mask]).max() / (peak if peak > 0 else 1.0))
+
+
+def compare_machine_run(asm: Assembly, machine: Machine, cycles: int | None = None):
+    """MuJoCo's machine against the ODE (see COMPARE_SECONDS): JSON-ready errors relative to each
+    quantity's peak — ω (start-up, and steady cycles with ``cycles``), the motor torque, the
+    shaft twist — and φ [rad]; "ok" when each is within MACHINE_TOL. Returns the dict, MuJoCo's
+    run and the ODE's."""
+    from linkgen.dynamics.machine import motor_torque_at
     from linkgen.mujoco.machine import run_machine_mujoco
 
+    run, duration, red = _window(asm, machine, cycles)
+    mj = run_machine_mujoco(asm, machine, run.t)
+    y = run.solution(mj.t)
+    w, phi = y[1], y[0]
+    twist = (y[2] - y[0]) if machine.shaft is not None else None
+    torque = motor_torque_at(machine, red, y)
+    everything = np.ones(mj.t.shape, dtype=bool)
+    steady_from = run.steady.t_start if (cycles is not None and run.steady is not None) else None
+    errors = {"omega": _error(mj.omega, w, everything),
+              "motor_torque": _error(mj.motor_torque, torque, everything),
+              "twist": _error(mj.twist, twist, everything)}
+    if steady_from is not None:
+        errors["omega_startup"] = _error(mj.omega, w, mj.t < steady_from)
+        errors["omega_steady"] = _error(mj.omega, w, mj.t >= steady_from)
+    worst = max(v for v in errors.values() if v is not None)
+    out = {"ok": worst <= MACHINE_TOL, "omega_error_relative": errors["omega"], "errors_relative": errors,
+           "tolerance": MACHINE_TOL, "phi_error_rad": float(np.abs(mj.phi - phi).max()), "duration_s": duration,
+           "steps": mj.steps, "timestep": mj.timestep}
+    if steady_from is not None:
+        out |= {"steady_from_s": steady_from, "cycles": cycles}
+    return out, mj, run
+
+
+def compare_machine(path, cycles: int | None = None) -> dict | None:
+    """The dynamics comparison for a description with a ``[machine]`` table (None without one);
+    a machine MuJoCo does not model here says so in "skipped"."""
     data = tomllib.loads(Path(path).read_bytes().decode("utf-8-sig"))
     machine = machine_from_dict(data)
     if machine is None:
         return None
     asm = assemble(load(path))
-    duration = min(machine.duration, COMPARE_SECONDS)
-    run = run_machine(machine, reduce(asm, machine.process_load), samples=201, duration=duration)
     try:
-        mj = run_machine_mujoco(asm, machine, run.t)
+        return compare_machine_run(asm, machine, cycles)[0]
     except SimulationError as exc:
-        return {"ok": False, "skipped": str(exc), "duration_s": duration}
-    phi, w = run.state_at(mj.t)
-    err = float(np.abs(mj.omega - w).max() / max(float(np.abs(w).max()), 1e-300))
-    return {"ok": err <= MACHINE_TOL, "omega_error_relative": err, "tolerance": MACHINE_TOL,
-            "phi_error_rad": float(np.abs(mj.phi - phi).max()), "duration_s": duration, "steps": mj.steps,
-            "timestep": mj.timestep}
+        return {"ok": False, "skipped": str(exc), "duration_s": None}
 
 
-__all__ = ["CycleForces", "check_flywheel", "compare_machine", "cycle_forces", "flywheel_study", "load_machine"]
+__all__ = ["CycleForces", "STEADY_CYCLES", "check_flywheel", "compare_machine", "compare_machine_run", "cycle_forces", "flywheel_study", "load_machine"]

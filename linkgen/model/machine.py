@@ -39,7 +39,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from linkgen.errors import DescriptionError
-from linkgen.model.units import finite, parse_angle, shown
+from linkgen.model.units import angular_speed, finite, parse_angle, shown
 
 MOTOR_KEYS = {
     "constant": ("torque",),
@@ -101,12 +101,16 @@ class Machine:
         return self.rotor_inertia * self.gear_ratio**2 + self.flywheel_inertia
 
 
+# Keys that are angular speeds: a number in rad/s or a string with its unit ("1500rpm", "10rad/s").
+SPEED_KEYS = {"no_load_speed", "synchronous_speed", "start_speed"}
+
+
 def _number(t: dict, key: str, where: str, *, low: float = -math.inf, strict: bool = False, default=None) -> float:
     if key not in t:
         if default is None:
             raise DescriptionError(f"{where}.{key}", "is required")
         return default
-    x = finite(t[key], f"{where}.{key}")
+    x = angular_speed(t[key], f"{where}.{key}") if key in SPEED_KEYS else finite(t[key], f"{where}.{key}")
     if x < low or (strict and x == low):
         raise DescriptionError(f"{where}.{key}", f"must be {'>' if strict else '>='} {low:g}, got {shown(t[key])}")
     return x

@@ -11,8 +11,11 @@ its armature J_rotor·u², angles reduced to the crank), joined to the crank by 
 (rotor − crank) whose stiffness, damping and dead band (springlength ±backlash/2) are the
 shaft's; the motor (``machine:motor``) then acts on the rotor.
 
-Not covered here: the mechanism's own [[force]]/[[torque]] loads (gravity is MuJoCo's own); such
-a machine raises SimulationError."""
+The mechanism's own [[force]]/[[torque]] loads are body wrenches (``xfrc_applied``): each step
+applies their mean over the crank angles the step sweeps (predicted from the speed and the last
+acceleration), read from a table over one turn (LOAD_GRID cells, linear between them, a
+stroke-switched force's switch angles exact; the closed-form positions at each grid angle: the
+linkage has one degree of freedom, so its loads are functions of φ alone). Gravity is MuJoCo's own."""
 
 from __future__ import annotations
 
@@ -35,6 +38,9 @@ from linkgen.mujoco.tree import DRIVE_ACTUATOR
 from linkgen.planar.assembly import Assembly
 
 ROTOR, SHAFT, MOTOR = "machine:rotor", "machine:shaft", "machine:motor"
+# Cells of the load table over one turn: linear interpolation errs by (2π/LOAD_GRID)²/8 of the
+# loads' second derivative in φ, 3e-9 of a load that varies like cos φ.
+LOAD_GRID = 16384
 
 
 @dataclass(frozen=True)
@@ -49,6 +55,25 @@ class MujocoMachineRun:
     motor_torque: np.ndarray
     steps: int
     timestep: float
+    twist: np.ndarray | None = None  # rotor angle (reduced to the crank) − crank angle [rad], elastic shaft
+
+
+class _LoadTable:
+    """The mechanism's [[force]]/[[torque]] wrenches (nbody, 6) over one turn, with their jumps
+    (``dynamics.tables``)."""
+
+    def __init__(self, asm: Assembly, model: mujoco.MjModel):
+        from linkgen.dynamics.tables import PeriodicTable, jump_grid, switch_angles
+        from linkgen.mujoco.forces import load_schedule
+
+        start = asm.mechanism.drive.start
+        grid, where = jump_grid(start, LOAD_GRID, switch_angles(asm.mechanism, start))
+        self.table = PeriodicTable(grid, load_schedule(asm, model, where))
+        self.shape = (model.nbody, 6)
+
+    def over(self, a: float, b: float) -> np.ndarray:
+        """The mean wrench while the crank turns from a to b [rad]."""
+        return np.asarray(self.table.mean(a, b)).reshape(self.shape)
 
 
 def _peak_speed(machine: Machine, asm: Assembly) -> float:
@@ -66,10 +91,9 @@ def _peak_speed(machine: Machine, asm: Assembly) -> float:
 @no_log_file()
 def run_machine_mujoco(asm: Assembly, machine: Machine, t: np.ndarray) -> MujocoMachineRun:
     """Run the machine in MuJoCo from its start speed and sample at times ``t`` (n,) [s]."""
+    from linkgen.mujoco.forces import has_loads
+
     mech = asm.mechanism
-    if mech.forces or mech.torques:
-        raise SimulationError("the MuJoCo machine applies gravity, the motor and the process load only; this "
-                              "description also has [[force]]/[[torque]] loads")
     xml = write_mjcf(asm, PLACEHOLDER)
     model = mujoco.MjModel.from_xml_string(xml)
     settings, _ = derive(asm, model, omega=_peak_speed(machine, asm))
@@ -100,6 +124,8 @@ def run_machine_mujoco(asm: Assembly, machine: Machine, t: np.ndarray) -> Mujoco
         model.actuator_biasprm[act, 2] = -u * u * eta * mot.stall_torque / mot.no_load_speed
     data = mujoco.MjData(model)
     load = process_torque_function(machine.process_load)
+    table = _LoadTable(asm, model) if has_loads(asm) else None
+    rotor_adr = model.joint(ROTOR).qposadr[0] if machine.shaft is not None else None
     phi0 = mech.drive.start
     qpos, qvel = initial_state(asm, model, phi0, machine.start_speed)
     adr = model.joint(mech.drive.joint).qposadr[0]
@@ -110,7 +136,7 @@ def run_machine_mujoco(asm: Assembly, machine: Machine, t: np.ndarray) -> Mujoco
                if motors.has_current(mot) and machine.start_speed > 0 else 0.0)
     dt = model.opt.timestep
     t = np.asarray(t, dtype=float)
-    out_t, out_phi, out_w, out_m = (np.empty_like(t) for _ in range(4))
+    out_t, out_phi, out_w, out_m, out_twist = (np.empty_like(t) for _ in range(5))
     phi_c = phi0  # the crank angle, unwrapped
     q_prev = float(data.qpos[adr])
     k, steps = 0, 0
@@ -118,12 +144,18 @@ def run_machine_mujoco(asm: Assembly, machine: Machine, t: np.ndarray) -> Mujoco
         while k < t.size and t[k] <= data.time + 0.5 * dt:
             out_t[k], out_phi[k], out_w[k] = data.time, phi_c, float(data.qvel[crank])
             out_m[k] = _motor_torque(mot, u * float(data.qvel[dof]), current)
+            if rotor_adr is not None:
+                out_twist[k] = float(data.qpos[rotor_adr] - data.qpos[adr])
             k += 1
         if k >= t.size:
             break
         mid = phi_c + 0.5 * dt * float(data.qvel[crank])
         data.qfrc_applied[:] = 0.0
         data.qfrc_applied[crank] = -float(load(mid))
+        if table is not None:
+            w_c = float(data.qvel[crank])
+            sweep = dt * w_c + (0.5 * dt * dt * float(data.qacc[crank]) if steps else 0.0)
+            data.xfrc_applied[:] = table.over(phi_c, phi_c + sweep)
         w_mid = float(data.qvel[dof]) + (0.5 * dt * float(data.qacc[dof]) if steps else 0.0)
         if per_step:
             i_mid = _current_after(mot, u * w_mid, current, 0.5 * dt) if motors.has_current(mot) else current
@@ -137,7 +169,7 @@ def run_machine_mujoco(asm: Assembly, machine: Machine, t: np.ndarray) -> Mujoco
         q_prev = q
         if not np.isfinite(data.qvel).all():
             raise SimulationError(f"the MuJoCo machine diverged at t = {data.time:.6g} s")
-    return MujocoMachineRun(out_t, out_phi, out_w, out_m, steps, dt)
+    return MujocoMachineRun(out_t, out_phi, out_w, out_m, steps, dt, out_twist if rotor_adr is not None else None)
 
 
 def _with_shaft(xml: str, mech, machine: Machine) -> str:
