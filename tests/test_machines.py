@@ -122,3 +122,35 @@ def test_the_textbook_start_up_converges_onto_the_closed_form():
     t, w, f = _textbook_dvig_0(1.25e-4)
     assert f.max() == pytest.approx(run.motor_torque.max(), rel=2e-3)
     assert w.max() == pytest.approx(run.omega.max(), rel=5e-4)
+
+
+def test_the_machine_file_runs_on_mujocos_own_motor_elements(tmp_path):
+    """The --mjcf file: MuJoCo's dcmotor for a DC motor (one motor constant for torque and
+    back-EMF, the motor's k_t ≠ k_e carried by the gear and the voltage and current scales), an
+    affine general actuator for a linear motor. The linear one holds 1e-6; the dcmotor's error is
+    first order in the timestep (halving the step halves it)."""
+    import mujoco
+
+    from linkgen.mujoco.machine_mjcf import START_KEY, machine_mjcf, run_native
+
+    for name in ("dc_motor_startup", "motor_startup"):
+        asm, machine = load_machine(MODELS / f"{name}.toml")
+        model = mujoco.MjModel.from_xml_string(machine_mjcf(asm, machine))
+        assert model.key(START_KEY).qpos.shape == (model.nq,)
+        kind = model.actuator("machine:motor").dyntype
+        assert (kind == mujoco.mjtDyn.mjDYN_DCMOTOR) == (name == "dc_motor_startup")
+        run = run_machine(machine, reduce(asm), samples=61, duration=0.3)
+        peak = np.abs(run.omega).max()
+        if name == "motor_startup":
+            mj = run_native(asm, machine, run.t)
+            assert np.abs(mj.omega - run.solution(mj.t)[1]).max() <= MACHINE_TOL * peak
+            continue
+        errors = []
+        for dt in (6e-5, 3e-5):
+            mj = run_native(asm, machine, run.t, timestep=dt)
+            errors.append(np.abs(mj.omega - run.solution(mj.t)[1]).max() / peak)
+        assert errors[0] / errors[1] == pytest.approx(2.0, rel=0.05)  # first order (measured 2.00)
+        assert errors[0] < 5e-4  # measured 2.4e-4
+        # and its motor torque is the circuit's k_t·i: at the end of the start-up window within the same order
+        torque = np.interp(mj.t, run.t, run.motor_torque)
+        assert np.abs(mj.motor_torque - torque).max() <= 10 * errors[1] * np.abs(run.motor_torque).max()
