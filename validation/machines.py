@@ -1,6 +1,8 @@
 """Every machine (a description with a ``[machine]`` table) driven by its motor in MuJoCo's full
 linkage against the one- or two-mass ODE, over the start-up and ten steady cycles: the error of
-ω (start-up and steady), the motor torque and the shaft twist, each relative to its peak.
+ω (start-up and steady), the motor torque, the shaft twist and the joint reactions (MuJoCo's
+against the kinetostatics at MuJoCo's own crank states, outside the loops' settling window after
+the start and each load switch), each relative to its peak.
 
     python validation/machines.py                 # every models/*.toml with a [machine] table
     python validation/machines.py FILE.toml ...   # given descriptions
@@ -47,11 +49,12 @@ def main(argv: list[str] | None = None) -> int:
             results.append(r)
             print(f"done {r['model']} in {r['wall_s']:.0f} s", file=sys.stderr, flush=True)
     results.sort(key=lambda r: r["model"])
-    print(f"| model | compared [s] | steady from [s] | ω start-up | ω steady | motor torque | twist | φ [rad] | steps | ok |")
-    print("|---|---|---|---|---|---|---|---|---|---|")
+    print("| model | compared [s] | steady from [s] | ω start-up | ω steady | motor torque | twist | reactions | "
+          "φ [rad] | steps | wall [s] | ok |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|---|")
     for r in results:
         if "skipped" in r:
-            print(f"| {r['model']} | skipped: {r['skipped']} |  |  |  |  |  |  |  |  |")
+            print(f"| {r['model']} | skipped: {r['skipped']} |  |  |  |  |  |  |  |  |  |  |")
             continue
         e = r["errors_relative"]
 
@@ -60,7 +63,8 @@ def main(argv: list[str] | None = None) -> int:
 
         print(f"| {r['model']} | {r['duration_s']:.4g} | {r.get('steady_from_s', float('nan')):.4g} | "
               f"{f(e.get('omega_startup'))} | {f(e.get('omega_steady'))} | {f(e['motor_torque'])} | {f(e['twist'])} | "
-              f"{r['phi_error_rad']:.2e} | {r['steps']} | {'yes' if r['ok'] else 'NO'} |")
+              f"{f(e.get('reactions'))} | {r['phi_error_rad']:.2e} | {r['steps']} | {r['wall_s']:.0f} | "
+              f"{'yes' if r['ok'] else 'NO'} |")
     if args.json:
         args.json.write_text(json.dumps(results, indent=2), encoding="utf-8")
     return 0 if all(r.get("ok") for r in results) else 1

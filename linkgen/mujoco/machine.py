@@ -34,6 +34,7 @@ from linkgen.mujoco.mjcf import write_mjcf
 from linkgen.mujoco.options import PLACEHOLDER
 from linkgen.mujoco.settings import apply, derive, set_armature
 from linkgen.mujoco.state import initial_state
+from linkgen.mujoco.timing import settle_window
 from linkgen.mujoco.tree import DRIVE_ACTUATOR
 from linkgen.planar.assembly import Assembly
 
@@ -56,6 +57,9 @@ class MujocoMachineRun:
     steps: int
     timestep: float
     twist: np.ndarray | None = None  # rotor angle (reduced to the crank) − crank angle [rad], elastic shaft
+    epsilon: np.ndarray | None = None  # crank acceleration [rad/s²] (with ``reactions``)
+    reactions: dict | None = None  # revolute reactions {name: (n, 2) [N]} read from MuJoCo (with ``reactions``)
+    settle: float = 0.0  # [s] the loops' constraint forces need after a start or a load step (timing.settle_window)
 
 
 class _LoadTable:
@@ -89,14 +93,16 @@ def _peak_speed(machine: Machine, asm: Assembly) -> float:
 
 
 @no_log_file()
-def run_machine_mujoco(asm: Assembly, machine: Machine, t: np.ndarray) -> MujocoMachineRun:
-    """Run the machine in MuJoCo from its start speed and sample at times ``t`` (n,) [s]."""
+def run_machine_mujoco(asm: Assembly, machine: Machine, t: np.ndarray, reactions: bool = False) -> MujocoMachineRun:
+    """Run the machine in MuJoCo from its start speed and sample at times ``t`` (n,) [s]; with
+    ``reactions``, also the crank acceleration and every revolute reaction at the samples, read
+    from MuJoCo's constraint and joint forces with every load of that instant applied."""
     from linkgen.mujoco.forces import has_loads
 
     mech = asm.mechanism
     xml = write_mjcf(asm, PLACEHOLDER)
     model = mujoco.MjModel.from_xml_string(xml)
-    settings, _ = derive(asm, model, omega=_peak_speed(machine, asm))
+    settings, scales = derive(asm, model, omega=_peak_speed(machine, asm))
     if machine.shaft is not None:
         model = mujoco.MjModel.from_xml_string(_with_shaft(xml, mech, machine))
     apply(model, settings, mech.drive.joint)
@@ -136,7 +142,8 @@ def run_machine_mujoco(asm: Assembly, machine: Machine, t: np.ndarray) -> Mujoco
                if motors.has_current(mot) and machine.start_speed > 0 else 0.0)
     dt = model.opt.timestep
     t = np.asarray(t, dtype=float)
-    out_t, out_phi, out_w, out_m, out_twist = (np.empty_like(t) for _ in range(5))
+    out_t, out_phi, out_w, out_m, out_twist, out_eps = (np.empty_like(t) for _ in range(6))
+    out_r: dict[str, np.ndarray] = {}
     phi_c = phi0  # the crank angle, unwrapped
     q_prev = float(data.qpos[adr])
     k, steps = 0, 0
@@ -146,6 +153,12 @@ def run_machine_mujoco(asm: Assembly, machine: Machine, t: np.ndarray) -> Mujoco
             out_m[k] = _motor_torque(mot, u * float(data.qvel[dof]), current)
             if rotor_adr is not None:
                 out_twist[k] = float(data.qpos[rotor_adr] - data.qpos[adr])
+            if reactions:
+                eps, forces = _sample_forces(asm, model, data, phi_c, load, table, crank, dof, per_step,
+                                             lambda w: u * eta * _motor_torque(mot, u * w, current))
+                out_eps[k] = eps
+                for name, r in forces.reactions.items():
+                    out_r.setdefault(name, np.empty((t.size, 2)))[k] = r
             k += 1
         if k >= t.size:
             break
@@ -169,7 +182,24 @@ def run_machine_mujoco(asm: Assembly, machine: Machine, t: np.ndarray) -> Mujoco
         q_prev = q
         if not np.isfinite(data.qvel).all():
             raise SimulationError(f"the MuJoCo machine diverged at t = {data.time:.6g} s")
-    return MujocoMachineRun(out_t, out_phi, out_w, out_m, steps, dt, out_twist if rotor_adr is not None else None)
+    return MujocoMachineRun(out_t, out_phi, out_w, out_m, steps, dt, out_twist if rotor_adr is not None else None,
+                            out_eps if reactions else None, out_r if reactions else None,
+                            settle_window(settings, scales, 0.0, gravity=float(np.hypot(*mech.gravity))))
+
+
+def _sample_forces(asm, model, data, phi: float, load, table, crank: int, dof: int, per_step: bool, drive):
+    """The crank acceleration and the forces at the current state with this instant's loads."""
+    from linkgen.mujoco.forces import forward_forces
+
+    data.qfrc_applied[:] = 0.0
+    data.qfrc_applied[crank] = -float(load(phi))
+    if table is not None:
+        data.xfrc_applied[:] = np.asarray(table.table.at(phi)).reshape(table.shape)
+    if per_step:
+        data.qfrc_applied[dof] += drive(float(data.qvel[dof]))
+    mujoco.mj_forward(model, data)
+    mujoco.mj_rnePostConstraint(model, data)
+    return float(data.qacc[crank]), forward_forces(asm, model, data)
 
 
 def _with_shaft(xml: str, mech, machine: Machine) -> str:
