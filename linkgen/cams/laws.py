@@ -67,6 +67,11 @@ class Program:
         """The largest displacement [m] over the program."""
         return float(self.displacement(np.linspace(0, 2 * math.pi, 4097))[0].max())
 
+    @property
+    def lowest(self) -> float:
+        """The lowest displacement (a rise–dwell–return program starts at its lowest, 0)."""
+        return 0.0
+
     def displacement(self, theta) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         """s [m], ds/dθ [m/rad], d²s/dθ² [m/rad²], d³s/dθ³ [m/rad³] at cam angles θ (n,)."""
         th = np.mod(np.asarray(theta, dtype=float), 2 * math.pi)
@@ -95,4 +100,31 @@ def motion(program: Program, theta, omega: float, epsilon: float = 0.0):
     return s, s1 * omega, s2 * omega**2 + s1 * epsilon, s3 * omega**3 + 3 * s2 * omega * epsilon
 
 
-__all__ = ["KINDS", "LAWS", "Program", "Segment", "motion", "rise"]
+
+
+@dataclass(frozen=True)
+class SineProgram:
+    """A law given as a function over the whole turn: y = mean + amplitude·sin(θ + phase) (the
+    textbook's h = h_max·sin φ), with the same ``displacement`` interface as ``Program``
+    (y in m for a translating follower, rad for an oscillating one)."""
+
+    amplitude: float
+    mean: float = 0.0
+    phase: float = 0.0
+
+    @property
+    def stroke(self) -> float:
+        """The largest displacement above the lowest position."""
+        return 2.0 * abs(self.amplitude)
+
+    def displacement(self, theta) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        x = np.asarray(theta, dtype=float) + self.phase
+        a, s, c = self.amplitude, np.sin(x), np.cos(x)
+        return self.mean + a * s, a * c, -a * s, -a * c
+
+    @property
+    def lowest(self) -> float:
+        return self.mean - abs(self.amplitude)
+
+
+__all__ = ["KINDS", "LAWS", "Program", "Segment", "SineProgram", "motion", "rise"]

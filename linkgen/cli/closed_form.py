@@ -46,6 +46,12 @@ def cmd_structure(args) -> int:
 
 
 def cmd_analyze(args) -> int:
+    from linkgen.cams.description import is_cam_file
+
+    if is_cam_file(args.model):
+        from linkgen.cli.cams import cmd_analyze_cam
+
+        return cmd_analyze_cam(args)
     if args.summary:
         from linkgen.cli.summary import cmd_summary
 

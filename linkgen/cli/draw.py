@@ -84,6 +84,10 @@ def cmd_draw(args) -> int:
     _suffix(args.output, FIGURE_FORMATS, "a drawing")
     if args.angle is not None and args.angles is not None:
         raise OptionError("--angle cannot be combined with --angles: --angle draws one position, --angles a plan")
+    from linkgen.cams.description import is_cam_file
+
+    if is_cam_file(args.model):
+        return _draw_cam(args)
     mech = load(args.model)
     if args.angles is not None:
         _in_range(mech, args.angles, "--angles")
@@ -97,6 +101,24 @@ def cmd_draw(args) -> int:
             skeleton_figure(mech, phi, tmp)
         what = f"skeleton at φ = {math.degrees(phi):.6g}°"
     print(f"wrote {args.output}: {mech.name}, {what}")
+    return 0
+
+
+def _draw_cam(args) -> int:
+    from linkgen.cams.description import load_cam
+    from linkgen.cli.files import atomic_output
+    from linkgen.draw.cam import cam_figure, cam_plan_figure
+
+    cm = load_cam(args.model)
+    with atomic_output(args.output) as tmp:
+        if args.angles is not None:
+            cam_plan_figure(cm, args.angles, tmp)
+            what = f"position plan by inversion of {len(args.angles)} cam angles"
+        else:
+            theta = 0.0 if args.angle is None else args.angle
+            cam_figure(cm, theta, tmp)
+            what = f"cam and follower at θ = {math.degrees(theta):.6g}°"
+    print(f"wrote {args.output}: {cm.name}, {what}")
     return 0
 
 

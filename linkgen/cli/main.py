@@ -15,7 +15,7 @@ import os
 import sys
 from pathlib import Path
 
-from linkgen.cli import closed_form, draw, dynamics, forces, mujoco, sketch
+from linkgen.cli import cams, closed_form, draw, dynamics, forces, mujoco, sketch
 from linkgen.cli.common import OptionError, add_crank_arguments
 from linkgen.cli.files import message_for
 from linkgen.errors import LinkgenError
@@ -61,6 +61,7 @@ def build_parser() -> argparse.ArgumentParser:
     dynamics.add_command(sub)
     sketch.add_command(sub)
     draw.add_commands(sub)
+    cams.add_command(sub)
     return p
 
 
