@@ -39,6 +39,21 @@ def _build_one(path: Path, out: Path, practical: bool = False) -> Path:
     from linkgen.mujoco.mjcf import write_mjcf
     from linkgen.mujoco.log import no_log_file
 
+    from linkgen.cams.description import is_cam_file
+
+    if is_cam_file(path):
+        from linkgen.cams.description import load_cam
+        from linkgen.mujoco.cam import cam_mjcf
+
+        if practical:
+            raise DescriptionError("--practical", "is for linkages; a cam's MJCF carries its own contact settings",
+                                   str(path))
+        xml = cam_mjcf(load_cam(path))
+        with no_log_file():
+            mujoco.MjModel.from_xml_string(xml)
+        atomic_write_text(out, xml)
+        print(f"wrote {out}")
+        return out
     mech = load(path)
     settings = None
     if practical:  # MuJoCo's usual settings, the derived rotor inertia kept to hold the crank speed
@@ -151,6 +166,10 @@ def _check_one(path: Path, report: Path | None, practical: bool, nthread: int | 
     from linkgen.model.reader import load
 
     t0 = time.perf_counter()
+    from linkgen.cams.description import is_cam_file
+
+    if is_cam_file(path):
+        return _check_cam(path, t0)
     try:
         asm = assemble(load(path))
     except StructureError as exc:
@@ -179,11 +198,35 @@ def _check_one(path: Path, report: Path | None, practical: bool, nthread: int | 
     return out
 
 
+def _check_cam(path: Path, t0: float) -> dict:
+    """A cam mechanism in MuJoCo against its closed form (``mujoco.cam.compare_cam``)."""
+    from linkgen.cams.description import load_cam
+    from linkgen.cli.files import message_for
+    from linkgen.mujoco.cam import CAM_TOLERANCES, compare_cam
+
+    try:
+        r = compare_cam(load_cam(path))
+    except LinkgenError as exc:
+        return {"model": path.stem, "file": str(path), "ok": False, "error": message_for(path, exc)}
+    e = r["errors_relative"]
+    ok = all(e[k] <= tol for k, tol in CAM_TOLERANCES.items())
+    return {"file": str(path), "ok": ok, "cam": r | {"tolerances": CAM_TOLERANCES}, "model": r["model"],
+            "total_wall_s": time.perf_counter() - t0}
+
+
 def _summary(r: dict) -> str:
     from linkgen.crosscheck.report import number as _num
 
     if "error" in r:
         return f"{r['model']:<22} FAIL {r['error']}"
+    if "cam" in r:
+        c = r["cam"]
+        e, tol = c["errors_relative"], c["tolerances"]
+        return (f"{r['model']:<22} {'ok  ' if r['ok'] else 'FAIL'} cam in MuJoCo (contact with a {c['profile_points']}-"
+                f"vertex profile): displacement {e['displacement']:.2e} of the stroke (tolerance "
+                f"{tol['displacement']:g}), contact force {e['contact_force']:.2e} and cam torque {e['cam_torque']:.2e} "
+                f"of their peaks as {360 / c['windows']:g}° means (tolerance {tol['contact_force']:g}), "
+                f"{c['steps']} steps, {r['total_wall_s']:.2f} s")
     lines = []
     if "quantities" in r:
         q = r["quantities"]

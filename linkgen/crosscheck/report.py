@@ -91,6 +91,12 @@ def write_index(results: list[dict], out: Path, wall: float, cores: float) -> Pa
              "| worst force (inverse) | rel. error | loop gap / L | timestep [s] | loop τ [s] | steps | wall [s] |",
              "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for r in results:
+        if "cam" in r:
+            e = r["cam"]["errors_relative"]
+            lines.append(f"| {r['model']} | {'yes' if r['ok'] else '**NO**'} | cam: `displacement` | "
+                         f"{e['displacement']:.2e} | cam: `contact_force` (5° means) | {e['contact_force']:.2e} |  |  |  | "
+                         f"{r['cam']['timestep']:.3g} |  | {r['cam']['steps']} | {r.get('total_wall_s', 0.0):.2f} |")
+            continue
         if "quantities" not in r:
             lines.append(f"| {r['model']} | **NO** | {r.get('error', 'run failed')} |  |  |  |  |  |  |  |  |  |  |")
             continue
