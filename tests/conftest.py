@@ -3,7 +3,8 @@ from pathlib import Path
 import pytest
 
 ROOT = Path(__file__).resolve().parent.parent
-MODELS = sorted((ROOT / "models").glob("*.toml"))
+MODELS = sorted(p for p in (ROOT / "models").glob("*.toml") if "\n[cam]" not in p.read_text(encoding="utf-8"))
+CAM_MODELS = sorted(p for p in (ROOT / "models").glob("*.toml") if "\n[cam]" in p.read_text(encoding="utf-8"))
 
 
 @pytest.fixture(params=MODELS, ids=[p.stem for p in MODELS])

@@ -20,7 +20,7 @@ from linkgen.errors import DescriptionError
 
 ROOT = Path(__file__).resolve().parents[1]
 MODELS = ROOT / "models"
-CAMS = ["cam_translating", "cam_oscillating"]
+CAMS = ["cam_translating", "cam_oscillating", "cam_flat_face"]
 SCRIPT = shutil.which("linkgen", path=str(Path(sys.executable).parent))
 # Central differences with step h of a smooth function: truncation h²/6·f‴ ≈ 1e-10 relative at
 # h = 1e-5 rad, rounding 1e-16/h² on the second derivative: 1e-6 relative bounds both.
@@ -32,7 +32,8 @@ def test_motion_against_finite_differences(name):
     cm = load_cam(MODELS / f"{name}.toml")
     w, h = 3.0, 1e-5
     th = np.linspace(0.05, 2 * math.pi - 0.05, 97)
-    th = th[np.all([np.abs(th - b) > 1e-3 for b in np.radians([120, 180, 300])], axis=0)]  # segment joints
+    joints = np.cumsum([seg.span for seg in getattr(cm.follower.program, "segments", ())])
+    th = th[np.all([np.abs(th - b) > 1e-3 for b in joints], axis=0)] if joints.size else th  # segment joints
     q = lambda t: cm.follower.output(t)[0]  # noqa: E731
     st = state(cm, th, w)
     v_fd = (q(th + h) - q(th - h)) / (2 * h) * w
@@ -122,6 +123,35 @@ def test_cam_command_line(tmp_path):
     p = subprocess.run([SCRIPT, "analyze", MODELS / "cam_translating.toml", "--summary"],
                        capture_output=True, text=True, timeout=120)
     assert p.returncode == 0 and "leaves the cam above" in p.stdout
+
+
+def test_a_flat_face_touches_its_profile_at_ds_dtheta():
+    """A flat face's height at every cam angle is the profile's support function in its
+    direction (the envelope), reached at the point x = ds/dθ from the follower's axis."""
+    cm = load_cam(MODELS / "cam_flat_face.toml")
+    f = cm.follower
+    th = np.linspace(0, 2 * math.pi, 2001)
+    prof = f.profile(np.linspace(0, 2 * math.pi, 20001))
+    for t in th[::40]:
+        up = np.array([math.sin(t), math.cos(t)])  # the face's normal in the cam's frame
+        assert float((prof @ up).max()) == pytest.approx(f.base_radius + float(f.output([t])[0][0]), abs=1e-7)
+    c = f.centre(th)[0]
+    assert np.abs(c[:, 0] - f.output(th)[1]).max() == 0.0
+    assert np.all(state(cm, th).pressure_angle == 0.0)
+
+
+def test_modified_trapezoid_meets_its_textbook_figures():
+    """Peak acceleration 4.888·h/β², peak velocity 2·h/β, the rise ends at h with zero speed."""
+    from linkgen.cams.laws import rise
+
+    x = np.linspace(0, 1, 8001)
+    s, v, a, _ = rise("modtrap", x)
+    assert s[-1] == pytest.approx(1.0, abs=1e-15) and abs(v[-1]) < 1e-12 and abs(a[-1]) < 1e-12
+    assert a.max() == pytest.approx(4.888, abs=5e-4) and v.max() == pytest.approx(2.0, abs=1e-9)
+    h = 1e-6
+    inner = x[(x > 1e-3) & (x < 1 - 1e-3)]
+    assert np.abs((rise("modtrap", inner + h)[0] - rise("modtrap", inner - h)[0]) / (2 * h)
+                  - rise("modtrap", inner)[1]).max() < 1e-8
 
 
 def test_cam_in_mujoco_within_its_measured_tolerance():

@@ -24,7 +24,7 @@ from linkgen.mujoco.scene import CAMERA_ASPECT
 from linkgen.planar.positions import drive_angles, positions
 
 ROOT = Path(__file__).resolve().parents[1]
-MODELS = sorted((ROOT / "models").glob("*.toml"))
+from conftest import MODELS  # linkages (cam files have tests of their own)
 SCRIPT = shutil.which("linkgen", path=str(Path(sys.executable).parent))
 FIG_PX = (round(FIGSIZE[0] * DPI), round(FIGSIZE[1] * DPI))
 # The crank's pixels against the projected closed-form crank: within the capsule's projected

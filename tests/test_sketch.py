@@ -15,7 +15,7 @@ from linkgen.model.description import GROUND
 from linkgen.planar.sketch import exact_sketch
 
 ROOT = Path(__file__).resolve().parents[1]
-MODELS = sorted(p for p in (ROOT / "models").glob("*.toml"))
+from conftest import MODELS  # linkages (cam files have tests of their own)
 # Lengths after assembly against the given ones: a few roundings of the closed form.
 LENGTH_TOL = 1e-12
 

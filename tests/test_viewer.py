@@ -15,7 +15,7 @@ from linkgen.mujoco.scene import KEY, SERVO
 from linkgen.mujoco.simulate import simulate
 
 ROOT = Path(__file__).resolve().parents[1]
-MODELS = sorted((ROOT / "models").glob("*.toml"))
+from conftest import MODELS  # linkages (cam files have tests of their own)
 # The acceptance: the crank turns by ω·t within 1 % over one second.
 TURN_TOL = 0.01
 # How far the soft range limit lets the servo push the crank past the range's end [rad]

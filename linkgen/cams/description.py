@@ -7,6 +7,7 @@ value and what is allowed; inside, SI units and radians.
     [cam]        base_radius [m] (an oscillating follower may give follower.lowest_angle instead),
                  omega [rad/s or "60rpm"], > 0: counter-clockwise
     [follower]   kind = "translating" | "oscillating"; roller_radius [m] (0: knife edge);
+                 translating only: face = "roller" (default) | "flat" (a face square to its motion);
                  translating: offset [m], mass [kg]; oscillating: pivot_distance [m],
                  arm_length [m], inertia [kg·m² about the pivot], lowest_angle (optional);
                  spring_rate [N/m or N·m/rad], spring_preload [N or N·m at the lowest position]
@@ -31,7 +32,7 @@ from linkgen.model.units import angular_speed, finite, length, non_negative, par
 _TOP = {"mechanism", "cam", "follower", "segment", "law"}
 _MECH = {"name", "title", "gravity"}
 _CAM = {"base_radius", "omega"}
-_FOLLOWER = {"kind", "roller_radius", "offset", "mass", "pivot_distance", "arm_length", "inertia", "lowest_angle",
+_FOLLOWER = {"kind", "face", "roller_radius", "offset", "mass", "pivot_distance", "arm_length", "inertia", "lowest_angle",
              "spring_rate", "spring_preload"}
 _SEGMENT = {"kind", "span", "law", "height"}
 _LAW = {"kind", "amplitude", "mean", "phase"}
@@ -190,7 +191,12 @@ def cam_from_dict(data: dict) -> CamMechanism:
         if "base_radius" not in cam:
             raise DescriptionError("cam.base_radius", "is required")
         rb = length(cam["base_radius"], "cam.base_radius")
-        fol = Follower(kind, program, rb, rr, offset=length(f.get("offset", 0.0), "follower.offset"))
+        face = f.get("face", "roller")
+        if face not in ("roller", "flat"):
+            raise DescriptionError("follower.face", f"must be \"roller\" or \"flat\", got {shown(face)}")
+        if face == "flat" and rr > 0:
+            raise DescriptionError("follower.roller_radius", "a flat-faced follower has no roller: leave it out or 0")
+        fol = Follower(kind, program, rb, rr, offset=length(f.get("offset", 0.0), "follower.offset"), face=face)
     if not rb > 0:
         raise DescriptionError("cam.base_radius", f"must be > 0 m (the base circle inside the roller), got {rb:g}")
     try:

@@ -37,6 +37,11 @@ class Follower:
     offset: float = 0.0
     pivot_distance: float = 0.0
     arm_length: float = 0.0
+    face: str = "roller"  # "roller" (a knife edge is a roller of radius 0) or "flat" (translating only)
+
+    @property
+    def flat(self) -> bool:
+        return self.face == "flat"
 
     @property
     def prime_radius(self) -> float:
@@ -44,7 +49,10 @@ class Follower:
 
     @property
     def lift_origin(self) -> float:
-        """Translating: d [m], the roller centre's height at the lowest position."""
+        """Translating: d [m], the roller centre's height at the lowest position (a flat face's
+        height, r_b)."""
+        if self.flat:
+            return self.base_radius
         r0 = self.prime_radius
         if abs(self.offset) >= r0:
             raise ValueError(f"the offset {self.offset:g} m must be below base + roller radius {r0:g} m")
@@ -69,7 +77,11 @@ class Follower:
     def centre(self, theta) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         """Roller centre C (n, 2) [m] in the fixed frame with dC/dθ, d²C/dθ², and the unit
         direction u (n, 2) in which it moves as the follower rises."""
-        q, q1, q2, _ = self.output(theta)
+        q, q1, q2, q3 = self.output(theta)
+        if self.flat:  # the contact point on the face: x = ds/dθ (the envelope of the face's lines)
+            n = q.shape[0]
+            c = np.column_stack([q1, self.base_radius + q])
+            return c, np.column_stack([q2, q1]), np.column_stack([q3, q2]), np.column_stack([np.zeros(n), np.ones(n)])
         if self.kind == "translating":
             n = q.shape[0]
             c = np.column_stack([np.full(n, self.offset), self.lift_origin + q])
@@ -102,6 +114,8 @@ class Follower:
 
     def normal(self, theta) -> np.ndarray:
         """Unit contact normal (n, 2) in the fixed frame, pointing from the cam to the roller."""
+        if self.flat:
+            return self.centre(theta)[3]
         c, c1, _, _ = self.centre(theta)
         n = _perp(c1 - _perp(c))
         n /= np.hypot(n[:, 0], n[:, 1])[:, None]
@@ -115,13 +129,19 @@ class Follower:
         return np.arctan2(u[:, 0] * n[:, 1] - u[:, 1] * n[:, 0], np.sum(u * n, axis=1))
 
     def pitch_curvature_radius(self, theta) -> np.ndarray:
-        """Signed radius of curvature of the pitch curve [m] (> 0 where it is convex)."""
+        """Signed radius of curvature of the pitch curve [m] (> 0 where it is convex); for a flat
+        face, of the profile itself, r_b + s + s″."""
+        if self.flat:
+            q, _, q2, _ = self.output(theta)
+            return self.base_radius + q + q2
         _, d1, d2 = self.pitch_curve(theta)
         cross = d1[:, 0] * d2[:, 1] - d1[:, 1] * d2[:, 0]
         return -np.hypot(d1[:, 0], d1[:, 1]) ** 3 / cross  # the pitch curve runs clockwise
 
     def profile(self, theta) -> np.ndarray:
         """The cam's working surface (n, 2) [m] in its own frame."""
+        if self.flat:
+            return self.pitch_curve(theta)[0]  # the contact point itself
         p, d1, _ = self.pitch_curve(theta)
         n = np.column_stack([-d1[:, 1], d1[:, 0]]) / np.hypot(d1[:, 0], d1[:, 1])[:, None]
         inward = np.where((np.sum(n * p, axis=1) > 0)[:, None], -n, n)

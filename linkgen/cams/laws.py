@@ -17,7 +17,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-LAWS = ("harmonic", "cycloidal", "poly345")
+LAWS = ("harmonic", "cycloidal", "poly345", "modtrap")
 KINDS = ("rise", "dwell", "return")
 
 
@@ -31,10 +31,58 @@ def rise(law: str, x: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, n
     if law == "cycloidal":
         p = 2 * math.pi
         return x - np.sin(p * x) / p, 1 - np.cos(p * x), p * np.sin(p * x), p * p * np.cos(p * x)
+    if law == "modtrap":
+        return _modtrap(x)
     if law == "poly345":
         return (10 * x**3 - 15 * x**4 + 6 * x**5, 30 * x**2 - 60 * x**3 + 30 * x**4,
                 60 * x - 180 * x**2 + 120 * x**3, 60 - 360 * x + 360 * x**2)
     raise ValueError(f"unknown law {law!r}; known: {LAWS}")
+
+
+_W = 4 * math.pi  # the modified trapezoid's sine ramps last 1/8 of the span
+
+
+def _modtrap_piece(k: int, u, s0: float, v0: float, a: float):
+    """Piece k (0..4) of the modified trapezoid at u = x − its start, from s0, v0, peak acceleration a."""
+    w = _W
+    if k == 0:  # a·sin(wu): the ramp up
+        return (s0 + v0 * u + a * (u / w - np.sin(w * u) / w**2), v0 + a * (1 - np.cos(w * u)) / w,
+                a * np.sin(w * u), a * w * np.cos(w * u))
+    if k in (1, 3):  # constant ±a
+        c = a if k == 1 else -a
+        return s0 + v0 * u + 0.5 * c * u * u, v0 + c * u, c + 0 * u, 0 * u
+    sign = 1.0 if k == 2 else -1.0  # k = 2: a·cos(wu) from +a to −a; k = 4: −a·cos(wu) from −a to 0
+    return (s0 + v0 * u + sign * a * (1 - np.cos(w * u)) / w**2, v0 + sign * a * np.sin(w * u) / w,
+            sign * a * np.cos(w * u), -sign * a * w * np.sin(w * u))
+
+
+_MT_EDGES = (0.0, 0.125, 0.375, 0.625, 0.875, 1.0)
+
+
+def _modtrap_starts(a: float) -> list[tuple[float, float]]:
+    out, s0, v0 = [], 0.0, 0.0
+    for k in range(5):
+        out.append((s0, v0))
+        s0, v0, _, _ = (float(x) for x in _modtrap_piece(k, np.float64(_MT_EDGES[k + 1] - _MT_EDGES[k]), s0, v0, a))
+    return out + [(s0, v0)]
+
+
+# The peak acceleration of a unit rise over a unit span (4.888…): the one that ends the rise at 1.
+_MT_PEAK = 1.0 / _modtrap_starts(1.0)[-1][0]
+_MT_STARTS = _modtrap_starts(_MT_PEAK)
+
+
+def _modtrap(x: np.ndarray):
+    """The modified trapezoidal law: acceleration a sine ramp over the first eighth, constant over
+    the next quarter, a cosine through zero over the middle quarter, then the mirror image."""
+    out = [np.zeros_like(x) for _ in range(4)]
+    for k in range(5):
+        lo, hi = _MT_EDGES[k], _MT_EDGES[k + 1]
+        inside = (x >= lo) & ((x < hi) if k < 4 else (x <= hi))
+        s0, v0 = _MT_STARTS[k]
+        for i, val in enumerate(_modtrap_piece(k, x[inside] - lo, s0, v0, _MT_PEAK)):
+            out[i][inside] = val
+    return tuple(out)
 
 
 @dataclass(frozen=True)

@@ -35,6 +35,17 @@ def _follower(ax, cm, centre: np.ndarray, frame_angle: float, size: float, alpha
     from matplotlib.patches import Circle
 
     f = cm.follower
+    if f.flat:  # the face square to the motion, the stem on the follower's axis
+        up = _rot(np.array([[0.0, 1.0]]), frame_angle)[0]
+        side = np.array([up[1], -up[0]])
+        foot = centre + side * (f.offset - float(np.dot(centre, side)))
+        reach = 0.22 * size
+        a, b = foot - side * reach, foot + side * reach
+        ax.plot([a[0], b[0]], [a[1], b[1]], color=LINK, lw=3.0, alpha=alpha, zorder=5, solid_capstyle="butt")
+        top = foot + up * 0.35 * size
+        ax.plot([foot[0], top[0]], [foot[1], top[1]], color=LINK, lw=3.0, alpha=alpha, zorder=4)
+        ax.plot(*centre, "o", ms=3, color=INK, alpha=alpha, zorder=6)  # the contact point
+        return
     rr = max(f.roller_radius, 0.006 * size)
     ax.add_patch(Circle(centre, rr, facecolor=(*LINK, 0.25 * alpha), edgecolor=(*LINK, alpha), lw=1.6, zorder=5))
     if f.kind == "translating":
@@ -68,6 +79,7 @@ def cam_figure(cm, theta: float, out: Path | None = None):
     _follower(ax, cm, centre, 0.0, size)
     if f.kind == "translating":
         guide_y = centre[1] + 0.2 * size
+        centre = np.array([f.offset, centre[1]]) if f.flat else centre
         for s in (-1, 1):
             x = f.offset + s * 0.03 * size
             hatch_line(ax, (x, guide_y - 0.05 * size), (x, guide_y + 0.05 * size), np.array([s, 0.0]), size, z=3)

@@ -119,6 +119,9 @@ def loads(raw: bytes | str, source: str = "<description>") -> Mechanism:
 
 def from_dict(data: dict) -> Mechanism:
     """Build a Mechanism from the parsed TOML structure."""
+    if isinstance(data, dict) and "cam" in data:
+        raise DescriptionError("cam", "this is a cam mechanism; analyze, draw, profile, build and validate take it "
+                                      "(docs/cams.md), this command takes linkages")
     _keys(data, _TOP, {"mechanism", "points", "links", "drive"}, "description")
     mech = _table(data["mechanism"], "mechanism")
     _keys(mech, _MECH, {"name"}, "mechanism")

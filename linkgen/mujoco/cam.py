@@ -5,7 +5,7 @@ follower's motion, the contact force and the cam torque with the closed form.
 The profile is a mesh: the profile polygon (PROFILE_POINTS vertices) extruded along z. MuJoCo
 collides a mesh as its convex hull, so a profile that is concave anywhere is refused with the
 angles where. The roller is a cylinder (a knife edge a cylinder of KNIFE_RADIUS of the base
-circle). Contacts are frictionless (condim 1), time constant CONTACT_TIME timesteps, impedance 0.9999; the
+circle), a flat face a thin box. Contacts are frictionless (condim 1), time constant CONTACT_TIME timesteps, impedance 0.9999; the
 convex collision runs to CCD_TOLERANCE.
 
 What this costs (measured, validation figures in docs/cams.md): the profile is a polygon, and
@@ -41,7 +41,7 @@ CCD_TOLERANCE = 1e-12
 CCD_ITERATIONS = 200
 # The rotor's inertia holds the cam speed to SPEED_HOLD of ω against the cam torque's energy swing.
 SPEED_HOLD = 1e-9
-CAM, FOLLOWER, SPRING = "cam", "follower", "follower:spring"
+CAM, FOLLOWER, SPRING, CONTACT = "cam", "follower", "follower:spring", "follower:contact"
 # The contact force and cam torque are compared as means over this many equal parts of a turn.
 WINDOWS = 72
 # What MuJoCo's soft, faceted contact holds, set from measurement on the bundled cams (twice the
@@ -123,8 +123,15 @@ def cam_mjcf(cm: CamMechanism) -> str:
                          size=_f(0.01 * size), rgba="0.25 0.45 0.8 1", contype="0", conaffinity="0")
         # q = −(ψ − ψ0): the spring torque (preload + rate·(ψ − ψ0)) turns the arm towards the cam, +q
         bias = f"{_f(cm.spring_preload)} {_f(-cm.spring_rate)} 0"
-    etree.SubElement(fol, "geom", name="follower:roller", type="cylinder", pos=roller_pos, size=f"{_f(rr)} {_f(half)}",
-                     rgba="0.25 0.45 0.8 1", contype="2", conaffinity="1", **contact)
+    if f.flat:  # the face, square to the motion, wide enough for every contact point x = ds/dθ
+        reach = float(np.abs(f.output(th)[1]).max()) + 0.05 * size
+        thick = 0.01 * size
+        etree.SubElement(fol, "geom", name=CONTACT, type="box", pos=f"{_f(-f.offset)} {_f(thick)} 0",
+                         size=f"{_f(reach)} {_f(thick)} {_f(half)}", rgba="0.25 0.45 0.8 1", contype="2",
+                         conaffinity="1", **contact)
+    else:
+        etree.SubElement(fol, "geom", name=CONTACT, type="cylinder", pos=roller_pos, size=f"{_f(rr)} {_f(half)}",
+                         rgba="0.25 0.45 0.8 1", contype="2", conaffinity="1", **contact)
     actuator = etree.SubElement(root, "actuator")
     etree.SubElement(actuator, "general", name=SPRING, joint=FOLLOWER, gainprm="0", biastype="affine", biasprm=bias)
     return etree.tostring(root, encoding="unicode", pretty_print=True)
@@ -165,7 +172,7 @@ def run_cam(cm: CamMechanism, revolutions: float = 1.0) -> CamRun:
         lead = per_turn // 8
         total = lead + int(round(revolutions * per_turn))
         out = np.zeros((total - lead, 5))
-        roller, profile = model.geom("follower:roller").id, model.geom("cam:profile").id
+        roller, profile = model.geom(CONTACT).id, model.geom("cam:profile").id
         force6 = np.zeros(6)
         for k in range(total):
             if k >= lead:
