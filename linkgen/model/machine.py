@@ -95,6 +95,19 @@ class Machine:
     shaft: Shaft | None = None
     process_load: ProcessLoad | None = None
 
+    def top_speed(self, drive_omega: float) -> float:
+        """The largest crank speed the machine can reach [rad/s]: the motor's no-load or
+        synchronous speed through the gearbox, or the start or prescribed speed if higher."""
+        m, u = self.motor, self.gear_ratio
+        w = max(drive_omega, self.start_speed)
+        if m.kind == "linear":
+            w = max(w, m.no_load_speed / u)
+        elif m.kind == "induction":
+            w = max(w, m.synchronous_speed / u)
+        elif m.kind == "dc":
+            w = max(w, m.voltage / m.emf_constant / u)
+        return w
+
     @property
     def added_inertia(self) -> float:
         """Rotor and flywheel reduced to the crank [kg·m²] (the rotor's through the gear ratio²)."""

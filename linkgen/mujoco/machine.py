@@ -80,18 +80,6 @@ class _LoadTable:
         return np.asarray(self.table.mean(a, b)).reshape(self.shape)
 
 
-def _peak_speed(machine: Machine, asm: Assembly) -> float:
-    m, u = machine.motor, machine.gear_ratio
-    w = max(asm.mechanism.drive.omega, machine.start_speed)
-    if m.kind == "linear":
-        w = max(w, m.no_load_speed / u)
-    elif m.kind == "induction":
-        w = max(w, m.synchronous_speed / u)
-    elif m.kind == "dc":
-        w = max(w, m.voltage / m.emf_constant / u)
-    return w
-
-
 @no_log_file()
 def run_machine_mujoco(asm: Assembly, machine: Machine, t: np.ndarray, reactions: bool = False) -> MujocoMachineRun:
     """Run the machine in MuJoCo from its start speed and sample at times ``t`` (n,) [s]; with
@@ -102,7 +90,7 @@ def run_machine_mujoco(asm: Assembly, machine: Machine, t: np.ndarray, reactions
     mech = asm.mechanism
     xml = write_mjcf(asm, PLACEHOLDER)
     model = mujoco.MjModel.from_xml_string(xml)
-    settings, scales = derive(asm, model, omega=_peak_speed(machine, asm))
+    settings, scales = derive(asm, model, omega=machine.top_speed(asm.mechanism.drive.omega))
     if machine.shaft is not None:
         model = mujoco.MjModel.from_xml_string(_with_shaft(xml, mech, machine))
     apply(model, settings, mech.drive.joint)

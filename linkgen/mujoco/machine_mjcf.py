@@ -36,25 +36,12 @@ def _f(x: float) -> str:
     return repr(float(x))
 
 
-def peak_speed(machine: Machine, asm: Assembly) -> float:
-    """The largest crank speed the machine can reach [rad/s] (its settings are derived for it)."""
-    m, u = machine.motor, machine.gear_ratio
-    w = max(asm.mechanism.drive.omega, machine.start_speed)
-    if m.kind == "linear":
-        w = max(w, m.no_load_speed / u)
-    elif m.kind == "induction":
-        w = max(w, m.synchronous_speed / u)
-    elif m.kind == "dc":
-        w = max(w, m.voltage / m.emf_constant / u)
-    return w
-
-
 def machine_settings(asm: Assembly, machine: Machine):
     """The validation settings of the linkage at the machine's peak speed, with the crank's
     armature the machine's own inertia on the crank (rotor and flywheel, or the flywheel alone
     behind an elastic shaft)."""
     model = mujoco.MjModel.from_xml_string(write_mjcf(asm, PLACEHOLDER))
-    settings, _ = derive(asm, model, omega=peak_speed(machine, asm))
+    settings, _ = derive(asm, model, omega=machine.top_speed(asm.mechanism.drive.omega))
     crank = machine.flywheel_inertia if machine.shaft is not None else machine.added_inertia
     return replace(settings, armature=crank)
 
@@ -221,4 +208,4 @@ def run_native(asm: Assembly, machine: Machine, t: np.ndarray, timestep: float |
     return MujocoMachineRun(out["t"], out["phi"], out["w"], out["m"], steps, dt, out["twist"] if shaft else None)
 
 
-__all__ = ["MOTOR", "ROTOR", "SHAFT", "START_KEY", "machine_mjcf", "machine_settings", "dc_scales", "peak_speed", "run_native"]
+__all__ = ["MOTOR", "ROTOR", "SHAFT", "START_KEY", "machine_mjcf", "machine_settings", "dc_scales", "run_native"]
