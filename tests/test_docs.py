@@ -29,12 +29,12 @@ def test_the_complete_example_loads():
 
 def test_every_fragment_uses_allowed_keys():
     allowed = {"links": reader._LINK | {"inertial"}, "prismatic": reader._PRISMATIC, "drive": reader._DRIVE,
-               "force": reader._FORCE, "torque": reader._TORQUE, "mechanism": reader._MECH}
+               "force": reader._FORCE, "torque": reader._TORQUE, "mechanism": reader._MECH, "gear": reader._GEAR}
     for b in blocks(FORMAT):
         for table, content in b.items():
             assert table in reader._TOP or table == "points", table
             items = content if isinstance(content, list) else (
-                list(content.values()) if table in ("links", "prismatic") else [content])
+                list(content.values()) if table in ("links", "prismatic", "gear") else [content])
             if table == "points":
                 continue
             for item in items:
@@ -45,7 +45,7 @@ def test_every_fragment_uses_allowed_keys():
 
 def test_every_key_is_documented():
     for keys in (reader._MECH, reader._LINK, reader._INERTIAL, reader._PRISMATIC, reader._DRIVE, reader._FORCE,
-                 reader._TORQUE):
+                 reader._TORQUE, reader._GEAR):
         for k in keys:
             assert f"`{k}`" in FORMAT or f"[links.NAME.{k}]" in FORMAT, k
     for k in _MACHINE:

@@ -36,7 +36,14 @@ def cmd_structure(args) -> int:
     asm = assemble(load(args.model))
     s = asm.structure
     print(f"mechanism: {asm.mechanism.name}")
-    print(f"mobility W = 3·n - 2·p5 = 3·{s.moving_links} - 2·{s.lower_pairs} = {s.mobility}")
+    p4 = len(asm.mechanism.gears)
+    if p4:
+        print(f"mobility W = 3·n - 2·p5 - p4 = 3·{s.moving_links} - 2·{s.lower_pairs} - {p4} = {s.mobility}")
+        for g in asm.mechanism.gears:
+            print(f"gear pair {g.name!r}: planet {g.planet!r} on the crank, {g.kind} mesh {g.teeth[0]}/{g.teeth[1]} "
+                  f"teeth, module {g.module:g} m: the planet turns {g.ratio:+g} times the crank")
+    else:
+        print(f"mobility W = 3·n - 2·p5 = 3·{s.moving_links} - 2·{s.lower_pairs} = {s.mobility}")
     print(f"input link: I(0,1) crank {s.crank!r}, driven at {s.drive.name!r}")
     for g, m in zip(s.groups, asm.branches):
         pairs = ", ".join(f"{p.kind} {p.name}" for p in g.pairs)

@@ -156,6 +156,13 @@ def draw_skeleton(ax, pos: Positions, frame: Frame, i: int, *, alpha: float = 1.
             _support(ax, pos.points[rev.point][i], size, alpha)
     for pair in pos.guides:
         _guide(ax, pos, frame, pair, i, alpha)
+    for g in mech.gears:  # pitch circles: the fixed gear about the crank's pivot, the planet about its centre
+        pivot = pos.points[mech.revolute(mech.drive.joint).point][i]
+        centre = pos.points[mech.link(g.planet).points[0]][i]
+        ax.add_patch(Circle(pivot, g.fixed_radius, fill=False, edgecolor=GROUND_GREY, lw=1.0, ls=(0, (6, 3)),
+                            alpha=alpha, zorder=1))
+        ax.add_patch(Circle(centre, g.planet_radius, facecolor=(*LINK, 0.08 * alpha), edgecolor=(*LINK, alpha),
+                            lw=1.2, ls=(0, (6, 3)), zorder=2.5))
     for link in mech.links:
         if link.name == GROUND:
             continue
@@ -192,6 +199,11 @@ def draw_skeleton(ax, pos: Positions, frame: Frame, i: int, *, alpha: float = 1.
 def set_limits(ax, paths: Positions, frame: Frame, margin: float = 0.12) -> None:
     """Equal scale, the whole range's extent plus a margin (a fraction of the size)."""
     x0, x1, y0, y1 = paths.bounds()
+    mech = paths.mechanism
+    for g in mech.gears:  # the fixed gear's pitch circle is part of the drawing
+        px, py = paths.points[mech.revolute(mech.drive.joint).point][0]
+        r = g.fixed_radius
+        x0, x1, y0, y1 = min(x0, px - r), max(x1, px + r), min(y0, py - r), max(y1, py + r)
     m = margin * frame.size
     ax.set_xlim(x0 - m, x1 + m)
     ax.set_ylim(y0 - m - SUPPORT[1] * frame.size, y1 + m)

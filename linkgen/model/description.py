@@ -124,6 +124,42 @@ class LinkTorque:
 
 
 @dataclass(frozen=True)
+class Gear:
+    """A gear pair: the gear on link ``planet``, its pitch circle centred on the planet's first
+    point (a point of the crank, which carries it), meshing with a gear fixed to the ground and
+    centred on the crank's pivot — ``kind`` "internal" (a ring gear) or "external" (a sun gear);
+    ``module`` m [m], ``teeth`` = (z_fixed, z_planet), ``pressure_angle`` [rad].
+
+    The planet's angle turns ``ratio`` = 1 − z_fixed/z_planet (internal) or 1 + z_fixed/z_planet
+    (external) times the crank's; the centre distance is m·(z_fixed ∓ z_planet)/2."""
+
+    name: str
+    planet: str
+    kind: str
+    module: float
+    teeth: tuple[int, int]
+    pressure_angle: float = math.radians(20.0)
+
+    @property
+    def ratio(self) -> float:
+        zf, zp = self.teeth
+        return 1.0 - zf / zp if self.kind == "internal" else 1.0 + zf / zp
+
+    @property
+    def planet_radius(self) -> float:
+        return 0.5 * self.module * self.teeth[1]
+
+    @property
+    def fixed_radius(self) -> float:
+        return 0.5 * self.module * self.teeth[0]
+
+    @property
+    def centre_distance(self) -> float:
+        return self.fixed_radius - self.planet_radius if self.kind == "internal" else \
+            self.fixed_radius + self.planet_radius
+
+
+@dataclass(frozen=True)
 class Mechanism:
     """A validated planar mechanism. Raises DescriptionError on construction if invalid."""
 
@@ -140,6 +176,7 @@ class Mechanism:
     forces: tuple[PointForce, ...] = ()
     torques: tuple[LinkTorque, ...] = ()
     title: str = ""
+    gears: tuple[Gear, ...] = ()
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "points", MappingProxyType(dict(self.points)))
@@ -147,6 +184,7 @@ class Mechanism:
         object.__setattr__(self, "prismatics", tuple(self.prismatics))
         object.__setattr__(self, "forces", tuple(self.forces))
         object.__setattr__(self, "torques", tuple(self.torques))
+        object.__setattr__(self, "gears", tuple(self.gears))
         validate(self)
 
     def link(self, name: str) -> Link:
@@ -172,7 +210,12 @@ class Mechanism:
 
     @cached_property
     def revolutes(self) -> tuple[Revolute, ...]:
-        return derive_revolutes(self.links, self.prismatics, self.drive.joint)
+        return derive_revolutes(self.links, self.prismatics, self.drive.joint, tuple(g.planet for g in self.gears))
+
+    @cached_property
+    def planets(self) -> tuple[str, ...]:
+        """Links whose angle a gear pair ties to the crank's: known with it."""
+        return tuple(g.planet for g in self.gears)
 
     def revolute(self, name: str) -> Revolute:
         return self._by_name[1][name]
@@ -187,7 +230,7 @@ class Mechanism:
 
 
 def derive_revolutes(links: tuple[Link, ...], prismatics: tuple[Prismatic, ...] = (),
-                     drive_joint: str | None = None) -> tuple[Revolute, ...]:
+                     drive_joint: str | None = None, planets: tuple[str, ...] = ()) -> tuple[Revolute, ...]:
     """Revolute pairs implied by points shared between links, in the order their points
     first appear.
 
@@ -205,7 +248,7 @@ def derive_revolutes(links: tuple[Link, ...], prismatics: tuple[Prismatic, ...] 
         for p in dict.fromkeys(link.points):
             carriers.setdefault(p, []).append(link.name)
     compound = {p for p, names in carriers.items() if len(names) > 2}
-    chosen = _decomposed_hinges(links, prismatics, drive_joint, carriers) if compound else None
+    chosen = _decomposed_hinges(links, prismatics, drive_joint, carriers, planets) if compound else None
     joints = []
     for point, names in carriers.items():
         if len(names) < 2:
@@ -220,7 +263,7 @@ def derive_revolutes(links: tuple[Link, ...], prismatics: tuple[Prismatic, ...] 
     return tuple(joints)
 
 
-def _decomposed_hinges(links, prismatics, drive_joint, carriers) -> dict[str, list[tuple[str, str]]] | None:
+def _decomposed_hinges(links, prismatics, drive_joint, carriers, planets=()) -> dict[str, list[tuple[str, str]]] | None:
     """Point → the pairs of links the decomposition joins there, or None if it does not
     decompose (or the description is not yet valid enough to try)."""
     names = [link.name for link in links]
@@ -233,7 +276,7 @@ def _decomposed_hinges(links, prismatics, drive_joint, carriers) -> dict[str, li
         return None
     try:
         groups, left = decompose({link.name: tuple(link.points) for link in links},
-                                 [(pj.name, pj.slider, pj.guide) for pj in prismatics], movers[0])
+                                 [(pj.name, pj.slider, pj.guide) for pj in prismatics], movers[0], planets)
     except TypeError:  # names of the wrong type: validation reports them
         return None
     if left:
@@ -252,6 +295,7 @@ def _decomposed_hinges(links, prismatics, drive_joint, carriers) -> dict[str, li
 
 __all__ = [
     "GROUND",
+    "Gear",
     "MassProperties",
     "Link",
     "Prismatic",

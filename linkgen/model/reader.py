@@ -8,6 +8,7 @@ from typing import Any
 
 from linkgen.model.description import (
     Drive,
+    Gear,
     Link,
     LinkTorque,
     MassProperties,
@@ -20,7 +21,8 @@ from linkgen.model.names import check_name
 from linkgen.errors import DescriptionError
 from linkgen.model.units import angular_acceleration, angular_speed, finite, length, parse_angle, point2, shown, vector2
 
-_TOP = {"mechanism", "points", "links", "prismatic", "drive", "force", "torque", "machine"}
+_TOP = {"mechanism", "points", "links", "prismatic", "drive", "force", "torque", "machine", "gear"}
+_GEAR = {"planet", "kind", "module", "teeth", "pressure_angle"}
 _MECH = {"name", "title", "gravity"}
 _LINK = {"points", "length", "inertial", "density", "shape", "areal_density"}
 _INERTIAL = {"mass", "com", "inertia"}
@@ -143,7 +145,21 @@ def from_dict(data: dict) -> Mechanism:
         gravity=vector2(mech.get("gravity", [0.0, 0.0]), "mechanism.gravity"),
         forces=tuple(_force(i, f) for i, f in enumerate(_list(data.get("force", []), "force"))),
         torques=tuple(_torque(i, t) for i, t in enumerate(_list(data.get("torque", []), "torque"))),
+        gears=tuple(_gear(name, spec) for name, spec in _table(data.get("gear", {}), "gear").items()),
     )
+
+
+def _gear(name: str, spec: Any) -> Gear:
+    where = f"gear.{name}"
+    t = _table(spec, where)
+    _keys(t, _GEAR, {"planet", "kind", "module", "teeth"}, where)
+    teeth = t["teeth"]
+    if not (isinstance(teeth, list) and len(teeth) == 2 and all(isinstance(z, int) and not isinstance(z, bool)
+                                                                for z in teeth)):
+        raise DescriptionError(f"{where}.teeth", f"must be [z_fixed, z_planet], two whole numbers, got {shown(teeth)}")
+    return Gear(check_name(name, where), _str(t["planet"], f"{where}.planet"), _str(t["kind"], f"{where}.kind"),
+                length(t["module"], f"{where}.module"), (teeth[0], teeth[1]),
+                parse_angle(t.get("pressure_angle", "20deg"), f"{where}.pressure_angle"))
 
 
 def _list(value: Any, where: str) -> list:

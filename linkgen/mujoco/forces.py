@@ -115,6 +115,11 @@ def inverse_forces(asm: Assembly, model: mujoco.MjModel, data: mujoco.MjData, ph
         anchors.append((pair, eq, b1, b2, point))
     drive = np.zeros(model.nv)
     drive[crank.dofadr[0]] = 1.0
+    for g in asm.mechanism.gears:  # a gear coupling: q_pin − (k − 1)·q_crank = 0, a torque pair
+        col = np.zeros(model.nv)
+        col[model.joint(model.eq_obj1id[model.equality(f"gear:{g.name}").id]).dofadr[0]] = 1.0
+        col[crank.dofadr[0]] -= g.ratio - 1.0
+        cols.append(col)
     k = np.column_stack(cols + [drive])
     # qfrc_inverse excludes what the soft constraints push (efc_force ≈ 0, not exactly 0 with
     # R > 0): add it back so that λ carries all of the loop's force.

@@ -230,6 +230,12 @@ def write_mjcf(source: Mechanism | Assembly, settings: Settings | None = None) -
                      solimp=settings.solimp_text)
         etree.SubElement(equality, "connect", body1=body_name(a), **({"body2": body_name(b)} if b != GROUND else {}),
                          **attrs)
+    for g in mech.gears:  # the planet's pin angle (relative to the crank) is (k − 1) times the crank's
+        pin = next(r.name for r in mech.revolutes
+                   if r.point == mech.link(g.planet).points[0] and set(r.links) == {mech.crank, g.planet})
+        etree.SubElement(equality, "joint", name=f"gear:{g.name}", joint1=pin, joint2=mech.drive.joint,
+                         polycoef=vec(0.0, g.ratio - 1.0, 0.0, 0.0, 0.0), solref=settings.solref,
+                         solimp=settings.solimp_text)
     actuator = etree.SubElement(root, "actuator")
     etree.SubElement(actuator, "motor", name=DRIVE_ACTUATOR, joint=mech.drive.joint, gear="1")
     add_servo(actuator, mech.drive.joint, settings.armature, mech.drive.omega)

@@ -37,7 +37,21 @@ def joint_states(asm: Assembly, model: mujoco.MjModel, phi: np.ndarray, omega: n
             d1, d2 = sign * s.d1[:m], sign * s.d2[:m]
         qvel[:, j.dofadr[0]] = d1 * omega
         qacc[:, j.dofadr[0]] = d2 * omega * omega + d1 * epsilon
+    _unwrap_gears(asm.mechanism, model, qpos, phi - asm.sketch_phi)
     return qpos, qvel, qacc
+
+
+def _unwrap_gears(mech: Mechanism, model: mujoco.MjModel, qpos: np.ndarray, turned: np.ndarray) -> None:
+    """A gear coupling ties the raw hinge angles, q_pin = (k − 1)·q_crank: the crank's q is
+    the angle turned from the reference pose (not wrapped), and each planet's pin follows it."""
+    if not mech.gears:
+        return
+    drive = model.joint(mech.drive.joint).qposadr[0]
+    qpos[:, drive] = turned
+    for g in mech.gears:
+        pin = next(r.name for r in mech.revolutes
+                   if r.point == mech.link(g.planet).points[0] and set(r.links) == {mech.crank, g.planet})
+        qpos[:, model.joint(pin).qposadr[0]] = (g.ratio - 1.0) * turned
 
 
 def joint_state(asm: Assembly, model: mujoco.MjModel, phi: float, omega: float,
@@ -78,6 +92,7 @@ def tree_state(mech: Mechanism, model, phi, omega=0.0) -> tuple[np.ndarray, np.n
             s, sd = _slide(st, g)
             q, qd = sign * (s - q0[0]), sign * sd
         qpos[:, j.qposadr[0]], qvel[:, j.dofadr[0]] = q, qd
+    _unwrap_gears(mech, model, qpos, st.phi - ref.phi[0])
     return qpos, qvel
 
 

@@ -82,7 +82,12 @@ def spanning_tree(source: Mechanism | Assembly) -> TreeInfo:
     mass = {n: effective_mass_properties(mech, shapes, n).mass for n in mech.moving_links} | {GROUND: math.inf}
     revolutes = sorted((p for p in pairs if p.kind == "R" and p is not drive),
                        key=lambda p: min(mass[p.links[0]], mass[p.links[1]]))
-    ordered = [drive] + [p for p in pairs if p.kind == "P"] + revolutes
+    planet_pins = [p for p in revolutes if any(set(p.links) == {mech.crank, planet} and
+                                               mech.revolute(p.name).point == mech.link(planet).points[0]
+                                               for planet in mech.planets)]
+    revolutes = [p for p in revolutes if p not in planet_pins]
+    # a planet hangs on the crank by its pin, so its gear coupling ties two joints of the tree
+    ordered = [drive] + planet_pins + [p for p in pairs if p.kind == "P"] + revolutes
     root = {n: n for n in mech.link_names}
 
     def find(n):

@@ -15,7 +15,7 @@ Conn = tuple[str, str, tuple[str, str]]
 
 
 def decompose(link_points: dict[str, tuple[str, ...]], prismatics: list[tuple[str, str, str]],
-              crank: str) -> tuple[list[tuple[tuple[str, str], tuple[Conn, Conn, Conn]]], list[str]]:
+              crank: str, planets: tuple[str, ...] = ()) -> tuple[list[tuple[tuple[str, str], tuple[Conn, Conn, Conn]]], list[str]]:
     """Class-II groups from the links' points and prismatic pairs, in attachment order.
 
     Works on points, not on revolutes: at a point carried by k links (a compound hinge) each
@@ -31,6 +31,7 @@ def decompose(link_points: dict[str, tuple[str, ...]], prismatics: list[tuple[st
         link_points: link name → its points, in description order (ground included).
         prismatics: (name, slider, guide) per prismatic pair.
         crank: the driven link; it and ground are known from the start.
+        planets: links a gear pair ties to the crank (their first point on it): known next.
 
     Returns:
         ([((link1, link2), (outer1, inner, outer2)), ...], links left over): outer1 joins
@@ -94,6 +95,9 @@ def decompose(link_points: dict[str, tuple[str, ...]], prismatics: list[tuple[st
         return touched
 
     touched = make_known(GROUND) + make_known(crank) if crank in link_points and GROUND in link_points else []
+    for planet in planets:
+        if planet in link_points and planet not in known:
+            touched += make_known(planet)
     groups: list[tuple[tuple[str, str], tuple[Conn, Conn, Conn]]] = []
     while True:
         for link in dict.fromkeys(touched):

@@ -22,7 +22,9 @@ Sign conventions (documented in the CLI and README too):
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+import math
+
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -48,6 +50,9 @@ class Forces:
         reactions: revolute name → (n, 2) [N].
         normal_force, moment: prismatic name → (n,) [N], [N·m].
         reduced: the reduced dynamics at these angles.
+        tooth: gear pair name → the tooth force on its planet (n, 2) [N]: the tangential part
+            from the planet's moment balance about its centre, the radial part |F_t|·tan α
+            pushing the gears apart (along the line of action at the pressure angle α).
         singular: (n,) True at angles marked singular (``on_singular="mark"``); there every
             force and torque is 0.
     """
@@ -66,6 +71,7 @@ class Forces:
     moment: dict[str, np.ndarray]
     reduced: "ReducedDynamics"
     singular: np.ndarray
+    tooth: dict = field(default_factory=dict)
 
 
 @dataclass(frozen=True)
@@ -143,9 +149,9 @@ def forces(mech_or_asm, phi, omega, epsilon=0.0, threads: int | None = None, *,
     bad = [r for info in infos for r in info[0]]
     if bad:
         raise BalanceError(bad, max(info[1] for info in infos), BALANCE_TOL)
-    torque, power, reactions, normal, moment, (j, dj, m_red), marked = tree
+    torque, power, reactions, normal, moment, (j, dj, m_red), marked, tooth = tree
     return Forces(phi, np.array(np.broadcast_to(w, (n,))), np.array(np.broadcast_to(e, (n,))), torque, power,
-                  reactions, normal, moment, ReducedDynamics(j, dj, m_red), marked)
+                  reactions, normal, moment, ReducedDynamics(j, dj, m_red), marked, tooth)
 
 
 @np.errstate(invalid="ignore", divide="ignore", over="ignore")  # found and named by angle below
@@ -229,6 +235,28 @@ def _block_forces(asm: Assembly, kin: Kinematics, w: np.ndarray, e: np.ndarray):
         transmit(o1, group.known[0], x[:, 0:2])
         transmit(o2, group.known[1], x[:, 4:6])
 
+    tooth: dict[str, np.ndarray] = {}
+    for g in mech.gears:  # each planet: its tooth force from the moment about its centre, then its pin
+        planet, centre = g.planet, mech.link(g.planet).points[0]
+        pin = next(Pair("R", r.name, r.links) for r in mech.revolutes
+                   if r.point == centre and set(r.links) == {crank, planet})
+        c = kin.points[centre].p
+        pivot = kin.points[mech.revolute(drive.name).point].p
+        radial = (c - pivot) / np.hypot(*(c - pivot).T)[:, None]
+        tangent = np.stack([-radial[:, 1], radial[:, 0]], axis=1)
+        side = 1.0 if g.kind == "internal" else -1.0  # the pitch point beyond the centre, or before it
+        f_load, m_load = load[planet]
+        d = com[planet] - c
+        m_centre = m_load + d[:, 0] * f_load[:, 1] - d[:, 1] * f_load[:, 0]
+        f_t = -m_centre / (side * g.planet_radius)
+        f_tooth = f_t[:, None] * tangent + (np.abs(f_t) * math.tan(g.pressure_angle))[:, None] * (-side * radial)
+        tooth[g.name] = f_tooth
+        r = -(f_load + f_tooth)  # on the planet from the crank
+        x = r if planet == pin.links[0] else -r
+        store(pin, x)
+        transmit(pin, crank, x)
+        scale += span * np.hypot(*x.T)
+
     a = np.zeros((n, 3, 3))
     for k, (f, m) in enumerate(columns(drive, crank)):
         a[:, 0:2, k], a[:, 2, k] = f, m
@@ -242,7 +270,7 @@ def _block_forces(asm: Assembly, kin: Kinematics, w: np.ndarray, e: np.ndarray):
         for arr in (power, red.inertia, red.inertia_derivative, red.moment):
             arr[marked] = 0.0
     bad, worst = balance_failures(kin.phi, torque, power, scale, marked)
-    tree = (torque, power, reactions, normal, moment, (red.inertia, red.inertia_derivative, red.moment), marked)
+    tree = (torque, power, reactions, normal, moment, (red.inertia, red.inertia_derivative, red.moment), marked, tooth)
     return tree, (bad, worst)
 
 

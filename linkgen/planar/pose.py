@@ -91,8 +91,11 @@ class _Constraints:
         self.rev = [(j.links[0], self.shapes[j.links[0]].local[j.point], j.links[1], self.shapes[j.links[1]].local[j.point])
                     for j in mech.revolutes]
         self.pri = list(self.guides.values())
+        crank = self.shapes[mech.crank].sketch_angle
+        # a gear pair: θ_planet − k·θ_crank stays at its sketch value
+        self.gears = [(g.planet, g.ratio, self.shapes[g.planet].sketch_angle - g.ratio * crank) for g in mech.gears]
         self.n = 3 * len(self.links)
-        rows = 2 * len(self.rev) + 2 * len(self.pri) + 1
+        rows = 2 * len(self.rev) + 2 * len(self.pri) + len(self.gears) + 1
         if rows != self.n:  # validate() enforces mobility 1, so this is a programming error
             raise ArgumentError(f"{rows} constraint rows for {self.n} unknowns")
         self.length_row = np.zeros(self.n, dtype=bool)  # rows measured in metres (others in radians)
@@ -155,6 +158,11 @@ class _Constraints:
             put(r + 1, g.slider, [0.0, 0.0, 1.0])
             put(r + 1, g.guide, [0.0, 0.0, -1.0])
             r += 2
+        for planet, k, c0 in self.gears:
+            f[r] = self._frame(q, planet)[1] - k * self._frame(q, self.mech.crank)[1] - c0
+            put(r, planet, [0.0, 0.0, 1.0])
+            put(r, self.mech.crank, [0.0, 0.0, -k])
+            r += 1
         f[r] = self._frame(q, self.mech.crank)[1] - phi
         put(r, self.mech.crank, [0.0, 0.0, 1.0])
         return f, jac

@@ -99,7 +99,7 @@ def analyze(mech: Mechanism) -> Structure:
     if extra:
         raise StructureError(f"the crank {crank!r} has another pair with ground ({extra[0].name!r})")
     raw, rest = decompose({l.name: l.points for l in mech.links},
-                          [(j.name, j.slider, j.guide) for j in mech.prismatics], crank)
+                          [(j.name, j.slider, j.guide) for j in mech.prismatics], crank, mech.planets)
     if rest:
         raise StructureError(
             f"links {rest} do not decompose into class-II Assur groups attached to the crank; "
@@ -124,7 +124,7 @@ def analyze(mech: Mechanism) -> Structure:
         groups.append(Group(GroupKind(kind), (l1, l2), (o1, inner, o2), (o1.other(l1), o2.other(l2)),
                             (2 + 2 * i, 3 + 2 * i)))
     return Structure(
-        mobility=3 * n - 2 * len(pairs),
+        mobility=3 * n - 2 * len(pairs) - len(mech.gears),
         moving_links=n,
         lower_pairs=len(pairs),
         crank=crank,
