@@ -28,6 +28,8 @@ def forces_json(f: Forces, mech, i: int = 0) -> dict:
         "reduced_inertia": float(f.reduced.inertia[i]),
         "reduced_inertia_derivative": float(f.reduced.inertia_derivative[i]),
         "reduced_moment": float(f.reduced.moment[i]),
+        **({"tooth": {k: {"force": v[i].tolist(), "on": g}
+                      for (k, v), g in zip(f.tooth.items(), (g.planet for g in mech.gears))}} if f.tooth else {}),
     }
 
 
@@ -42,6 +44,9 @@ def _columns(f: Forces) -> tuple[list[str], list[np.ndarray]]:
     for k in f.normal_force:
         cols += [f"{k}.normal_force", f"{k}.moment"]
         data += [f.normal_force[k], f.moment[k]]
+    for k, v in f.tooth.items():
+        cols += [f"{k}.tooth_force.x", f"{k}.tooth_force.y"]
+        data += [v[:, 0], v[:, 1]]
     return cols, data
 
 
@@ -84,6 +89,9 @@ def cmd_forces(args) -> int:
         print(f"{'prismatic':<18}{'N [N]':>14}{'M [N·m]':>14}")
         for k, q in result["prismatic"].items():
             print(f"{k:<18}{q['normal_force']:>14.6g}{q['moment']:>14.6g}")
+    for k, q in result.get("tooth", {}).items():
+        fx, fy = q["force"]
+        print(f"tooth force of gear {k!r} on {q['on']!r}: ({fx:.6g}, {fy:.6g}) N, |F| = {math.hypot(fx, fy):.6g} N")
     return 0
 
 
