@@ -160,3 +160,25 @@ def test_cam_in_mujoco_within_its_measured_tolerance():
     r = compare_cam(load_cam(MODELS / "cam_translating.toml"))
     for k, tol in CAM_TOLERANCES.items():
         assert r["errors_relative"][k] <= tol, (k, r["errors_relative"])
+
+
+def test_smallest_base_circle_meets_the_pressure_angle():
+    """By the generic follower and by the translating cam's own bisection (two codes, two grids):
+    the same radius, and at it the largest pressure angle is the limit."""
+    from dataclasses import replace
+
+    from linkgen.cams.follower import smallest_base_radius
+    from linkgen.cams.profile import min_base_radius
+
+    f = load_cam(MODELS / "cam_translating.toml").follower
+    limit = math.radians(30.0)
+    rb = smallest_base_radius(f, limit)
+    assert rb == pytest.approx(min_base_radius(f.program, limit, f.roller_radius, f.offset), rel=1e-6)
+    th = np.linspace(0, 2 * math.pi, 3600, endpoint=False)
+    assert np.abs(replace(f, base_radius=rb).pressure_angle(th)).max() == pytest.approx(limit, abs=1e-9)
+    # the textbook's oscillating follower (pivot and arm 0.25 m) reaches 40.8°; at 45° a smaller
+    # base circle still holds, and at it the largest pressure angle is the limit
+    osc = load_cam(MODELS / "cam_oscillating.toml").follower
+    rb = smallest_base_radius(osc, math.radians(45.0))
+    assert rb < osc.base_radius
+    assert np.abs(replace(osc, base_radius=rb).pressure_angle(th)).max() == pytest.approx(math.radians(45.0), abs=1e-9)

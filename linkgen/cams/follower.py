@@ -157,4 +157,36 @@ class Follower:
         return (rho > 0) & (rho < self.roller_radius)
 
 
-__all__ = ["Follower"]
+
+
+
+def smallest_base_radius(follower: Follower, max_pressure_angle: float, samples: int = 3600) -> float:
+    """The smallest base circle [m] for which the follower's pressure angle stays within
+    ±max_pressure_angle [rad] over the turn, everything else kept (bisection: the largest |α|
+    falls as the base circle grows)."""
+    from dataclasses import replace
+
+    theta = np.linspace(0.0, 2 * math.pi, samples, endpoint=False)
+
+    def worst(rb: float) -> float:
+        try:
+            return float(np.abs(replace(follower, base_radius=rb).pressure_angle(theta)).max())
+        except ValueError:  # the follower cannot reach a base circle this small
+            return math.inf
+
+    hi = max(follower.base_radius, 1e-6)
+    while worst(hi) > max_pressure_angle:
+        hi *= 2
+        if hi > 1e6 * max(follower.base_radius, 1e-6):
+            raise ValueError(f"no base circle keeps the pressure angle within {math.degrees(max_pressure_angle):g}°")
+    lo = 0.0
+    for _ in range(200):
+        mid = 0.5 * (lo + hi)
+        if worst(mid) > max_pressure_angle:
+            lo = mid
+        else:
+            hi = mid
+        if hi - lo <= 1e-12 * hi:
+            break
+    return hi
+__all__ = ["Follower", "smallest_base_radius"]

@@ -84,7 +84,19 @@ def cam_summary(cm, omega: float) -> dict:
             "peak_contact_force": {"value": float(st.contact_force[k_n]), "at": float(theta[k_n])},
             "min_contact_force": float(st.contact_force.min()),
             "peak_cam_torque": {"value": float(abs(st.cam_torque[k_t])), "at": float(theta[k_t])},
-            "leave_speed": leave_speed(cm)}
+            "leave_speed": leave_speed(cm),
+            "smallest_base_radius_for_30deg": _smallest(f, math.radians(30.0))}
+
+
+def _smallest(f, alpha: float) -> float | None:
+    from linkgen.cams.follower import smallest_base_radius
+
+    if f.flat:  # a flat face's pressure angle is 0 whatever the base circle
+        return None
+    try:
+        return smallest_base_radius(f, alpha)
+    except ValueError:
+        return None
 
 
 def _summary(cm, omega: float, as_json: bool) -> int:
@@ -105,6 +117,8 @@ def _summary(cm, omega: float, as_json: bool) -> int:
           + ("; UNDERCUT: the roller is larger than the pitch curve's radius there" if s["undercut"] else ""))
     print(f"  contact force {s['min_contact_force']:.6g}..{s['peak_contact_force']['value']:.6g} N; peak cam torque "
           f"{s['peak_cam_torque']['value']:.6g} N·m at θ = {deg(s['peak_cam_torque']['at']):.4g}°")
+    if s["smallest_base_radius_for_30deg"] is not None:
+        print(f"  the smallest base circle keeping the pressure angle within 30°: {s['smallest_base_radius_for_30deg']:.6g} m")
     lv = s["leave_speed"]
     print("  the follower never leaves the cam" if math.isinf(lv) else
           f"  the follower leaves the cam above ω = {lv:.6g} rad/s" + (" — it does at this speed" if omega > lv else ""))
