@@ -33,9 +33,12 @@ def test_compiles_with_constraints_satisfied_at_qpos0(model_path):
     m = mujoco.MjModel.from_xml_string(write_mjcf(asm))
     d = mujoco.MjData(m)
     mujoco.mj_forward(m, d)
-    assert d.ne == 3 * len(spanning_tree(asm).closures)  # a connect has 3 rows; a crank alone none
+    # a connect has 3 rows, a gear coupling 1; a crank alone none
+    assert d.ne == 3 * len(spanning_tree(asm).closures) + len(asm.mechanism.gears)
     assert d.ne == 0 or np.abs(d.efc_pos[: d.ne]).max() < QPOS0_TOL
-    assert m.site("A").id >= 0 and m.joint(load(model_path).drive.joint).type == mujoco.mjtJoint.mjJNT_HINGE
+    mech = load(model_path)
+    tip = mech.link(mech.crank).points[-1]  # the crank's pin, a site of every model
+    assert m.site(tip).id >= 0 and m.joint(mech.drive.joint).type == mujoco.mjtJoint.mjJNT_HINGE
 
 
 @pytest.mark.parametrize("path", MODELS, ids=[p.stem for p in MODELS])

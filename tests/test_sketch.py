@@ -22,8 +22,10 @@ LENGTH_TOL = 1e-12
 
 def _movable(mech):
     """Moving points whose every carrier has its shape from `length` (two points) or is a block:
-    moving them changes no link's shape. The crank's points are left: they set the crank angle."""
+    moving them changes no link's shape. The crank's points are left: they set the crank angle; so
+    are a planet gear's: they set its phase against the crank, which the sketch gives."""
     ground = set(mech.link(GROUND).points) | set(mech.link(mech.crank).points)
+    ground |= {p for planet in mech.planets for p in mech.link(planet).points}
     out = []
     for p in mech.points:
         carriers = [l for l in mech.links if p in l.points]

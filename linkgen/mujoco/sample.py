@@ -66,6 +66,11 @@ def read_samples(asm: Assembly, model: mujoco.MjModel, time: np.ndarray, qpos: n
     viol, torque, inertia = np.zeros(m), np.zeros(m), np.zeros(m)
     tree = spanning_tree(asm)
     r6, mv, states = np.zeros(6), np.zeros(model.nv), []
+    # an equality row's violation as a length [m]: a connect's is one; a gear coupling's is an
+    # angle [rad], times the planet's reach from its centre
+    lever = np.ones(max(model.neq, 1))
+    for gear in mech.gears:
+        lever[model.equality(f"gear:{gear.name}").id] = max(asm.shapes[gear.planet].span(), 1e-300)
     for k in range(m):
         d.qpos[:], d.qvel[:], d.time = qpos[k], qvel[k], time[k]
         d.ctrl[:] = drive_ctrl
@@ -99,7 +104,7 @@ def read_samples(asm: Assembly, model: mujoco.MjModel, time: np.ndarray, qpos: n
                 out_sld[pair.name][k] = (s0 + sign * d.qpos[j.qposadr[0]], sign * d.qvel[j.dofadr[0]],
                                          sign * d.qacc[j.dofadr[0]])
         crank[k] = (out_lnk[mech.crank][k][0], d.qvel[crank_j.dofadr[0]], d.qacc[crank_j.dofadr[0]])
-        viol[k] = np.abs(d.efc_pos[: d.ne]).max() if d.ne else 0.0
+        viol[k] = float(np.max(np.abs(d.efc_pos[: d.ne]) * lever[d.efc_id[: d.ne]])) if d.ne else 0.0
         torque[k] = d.actuator(DRIVE_ACTUATOR).force[0] - armature * d.qacc[crank_j.dofadr[0]]
     phi = np.unwrap(crank[:, 0])  # continuous over the run; the closed form is 2π-periodic
     return Samples(time, qpos, qvel, (phi, crank[:, 1], crank[:, 2]),
