@@ -1,0 +1,170 @@
+"""A spatial four-bar run in MuJoCo against the closed form: every point's position, velocity and
+acceleration, the balancing torque and (where the statics determine them) the pair reactions,
+over a full revolution of the crank.
+
+MuJoCo drives the crank by a rotor inertia (``state.derive_settings``) from the closed-form
+state a lead-in before the compared revolution; at every sample the closed form is evaluated at
+MuJoCo's own crank angle, speed and acceleration, so the comparison measures the loop, not the
+rotor. Errors are relative to the scale of each kind of quantity: the size L for positions,
+L·ω for velocities, L·(ω² + |ε|) + |g| for accelerations, the peak closed-form torque and pair
+force for forces. Tolerances are the planar ones (``linkgen.crosscheck.tolerances``).
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass, field
+
+import mujoco
+import numpy as np
+
+from linkgen.crosscheck.tolerances import FORCE_TOL, GAP_TOL, REL_TOL
+from linkgen.errors import SimulationError
+from linkgen.mujoco.log import no_log_file
+from linkgen.mujoco.scene import SERVO
+from linkgen.spatial.description import SpatialMechanism
+from linkgen.spatial.forces import forces
+from linkgen.spatial.jets import motion as jet_motion
+from linkgen.spatial.kinematics import assembled_chain, solve
+from linkgen.spatial.mjcf import DRIVE_ACTUATOR, write_spatial_mjcf
+from linkgen.spatial.state import SCAN, derive_settings, joint_state
+
+# The run starts this many crank radians before the compared revolution, from the closed-form
+# state: the loop's transient from the start (a few time constants τ = PHASE/ω, i.e. a few
+# hundredths of a radian) has died out by the first sample.
+LEAD = 0.2
+
+
+@dataclass(frozen=True)
+class SpatialCheck:
+    """Worst relative errors by quantity (``errors``: name → (error, tolerance)), the largest loop
+    gap over the size, the steps, the wall time [s], the settings used and what they came from,
+    and the reactions left out (statically indeterminate chains)."""
+
+    model: str
+    kind: str
+    errors: dict
+    gap: float
+    steps: int
+    wall: float
+    settings: object
+    scales: dict
+    note: str = ""
+    samples: dict = field(default_factory=dict, repr=False)
+
+    @property
+    def ok(self) -> bool:
+        return self.gap <= GAP_TOL and all(e <= tol for e, tol in self.errors.values())
+
+    def worst(self) -> tuple[str, float, float]:
+        name = max(self.errors, key=lambda k: self.errors[k][0] / self.errors[k][1])
+        return (name, *self.errors[name])
+
+    def summary(self) -> str:
+        name, err, tol = self.worst()
+        status = "ok" if self.ok else "FAILED"
+        return (f"{status}   {self.kind}: worst {name} {err:.2e} (tolerance {tol:g}), loop gap {self.gap:.1e} of the size "
+                f"(tolerance {GAP_TOL:g}), {self.steps} steps, {self.wall:.2f} s" + (f"; {self.note}" if self.note else ""))
+
+    def to_json(self) -> dict:
+        return {"model": self.model, "kind": self.kind, "ok": self.ok,
+                "errors": {k: {"error": e, "tolerance": t} for k, (e, t) in self.errors.items()},
+                "loop_gap": self.gap, "loop_gap_tolerance": GAP_TOL, "steps": self.steps, "wall_s": self.wall,
+                "settings": self.settings.to_json(), "scales": self.scales, "note": self.note}
+
+
+@no_log_file()
+def check_spatial(mech: SpatialMechanism, samples: int = 360, omega: float | None = None) -> SpatialCheck:
+    """Run the mechanism over one revolution in MuJoCo and compare it with the closed form."""
+    wall0 = time.perf_counter()
+    w0 = mech.drive.omega if omega is None else float(omega)
+    if not (math.isfinite(w0) and w0 > 0):
+        raise SimulationError(f"{mech.name}: omega must be > 0 rad/s to drive the crank, got {w0!r}")
+    chain = assembled_chain(mech)
+    model = mujoco.MjModel.from_xml_string(write_spatial_mjcf(mech, chain=chain))
+    scan = solve(mech, np.linspace(0.0, 2 * np.pi, SCAN, endpoint=False), chain)
+    settings, scales = derive_settings(mech, chain, scan, model, w0)
+    model = mujoco.MjModel.from_xml_string(write_spatial_mjcf(mech, settings, chain))
+    model.actuator(SERVO).biasprm[:] = 0.0  # the viewer's speed servo is off: the rotor holds the speed
+    data = mujoco.MjData(model)
+    phi_start = -LEAD
+    start = solve(mech, np.array([phi_start]), chain)
+    data.qpos[:], data.qvel[:] = joint_state(model, chain, start, 0, w0)
+    mean_torque = float(np.mean(forces(mech, scan.phi, w0, 0.0, motion=scan).balancing_torque))
+    data.ctrl[model.actuator(DRIVE_ACTUATOR).id] = mean_torque
+    dt = settings.timestep
+    t_samples = (LEAD + np.arange(samples) * (2 * np.pi / samples)) / w0
+    steps_at = np.rint(t_samples / dt).astype(int)
+    states = []
+    step = 0
+    for target in steps_at:
+        while step < target:
+            mujoco.mj_step(model, data)
+            step += 1
+            if not np.all(np.isfinite(data.qacc)):
+                raise SimulationError(f"{mech.name}: MuJoCo diverged at t = {data.time:.6g} s (step {step})")
+        states.append((data.time, data.qpos.copy(), data.qvel.copy()))
+    result = _compare(mech, chain, model, states, w0, settings)
+    return SpatialCheck(mech.name, chain.kind, result[0], result[1], step, time.perf_counter() - wall0, settings,
+                        scales, result[2], result[3])
+
+
+def _compare(mech, chain, model, states, w0, settings):
+    d = mujoco.MjData(model)
+    m = len(states)
+    crank = model.joint(chain.drive)
+    eq = model.equality(chain.pair_b).id
+    g = np.array(mech.gravity)
+    names = [p for p in mech.points if p not in mech.link("ground").points]
+    mj = {p: np.zeros((m, 3, 3)) for p in names}
+    phi, om, ep, gap, torque = (np.zeros(m) for _ in range(5))
+    react = {k: np.zeros((m, 3)) for k in (chain.drive, chain.pair_a, chain.pair_b, chain.pair_out)}
+    r6 = np.zeros(6)
+    for k, (t, qpos, qvel) in enumerate(states):
+        d.time, d.qpos[:], d.qvel[:] = t, qpos, qvel
+        d.ctrl[:] = 0.0
+        d.ctrl[model.actuator(DRIVE_ACTUATOR).id] = 0.0
+        mujoco.mj_forward(model, d)
+        mujoco.mj_rnePostConstraint(model, d)
+        phi[k] = qpos[crank.qposadr[0]] + chain.phi_s
+        om[k], ep[k] = qvel[crank.dofadr[0]], d.qacc[crank.dofadr[0]]
+        torque[k] = d.actuator(DRIVE_ACTUATOR).force[0] - settings.armature * ep[k]
+        rows = np.flatnonzero((d.efc_type == mujoco.mjtConstraint.mjCNSTR_EQUALITY) & (d.efc_id == eq))
+        gap[k] = float(np.linalg.norm(d.efc_pos[rows]))
+        for p in names:
+            sid = model.site(p).id
+            mujoco.mj_objectVelocity(model, d, mujoco.mjtObj.mjOBJ_SITE, sid, r6, 0)
+            v = r6[3:].copy()
+            mujoco.mj_objectAcceleration(model, d, mujoco.mjtObj.mjOBJ_SITE, sid, r6, 0)
+            mj[p][k] = (d.site(p).xpos, v, r6[3:] + g)  # MuJoCo reports a − g
+        react[chain.drive][k] = d.cfrc_int[model.body(chain.crank).id, 3:]
+        react[chain.pair_a][k] = d.cfrc_int[model.body(chain.coupler).id, 3:]
+        react[chain.pair_b][k] = -d.efc_force[rows]  # the connect's force on the coupler, reversed
+        react[chain.pair_out][k] = d.cfrc_int[model.body(chain.output).id, 3:]
+    cf = solve(mech, phi, chain)
+    size = chain.size
+    acc_scale = size * (w0**2 + float(np.abs(ep).max())) + float(np.linalg.norm(g))
+    errors = {}
+    for p in names:
+        pos, vel, acc, _ = jet_motion(cf.points[p], om, ep)
+        for i, (what, ref, scale) in enumerate((("position", pos, size), ("velocity", vel, size * w0),
+                                                ("acceleration", acc, acc_scale))):
+            errors[f"points.{p}.{what}"] = (float(np.abs(mj[p][:, i] - ref).max()) / scale, REL_TOL)
+    fc = forces(mech, phi, om, ep, motion=cf)
+    t_scale = float(np.abs(fc.balancing_torque).max()) or 1.0
+    errors["balancing_torque"] = (float(np.abs(torque - fc.balancing_torque).max()) / t_scale, FORCE_TOL)
+    note = ""
+    if fc.indeterminate == 0:
+        f_scale = max(float(np.abs(r.force).max()) for r in fc.reactions.values()) or 1.0
+        for name, r in fc.reactions.items():
+            errors[f"reactions.{name}"] = (float(np.abs(react[name] - r.force).max()) / f_scale, FORCE_TOL)
+    else:
+        note = (f"pair reactions not compared: the {chain.kind} chain is statically indeterminate by {fc.indeterminate} "
+                "(its redundant constraints share the load in a way rigid-body statics does not fix)")
+    samples = {"phi": phi, "omega": om, "epsilon": ep, "gap": gap, "torque": torque, "closed_torque": fc.balancing_torque,
+               "points": mj, "closed": {p: jet_motion(cf.points[p], om, ep) for p in names}}
+    return errors, float(gap.max()) / size, note, samples
+
+
+__all__ = ["SpatialCheck", "check_spatial"]

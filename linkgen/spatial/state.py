@@ -1,0 +1,101 @@
+"""MuJoCo joint state (qpos, qvel) of a spatial four-bar from the closed form, and MuJoCo
+settings derived from the mechanism the same way as for planar linkages
+(``linkgen.mujoco.settings``): the loop's time constant from the loop force it must carry and
+the crank speed, the timestep from the time constant, the rotor from the peak reduced inertia."""
+
+from __future__ import annotations
+
+import math
+
+import mujoco
+import numpy as np
+
+from linkgen.mujoco.options import IMPEDANCE, Settings
+from linkgen.mujoco.settings import ARMATURE_RATIO, GAP_TARGET, PHASE, STEPS_PER_TAU, round_down
+from linkgen.spatial.chain import Chain
+from linkgen.spatial.description import SpatialMechanism
+from linkgen.spatial.kinematics import SpatialMotion
+from linkgen.spatial.mass import rod_inertia
+
+# Crank angles scanned for the peak reduced inertia and loop force.
+SCAN = 73
+
+
+def _hinge_angle(rel: np.ndarray, axis: np.ndarray) -> float:
+    """The angle of a rotation ``rel`` (3, 3) about ``axis`` (a rotation about that axis)."""
+    vee = np.array([rel[2, 1] - rel[1, 2], rel[0, 2] - rel[2, 0], rel[1, 0] - rel[0, 1]]) / 2
+    return math.atan2(float(vee @ axis), (float(np.trace(rel)) - 1) / 2)
+
+
+def joint_state(model: mujoco.MjModel, chain: Chain, motion: SpatialMotion, k: int, omega: float) -> tuple:
+    """qpos, qvel at sample ``k`` of ``motion`` with the crank at ω [rad/s]."""
+    qpos, qvel = np.zeros(model.nq), np.zeros(model.nv)
+    fr, sp = motion.frames, motion.spin
+    j = model.joint(chain.drive)
+    qpos[j.qposadr[0]] = motion.phi[k] - chain.phi_s
+    qvel[j.dofadr[0]] = omega
+    rk, rc = fr[chain.crank][k], fr[chain.coupler][k]
+    rel = rk.T @ rc
+    w_rel = (sp[chain.coupler][0][k] - sp[chain.crank][0][k]) * omega  # world axes
+    j = model.joint(chain.pair_a)
+    if chain.ua is None:  # ball: quaternion of the coupler in the crank's frame; qvel in the coupler's frame
+        quat = np.zeros(4)
+        mujoco.mju_mat2Quat(quat, rel.reshape(-1))
+        qpos[j.qposadr[0]:j.qposadr[0] + 4] = quat
+        qvel[j.dofadr[0]:j.dofadr[0] + 3] = rc.T @ w_rel
+    else:
+        qpos[j.qposadr[0]] = _hinge_angle(rel, chain.ua)
+        qvel[j.dofadr[0]] = float(w_rel @ (rk @ chain.ua))
+    j = model.joint(chain.pair_out)
+    qpos[j.qposadr[0]] = motion.turn.d[0][k]
+    qvel[j.dofadr[0]] = motion.turn.d[1][k] * omega
+    return qpos, qvel
+
+
+def reduced_inertia(mech: SpatialMechanism, motion: SpatialMotion) -> np.ndarray:
+    """J(φ) = 2T/ω² (n,) [kg·m²]: Σ m·|c′|² + Ω′ᵀ·I·Ω′ over the moving links."""
+    chain = motion.chain
+    out = np.zeros(motion.phi.shape[0])
+    for link in (chain.crank, chain.coupler, chain.output):
+        l = mech.link(link)
+        p0 = motion.points[l.points[0]]
+        if len(l.points) >= 2:
+            p1 = motion.points[l.points[1]]
+            c = (p0 + p1) * 0.5
+            r = (p1 - p0).d[0]
+            span2 = np.einsum("ij,ij->i", r, r)
+            x = r / np.sqrt(span2)[:, None]
+        else:
+            c, span2, x = p0, np.zeros(motion.phi.shape[0]), np.zeros((motion.phi.shape[0], 3))
+        inertia = rod_inertia(l.mass, x, span2, chain.size)
+        w1 = motion.spin[link][0]
+        out += l.mass * np.einsum("ij,ij->i", c.d[1], c.d[1]) + np.einsum("ni,nij,nj->n", w1, inertia, w1)
+    return out
+
+
+def derive_settings(mech: SpatialMechanism, chain: Chain, scan: SpatialMotion, model: mujoco.MjModel,
+                    omega: float) -> tuple[Settings, dict]:
+    """Settings for a run at crank speed ω: τ = min(τ_gap, PHASE/ω) with τ_gap putting the
+    predicted loop gap (1 − d)·d·τ²·a0 at GAP_TARGET of the size (a0 the peak of MuJoCo's
+    A_diag·λ over the scanned closed-form states), dt = τ/STEPS_PER_TAU, the rotor
+    ARMATURE_RATIO times the peak reduced inertia. Returns the settings and what they came from."""
+    j_peak = float(reduced_inertia(mech, scan).max())
+    armature = round_down(ARMATURE_RATIO * max(j_peak, 1e-300))
+    model.dof_armature[model.joint(chain.drive).dofadr[0]] = armature
+    data = mujoco.MjData(model)
+    a0 = 0.0
+    eq = model.equality(chain.pair_b).id
+    for k in range(scan.phi.shape[0]):
+        data.qpos[:], data.qvel[:] = joint_state(model, chain, scan, k, omega)
+        mujoco.mj_forward(model, data)
+        rows = np.flatnonzero((data.efc_type == mujoco.mjtConstraint.mjCNSTR_EQUALITY) & (data.efc_id == eq))
+        a0 = max(a0, float(np.abs(data.efc_diagA[rows] * data.efc_force[rows]).max()) if rows.size else 0.0)
+    tau_phase = PHASE / omega
+    tau_gap = math.sqrt(GAP_TARGET * chain.size / ((1 - IMPEDANCE) * IMPEDANCE * a0)) if a0 > 0 else math.inf
+    tau = round_down(min(tau_phase, tau_gap))
+    dt = round_down(tau / STEPS_PER_TAU)
+    settings = Settings(timestep=dt, timeconst=tau, armature=armature)
+    return settings, {"reduced_inertia": j_peak, "loop_acceleration": a0, "tau_gap": tau_gap, "tau_phase": tau_phase}
+
+
+__all__ = ["derive_settings", "joint_state", "reduced_inertia"]
