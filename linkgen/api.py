@@ -48,6 +48,12 @@ def _plain(x):
     return float(x) if np.ndim(x) == 0 else np.asarray(x).tolist()
 
 
+def _spatial(source) -> bool:
+    from linkgen.spatial.description import SpatialMechanism
+
+    return isinstance(source, SpatialMechanism)
+
+
 @dataclass(frozen=True, repr=False)
 class Quantity:
     """One point, link or slider: value (position [m], angle [rad] or displacement [m]), its
@@ -135,6 +141,10 @@ def _rates(mech: Mechanism, omega, epsilon):
 def kinematics(source: Mechanism | Assembly, phi, omega=None, epsilon=None) -> KinematicsResult:
     """Positions, velocities, accelerations and transfer functions at crank angles φ [rad]
     (scalar or (n,)), speed ω [rad/s] and acceleration ε [rad/s²] (default the description's)."""
+    if _spatial(source):  # a spatial four-bar: its SpatialMotion (points' jets, linkgen.spatial.jets.motion)
+        from linkgen.spatial.kinematics import solve as _solve3
+
+        return _solve3(source, phi)
     asm = _assembly(source)
     scalar = np.ndim(phi) == 0
     phis = np.atleast_1d(np.asarray(phi, dtype=float))
@@ -196,6 +206,10 @@ class ForcesResult:
 
 def forces(source: Mechanism | Assembly, phi, omega=None, epsilon=None) -> ForcesResult:
     """Kinetostatics (``linkgen forces``) at crank angles φ [rad], speed ω, acceleration ε."""
+    if _spatial(source):  # a spatial four-bar: SpatialForces (3-D reactions, balancing torque)
+        from linkgen.spatial.forces import forces as _forces3
+
+        return _forces3(source, np.atleast_1d(np.asarray(phi, dtype=float)), omega, epsilon)
     asm = _assembly(source)
     scalar = np.ndim(phi) == 0
     phis = np.atleast_1d(np.asarray(phi, dtype=float))
@@ -209,6 +223,10 @@ def forces(source: Mechanism | Assembly, phi, omega=None, epsilon=None) -> Force
 
 def write_mjcf(source: Mechanism | Assembly, settings=None) -> str:
     """The MJCF text (``linkgen build``); any structure class."""
+    if _spatial(source):
+        from linkgen.spatial.mjcf import write_spatial_mjcf
+
+        return write_spatial_mjcf(source, settings)
     from linkgen.errors import StructureError
     from linkgen.mujoco.mjcf import write_mjcf as _write
 
@@ -238,6 +256,10 @@ def simulate(source: Mechanism | Assembly, **options):
 def validate(source: Mechanism | Assembly, **options):
     """MuJoCo against the closed form (``linkgen validate``): a ``CrossCheck`` with ``.ok``,
     ``.to_json()`` and the diagnosis; options as ``linkgen.crosscheck.run.crosscheck``."""
+    if _spatial(source):  # a SpatialCheck (linkgen.spatial.crosscheck)
+        from linkgen.spatial.crosscheck import check_spatial
+
+        return check_spatial(source, **options)
     from linkgen.crosscheck.run import crosscheck
 
     return crosscheck(_assembly(source), **options)

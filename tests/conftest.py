@@ -3,8 +3,16 @@ from pathlib import Path
 import pytest
 
 ROOT = Path(__file__).resolve().parent.parent
-MODELS = sorted(p for p in (ROOT / "models").glob("*.toml") if "\n[cam]" not in p.read_text(encoding="utf-8"))
+
+
+def _spatial(p) -> bool:
+    return 'space = "spatial"' in p.read_text(encoding="utf-8")
+
+
+MODELS = sorted(p for p in (ROOT / "models").glob("*.toml")
+                if "\n[cam]" not in p.read_text(encoding="utf-8") and not _spatial(p))
 CAM_MODELS = sorted(p for p in (ROOT / "models").glob("*.toml") if "\n[cam]" in p.read_text(encoding="utf-8"))
+SPATIAL_MODELS = sorted(p for p in (ROOT / "models").glob("*.toml") if _spatial(p))
 
 
 @pytest.fixture(params=MODELS, ids=[p.stem for p in MODELS])

@@ -104,7 +104,9 @@ def main(argv: list[str] | None = None) -> int:
     parser = build_parser()
     args = parser.parse_args(_join_signed(sys.argv[1:] if argv is None else list(argv)))
     try:
-        status = args.func(args)
+        from linkgen.cli.spatial import route
+
+        status = (route(args) or args.func)(args)
         sys.stdout.flush()  # a closed pipe shows here, not in the interpreter's exit
         return status
     except BrokenPipeError:

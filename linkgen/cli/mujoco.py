@@ -40,7 +40,10 @@ def _build_one(path: Path, out: Path, practical: bool = False) -> Path:
     from linkgen.mujoco.log import no_log_file
 
     from linkgen.cams.description import is_cam_file
+    from linkgen.cli.spatial import build_spatial, is_spatial_file
 
+    if is_spatial_file(path):
+        return build_spatial(path, out, practical)
     if is_cam_file(path):
         from linkgen.cams.description import load_cam
         from linkgen.mujoco.cam import cam_mjcf
@@ -170,6 +173,10 @@ def _check_one(path: Path, report: Path | None, practical: bool, nthread: int | 
 
     if is_cam_file(path):
         return _check_cam(path, t0)
+    from linkgen.cli.spatial import check_spatial_file, is_spatial_file
+
+    if is_spatial_file(path):
+        return check_spatial_file(path, t0, report)
     try:
         asm = assemble(load(path))
     except StructureError as exc:
@@ -219,6 +226,8 @@ def _summary(r: dict) -> str:
 
     if "error" in r:
         return f"{r['model']:<22} FAIL {r['error']}"
+    if "spatial" in r:
+        return f"{r['model']:<22} {r['line']}"
     if "cam" in r:
         c = r["cam"]
         e, tol = c["errors_relative"], c["tolerances"]

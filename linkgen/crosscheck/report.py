@@ -91,6 +91,17 @@ def write_index(results: list[dict], out: Path, wall: float, cores: float) -> Pa
              "| worst force (inverse) | rel. error | loop gap / L | timestep [s] | loop τ [s] | steps | wall [s] |",
              "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for r in results:
+        if "spatial" in r:
+            sp = r["spatial"]
+            kin = {k: v for k, v in sp["errors"].items() if k.startswith("points.")}
+            frc = {k: v for k, v in sp["errors"].items() if not k.startswith("points.")}
+            wk = max(kin, key=lambda k: kin[k]["error"])
+            wf = max(frc, key=lambda k: frc[k]["error"])
+            lines.append(f"| {r['model']} | {'yes' if r['ok'] else '**NO**'} | {sp['kind']}: `{wk}` | "
+                         f"{kin[wk]['error']:.2e} | `{wf}` | {frc[wf]['error']:.2e} |  |  | {sp['loop_gap']:.1e} | "
+                         f"{sp['settings']['timestep']:.3g} | {sp['settings']['timeconst']:.3g} | {sp['steps']} | "
+                         f"{r.get('total_wall_s', sp['wall_s']):.2f} |")
+            continue
         if "cam" in r:
             e = r["cam"]["errors_relative"]
             lines.append(f"| {r['model']} | {'yes' if r['ok'] else '**NO**'} | cam: `displacement` | "
@@ -105,6 +116,9 @@ def write_index(results: list[dict], out: Path, wall: float, cores: float) -> Pa
         lines.append(f"| {r['model']} | {'yes' if r['ok'] else '**NO**'} | {cells} | {r['loop_gap']['relative']:.1e} | "
                      f"{st['timestep']:.3g} | {st['timeconst']:.3g} | {r['steps']} | {r.get('total_wall_s', r['wall_s']):.2f} |")
     for r in results:
+        if "spatial" in r:
+            lines += _spatial_section(r)
+            continue
         if "quantities" not in r:
             continue
         lines += ["", f"## {r['model']}", ""]
@@ -144,6 +158,22 @@ def write_index(results: list[dict], out: Path, wall: float, cores: float) -> Pa
     path = out / "README.md"
     path.write_text("\n".join(lines) + "\n", encoding="utf-8")
     return path
+
+
+def _spatial_section(r: dict) -> list[str]:
+    """A spatial model's section: its figures and every compared quantity."""
+    sp = r["spatial"]
+    lines = ["", f"## {r['model']} (spatial {sp['kind']})", ""]
+    for fig in r.get("figures", []):
+        lines += [f"![{fig}]({fig})", ""]
+    if sp["note"]:
+        lines += [sp["note"][:1].upper() + sp["note"][1:] + ".", ""]
+    lines += ["| quantity | relative error | tolerance | ok |", "|---|---|---|---|"]
+    for k, e in sp["errors"].items():
+        lines.append(f"| `{k}` | {e['error']:.2e} | {e['tolerance']:g} | {'yes' if e['error'] <= e['tolerance'] else '**NO**'} |")
+    lines.append(f"| loop gap / L | {sp['loop_gap']:.2e} | {sp['loop_gap_tolerance']:g} | "
+                 f"{'yes' if sp['loop_gap'] <= sp['loop_gap_tolerance'] else '**NO**'} |")
+    return lines
 
 
 __all__ = ["PLAN_POSITIONS", "number", "plot_mechanism", "plot_model", "write_index"]

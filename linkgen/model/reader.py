@@ -88,7 +88,9 @@ def load(path: str | Path) -> Mechanism:
 
 
 def loads(raw: bytes | str, source: str = "<description>") -> Mechanism:
-    """A Mechanism from the bytes (or text) of a TOML description; errors name ``source``."""
+    """A Mechanism from the bytes (or text) of a TOML description; errors name ``source``. A
+    description with ``[mechanism] space = "spatial"`` gives a
+    ``linkgen.spatial.description.SpatialMechanism``."""
     if isinstance(raw, bytes):
         if raw.startswith(_BOM):
             raw = raw[len(_BOM):]
@@ -111,6 +113,10 @@ def loads(raw: bytes | str, source: str = "<description>") -> Mechanism:
         # tomllib parses nested arrays and inline tables recursively
         raise DescriptionError("", "nested too deeply to parse: a description needs at most a few "
                                "levels of tables and arrays", source) from None
+    from linkgen.spatial.description import is_spatial, spatial_from_dict
+
+    if is_spatial(data):  # a spatial four-bar: its own format (linkgen.spatial.description)
+        return spatial_from_dict(data, source)
     try:
         mech = from_dict(data)
         machine_from_dict(data)  # checked with the rest; linkgen.dynamics reads it

@@ -168,7 +168,7 @@ def build_chain(mech: SpatialMechanism) -> Chain:
     centre = ua = ub = None
     if kinds == ("spherical", "spherical"):
         kind = "RSSP" if slides_out else "RSSR"
-        formula, idle = 6 * 3 - 5 * 2 - 3 * 2, f"the coupler {coupler} spins about the line {ja.name}{jb.name}"
+        formula, idle = 6 * 3 - 5 * 2 - 3 * 2, f"the coupler {coupler!r} spins about the line {ja.name}{jb.name}"
     elif kinds == ("revolute", "revolute") and not slides_out:
         formula, idle = 6 * 3 - 5 * 4, ""
         ua, ub = np.array(ja.axis), np.array(jb.axis)

@@ -19,12 +19,13 @@ from dataclasses import dataclass, field
 import mujoco
 import numpy as np
 
-from linkgen.crosscheck.tolerances import FORCE_TOL, GAP_TOL, REL_TOL
+from linkgen.crosscheck.tolerances import FORCE_TOL, GAP_TOL, INVERSE_TOL, REL_TOL
 from linkgen.errors import SimulationError
 from linkgen.mujoco.log import no_log_file
 from linkgen.mujoco.scene import SERVO
 from linkgen.spatial.description import SpatialMechanism
 from linkgen.spatial.forces import forces
+from linkgen.spatial.inverse import inverse_torque
 from linkgen.spatial.jets import motion as jet_motion
 from linkgen.spatial.kinematics import assembled_chain, solve
 from linkgen.spatial.mjcf import DRIVE_ACTUATOR, write_spatial_mjcf
@@ -34,6 +35,8 @@ from linkgen.spatial.state import SCAN, derive_settings, joint_state
 # state: the loop's transient from the start (a few time constants τ = PHASE/ω, i.e. a few
 # hundredths of a radian) has died out by the first sample.
 LEAD = 0.2
+# Closed-form states at which MuJoCo's inverse dynamics is compared (every 10°).
+INVERSE_SAMPLES = 36
 
 
 @dataclass(frozen=True)
@@ -75,6 +78,16 @@ class SpatialCheck:
 
 
 @no_log_file()
+def derived_settings(mech: SpatialMechanism, omega: float | None = None, chain=None):
+    """The MuJoCo settings derived for the mechanism at crank speed ω (default the drive's)."""
+    chain = assembled_chain(mech) if chain is None else chain
+    w0 = mech.drive.omega if omega is None else float(omega)
+    model = mujoco.MjModel.from_xml_string(write_spatial_mjcf(mech, chain=chain))
+    scan = solve(mech, np.linspace(0.0, 2 * np.pi, SCAN, endpoint=False), chain)
+    return derive_settings(mech, chain, scan, model, w0)
+
+
+@no_log_file()
 def check_spatial(mech: SpatialMechanism, samples: int = 360, omega: float | None = None) -> SpatialCheck:
     """Run the mechanism over one revolution in MuJoCo and compare it with the closed form."""
     wall0 = time.perf_counter()
@@ -82,9 +95,8 @@ def check_spatial(mech: SpatialMechanism, samples: int = 360, omega: float | Non
     if not (math.isfinite(w0) and w0 > 0):
         raise SimulationError(f"{mech.name}: omega must be > 0 rad/s to drive the crank, got {w0!r}")
     chain = assembled_chain(mech)
-    model = mujoco.MjModel.from_xml_string(write_spatial_mjcf(mech, chain=chain))
     scan = solve(mech, np.linspace(0.0, 2 * np.pi, SCAN, endpoint=False), chain)
-    settings, scales = derive_settings(mech, chain, scan, model, w0)
+    settings, scales = derived_settings(mech, w0, chain)
     model = mujoco.MjModel.from_xml_string(write_spatial_mjcf(mech, settings, chain))
     model.actuator(SERVO).biasprm[:] = 0.0  # the viewer's speed servo is off: the rotor holds the speed
     data = mujoco.MjData(model)
@@ -162,9 +174,19 @@ def _compare(mech, chain, model, states, w0, settings):
     else:
         note = (f"pair reactions not compared: the {chain.kind} chain is statically indeterminate by {fc.indeterminate} "
                 "(its redundant constraints share the load in a way rigid-body statics does not fix)")
+    # the inverse route: MuJoCo's inverse dynamics at closed-form states (no integration)
+    phi_i = np.linspace(0.0, 2 * np.pi, INVERSE_SAMPLES, endpoint=False)
+    t_inv, lam_inv = inverse_torque(mech, phi_i, w0, mech.drive.epsilon, settings)
+    fi = forces(mech, phi_i, w0, mech.drive.epsilon)
+    ti_scale = float(np.abs(fi.balancing_torque).max()) or 1.0
+    errors["inverse.balancing_torque"] = (float(np.abs(t_inv - fi.balancing_torque).max()) / ti_scale, INVERSE_TOL)
+    if fc.indeterminate == 0:
+        fb = fi.reactions[chain.pair_b].force
+        errors[f"inverse.reactions.{chain.pair_b}"] = (float(np.abs(lam_inv - fb).max()) / (float(np.abs(fb).max()) or 1.0),
+                                                       INVERSE_TOL)
     samples = {"phi": phi, "omega": om, "epsilon": ep, "gap": gap, "torque": torque, "closed_torque": fc.balancing_torque,
                "points": mj, "closed": {p: jet_motion(cf.points[p], om, ep) for p in names}}
     return errors, float(gap.max()) / size, note, samples
 
 
-__all__ = ["SpatialCheck", "check_spatial"]
+__all__ = ["SpatialCheck", "check_spatial", "derived_settings"]

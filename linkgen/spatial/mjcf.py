@@ -19,7 +19,7 @@ import numpy as np
 from lxml import etree
 
 from linkgen.mujoco.options import PLACEHOLDER, Settings
-from linkgen.mujoco.scene import SERVO, SERVO_TIME, add_scene_assets
+from linkgen.mujoco.scene import KEY, SERVO, SERVO_TIME, add_scene_assets
 from linkgen.model.names import GROUND
 from linkgen.spatial.chain import Chain
 from linkgen.spatial.description import SpatialMechanism
@@ -144,8 +144,27 @@ def write_spatial_mjcf(mech: SpatialMechanism, settings: Settings | None = None,
     kv = settings.armature / SERVO_TIME
     etree.SubElement(act, "general", name=SERVO, joint=chain.drive, gainprm="0", biastype="affine",
                      biasprm=_v([kv * mech.drive.omega, 0.0, -kv]))
+    _keyframe(root, mech, chain)
     etree.indent(root, space="  ")
     return etree.tostring(root, pretty_print=True, encoding="unicode")
+
+
+def _keyframe(root, mech: SpatialMechanism, chain: Chain) -> None:
+    """Keyframe ``sketch``: the assembled sketch moving at the drive's ω (a plain viewer then
+    turns the crank, its speed servo holding ω)."""
+    from linkgen.spatial.kinematics import solve
+
+    k = solve(mech, np.array([chain.phi_s]), chain)
+    w = mech.drive.omega
+    w_rel = (k.spin[chain.coupler][0][0] - k.spin[chain.crank][0][0]) * w  # body frames are world-aligned here
+    if chain.ua is None:
+        qpos, qvel = [0.0, 1.0, 0.0, 0.0, 0.0], [w, *w_rel]
+    else:
+        qpos, qvel = [0.0, 0.0], [w, float(w_rel @ chain.ua)]
+    qpos.append(0.0)
+    qvel.append(float(k.turn.d[1][0]) * w)
+    key = etree.SubElement(root, "keyframe")
+    etree.SubElement(key, "key", name=KEY, qpos=_v(qpos), qvel=_v(qvel))
 
 
 __all__ = ["DRIVE_ACTUATOR", "sketch_points", "write_spatial_mjcf"]

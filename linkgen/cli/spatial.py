@@ -1,0 +1,269 @@
+"""The commands for a spatial description (``[mechanism] space = "spatial"``): structure,
+analyze, forces, build, validate and draw; the others say in one line that they are for planar
+linkages."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+
+from linkgen.cli.common import OptionError, check_crank_options, check_finite, drive_rates, print_json, write_rows
+from linkgen.spatial.jets import motion as jet_motion
+
+SUPPORTED = ("structure", "analyze", "forces", "build", "validate", "draw")
+
+
+def is_spatial_file(path) -> bool:
+    """True for a readable TOML file whose [mechanism] says space = "spatial"."""
+    import tomllib
+
+    try:
+        p = Path(path)
+        if not p.is_file():
+            return False
+        from linkgen.spatial.description import is_spatial
+
+        return is_spatial(tomllib.loads(p.read_bytes().decode("utf-8-sig")))
+    except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError, RecursionError):
+        return False
+
+
+def route(args):
+    """The handler for a spatial model's command, or None for a planar (or no) model."""
+    model = getattr(args, "model", None)
+    if model is None or not is_spatial_file(model):
+        return None
+    handlers = {"structure": cmd_structure, "analyze": cmd_analyze, "forces": cmd_forces, "draw": cmd_draw}
+    if args.command in handlers:
+        return handlers[args.command]
+    if args.command in ("build", "validate"):
+        return None  # they handle spatial files themselves (file by file, folders too)
+
+    def refuse(args):
+        raise OptionError(f"{model}: a spatial mechanism; `linkgen {args.command}` is for planar linkages "
+                          f"(spatial ones work with {', '.join(SUPPORTED)})")
+
+    return refuse
+
+
+def _load(path):
+    from linkgen.model.reader import load
+
+    return load(path)
+
+
+def cmd_structure(args) -> int:
+    from linkgen.spatial.kinematics import assembled_chain
+
+    mech = _load(args.model)
+    c = assembled_chain(mech)
+    print(f"{mech.name}: spatial {c.kind} four-bar — crank {c.crank!r} (driven at {c.drive!r}), coupler {c.coupler!r}, "
+          f"output {c.output!r} ({'sliding on' if c.output_slides else 'turning about'} its pair {c.pair_out!r})")
+    spherical = sum(1 for j in mech.joints if j.kind == "spherical")
+    lower = len(mech.joints) + len(mech.slides) - spherical
+    print(f"mobility by the spatial formula W = 6·n − 5·p5 − 3·p3 = 6·3 − 5·{lower} − 3·{spherical} = {c.mobility_formula}")
+    if c.idle:
+        print(f"idle freedom: {c.idle} (moves no other point); the mechanism's mobility is {c.mobility}")
+    else:
+        why = {"spherical": "all axes meet at one point: the spherical family, W = 3·n − 2·p5 = 3·3 − 2·4 = 1",
+               "planar": "all axes are parallel: the planar family, W = 3·n − 2·p5 = 3·3 − 2·4 = 1",
+               "Bennett": "Bennett's conditions hold (opposite links equal in length and twist, zero offsets, "
+                          "a1·sin α2 = a2·sin α1): three constraints repeat, W = 1"}[c.kind]
+        print(f"overconstrained: {why}")
+    print(f"pairs: " + ", ".join(f"{j.kind} {j.name} [{j.links[0]}, {j.links[1]}]" for j in mech.joints)
+          + "".join(f", prismatic {s.name} [{s.guide}, {s.slider}]" for s in mech.slides))
+    return 0
+
+
+def _output_name(chain) -> str:
+    return chain.pair_out
+
+
+def state_json(mech, phi: float, omega: float, epsilon: float, transfer: bool = False) -> dict:
+    """Points (position, velocity, acceleration, jerk) and joint variables at one crank state."""
+    from linkgen.spatial.kinematics import solve
+
+    k = solve(mech, np.array([phi]))
+    c = k.chain
+    pts = {}
+    for name, jet in k.points.items():
+        p, v, a, j = jet_motion(jet, omega, epsilon)
+        pts[name] = {"position": p[0].tolist(), "velocity": v[0].tolist(), "acceleration": a[0].tolist(),
+                     "jerk": j[0].tolist()}
+    out_jet = k.output
+    x, v, a, j = (float(q[0]) for q in jet_motion(out_jet, omega, epsilon))
+    if c.output_slides:
+        out = {"displacement": x, "velocity": v, "acceleration": a, "jerk": j}
+    else:
+        out = {"angle": x, "angular_velocity": v, "angular_acceleration": a, "angular_jerk": j}
+    joints = {c.drive: {"angle": phi, "angular_velocity": omega, "angular_acceleration": epsilon, "angular_jerk": 0.0},
+              c.pair_out: out}
+    result = {"model": mech.name, "kind": c.kind, "phi": phi, "omega": omega, "epsilon": epsilon,
+              "units": {"position": "m", "velocity": "m/s", "acceleration": "m/s²", "jerk": "m/s³", "angle": "rad",
+                        "angular_velocity": "rad/s", "angular_acceleration": "rad/s²", "angular_jerk": "rad/s³",
+                        "displacement": "m"},
+              "points": pts, "joints": joints}
+    if transfer:
+        result["transfer"] = {
+            "points": {n: {"d/dphi": jet.d[1][0].tolist(), "d2/dphi2": jet.d[2][0].tolist(),
+                           "d3/dphi3": jet.d[3][0].tolist()} for n, jet in k.points.items()},
+            "joints": {c.pair_out: {"d/dphi": float(out_jet.d[1][0]), "d2/dphi2": float(out_jet.d[2][0]),
+                                    "d3/dphi3": float(out_jet.d[3][0])}}}
+    return result
+
+
+def cmd_analyze(args) -> int:
+    from linkgen.spatial.kinematics import solve
+
+    if getattr(args, "summary", False):
+        raise OptionError(f"{args.model}: --summary is for planar linkages and cams")
+    check_crank_options(args)
+    mech = _load(args.model)
+    omega, epsilon = drive_rates(mech, args)
+    if args.samples is not None or args.csv is not None:
+        phi = np.linspace(0.0, 2 * math.pi, args.samples or 360, endpoint=False)
+        k = solve(mech, phi)
+        cols, data = ["phi"], [phi]
+        for name, jet in k.points.items():
+            for q, arr in zip(("position", "velocity", "acceleration", "jerk"), jet_motion(jet, omega, epsilon)):
+                for i, axis in enumerate("xyz"):
+                    cols.append(f"{name}.{q}.{axis}")
+                    data.append(arr[:, i])
+            if args.transfer:
+                for tag in (1, 2, 3):
+                    for i, axis in enumerate("xyz"):
+                        cols.append(f"{name}.position.d{tag}.{axis}")
+                        data.append(jet.d[tag][:, i])
+        unit = "displacement" if k.chain.output_slides else "angle"
+        for q, arr in zip((unit, "velocity", "acceleration", "jerk"), jet_motion(k.output, omega, epsilon)):
+            cols.append(f"{k.chain.pair_out}.{q}")
+            data.append(arr)
+        write_rows(cols, data, args.csv, units=True)
+        return 0
+    phi = 0.0 if args.angle is None else args.angle
+    result = state_json(mech, phi, omega, epsilon, transfer=args.transfer)
+    check_finite(result)
+    if args.json:
+        print_json(result)
+        return 0
+    print(f"{mech.name} ({result['kind']}): φ = {math.degrees(phi):.6g}° ({phi:.9g} rad), ω = {omega:g} rad/s, "
+          f"ε = {epsilon:g} rad/s²")
+    head = "".join(f"{h:>13}" for h in ("x [m]", "y [m]", "z [m]", "vx [m/s]", "vy [m/s]", "vz [m/s]", "ax [m/s²]",
+                                          "ay [m/s²]", "az [m/s²]", "jx [m/s³]", "jy [m/s³]", "jz [m/s³]"))
+    print(f"{'point':<8}{head}")
+    for n, q in result["points"].items():
+        print(f"{n:<8}" + "".join(f"{x:>13.6g}" for x in q["position"] + q["velocity"] + q["acceleration"] + q["jerk"]))
+    for n, q in result["joints"].items():
+        print(f"joint {n}: " + ", ".join(f"{k} {v:.9g}" for k, v in q.items()))
+    if args.transfer:
+        print("transfer functions (derivatives with respect to φ) of the output: "
+              + ", ".join(f"{k} {v:.9g}" for k, v in next(iter(result["transfer"]["joints"].values())).items()))
+    return 0
+
+
+def cmd_forces(args) -> int:
+    from linkgen.spatial.forces import forces
+
+    check_crank_options(args)
+    mech = _load(args.model)
+    omega, epsilon = drive_rates(mech, args)
+    if args.samples is not None or args.csv is not None:
+        phi = np.linspace(0.0, 2 * math.pi, args.samples or 360, endpoint=False)
+        f = forces(mech, phi, omega, epsilon)
+        cols, data = ["phi", "balancing_torque"], [phi, f.balancing_torque]
+        for name, r in f.reactions.items():
+            for q, arr in (("force", r.force), ("moment", r.moment)):
+                for i, axis in enumerate("xyz"):
+                    cols.append(f"{name}.{q}.{axis}")
+                    data.append(arr[:, i])
+        write_rows(cols, data, args.csv, units=True)
+        return 0
+    phi = 0.0 if args.angle is None else args.angle
+    f = forces(mech, np.array([phi]), omega, epsilon)
+    result = {"model": mech.name, "phi": phi, "omega": omega, "epsilon": epsilon,
+              "units": {"force": "N", "moment": "N·m", "balancing_torque": "N·m"},
+              "balancing_torque": float(f.balancing_torque[0]), "statically_indeterminate": f.indeterminate,
+              "reactions": {n: {"on": r.on, "by": r.by, "force": r.force[0].tolist(), "moment": r.moment[0].tolist()}
+                            for n, r in f.reactions.items()}}
+    check_finite(result)
+    if args.json:
+        print_json(result)
+        return 0
+    print(f"{mech.name}: φ = {math.degrees(phi):.6g}°, ω = {omega:g} rad/s, ε = {epsilon:g} rad/s²: balancing torque "
+          f"{result['balancing_torque']:.6g} N·m")
+    for n, r in result["reactions"].items():
+        print(f"pair {n}: on {r['on']} by {r['by']}: force [{', '.join(f'{x:.6g}' for x in r['force'])}] N, "
+              f"moment [{', '.join(f'{x:.6g}' for x in r['moment'])}] N·m")
+    if f.indeterminate:
+        print(f"statically indeterminate by {f.indeterminate}: the reactions shown are the least-squares (minimum-norm) "
+              "ones; the balancing torque is determined")
+    return 0
+
+
+def cmd_draw(args) -> int:
+    from linkgen.cli.draw import FIGURE_FORMATS, _suffix
+    from linkgen.cli.files import atomic_output
+    from linkgen.draw.spatial import draw_spatial
+
+    _suffix(args.output, FIGURE_FORMATS, "a drawing")
+    if args.angle is not None and args.angles is not None:
+        raise OptionError("--angle cannot be combined with --angles: --angle draws one position, --angles a plan")
+    mech = _load(args.model)
+    angles = np.atleast_1d(args.angles if args.angles is not None else [0.0 if args.angle is None else args.angle])
+    with atomic_output(args.output) as tmp:
+        draw_spatial(mech, np.asarray(angles, dtype=float), tmp)
+    what = (f"position plan of {len(angles)} positions" if len(angles) > 1
+            else f"skeleton at φ = {math.degrees(float(angles[0])):.6g}°")
+    print(f"wrote {args.output}: {mech.name}, {what}")
+    return 0
+
+
+def build_spatial(path: Path, out: Path, practical: bool = False) -> Path:
+    import mujoco
+
+    from linkgen.cli.files import atomic_write_text
+    from linkgen.errors import DescriptionError
+    from linkgen.mujoco.log import no_log_file
+    from linkgen.spatial.crosscheck import derived_settings
+    from linkgen.spatial.mjcf import write_spatial_mjcf
+
+    if practical:
+        raise DescriptionError("--practical", "is for planar linkages", str(path))
+    mech = _load(path)
+    xml = write_spatial_mjcf(mech, derived_settings(mech)[0])
+    with no_log_file():
+        mujoco.MjModel.from_xml_string(xml)
+    atomic_write_text(out, xml)
+    print(f"wrote {out}")
+    return out
+
+
+def check_spatial_file(path: Path, t0: float, report: Path | None = None) -> dict:
+    """A spatial model in MuJoCo against its closed form; with ``report``, its figures there."""
+    import time
+
+    from linkgen.cli.files import message_for
+    from linkgen.errors import LinkgenError
+    from linkgen.spatial.crosscheck import check_spatial
+
+    try:
+        mech = _load(path)
+        r = check_spatial(mech)
+    except LinkgenError as exc:
+        return {"model": path.stem, "file": str(path), "ok": False, "error": message_for(path, exc)}
+    out = {"file": str(path), "spatial": r.to_json(), "model": r.model, "ok": r.ok, "line": r.summary()}
+    if report is not None:
+        from linkgen.draw.spatial import draw_spatial, plot_spatial_check
+
+        report.mkdir(parents=True, exist_ok=True)
+        draw_spatial(mech, np.array([0.0]), report / f"{r.model}_drawing.png")
+        draw_spatial(mech, np.radians(np.arange(0.0, 360.0, 30.0)), report / f"{r.model}_plan.png")
+        out["figures"] = [f"{r.model}_drawing.png", f"{r.model}_plan.png"] + plot_spatial_check(r, report)
+    out["total_wall_s"] = time.perf_counter() - t0
+    out["line"] = r.summary()
+    return out
+
+
+__all__ = ["build_spatial", "check_spatial_file", "is_spatial_file", "route", "state_json"]
