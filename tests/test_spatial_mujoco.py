@@ -1,0 +1,112 @@
+"""Spatial four-bars: kinetostatics against the energy balance, MuJoCo (forward run and inverse
+dynamics) against the closed form, the viewer keyframe, and the CLI."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+
+import mujoco
+import numpy as np
+import pytest
+
+import linkgen
+from linkgen.crosscheck.tolerances import GAP_TOL
+from linkgen.spatial.forces import forces
+from linkgen.spatial.kinematics import solve
+from linkgen.spatial.mjcf import write_spatial_mjcf
+from linkgen.spatial.state import reduced_inertia
+
+from conftest import ROOT, SPATIAL_MODELS
+
+RSSR = ROOT / "models" / "rssr.toml"
+# Energy balance by central differences of J(φ) with step H: truncation H²·|J‴|/6 relative to
+# the torque ~1e-8 for these metre-sized models, rounding eps·J/H ~ 1e-11: 1e-6 of the peak.
+H = 1e-4
+ENERGY_TOL = 1e-6
+
+
+@pytest.fixture(params=SPATIAL_MODELS, ids=[p.stem for p in SPATIAL_MODELS])
+def spatial(request):
+    return linkgen.load(request.param)
+
+
+def test_bundled_spatial_models_cover_the_four_kinds():
+    kinds = {solve(linkgen.load(p), [0.0]).chain.kind for p in SPATIAL_MODELS}
+    assert {"RSSR"} <= kinds
+
+
+def test_balancing_torque_equals_the_energy_balance(spatial):
+    """τ·ω = dT/dt + (power of gravity against the motion): at constant ω, τ = ½·J′(φ)·ω² −
+    Σ m·g·c′(φ), with J′ by central differences of the kinetic energy — no Newton–Euler."""
+    phi = np.linspace(0.0, 2 * np.pi, 48, endpoint=False)
+    w = 7.0
+    f = forces(spatial, phi, w, 0.0)
+    jp = (reduced_inertia(spatial, solve(spatial, phi + H)) - reduced_inertia(spatial, solve(spatial, phi - H))) / (2 * H)
+    k = solve(spatial, phi)
+    g = np.array(spatial.gravity)
+    grav = np.zeros_like(phi)
+    for link in (k.chain.crank, k.chain.coupler, k.chain.output):
+        l = spatial.link(link)
+        c = k.points[l.points[0]] if len(l.points) == 1 else (k.points[l.points[0]] + k.points[l.points[1]]) * 0.5
+        grav += l.mass * (c.d[1] @ g)
+    expected = 0.5 * jp * w**2 - grav
+    scale = np.abs(expected).max()
+    assert np.abs(f.balancing_torque - expected).max() <= ENERGY_TOL * scale
+
+
+def test_mujoco_agrees_with_the_closed_form(spatial):
+    r = linkgen.validate(spatial)
+    bad = {k: v for k, v in r.errors.items() if v[0] > v[1]}
+    assert not bad, r.summary()
+    assert r.gap <= GAP_TOL
+    assert r.ok
+    assert "inverse.balancing_torque" in r.errors
+    if r.kind in ("RSSR", "RSSP"):  # determinate: every reaction compared
+        assert sum(k.startswith("reactions.") for k in r.errors) == 4
+    else:
+        assert "indeterminate" in r.note
+
+
+def test_keyframe_turns_the_crank_at_omega(spatial):
+    model = mujoco.MjModel.from_xml_string(write_spatial_mjcf(spatial))
+    data = mujoco.MjData(model)
+    mujoco.mj_resetDataKeyframe(model, data, model.key("sketch").id)
+    drive = model.joint(spatial.drive.joint).qposadr[0]
+    q0 = data.qpos[drive]
+    while data.time < 1.0:
+        mujoco.mj_step(model, data)
+    assert abs((data.qpos[drive] - q0) - spatial.drive.omega * data.time) <= 0.01 * spatial.drive.omega
+
+
+def _cli(*args):
+    return subprocess.run([sys.executable, "-m", "linkgen", *map(str, args)], capture_output=True, text=True, cwd=ROOT)
+
+
+def test_analyze_json_gives_points_with_jerk_and_the_output():
+    p = _cli("analyze", RSSR, "--angle", "30deg", "--omega", "1", "--json")
+    assert p.returncode == 0, p.stderr
+    d = json.loads(p.stdout)
+    assert set(d["points"]["B"]) == {"position", "velocity", "acceleration", "jerk"}
+    assert len(d["points"]["B"]["jerk"]) == 3
+    k = solve(linkgen.load(RSSR), [np.radians(30.0)])
+    assert np.allclose(d["points"]["B"]["jerk"], k.points["B"].d[3][0], rtol=0, atol=1e-12)
+    assert "B0" in d["joints"] and "angular_jerk" in d["joints"]["B0"]
+    # jerk scales with ω³ at ε = 0
+    p2 = json.loads(_cli("analyze", RSSR, "--angle", "30deg", "--omega", "2", "--json").stdout)
+    assert np.allclose(p2["points"]["B"]["jerk"], 8 * np.array(d["points"]["B"]["jerk"]), rtol=1e-12, atol=1e-12)
+
+
+def test_planar_only_commands_refuse_a_spatial_file_in_one_line():
+    p = _cli("simulate", RSSR)
+    assert p.returncode == 2
+    assert "spatial" in p.stderr and "Traceback" not in p.stderr and len(p.stderr.strip().splitlines()) == 1
+
+
+def test_forces_cli_names_the_links_of_each_reaction():
+    p = _cli("forces", RSSR, "--angle", "30deg", "--json")
+    assert p.returncode == 0, p.stderr
+    d = json.loads(p.stdout)
+    assert d["statically_indeterminate"] == 0
+    assert d["reactions"]["A"]["on"] == "coupler" and d["reactions"]["A"]["by"] == "crank"
