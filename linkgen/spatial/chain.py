@@ -241,8 +241,8 @@ def bennett_defects(axes) -> dict[str, float]:
         leaving = links[(i + 1) % 4][2]
         offsets.append(float(np.linalg.norm(arriving - leaving)) / scale)
 
-    def twist_gap(x, y):  # twists equal up to the sense of the normals
-        return min(abs(math.remainder(x - y, 2 * math.pi)), abs(math.remainder(x + y, 2 * math.pi)))
+    def twist_gap(x, y):  # twists equal up to the sense of the normals and of the axes (a turned-over axis adds π)
+        return min(abs(math.remainder(x - y, math.pi)), abs(math.remainder(x + y, math.pi)))
 
     return {"opposite lengths": max(abs(a[0] - a[2]), abs(a[1] - a[3])) / scale,
             "opposite twists": max(twist_gap(al[0], al[2]), twist_gap(al[1], al[3])),

@@ -11,22 +11,24 @@ coupler itself; for the spherical chain A and B lie on the coupler's axes throug
 their distance fixes the angle between the axes; for the planar and Bennett chains A and B are
 the feet of the coupler's common normal, whose length is its link length. F is
 P·cos ψ + Q·sin ψ = C for a turning output and a quadratic in s for a sliding one: q in closed
-form, both roots, the branch taken from the sketch and kept (for Bennett, at every angle the root
-that also keeps the coupler's twist and the normal square to both axes). Derivatives by
-differentiating F along φ three times (``jets``): F_q·q⁽ᵏ⁾ = −(the rest of F's k-th
-derivative), F_q = ∂F/∂q ≠ 0 away from dead centres.
+form, both roots, the branch taken from the sketch and kept. Derivatives by differentiating F
+along φ three times (``jets``): F_q·q⁽ᵏ⁾ = −(the rest of F's k-th derivative), F_q = ∂F/∂q ≠ 0
+away from dead centres. A Bennett linkage passes two poses where this F_q vanishes though the
+linkage moves on (its four joints in line), so its q comes from Bennett's own closure,
+tan(θ1/2)·tan(θ2/2) = K, regular over the whole turn (``_bennett_turn``).
 """
 
 from __future__ import annotations
 
+import itertools
 import math
 from dataclasses import dataclass, replace
 
 import numpy as np
 
-from linkgen.errors import AssemblyError, SingularityError, angle_ranges
+from linkgen.errors import AssemblyError, SingularityError, StructureError, angle_ranges
 from linkgen.model.names import GROUND
-from linkgen.spatial.chain import Chain, angle_about, build_chain
+from linkgen.spatial.chain import Chain, angle_about, build_chain, common_normal
 from linkgen.spatial.description import SpatialMechanism
 from linkgen.spatial.jets import Jet, constant, rotate, variable
 
@@ -37,6 +39,9 @@ SINGULAR_TOL = 1e-4
 # A point of a coupler held by two spherical pairs must lie on the line through them (else
 # its position is not defined by the mechanism): to this fraction of the size.
 ON_LINE_TOL = 1e-9
+# A Bennett sketch must lie on Bennett's closure to this [rad]: a description written to 9
+# significant digits (chain.GEOMETRY_TOL) is off by ~1e-9.
+BENNETT_SKETCH_TOL = 1e-6
 
 
 @dataclass(frozen=True)
@@ -48,7 +53,8 @@ class SpatialMotion:
     ``turn``: the output's turn from its sketch (ψ or s) as a Jet; ``spin[link]``: the link's
     angular velocity and its derivative per unit crank rate, each (n, 3) [rad/rad, rad/rad²]
     (a coupler between two spherical pairs without spin about its own line); ``frames[link]``:
-    rotation matrices (n, 3, 3) from the sketch pose; ``denominator``: normalised F_q (n,)."""
+    rotation matrices (n, 3, 3) from the sketch pose; ``denominator``: normalised F_q (n,) (for
+    Bennett, the closure's normalised denominator, see ``_bennett_turn``)."""
 
     chain: Chain
     phi: np.ndarray
@@ -169,16 +175,19 @@ def solve(mech_or_chain: SpatialMechanism | Chain, phi, chain: Chain | None = No
     n = phi.shape[0]
     label = f"{chain.kind} [{chain.crank}, {chain.coupler}, {chain.output}]"
     pj = variable(phi)
+    if chain.kind == "Bennett":  # Bennett's closed form: regular over the whole turn
+        q, den = _bennett_turn(chain, pj)
+        bad = ~(np.abs(den) >= SINGULAR_TOL)
+        if bad.any():
+            raise SingularityError(label, angle_ranges(phi, bad), "opposite twists nearly equal or opposite "
+                                   f"(the closure's normalised denominator below {SINGULAR_TOL:g})")
+        return _motion(chain, mech, phi, pj, q, den)
     a = _crank_a(chain, pj).value
     q1, q2, fail, scale = _roots(chain, a)
     if fail.any():
         raise AssemblyError(label, angle_ranges(phi, fail), "the coupler cannot reach the output (the distance it must "
                             "span leaves the range the output's point can take)")
-    if chain.kind == "Bennett":
-        pick = _bennett_error(chain, phi, q1) <= _bennett_error(chain, phi, q2)
-        q0 = np.where(pick, q1, q2)
-    else:
-        q0 = q1 if _branch(chain) > 0 else q2
+    q0 = q1 if _branch(chain) > 0 else q2
     # implicit derivatives: F's k-th derivative is F_q·q⁽ᵏ⁾ + (terms in lower derivatives)
     fq = _residual(chain, variable(phi, (0.0, 0.0, 0.0)), variable(q0)).d[1]
     den = fq / scale
@@ -193,6 +202,52 @@ def solve(mech_or_chain: SpatialMechanism | Chain, phi, chain: Chain | None = No
         qd[k] = -rk / fq
     q = Jet(np.stack(qd))
     return _motion(chain, mech, phi, pj, q, den)
+
+
+def _bennett_turn(chain: Chain, pj: Jet) -> tuple[Jet, np.ndarray]:
+    """The rocker's turn q of a Bennett linkage in closed form, and the closure's normalised
+    denominator (n,).
+
+    The distance equation |B − A| = L does not serve here: at the two poses where the four joint
+    points lie on one line (the crank's and the ground's common normals parallel) its two roots
+    meet and F_q = 0, though the linkage moves through them. Bennett's closure does: with the
+    joint angles θ1 (from the ground's common normal to the crank's, about the drive axis) and θ4
+    (from the rocker's normal to the ground's, about the output axis), and the axes oriented so
+    that opposite twists are equal and a1·sin α2 = a2·sin α1 (turning an axis over adds π to its
+    two twists and negates its joint angle), θ4 = −θ2 with tan(θ1/2)·tan(θ2/2) = K =
+    sin((α2 + α1)/2) / sin((α2 − α1)/2); θ2 = 2·atan2(K·cos(θ1/2), sin(θ1/2)) is smooth in θ1, and
+    dθ2/dθ1 = −K / (sin²(θ1/2) + K²·cos²(θ1/2)), whose denominator over max(1, K²) is returned."""
+    axes = [(chain.a0, chain.ka), (chain.A, chain.ua), (chain.B, chain.ub), (chain.b0, chain.kb)]
+    links = [common_normal(*axes[i], *axes[(i + 1) % 4]) for i in range(4)]
+    a = [l[0] for l in links]
+    x = [(l[3] - l[2]) / l[0] for l in links]
+
+    def turn(u, v, axis):  # the angle from u to v about axis
+        return math.atan2(float(np.cross(u, v) @ axis), float(u @ v))
+
+    th1, th4 = turn(x[3], x[0], chain.ka), turn(x[2], x[3], chain.kb)
+    best = (math.inf, (), ())
+    for flips in itertools.product((0, 1), repeat=3):  # turn over axes 2..4, the drive's kept
+        f = (0, *flips)
+        al = [links[i][1] + math.pi * (f[i] + f[(i + 1) % 4]) for i in range(4)]
+        err = (abs(math.remainder(al[2] - al[0], 2 * math.pi)) + abs(math.remainder(al[3] - al[1], 2 * math.pi))
+               + abs(a[0] * math.sin(al[1]) - a[1] * math.sin(al[0])) / max(a))
+        if err < best[0]:
+            best = (err, al, f)
+    _, al, f = best
+    k = math.sin((al[1] + al[0]) / 2) / math.sin((al[1] - al[0]) / 2)
+    s4 = -1.0 if f[3] else 1.0
+    u = (pj + (th1 - chain.phi_s)) * 0.5
+    c, s = u.cos(), u.sin()
+    th2 = 2.0 * np.arctan2(k * c.value, s.value)
+    q_s = math.remainder(th4 + s4 * 2.0 * math.atan2(k * math.cos(th1 / 2), math.sin(th1 / 2)), 2 * math.pi)
+    if abs(q_s) > BENNETT_SKETCH_TOL:
+        raise StructureError(f"Bennett [{chain.crank}, {chain.coupler}, {chain.output}]: the sketch is {q_s:.3g} rad "
+                             "off Bennett's closure tan(θ1/2)·tan(θ2/2) = K")
+    den = s * s + c * c * (k * k)
+    rate = den.reciprocal() * (-k * s4)  # dq/dφ = s4·dθ2/dφ and its derivatives
+    q0 = np.remainder(th4 + s4 * th2 + math.pi, 2 * math.pi) - math.pi
+    return Jet(np.stack([q0, rate.d[0], rate.d[1], rate.d[2]])), den.value / max(1.0, k * k)
 
 
 def _frames_of(chain: Chain, pj: Jet, q: Jet, points: dict) -> tuple[dict, dict, dict]:
