@@ -84,7 +84,7 @@ class LinkPose:
             if loc[0] == local[0] and loc[1] == local[1]:
                 return vec
         loc, vec = self.known[0]
-        if constant_along(self.angle.v) and constant_along(vec.p) and is_zero(vec.d1) and is_zero(vec.d2):
+        if constant_along(self.angle.v) and constant_along(vec.p) and all(map(is_zero, (vec.d1, vec.d2, vec.d3))):
             th = float(self.angle.v[0])  # a fixed link: one point, broadcast
             c, s = math.cos(th), math.sin(th)
             w = local - loc
@@ -98,7 +98,7 @@ class LinkPose:
 def _wrapped(angle: Scalar) -> Scalar:
     """The angle reported in [-π, π) (floor is several times faster than np.mod)."""
     turns = np.floor(angle.v * (0.5 / np.pi) + 0.5)
-    return Scalar(angle.v - (2.0 * np.pi) * turns, angle.d1, angle.d2, angle.cs)
+    return Scalar(angle.v - (2.0 * np.pi) * turns, angle.d1, angle.d2, angle.d3, angle.cs)
 
 
 def pose_from_point(p: Vec, local: np.ndarray, angle: Scalar) -> LinkPose:
@@ -115,7 +115,7 @@ def pose_from_two_points(p: Vec, p_local: np.ndarray, q: Vec, q_local: np.ndarra
 
 def ground_pose(n: int) -> LinkPose:
     zero = zeros(n)
-    return LinkPose(Scalar(zero, zero, zero), ((np.zeros(2), constant(np.zeros(2), n)),))
+    return LinkPose(Scalar(zero, zero, zero, zero), ((np.zeros(2), constant(np.zeros(2), n)),))
 
 
 def link_shapes(mech: Mechanism) -> dict[str, LinkShape]:

@@ -67,7 +67,7 @@ def leaves(tree: Any, out: list[np.ndarray] | None = None, seen: set[int] | None
     if isinstance(tree, np.ndarray):
         out.append(tree)
     elif isinstance(tree, (Vec, Scalar)):
-        for a in (tree.p, tree.d1, tree.d2) if isinstance(tree, Vec) else (tree.v, tree.d1, tree.d2):
+        for a in (tree.p if isinstance(tree, Vec) else tree.v, tree.d1, tree.d2, tree.d3):
             leaves(a, out, seen)
     elif isinstance(tree, LinkPose):
         leaves(tree.angle, out, seen)
@@ -94,9 +94,9 @@ def rebuild(tree: Any, new: Callable[[np.ndarray], np.ndarray], memo: dict[int, 
     if isinstance(tree, np.ndarray):
         out = new(tree)
     elif isinstance(tree, Vec):
-        out = Vec(new(tree.p), new(tree.d1), new(tree.d2))
+        out = Vec(new(tree.p), new(tree.d1), new(tree.d2), new(tree.d3))
     elif isinstance(tree, Scalar):
-        out = Scalar(new(tree.v), new(tree.d1), new(tree.d2))
+        out = Scalar(new(tree.v), new(tree.d1), new(tree.d2), new(tree.d3))
     elif isinstance(tree, LinkPose):
         out = LinkPose(rebuild(tree.angle, new, memo), tuple((loc, rebuild(v, new, memo)) for loc, v in tree.known))
     elif isinstance(tree, dict):

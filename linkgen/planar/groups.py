@@ -53,7 +53,7 @@ def input_poses(mech: Mechanism, structure: Structure, shapes: dict[str, LinkSha
     n = phi.shape[0]
     crank = shapes[structure.crank]
     pivot = shapes[GROUND].local[mech.revolute(mech.drive.joint).point]
-    angle = Scalar(phi, np.broadcast_to(1.0, (n,)), zeros(n))  # dφ/dφ = 1, d²φ/dφ² = 0
+    angle = Scalar(phi, np.broadcast_to(1.0, (n,)), zeros(n), zeros(n))  # dφ/dφ = 1, d²φ/dφ² = d³φ/dφ³ = 0
     poses = {
         GROUND: ground_pose(n),
         structure.crank: pose_from_point(constant(pivot, n), crank.local[mech.link(structure.crank).points[0]], angle),
@@ -61,7 +61,8 @@ def input_poses(mech: Mechanism, structure: Structure, shapes: dict[str, LinkSha
     for g in mech.gears:  # the planet turns k times the crank from the sketch: θ = θ0 + k·(φ − φ0)
         planet, centre = shapes[g.planet], mech.link(g.planet).points[0]
         k = g.ratio
-        theta = Scalar(planet.sketch_angle + k * (phi - crank.sketch_angle), np.broadcast_to(k, (n,)), zeros(n))
+        theta = Scalar(planet.sketch_angle + k * (phi - crank.sketch_angle), np.broadcast_to(k, (n,)),
+                       zeros(n), zeros(n))
         poses[g.planet] = pose_from_point(poses[structure.crank].point(crank.local[centre]), planet.local[centre], theta)
     return poses
 

@@ -1,10 +1,10 @@
 """Closed-form kinematics from the Assur groups, vectorised over crank angles.
 
-``solve`` returns positions and first/second transfer functions of every link, named point
-and slider; ``Kinematics.motion`` turns them into velocities and accelerations for a crank
-speed ω and acceleration ε (v = x′ω, a = x″ω² + x′ε). ``solve_motion`` goes straight to
-positions, velocities and accelerations, keeping no transfer functions: less memory over long
-arrays of angles. Both run long arrays in cache-sized blocks (``linkgen.blocks``).
+``solve`` returns positions and first, second and third transfer functions of every link,
+named point and slider; ``Kinematics.motion`` turns them into velocities, accelerations and
+jerks for a crank speed ω and constant acceleration ε (v = x′ω, a = x″ω² + x′ε,
+j = x‴ω³ + 3x″ωε). ``solve_motion`` goes straight to positions, velocities, accelerations and
+jerks, keeping no transfer functions: less memory over long arrays of angles. Both run long arrays in cache-sized blocks (``linkgen.blocks``).
 """
 
 from __future__ import annotations
@@ -20,7 +20,7 @@ from linkgen.errors import ArgumentError, AssemblyError, MagnitudeError, Singula
 from linkgen.model.geometry import GuideShape, LinkPose
 from linkgen.planar.groups import SINGULAR_TOL, fail_reason, input_poses, solve_group
 from linkgen.planar.motion import Motion, all_finite, checked_derivatives, derivatives, rate
-from linkgen.planar.primitives import Scalar, Vec, constant_along, dot
+from linkgen.planar.primitives import Scalar, Vec, constant_along, dot, is_zero
 from linkgen.planar.structure import Group, GroupKind
 
 # The one rule for singular and near-singular poses: SINGULAR_TOL (linkgen.groups) says why.
@@ -51,9 +51,9 @@ class Kinematics:
     """Positions and transfer functions over crank angles ``phi`` (n,) [rad].
 
     Attributes:
-        links: pose of every link: its angle (n,) [rad] with d/dφ, d²/dφ², and the points its
-            group solved; ``origin`` and ``point(local)`` place any other point.
-        points: every named point, Vec of (n, 2) [m], [m/rad], [m/rad²].
+        links: pose of every link: its angle (n,) [rad] with d/dφ, d²/dφ², d³/dφ³, and the
+            points its group solved; ``origin`` and ``point(local)`` place any other point.
+        points: every named point, Vec of (n, 2) [m], [m/rad], [m/rad²], [m/rad³].
         sliders: every prismatic pair's displacement along its guide [m] (from the guide's
             base point), with transfer functions.
         near_singular: per group label, (n,) True where that group is singular by the rule
@@ -80,12 +80,12 @@ class Kinematics:
         return self.links[link].point(np.asarray(local, dtype=float))
 
     def motion(self, omega, epsilon=0.0) -> Motion:
-        """Velocities and accelerations for crank speed ω [rad/s] and acceleration ε [rad/s²]
-        (scalars or arrays of shape (n,)).
+        """Velocities, accelerations and jerks for crank speed ω [rad/s] and acceleration ε
+        [rad/s²] (scalars or arrays of shape (n,); the jerk takes ε constant in time).
 
         Raises:
             ArgumentError: ω or ε is not finite or not scalar or (n,).
-            MagnitudeError: a velocity or acceleration overflows float64.
+            MagnitudeError: a velocity, acceleration or jerk overflows float64.
         """
         mo = derivatives(self.phi, _series(self.points, self.links, self.sliders), omega, epsilon)
         return replace(mo, singular=self.singular)
@@ -93,9 +93,9 @@ class Kinematics:
 
 def _series(points: dict[str, Vec], links: dict[str, LinkPose], sliders: dict[str, Scalar]) -> dict:
     return {
-        "points": {k: (v.p, v.d1, v.d2) for k, v in points.items()},
-        "links": {k: (p.angle.v, p.angle.d1, p.angle.d2) for k, p in links.items()},
-        "sliders": {k: (s.v, s.d1, s.d2) for k, s in sliders.items()},
+        "points": {k: (v.p, v.d1, v.d2, v.d3) for k, v in points.items()},
+        "links": {k: (p.angle.v, p.angle.d1, p.angle.d2, p.angle.d3) for k, p in links.items()},
+        "sliders": {k: (s.v, s.d1, s.d2, s.d3) for k, s in sliders.items()},
     }
 
 
@@ -142,8 +142,8 @@ def solve(mech_or_assembly: Mechanism | Assembly, phi, threads: int | None = Non
 
 def solve_motion(mech_or_assembly: Mechanism | Assembly, phi, omega, epsilon=0.0,
                  threads: int | None = None, *, on_singular: str = "raise") -> Motion:
-    """Positions, velocities and accelerations at crank angles ``phi`` [rad] (n,), crank speed
-    ω [rad/s] and acceleration ε [rad/s²] (scalars or (n,)): ``solve(...).motion(ω, ε)``
+    """Positions, velocities, accelerations and jerks at crank angles ``phi`` [rad] (n,), crank
+    speed ω [rad/s] and acceleration ε [rad/s²] (scalars or (n,)): ``solve(...).motion(ω, ε)``
     without keeping the transfer functions. Raises as ``solve`` and ``Kinematics.motion`` do."""
     mark = checked_mode(on_singular)
     asm, phi = _assembly(mech_or_assembly), checked_angles(phi)
@@ -156,10 +156,10 @@ def solve_motion(mech_or_assembly: Mechanism | Assembly, phi, omega, epsilon=0.0
             raise BlockFailed  # named by raise_failure over the whole array
         mo = checked_derivatives(phi[rows], _series(points, poses, sliders),
                                  w if np.ndim(w) == 0 else w[rows], e if np.ndim(e) == 0 else e[rows])
-        return (mo.points, mo.links, mo.sliders, near, marked), ok
+        return (mo.points, mo.links, mo.sliders, mo.jerk, near, marked), ok
 
-    points, links, sliders, _, marked = _checked_blocks(asm, phi, block, threads, mark)
-    return Motion(phi, np.broadcast_to(w, (n,)), np.broadcast_to(e, (n,)), points, links, sliders, marked)
+    points, links, sliders, jerk, _, marked = _checked_blocks(asm, phi, block, threads, mark)
+    return Motion(phi, np.broadcast_to(w, (n,)), np.broadcast_to(e, (n,)), points, links, sliders, marked, jerk)
 
 
 def _checked_blocks(asm: Assembly, phi: np.ndarray, block, threads: int | None, mark: bool):
@@ -210,7 +210,7 @@ def solve_block(asm: Assembly, phi: np.ndarray, mark: bool = False, report: list
     sliders = {name: slider_motion(poses, g) for name, g in asm.guides.items()}
     if mark and marked.any():
         _clear([*points.values(), *poses.values(), *sliders.values()], marked)
-    ok = ok and all(all_finite(a) for v in points.values() for a in (v.p, v.d1, v.d2))
+    ok = ok and all(all_finite(a) for v in points.values() for a in (v.p, v.d1, v.d2, v.d3))
     return (poses, points, sliders, near, marked), ok
 
 
@@ -236,6 +236,7 @@ def _clear(trees: list, rows: np.ndarray) -> None:
             fix(value, False)
             fix(x.d1, True)
             fix(x.d2, True)
+            fix(x.d3, True)
             if isinstance(x, Scalar):
                 object.__setattr__(x, "cs", None)  # cached cos/sin of values just changed
 
@@ -252,14 +253,15 @@ def raise_failure(asm: Assembly, phi: np.ndarray, mark: bool = False) -> None:
         if np.any(singular) and not mark:
             raise SingularityError(group.label, angle_ranges(phi, singular), singular_reason(group))
     for name, v in points.items():
-        bad = ~np.all(np.isfinite(v.p) & np.isfinite(v.d1) & np.isfinite(v.d2), axis=1)
+        bad = ~np.all(np.isfinite(v.p) & np.isfinite(v.d1) & np.isfinite(v.d2) & np.isfinite(v.d3), axis=1)
         if np.any(bad):
             raise MagnitudeError(f"point {name}", angle_ranges(phi, bad))
     raise RuntimeError("a block reported a failure that the whole array does not reproduce")
 
 
 def slider_motion(poses: dict[str, LinkPose], g: GuideShape) -> Scalar:
-    """Displacement of the slider point along the guide from the guide's base point [m]."""
+    """Displacement s = r·u of the slider point along the guide from the guide's base point [m]
+    and its transfer functions (Leibniz: s‴ = r‴·u + 3r″·u′ + 3r′·u″ + r·u‴)."""
     guide = poses[g.guide]
     base, u = guide.point(g.base), guide.direction(g.alpha)
     r = poses[g.slider].point(g.point) - base
@@ -267,7 +269,17 @@ def slider_motion(poses: dict[str, LinkPose], g: GuideShape) -> Scalar:
         dot(r.p, u.p),
         dot(r.d1, u.p) + dot(r.p, u.d1),
         dot(r.d2, u.p) + 2.0 * dot(r.d1, u.d1) + dot(r.p, u.d2),
+        dot(r.d3, u.p) + _dot3(r.d2, u.d1) + _dot3(r.d1, u.d2) + _dot(r.p, u.d3),
     )
+
+
+def _dot(a: np.ndarray, b: np.ndarray) -> np.ndarray | float:
+    """a·b row by row; 0 where b is known to be zero (a guide fixed to ground)."""
+    return 0.0 if is_zero(b) else dot(a, b)
+
+
+def _dot3(a: np.ndarray, b: np.ndarray) -> np.ndarray | float:
+    return 0.0 if is_zero(b) else 3.0 * dot(a, b)
 
 
 __all__ = ["Kinematics", "Motion", "solve", "solve_motion", "slider_motion"]

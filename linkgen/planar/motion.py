@@ -1,8 +1,9 @@
-"""Velocities and accelerations from transfer functions: v = x′ω, a = x″ω² + x′ε."""
+"""Velocities, accelerations and jerks from transfer functions, for a crank turning at ω with a
+constant acceleration ε (dε/dt = 0): v = x′ω, a = x″ω² + x′ε, j = x‴ω³ + 3x″ωε."""
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -11,6 +12,8 @@ from linkgen.errors import ArgumentError, MagnitudeError, angle_ranges
 from linkgen.planar.primitives import constant_along
 
 Triple = tuple[np.ndarray, np.ndarray, np.ndarray]
+Series = tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]  # x, dx/dφ, d²x/dφ², d³x/dφ³
+KINDS = ("points", "links", "sliders")
 
 
 @dataclass(frozen=True)
@@ -20,9 +23,12 @@ class Motion:
     ``points[name]`` = (position (n,2) [m], velocity [m/s], acceleration [m/s²]);
     ``links[name]`` = (angle (n,) [rad], angular velocity [rad/s], angular acceleration [rad/s²]);
     ``sliders[name]`` = (displacement [m], velocity [m/s], acceleration [m/s²]).
+    ``jerk[kind][name]``, kind one of ``points``, ``links``, ``sliders``: the third time
+    derivative, x‴ω³ + 3x″ωε (ε taken constant in time): (n, 2) [m/s³] for a point, (n,)
+    [rad/s³] for a link's angle, (n,) [m/s³] for a slider.
     Quantities constant along φ are read-only zero-stride views. ``singular`` (n,) bool: True
-    at angles marked singular (``on_singular="mark"``), where the velocities and accelerations
-    are set to 0; None when not known.
+    at angles marked singular (``on_singular="mark"``), where the velocities, accelerations
+    and jerks are set to 0; None when not known.
     """
 
     def __repr__(self) -> str:
@@ -36,6 +42,7 @@ class Motion:
     links: dict[str, Triple]
     sliders: dict[str, Triple]
     singular: np.ndarray | None = None
+    jerk: dict[str, dict[str, np.ndarray]] = field(default_factory=lambda: {k: {} for k in KINDS})
 
 
 def rate(name: str, value, n: int, unit: str) -> float | np.ndarray:
@@ -48,9 +55,9 @@ def rate(name: str, value, n: int, unit: str) -> float | np.ndarray:
     return float(a) if a.ndim == 0 else a
 
 
-def derivatives(phi: np.ndarray, series: dict[str, dict[str, Triple]], omega, epsilon) -> Motion:
-    """Motion from ``series[kind][name] = (x, dx/dφ, d²x/dφ²)`` for kinds points, links and
-    sliders (arrays (n,) or (n, 2)), at ω [rad/s] and ε [rad/s²], scalars or (n,).
+def derivatives(phi: np.ndarray, series: dict[str, dict[str, Series]], omega, epsilon) -> Motion:
+    """Motion from ``series[kind][name] = (x, dx/dφ, d²x/dφ², d³x/dφ³)`` for kinds points, links
+    and sliders (arrays (n,) or (n, 2)), at ω [rad/s] and ε [rad/s²], scalars or (n,).
 
     Quantities constant along φ stay zero-stride views when ω and ε are scalars; the others
     share one allocation (``blocks.carve``); a scalar ε = 0 costs nothing.
@@ -60,29 +67,32 @@ def derivatives(phi: np.ndarray, series: dict[str, dict[str, Triple]], omega, ep
 
 
 @np.errstate(over="ignore", invalid="ignore")  # overflow is found and named below
-def checked_derivatives(phi: np.ndarray, series: dict[str, dict[str, Triple]],
+def checked_derivatives(phi: np.ndarray, series: dict[str, dict[str, Series]],
                         omega: float | np.ndarray, epsilon: float | np.ndarray) -> Motion:
     """``derivatives`` for ω and ε already checked by ``rate`` (floats or (n,) arrays)."""
     n = phi.shape[0]
     scalar = np.ndim(omega) == 0 and np.ndim(epsilon) == 0
     items = [(kind, name, t) for kind, named in series.items() for name, t in named.items()]
-    fixed = [scalar and constant_along(d1) and constant_along(d2) for _, _, (_, d1, d2) in items]
-    fresh = iter(carve(n, [d for (_, _, (_, d1, d2)), f in zip(items, fixed) if not f for d in (d1, d2)]))
-    out: dict[str, dict[str, Triple]] = {kind: {} for kind in ("points", "links", "sliders")}
-    for (kind, name, (x, d1, d2)), f in zip(items, fixed):
+    fixed = [scalar and all(constant_along(d) for d in t[1:]) for _, _, t in items]
+    fresh = iter(carve(n, [d for (_, _, t), f in zip(items, fixed) if not f for d in t[1:]]))
+    out: dict[str, dict[str, Triple]] = {kind: {} for kind in KINDS}
+    jerks: dict[str, dict[str, np.ndarray]] = {kind: {} for kind in KINDS}
+    for (kind, name, (x, d1, d2, d3)), f in zip(items, fixed):
         if f:  # one row, broadcast
             vel = np.broadcast_to(d1[0] * omega, d1.shape)
             acc = np.broadcast_to(d2[0] * (omega * omega) + d1[0] * epsilon, d2.shape)
+            jerk = np.broadcast_to(d3[0] * (omega * omega * omega) + 3.0 * d2[0] * (omega * epsilon), d3.shape)
         else:
-            vel, acc = next(fresh), next(fresh)
-            _into(d1, d2, omega, epsilon, vel, acc)
-        for what, a in (("velocity", vel), ("acceleration", acc)):
+            vel, acc, jerk = next(fresh), next(fresh), next(fresh)
+            _into(d1, d2, d3, omega, epsilon, vel, acc, jerk)
+        for what, a in (("velocity", vel), ("acceleration", acc), ("jerk", jerk)):
             if not all_finite(a):
                 bad = ~np.isfinite(a.reshape(n, -1)).all(axis=1) if not constant_along(a) else np.ones(n, bool)
                 raise MagnitudeError(f"the {what} of {kind[:-1]} {name}", angle_ranges(phi, bad))
         out[kind][name] = (x, vel, acc)
+        jerks[kind][name] = jerk
     return Motion(phi, np.broadcast_to(omega, (n,)), np.broadcast_to(epsilon, (n,)),
-                  out["points"], out["links"], out["sliders"])
+                  out["points"], out["links"], out["sliders"], jerk=jerks)
 
 
 def all_finite(a: np.ndarray) -> bool:
@@ -91,13 +101,16 @@ def all_finite(a: np.ndarray) -> bool:
     return bool(np.isfinite(a.sum()) or np.isfinite(a).all())
 
 
-def _into(d1: np.ndarray, d2: np.ndarray, w, e, vel: np.ndarray, acc: np.ndarray) -> None:
-    """vel = d1·ω, acc = d2·ω² + d1·ε, with ω, ε floats or (n,) arrays."""
+def _into(d1: np.ndarray, d2: np.ndarray, d3: np.ndarray, w, e, vel: np.ndarray, acc: np.ndarray,
+          jerk: np.ndarray) -> None:
+    """vel = d1·ω, acc = d2·ω² + d1·ε, jerk = d3·ω³ + 3·d2·ω·ε, with ω, ε floats or (n,) arrays."""
     if d1.ndim == 2 and np.ndim(w):
         w = w[:, None]
     if d1.ndim == 2 and np.ndim(e):
         e = e[:, None]
     np.multiply(d1, w, out=vel)
     np.multiply(d2, w * w, out=acc)
+    np.multiply(d3, w * w * w, out=jerk)
     if np.ndim(e) or e != 0.0:
         acc += d1 * e
+        jerk += d2 * (3.0 * w * e)
