@@ -27,8 +27,8 @@ from linkgen.planar.structure import Structure, analyze
 
 UNITS = {"phi": "rad", "omega": "rad/s", "epsilon": "rad/s²", "position": "m", "velocity": "m/s",
          "acceleration": "m/s²", "angle": "rad", "angular_velocity": "rad/s", "angular_acceleration": "rad/s²",
-         "displacement": "m", "d1": "per rad (m/rad or rad/rad)", "d2": "per rad²", "force": "N", "torque": "N·m",
-         "moment": "N·m", "inertia": "kg·m²"}
+         "jerk": "m/s³", "angular_jerk": "rad/s³", "displacement": "m", "d1": "per rad (m/rad or rad/rad)",
+         "d2": "per rad²", "d3": "per rad³", "force": "N", "torque": "N·m", "moment": "N·m", "inertia": "kg·m²"}
 
 
 def _assembly(source: Mechanism | Assembly) -> Assembly:
@@ -57,13 +57,16 @@ def _spatial(source) -> bool:
 @dataclass(frozen=True, repr=False)
 class Quantity:
     """One point, link or slider: value (position [m], angle [rad] or displacement [m]), its
-    velocity, acceleration, and the transfer functions d/dφ, d²/dφ²."""
+    velocity, acceleration, jerk (ε taken constant in time), and the transfer functions d/dφ,
+    d²/dφ², d³/dφ³. Iterating gives (value, velocity, acceleration)."""
 
     value: np.ndarray | float
     velocity: np.ndarray | float
     acceleration: np.ndarray | float
     d1: np.ndarray | float
     d2: np.ndarray | float
+    jerk: np.ndarray | float
+    d3: np.ndarray | float
 
     def __iter__(self):
         return iter((self.value, self.velocity, self.acceleration))
@@ -84,7 +87,7 @@ class Quantity:
         return self.value
 
     def to_dict(self) -> dict:
-        return {k: _plain(getattr(self, k)) for k in ("value", "velocity", "acceleration", "d1", "d2")}
+        return {k: _plain(getattr(self, k)) for k in ("value", "velocity", "acceleration", "jerk", "d1", "d2", "d3")}
 
     def __repr__(self) -> str:
         return f"Quantity(shape {np.shape(self.value)})"
@@ -113,8 +116,9 @@ class KinematicsResult:
         for kind, (value, unit) in names.items():
             for n, q in getattr(self, kind).items():
                 for label, x, u in ((value, q.value, unit), ("velocity", q.velocity, f"{unit}/s"),
-                                    ("acceleration", q.acceleration, f"{unit}/s²"), ("d1", q.d1, f"{unit}/rad"),
-                                    ("d2", q.d2, f"{unit}/rad²")):
+                                    ("acceleration", q.acceleration, f"{unit}/s²"), ("jerk", q.jerk, f"{unit}/s³"),
+                                    ("d1", q.d1, f"{unit}/rad"), ("d2", q.d2, f"{unit}/rad²"),
+                                    ("d3", q.d3, f"{unit}/rad³")):
                     x = np.asarray(x)
                     if kind == "points":
                         x = x.reshape(-1, 2)
@@ -139,8 +143,9 @@ def _rates(mech: Mechanism, omega, epsilon):
 
 
 def kinematics(source: Mechanism | Assembly, phi, omega=None, epsilon=None) -> KinematicsResult:
-    """Positions, velocities, accelerations and transfer functions at crank angles φ [rad]
-    (scalar or (n,)), speed ω [rad/s] and acceleration ε [rad/s²] (default the description's)."""
+    """Positions, velocities, accelerations, jerks and transfer functions at crank angles φ [rad]
+    (scalar or (n,)), speed ω [rad/s] and acceleration ε [rad/s²] (default the description's;
+    the jerk takes ε constant in time: x‴ω³ + 3x″ωε)."""
     if _spatial(source):  # a spatial four-bar: its SpatialMotion (points' jets, linkgen.spatial.jets.motion)
         from linkgen.spatial.kinematics import solve as _solve3
 
@@ -153,17 +158,16 @@ def kinematics(source: Mechanism | Assembly, phi, omega=None, epsilon=None) -> K
     mo = kin.motion(w, e)
     n = phis.shape[0]
 
-    def q(vals, tf):
-        return Quantity(*(_shape(np.broadcast_to(v, (n,) + np.shape(v)[1:]), scalar) for v in vals),
-                        _shape(np.broadcast_to(tf.d1, (n,) + np.shape(tf.d1)[1:]), scalar),
-                        _shape(np.broadcast_to(tf.d2, (n,) + np.shape(tf.d2)[1:]), scalar))
+    def q(vals, jerk, tf):
+        return Quantity(*(_shape(np.broadcast_to(v, (n,) + np.shape(v)[1:]), scalar)
+                          for v in (*vals, tf.d1, tf.d2, jerk, tf.d3)))
 
     return KinematicsResult(
         asm.mechanism.name, float(phis[0]) if scalar else phis,
         _shape(np.broadcast_to(mo.omega, (n,)), scalar), _shape(np.broadcast_to(mo.epsilon, (n,)), scalar),
-        {k: q(v, kin.points[k]) for k, v in mo.points.items()},
-        {k: q(v, kin.links[k].angle) for k, v in mo.links.items()},
-        {k: q(v, kin.sliders[k]) for k, v in mo.sliders.items()})
+        {k: q(v, mo.jerk["points"][k], kin.points[k]) for k, v in mo.points.items()},
+        {k: q(v, mo.jerk["links"][k], kin.links[k].angle) for k, v in mo.links.items()},
+        {k: q(v, mo.jerk["sliders"][k], kin.sliders[k]) for k, v in mo.sliders.items()})
 
 
 @dataclass(frozen=True, repr=False)

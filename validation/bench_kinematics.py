@@ -4,8 +4,9 @@ Run by hand (``make bench``); not a test. Baseline, measured in the same run: py
 numba-compiled ``Linkage.step_fast_with_kinematics`` on the same four-bar (OA 0.3, AB 1.0,
 BC 0.7, C = (1, 0)), 10^6 steps, positions + velocities + accelerations of every joint.
 
-linkgen is timed on the same job: ``solve_motion`` (positions, velocities, accelerations),
-and for reference ``solve(...).motion(...)``, which also keeps the transfer functions.
+linkgen is timed on the same job and a little more: ``solve_motion`` (positions, velocities,
+accelerations, and jerks, which pylinkage does not give), and for reference
+``solve(...).motion(...)``, which also keeps the transfer functions.
 
 Targets (issue 2): warm >= 3x pylinkage's warm speed; cold (fresh process, imports
 included, to the first result) <= 0.5 s.

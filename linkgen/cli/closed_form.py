@@ -16,20 +16,23 @@ from linkgen.planar.kinematics import Kinematics, solve
 
 UNITS = {"phi": "rad", "omega": "rad/s", "epsilon": "rad/s²", "position": "m", "velocity": "m/s",
          "acceleration": "m/s²", "angle": "rad", "angular_velocity": "rad/s", "angular_acceleration": "rad/s²",
-         "displacement": "m", "d/dphi": "per rad", "d2/dphi2": "per rad²"}
+         "jerk": "m/s³", "angular_jerk": "rad/s³", "displacement": "m", "d/dphi": "per rad", "d2/dphi2": "per rad²",
+         "d3/dphi3": "per rad³"}
+
+# Names of each kind's value and time derivatives, in the JSON and the CSV columns.
+_NAMES = {"points": ("position", "velocity", "acceleration", "jerk"),
+          "links": ("angle", "angular_velocity", "angular_acceleration", "angular_jerk"),
+          "sliders": ("displacement", "velocity", "acceleration", "jerk")}
 
 
 def _motion_json(kin: Kinematics, omega: float, epsilon: float, i: int = 0, model: str = "") -> dict:
+    """The state at angle ``kin.phi[i]``; jerks take ε constant in time (x‴ω³ + 3x″ωε)."""
     mo = kin.motion(omega, epsilon)
-    return {
-        "model": model, "phi": float(kin.phi[i]), "omega": float(omega), "epsilon": float(epsilon), "units": UNITS,
-        "points": {n: {"position": p[i].tolist(), "velocity": v[i].tolist(), "acceleration": a[i].tolist()}
-                   for n, (p, v, a) in mo.points.items()},
-        "links": {n: {"angle": float(p[i]), "angular_velocity": float(v[i]), "angular_acceleration": float(a[i])}
-                  for n, (p, v, a) in mo.links.items()},
-        "sliders": {n: {"displacement": float(p[i]), "velocity": float(v[i]), "acceleration": float(a[i])}
-                    for n, (p, v, a) in mo.sliders.items()},
-    }
+    out = {"model": model, "phi": float(kin.phi[i]), "omega": float(omega), "epsilon": float(epsilon), "units": UNITS}
+    for kind in ("points", "links", "sliders"):
+        out[kind] = {n: dict(zip(_NAMES[kind], (a[i].tolist() for a in (*t, mo.jerk[kind][n]))))
+                     for n, t in getattr(mo, kind).items()}
+    return out
 
 
 def cmd_structure(args) -> int:
@@ -71,12 +74,9 @@ def cmd_analyze(args) -> int:
         kin = solve(mech, phi, on_singular="mark")
         mo = kin.motion(omega, epsilon)
         cols, data = ["phi", "singular"], [phi, kin.singular]
-        for kind, table in (("point", mo.points), ("link", mo.links), ("slider", mo.sliders)):
-            names = ("position", "velocity", "acceleration") if kind == "point" else (
-                ("angle", "angular_velocity", "angular_acceleration") if kind == "link"
-                else ("displacement", "velocity", "acceleration"))
-            for n, arrays in table.items():
-                for qname, arr in zip(names, arrays):
+        for kind in ("points", "links", "sliders"):
+            for n, arrays in getattr(mo, kind).items():
+                for qname, arr in zip(_NAMES[kind], (*arrays, mo.jerk[kind][n])):
                     if arr.ndim == 2:
                         cols += [f"{n}.{qname}.x", f"{n}.{qname}.y"]
                         data += [arr[:, 0], arr[:, 1]]
@@ -98,50 +98,63 @@ def cmd_analyze(args) -> int:
         print_json(result)
         return 0
     print(f"{mech.name}: φ = {math.degrees(phi):.6g}° ({phi:.9g} rad), ω = {omega:g} rad/s, ε = {epsilon:g} rad/s²")
-    print(f"{'point':<10}{'x [m]':>14}{'y [m]':>14}{'vx [m/s]':>14}{'vy [m/s]':>14}{'ax [m/s²]':>14}{'ay [m/s²]':>14}")
-    for n, q in result["points"].items():
-        print(f"{n:<10}" + "".join(f"{x:>14.6g}" for x in q["position"] + q["velocity"] + q["acceleration"]))
-    print(f"{'link':<10}{'angle [rad]':>14}{'ω [rad/s]':>14}{'ε [rad/s²]':>14}")
-    for n, q in result["links"].items():
-        print(f"{n:<10}{q['angle']:>14.6g}{q['angular_velocity']:>14.6g}{q['angular_acceleration']:>14.6g}")
-    if result["sliders"]:
-        print(f"{'slider':<10}{'s [m]':>14}{'v [m/s]':>14}{'a [m/s²]':>14}")
-        for n, q in result["sliders"].items():
-            print(f"{n:<10}{q['displacement']:>14.6g}{q['velocity']:>14.6g}{q['acceleration']:>14.6g}")
+    _print_state(result)
     if args.transfer:
-        tr = result["transfer"]
-        print("transfer functions (derivatives with respect to the crank angle φ)")
-        print(f"{'point':<10}{'dx/dφ [m]':>14}{'dy/dφ [m]':>14}{'d²x/dφ² [m]':>14}{'d²y/dφ² [m]':>14}")
-        for n, q in tr["points"].items():
-            print(f"{n:<10}" + "".join(f"{x:>14.6g}" for x in q["d/dphi"] + q["d2/dphi2"]))
-        for kind, unit in (("links", "rad/rad"), ("sliders", "m/rad")):
-            if tr[kind]:
-                print(f"{kind[:-1]:<10}{'d/dφ [' + unit + ']':>18}{'d²/dφ² [' + unit + ']':>18}")
-                for n, q in tr[kind].items():
-                    print(f"{n:<10}{q['d/dphi']:>18.6g}{q['d2/dphi2']:>18.6g}")
+        _print_transfer(result["transfer"])
     return 0
 
 
+def _print_state(result: dict) -> None:
+    heads = ("x [m]", "y [m]", "vx [m/s]", "vy [m/s]", "ax [m/s²]", "ay [m/s²]", "jx [m/s³]", "jy [m/s³]")
+    print(f"{'point':<10}" + "".join(f"{h:>14}" for h in heads))
+    for n, q in result["points"].items():
+        print(f"{n:<10}" + "".join(f"{x:>14.6g}" for x in q["position"] + q["velocity"] + q["acceleration"] + q["jerk"]))
+    print(f"{'link':<10}{'angle [rad]':>14}{'ω [rad/s]':>14}{'ε [rad/s²]':>14}{'jerk [rad/s³]':>14}")
+    for n, q in result["links"].items():
+        print(f"{n:<10}" + "".join(f"{q[k]:>14.6g}" for k in _NAMES["links"]))
+    if result["sliders"]:
+        print(f"{'slider':<10}{'s [m]':>14}{'v [m/s]':>14}{'a [m/s²]':>14}{'j [m/s³]':>14}")
+        for n, q in result["sliders"].items():
+            print(f"{n:<10}" + "".join(f"{q[k]:>14.6g}" for k in _NAMES["sliders"]))
+
+
+def _print_transfer(tr: dict) -> None:
+    print("transfer functions (derivatives with respect to the crank angle φ)")
+    heads = ("dx/dφ [m]", "dy/dφ [m]", "d²x/dφ² [m]", "d²y/dφ² [m]", "d³x/dφ³ [m]", "d³y/dφ³ [m]")
+    print(f"{'point':<10}" + "".join(f"{h:>14}" for h in heads))
+    for n, q in tr["points"].items():
+        print(f"{n:<10}" + "".join(f"{x:>14.6g}" for x in q["d/dphi"] + q["d2/dphi2"] + q["d3/dphi3"]))
+    for kind, unit in (("links", "rad/rad"), ("sliders", "m/rad")):
+        if tr[kind]:
+            print(f"{kind[:-1]:<10}" + "".join(f"{h + ' [' + unit + ']':>18}" for h in ("d/dφ", "d²/dφ²", "d³/dφ³")))
+            for n, q in tr[kind].items():
+                print(f"{n:<10}{q['d/dphi']:>18.6g}{q['d2/dphi2']:>18.6g}{q['d3/dphi3']:>18.6g}")
+
+
 def _transfer_json(kin: Kinematics, i: int = 0) -> dict:
-    """First and second derivatives with respect to φ: points [m/rad, m/rad²], link angles
-    [rad/rad, rad/rad²], slider displacements [m/rad, m/rad²]."""
-    return {"points": {n: {"d/dphi": v.d1[i].tolist(), "d2/dphi2": v.d2[i].tolist()} for n, v in kin.points.items()},
-            "links": {n: {"d/dphi": float(lp.angle.d1[i]), "d2/dphi2": float(lp.angle.d2[i])}
-                      for n, lp in kin.links.items()},
-            "sliders": {n: {"d/dphi": float(s.d1[i]), "d2/dphi2": float(s.d2[i])} for n, s in kin.sliders.items()}}
+    """First, second and third derivatives with respect to φ: points [m/rad, m/rad², m/rad³],
+    link angles [rad/rad, rad/rad², rad/rad³], slider displacements [m/rad, m/rad², m/rad³]."""
+    keys = ("d/dphi", "d2/dphi2", "d3/dphi3")
+
+    def row(q) -> dict:
+        return dict(zip(keys, (a[i].tolist() for a in (q.d1, q.d2, q.d3))))
+
+    return {"points": {n: row(v) for n, v in kin.points.items()},
+            "links": {n: row(lp.angle) for n, lp in kin.links.items()},
+            "sliders": {n: row(s) for n, s in kin.sliders.items()}}
 
 
 def _transfer_columns(kin: Kinematics) -> tuple[list[str], list[np.ndarray]]:
     cols, data = [], []
     n_phi = kin.phi.shape[0]
     for n, v in kin.points.items():
-        for tag, arr in (("d1", v.d1), ("d2", v.d2)):
+        for tag, arr in (("d1", v.d1), ("d2", v.d2), ("d3", v.d3)):
             arr = np.broadcast_to(arr, (n_phi, 2))
             cols += [f"{n}.position.{tag}.x", f"{n}.position.{tag}.y"]
             data += [arr[:, 0], arr[:, 1]]
     for kind, table in (("angle", {n: lp.angle for n, lp in kin.links.items()}), ("displacement", kin.sliders)):
         for n, s in table.items():
-            for tag, arr in (("d1", s.d1), ("d2", s.d2)):
+            for tag, arr in (("d1", s.d1), ("d2", s.d2), ("d3", s.d3)):
                 cols.append(f"{n}.{kind}.{tag}")
                 data.append(np.broadcast_to(arr, (n_phi,)))
     return cols, data

@@ -121,8 +121,9 @@ def _write_csv(out, cols: list[str], data: list[np.ndarray]) -> int:
 
 
 # Units of the columns ``analyze`` and ``forces`` write, by the quantity in the column's name.
-_COLUMN_UNITS = (("angular_velocity", "rad/s"), ("angular_acceleration", "rad/s²"), ("velocity", "m/s"),
-                 ("acceleration", "m/s²"), ("normal_force", "N"), ("tooth_force", "N"), ("moment", "N·m"), ("force", "N"),
+_COLUMN_UNITS = (("angular_velocity", "rad/s"), ("angular_acceleration", "rad/s²"), ("angular_jerk", "rad/s³"),
+                 ("velocity", "m/s"), ("acceleration", "m/s²"), ("jerk", "m/s³"), ("normal_force", "N"),
+                 ("tooth_force", "N"), ("moment", "N·m"), ("force", "N"),
                  ("balancing_torque", "N·m"), ("power_balance_torque", "N·m"), ("reduced_inertia_derivative",
                  "kg·m²/rad"), ("reduced_inertia", "kg·m²"), ("reduced_moment", "N·m"), ("angle", "rad"),
                  ("position", "m"), ("displacement", "m"))
@@ -141,6 +142,8 @@ def with_unit(col: str) -> str:
         unit += "/rad"
     elif "d2" in parts:
         unit += "/rad²"
+    elif "d3" in parts:
+        unit += "/rad³"
     return f"{col} [{unit}]"
 
 

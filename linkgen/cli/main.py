@@ -46,10 +46,11 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument("model", type=Path, help="description file (.toml)")
     s.set_defaults(func=closed_form.cmd_structure)
 
-    a = sub.add_parser("analyze", help="closed-form positions, velocities and accelerations")
+    a = sub.add_parser("analyze", help="closed-form positions, velocities, accelerations and jerks")
     add_crank_arguments(a, "38.117deg")
     a.add_argument("--transfer", action="store_true",
-                   help="also the transfer functions d/dφ and d²/dφ² (m/rad, rad/rad; in the table, JSON or CSV)")
+                   help="also the transfer functions d/dφ, d²/dφ² and d³/dφ³ (m/rad, rad/rad; in the table, JSON "
+                        "or CSV)")
     a.add_argument("--summary", action="store_true",
                    help="print the design summary over the drive range (no unit; SI units and degrees in the text, "
                         "radians in --json): stroke, swing, limit positions, time ratio, least transmission "
