@@ -18,6 +18,9 @@ import numpy as np
 
 from linkgen import DescriptionError, LinkgenError, load, solve
 from linkgen.planar.kinetostatics import forces
+from linkgen.spatial.description import SpatialMechanism
+from linkgen.spatial.forces import forces as spatial_forces
+from linkgen.spatial.kinematics import solve as spatial_solve
 
 MODELS = sorted((Path(__file__).resolve().parent.parent / "models").glob("*.toml"))
 _NUMBER = re.compile(rb"-?\d+\.?\d*(?:e-?\d+)?")
@@ -61,6 +64,8 @@ def check(path: Path) -> str:
     except DescriptionError as exc:
         assert str(exc).startswith(f"{path}: "), f"message does not name the file: {exc}"
         return "DescriptionError on load"
+    if isinstance(mech, SpatialMechanism):
+        return _check_spatial(mech)
     phi = np.linspace(mech.drive.start, mech.drive.stop, 16)
     try:
         f = forces(mech, phi, mech.drive.omega, mech.drive.epsilon)
@@ -69,6 +74,20 @@ def check(path: Path) -> str:
     for name, v in [("balancing_torque", f.balancing_torque), *f.reactions.items()]:
         assert np.all(np.isfinite(v)), f"non-finite {name}"
     solve(mech, phi)
+    return "solved"
+
+
+def _check_spatial(mech: SpatialMechanism) -> str:
+    """A spatial four-bar over a whole turn of its crank: finite motion and forces, or a LinkgenError."""
+    phi = np.linspace(0.0, 2 * np.pi, 16)
+    try:
+        motion = spatial_solve(mech, phi)
+        f = spatial_forces(mech, phi, motion=motion)
+    except LinkgenError as exc:
+        return type(exc).__name__ + " on solve"
+    assert np.all(np.isfinite(f.balancing_torque)), "non-finite balancing_torque"
+    for name, r in f.reactions.items():
+        assert np.all(np.isfinite(r.force)) and np.all(np.isfinite(r.moment)), f"non-finite {name}"
     return "solved"
 
 
