@@ -177,9 +177,6 @@ def write_mjcf(source: Mechanism | Assembly, settings: Settings | None = None) -
     etree.SubElement(visual, "headlight", ambient="0.25 0.25 0.25", diffuse="0.45 0.45 0.45", specular="0.05 0.05 0.05")
     asset = etree.SubElement(root, "asset")
     add_scene_assets(asset)
-    for name, rgba in (("ground", "0.35 0.35 0.35 1"), ("crank", "0.85 0.3 0.2 1"), ("link", "0.25 0.45 0.8 1"),
-                       ("slider", "0.3 0.7 0.35 1")):
-        etree.SubElement(asset, "material", name=f"mat:{name}", rgba=rgba)
 
     world = etree.SubElement(root, "worldbody")
     etree.SubElement(world, "light", name="light:sun", pos=vec(0.0, 0.0, 5.0 * size), dir="0 0 -1",

@@ -32,12 +32,20 @@ def _vec(*xs: float) -> str:
     return " ".join("0" if float(x) == 0.0 else repr(float(x)) for x in xs)
 
 
+# The materials of the mechanism's parts: the ground, the crank, other links, sliders.
+PART_RGBA = {"mat:ground": "0.35 0.35 0.35 1", "mat:crank": "0.85 0.3 0.2 1", "mat:link": "0.25 0.45 0.8 1",
+             "mat:slider": "0.3 0.7 0.35 1"}
+
+
 def add_scene_assets(asset) -> None:
+    """The sky, the floor's checker and the parts' materials (``PART_RGBA``)."""
     etree.SubElement(asset, "texture", name="tex:sky", type="skybox", builtin="gradient", rgb1="0.95 0.97 1",
                      rgb2="0.7 0.78 0.88", width="64", height="64")
     etree.SubElement(asset, "texture", name="tex:floor", type="2d", builtin="checker", rgb1="0.82 0.82 0.8",
                      rgb2="0.74 0.74 0.72", width="256", height="256")
     etree.SubElement(asset, "material", name="mat:floor", texture="tex:floor", texrepeat="8 8", reflectance="0")
+    for name, rgba in PART_RGBA.items():
+        etree.SubElement(asset, "material", name=name, rgba=rgba)
 
 
 def pose_extent(src) -> tuple[float, float, float, float]:

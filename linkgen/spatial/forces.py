@@ -24,7 +24,7 @@ from linkgen.errors import BalanceError, angle_ranges
 from linkgen.spatial.chain import Chain
 from linkgen.spatial.description import SpatialMechanism
 from linkgen.spatial.jets import Jet, rotate
-from linkgen.spatial.mass import rod_inertia
+from linkgen.spatial.mass import link_body
 from linkgen.spatial.kinematics import SpatialMotion, solve
 
 # The least-squares residual of the 18 equations over their scale (m·|a| + |g|·m summed over
@@ -82,24 +82,14 @@ def body_loads(mech: SpatialMechanism, motion: SpatialMotion, omega, epsilon) ->
     g = np.array(mech.gravity)
     out = {}
     for link in (chain.crank, chain.coupler, chain.output):
-        l = mech.link(link)
-        p0 = motion.points[l.points[0]]
-        if len(l.points) >= 2:
-            p1 = motion.points[l.points[1]]
-            c = (p0 + p1) * 0.5
-            r = (p1 - p0).d[0]
-            span2 = np.einsum("ij,ij->i", r, r)[:, None]
-            x = r / np.sqrt(span2)
-        else:
-            c, span2, x = p0, np.zeros((motion.phi.shape[0], 1)), np.zeros((motion.phi.shape[0], 3))
+        mass, c, inertia = link_body(mech, motion, link)
         vel = c.d[1] * w
         acc = c.d[2] * w**2 + c.d[1] * e
         w1, w2 = motion.spin[link]
         Om = w1 * w
         al = w2 * w**2 + w1 * e
-        inertia = rod_inertia(l.mass, x, span2[:, 0], motion.chain.size)
         moment = np.einsum("nij,nj->ni", inertia, al) + np.cross(Om, np.einsum("nij,nj->ni", inertia, Om))
-        out[link] = (l.mass, c.d[0], l.mass * (acc - g), moment, vel, Om)
+        out[link] = (mass, c.d[0], mass * (acc - g), moment, vel, Om)
     return out
 
 

@@ -25,3 +25,21 @@ def rod_inertia(mass: float, x: np.ndarray, span2: np.ndarray, size: float) -> n
     ball = span2 == 0
     return np.where(ball[:, None, None], along[:, None, None] * eye,
                     across[:, None, None] * (eye - xx) + along[:, None, None] * xx)
+
+
+def link_body(mech, motion, link: str):
+    """The mass [kg], the COM's derivative jet (the midpoint of the rod's two points, or the one
+    point) and the inertia tensors (n, 3, 3) [kg·m²] about the COM of ``link`` along ``motion``
+    (a SpatialMotion of ``mech``)."""
+    l = mech.link(link)
+    n = motion.phi.shape[0]
+    p0 = motion.points[l.points[0]]
+    if len(l.points) >= 2:
+        p1 = motion.points[l.points[1]]
+        c = (p0 + p1) * 0.5
+        r = (p1 - p0).d[0]
+        span2 = np.einsum("ij,ij->i", r, r)
+        x = r / np.sqrt(span2)[:, None]
+    else:
+        c, span2, x = p0, np.zeros(n), np.zeros((n, 3))
+    return l.mass, c, rod_inertia(l.mass, x, span2, motion.chain.size)

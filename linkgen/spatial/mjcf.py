@@ -81,9 +81,6 @@ def write_spatial_mjcf(mech: SpatialMechanism, settings: Settings | None = None,
     etree.SubElement(visual, "global", offwidth="1280", offheight="960")
     asset = etree.SubElement(root, "asset")
     add_scene_assets(asset)
-    for name, rgba in (("ground", "0.35 0.35 0.35 1"), ("crank", "0.85 0.3 0.2 1"), ("link", "0.25 0.45 0.8 1"),
-                       ("slider", "0.3 0.7 0.35 1")):
-        etree.SubElement(asset, "material", name=f"mat:{name}", rgba=rgba)
     world = etree.SubElement(root, "worldbody")
     centre = np.mean([pts[p] for p in pts], axis=0)
     etree.SubElement(world, "light", name="light:sun", pos=_v(centre + [0, 0, 4 * size]), dir="0 0 -1",

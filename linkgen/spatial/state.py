@@ -15,7 +15,7 @@ from linkgen.mujoco.settings import ARMATURE_RATIO, GAP_TARGET, PHASE, STEPS_PER
 from linkgen.spatial.chain import Chain
 from linkgen.spatial.description import SpatialMechanism
 from linkgen.spatial.kinematics import SpatialMotion
-from linkgen.spatial.mass import rod_inertia
+from linkgen.spatial.mass import link_body
 
 # Crank angles scanned for the peak reduced inertia and loop force.
 SCAN = 73
@@ -57,19 +57,9 @@ def reduced_inertia(mech: SpatialMechanism, motion: SpatialMotion) -> np.ndarray
     chain = motion.chain
     out = np.zeros(motion.phi.shape[0])
     for link in (chain.crank, chain.coupler, chain.output):
-        l = mech.link(link)
-        p0 = motion.points[l.points[0]]
-        if len(l.points) >= 2:
-            p1 = motion.points[l.points[1]]
-            c = (p0 + p1) * 0.5
-            r = (p1 - p0).d[0]
-            span2 = np.einsum("ij,ij->i", r, r)
-            x = r / np.sqrt(span2)[:, None]
-        else:
-            c, span2, x = p0, np.zeros(motion.phi.shape[0]), np.zeros((motion.phi.shape[0], 3))
-        inertia = rod_inertia(l.mass, x, span2, chain.size)
+        mass, c, inertia = link_body(mech, motion, link)
         w1 = motion.spin[link][0]
-        out += l.mass * np.einsum("ij,ij->i", c.d[1], c.d[1]) + np.einsum("ni,nij,nj->n", w1, inertia, w1)
+        out += mass * np.einsum("ij,ij->i", c.d[1], c.d[1]) + np.einsum("ni,nij,nj->n", w1, inertia, w1)
     return out
 
 
