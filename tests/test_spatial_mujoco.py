@@ -110,3 +110,51 @@ def test_forces_cli_names_the_links_of_each_reaction():
     d = json.loads(p.stdout)
     assert d["statically_indeterminate"] == 0
     assert d["reactions"]["A"]["on"] == "coupler" and d["reactions"]["A"]["by"] == "crank"
+
+
+# The coupler's spin about its own line given at the start, as a fraction of the crank speed.
+INJECTED_SPIN = 0.5
+
+
+@pytest.mark.parametrize("model", ["rssr", "rssp"])
+def test_the_idle_spin_keeps_its_rate_and_leaves_the_output_alone(model):
+    """The RSSR/RSSP coupler's idle freedom: started spinning about its line at 0.5·ω, MuJoCo keeps
+    that spin (nothing on two ball joints turns an axisymmetric rod about its line) while the
+    output follows the closed form at MuJoCo's crank angle as closely as without spin."""
+    from linkgen.crosscheck.tolerances import REL_TOL
+    from linkgen.mujoco.scene import SERVO
+    from linkgen.spatial.crosscheck import derived_settings
+    from linkgen.spatial.kinematics import assembled_chain
+    from linkgen.spatial.state import joint_state
+
+    mech = linkgen.load(ROOT / "models" / f"{model}.toml")
+    chain = assembled_chain(mech)
+    w0 = mech.drive.omega
+    settings, _ = derived_settings(mech, w0, chain)
+    m = mujoco.MjModel.from_xml_string(write_spatial_mjcf(mech, settings, chain))
+    m.actuator(SERVO).biasprm[:] = 0.0
+    d = mujoco.MjData(m)
+    d.qpos[:], d.qvel[:] = joint_state(m, chain, solve(mech, [0.0], chain), 0, w0)
+    mujoco.mj_forward(m, d)
+    a, b = (d.site(p).xpos.copy() for p in mech.link(chain.coupler).points[:2])
+    axis = (b - a) / np.linalg.norm(b - a)
+    ball = m.joint(chain.pair_a).dofadr[0]
+    d.qvel[ball:ball + 3] += d.body(chain.coupler).xmat.reshape(3, 3).T @ (INJECTED_SPIN * w0 * axis)
+    crank, out = m.joint(chain.drive), m.joint(chain.pair_out)
+    r6 = np.zeros(6)
+    phis, turns, spins = [], [], []
+    for _ in range(24):  # half a turn, every 7.5°
+        for _ in range(int(round(np.pi / 24 / w0 / m.opt.timestep))):
+            mujoco.mj_step(m, d)
+        mujoco.mj_forward(m, d)
+        a, b = (d.site(p).xpos for p in mech.link(chain.coupler).points[:2])
+        axis = (b - a) / np.linalg.norm(b - a)
+        mujoco.mj_objectVelocity(m, d, mujoco.mjtObj.mjOBJ_BODY, m.body(chain.coupler).id, r6, 0)
+        phis.append(d.qpos[crank.qposadr[0]] + chain.phi_s)
+        turns.append(d.qpos[out.qposadr[0]])
+        spins.append(r6[:3] @ axis)
+    assert phis[-1] > np.pi / 2  # the crank did turn
+    np.testing.assert_allclose(spins, INJECTED_SPIN * w0, rtol=0, atol=REL_TOL * w0)
+    cf = solve(mech, np.array(phis), chain)
+    scale = chain.size if chain.kind == "RSSP" else 1.0  # the slider's metres over the size, the rocker's radians
+    assert np.abs(np.array(turns) - cf.turn.d[0]).max() / scale <= REL_TOL

@@ -35,6 +35,8 @@ from linkgen.spatial.state import SCAN, derive_settings, joint_state
 # state: the loop's transient from the start (a few time constants τ = PHASE/ω, i.e. a few
 # hundredths of a radian) has died out by the first sample.
 LEAD = 0.2
+# Chains whose coupler turns on two ball joints and so has an idle spin about its own line.
+IDLE_SPIN = ("RSSR", "RSSP")
 # Closed-form states at which MuJoCo's inverse dynamics is compared (every 10°).
 INVERSE_SAMPLES = 36
 
@@ -132,6 +134,8 @@ def _compare(mech, chain, model, states, w0, settings):
     mj = {p: np.zeros((m, 3, 3)) for p in names}
     phi, om, ep, gap, torque = (np.zeros(m) for _ in range(5))
     react = {k: np.zeros((m, 3)) for k in (chain.drive, chain.pair_a, chain.pair_b, chain.pair_out)}
+    moving = (chain.crank, chain.coupler, chain.output)
+    spin = {link: np.zeros((m, 3)) for link in moving}
     r6 = np.zeros(6)
     for k, (t, qpos, qvel) in enumerate(states):
         d.time, d.qpos[:], d.qvel[:] = t, qpos, qvel
@@ -150,6 +154,9 @@ def _compare(mech, chain, model, states, w0, settings):
             v = r6[3:].copy()
             mujoco.mj_objectAcceleration(model, d, mujoco.mjtObj.mjOBJ_SITE, sid, r6, 0)
             mj[p][k] = (d.site(p).xpos, v, r6[3:] + g)  # MuJoCo reports a − g
+        for link in moving:
+            mujoco.mj_objectVelocity(model, d, mujoco.mjtObj.mjOBJ_BODY, model.body(link).id, r6, 0)
+            spin[link][k] = r6[:3]
         react[chain.drive][k] = d.cfrc_int[model.body(chain.crank).id, 3:]
         react[chain.pair_a][k] = d.cfrc_int[model.body(chain.coupler).id, 3:]
         react[chain.pair_b][k] = -d.efc_force[rows]  # the connect's force on the coupler, reversed
@@ -163,6 +170,14 @@ def _compare(mech, chain, model, states, w0, settings):
         for i, (what, ref, scale) in enumerate((("position", pos, size), ("velocity", vel, size * w0),
                                                 ("acceleration", acc, acc_scale))):
             errors[f"points.{p}.{what}"] = (float(np.abs(mj[p][:, i] - ref).max()) / scale, REL_TOL)
+    for link in moving:
+        ref = cf.spin[link][0] * om[:, None]
+        errors[f"links.{link}.angular_velocity"] = (float(np.abs(spin[link] - ref).max()) / w0, REL_TOL)
+    if chain.kind in IDLE_SPIN:  # the coupler's spin about its own line, which nothing drives
+        ends = [cf.points[q].d[0] for q in mech.link(chain.coupler).points[:2]]
+        axis = (ends[1] - ends[0]) / np.linalg.norm(ends[1] - ends[0], axis=1)[:, None]
+        errors[f"links.{chain.coupler}.idle_spin"] = (
+            float(np.abs(np.einsum("ij,ij->i", spin[chain.coupler], axis)).max()) / w0, REL_TOL)
     fc = forces(mech, phi, om, ep, motion=cf)
     t_scale = float(np.abs(fc.balancing_torque).max()) or 1.0
     errors["balancing_torque"] = (float(np.abs(torque - fc.balancing_torque).max()) / t_scale, FORCE_TOL)
