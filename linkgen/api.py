@@ -264,9 +264,14 @@ def validate(source: Mechanism | Assembly, **options):
         from linkgen.spatial.crosscheck import check_spatial
 
         return check_spatial(source, **options)
+    asm = _assembly(source)
+    if asm.mechanism.cams:  # contact in MuJoCo: a CamLinkageCheck (linkgen.mujoco.cam_linkage)
+        from linkgen.mujoco.cam_linkage import check_cam_linkage
+
+        return check_cam_linkage(asm)
     from linkgen.crosscheck.run import crosscheck
 
-    return crosscheck(_assembly(source), **options)
+    return crosscheck(asm, **options)
 
 
 __all__ = ["ForcesResult", "KinematicsResult", "Quantity", "forces", "kinematics", "simulate", "structure",

@@ -8,6 +8,7 @@ from pathlib import Path
 import pytest
 
 from linkgen import from_dict
+from linkgen.cams import description as cam_description
 from linkgen.model import reader
 from linkgen.model.machine import MOTOR_KEYS, _MACHINE, machine_from_dict
 
@@ -29,25 +30,28 @@ def test_the_complete_example_loads():
 
 def test_every_fragment_uses_allowed_keys():
     allowed = {"links": reader._LINK | {"inertial"}, "prismatic": reader._PRISMATIC, "drive": reader._DRIVE,
-               "force": reader._FORCE, "torque": reader._TORQUE, "mechanism": reader._MECH, "gear": reader._GEAR}
+               "force": reader._FORCE, "torque": reader._TORQUE, "mechanism": reader._MECH, "gear": reader._GEAR,
+               "cam": reader._CAM}
     for b in blocks(FORMAT):
         for table, content in b.items():
             assert table in reader._TOP or table == "points", table
             items = content if isinstance(content, list) else (
-                list(content.values()) if table in ("links", "prismatic", "gear") else [content])
+                list(content.values()) if table in ("links", "prismatic", "gear", "cam") else [content])
             if table == "points":
                 continue
             for item in items:
                 assert set(item) <= allowed[table], (table, set(item) - allowed[table])
                 if "inertial" in item:
                     assert set(item["inertial"]) <= reader._INERTIAL
+                if table == "cam" and "law" in item:
+                    assert set(item["law"]) <= cam_description._LAW
 
 
 def test_every_key_is_documented():
     for keys in (reader._MECH, reader._LINK, reader._INERTIAL, reader._PRISMATIC, reader._DRIVE, reader._FORCE,
-                 reader._TORQUE, reader._GEAR):
+                 reader._TORQUE, reader._GEAR, reader._CAM):
         for k in keys:
-            assert f"`{k}`" in FORMAT or f"[links.NAME.{k}]" in FORMAT, k
+            assert f"`{k}`" in FORMAT or f"[links.NAME.{k}]" in FORMAT or f"cam.NAME.{k}]" in FORMAT, k
     for k in _MACHINE:
         assert k in MACHINE, k
     for kind, keys in MOTOR_KEYS.items():

@@ -62,9 +62,15 @@ def is_cam_file(path: str | Path) -> bool:
     """True if ``path`` is TOML with a top-level ``[cam]`` table (False for anything unreadable:
     the linkage reader then names the problem)."""
     try:
-        return "cam" in tomllib.loads(Path(path).read_bytes().decode("utf-8-sig"))
+        return is_cam_data(tomllib.loads(Path(path).read_bytes().decode("utf-8-sig")))
     except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError, RecursionError):
         return False
+
+
+def is_cam_data(data) -> bool:
+    """A stand-alone cam mechanism: a ``[cam]`` table and no ``[links]`` (a linkage whose crank
+    carries a cam has ``[cam.NAME]`` pair tables next to its links)."""
+    return isinstance(data, dict) and "cam" in data and "links" not in data
 
 
 def load_cam(path: str | Path) -> CamMechanism:
@@ -93,6 +99,17 @@ def _table(data: dict, key: str, allowed: set[str], required: set[str]) -> dict:
         if k not in t:
             raise DescriptionError(f"{key}.{k}", "is required")
     return t
+
+
+def program_from_table(data: dict, oscillating: bool, where: str = ""):
+    """The motion program of ``data``'s ``[[segment]]`` tables or ``[law]`` table (angles for an
+    oscillating follower, lengths for a translating one); errors name fields under ``where``."""
+    try:
+        return _program(data, oscillating)
+    except DescriptionError as exc:
+        if not where:
+            raise
+        raise DescriptionError(f"{where}.{exc.field}", exc.problem) from None
 
 
 def _program(data: dict, oscillating: bool):
@@ -214,4 +231,4 @@ def cam_from_dict(data: dict) -> CamMechanism:
                         vector2(mech.get("gravity", [0.0, 0.0]), "mechanism.gravity"))
 
 
-__all__ = ["CamMechanism", "cam_from_dict", "is_cam_file", "load_cam"]
+__all__ = ["CamMechanism", "cam_from_dict", "is_cam_data", "is_cam_file", "load_cam", "program_from_table"]

@@ -11,6 +11,7 @@ from linkgen.cli.common import (check_crank_options, check_finite, crank_grid, d
 from linkgen.cli.singular import report_singular
 from linkgen.model.reader import load
 from linkgen.planar.assembly import assemble
+from linkgen.planar.cam_pair import above_lowest, contact, lift, oscillating
 from linkgen.planar.kinematics import Kinematics, solve
 
 
@@ -32,6 +33,25 @@ def _motion_json(kin: Kinematics, omega: float, epsilon: float, i: int = 0, mode
     for kind in ("points", "links", "sliders"):
         out[kind] = {n: dict(zip(_NAMES[kind], (a[i].tolist() for a in (*t, mo.jerk[kind][n]))))
                      for n, t in getattr(mo, kind).items()}
+    if kin.assembly.mechanism.cams:
+        out["followers"] = followers_json(kin, omega, epsilon, i)
+    return out
+
+
+def followers_json(kin: Kinematics, omega: float, epsilon: float, i: int = 0) -> dict:
+    """Each cam pair's follower: its coordinate from the program's lowest position (rad or m) with
+    velocity, acceleration and jerk (ε constant), and the pressure angle [rad]."""
+    out = {}
+    for cam in kin.assembly.mechanism.cams:
+        theta = kin.phi[i:i + 1] - kin.assembly.sketch_phi
+        q = above_lowest(cam, theta)[0]
+        _, d1, d2, d3 = lift(cam, theta)
+        alpha = contact(kin, cam)[2][i]
+        out[cam.follower] = {"cam": cam.name, "displacement": float(q), "velocity": float(d1[0] * omega),
+                             "acceleration": float(d2[0] * omega**2 + d1[0] * epsilon),
+                             "jerk": float(d3[0] * omega**3 + 3 * d2[0] * omega * epsilon),
+                             "pressure_angle": float(alpha),
+                             "unit": "rad" if oscillating(kin.assembly.mechanism, cam) else "m"}
     return out
 
 
@@ -39,12 +59,16 @@ def cmd_structure(args) -> int:
     asm = assemble(load(args.model))
     s = asm.structure
     print(f"mechanism: {asm.mechanism.name}")
-    p4 = len(asm.mechanism.gears)
+    p4 = len(asm.mechanism.gears) + len(asm.mechanism.cams)
     if p4:
         print(f"mobility W = 3·n - 2·p5 - p4 = 3·{s.moving_links} - 2·{s.lower_pairs} - {p4} = {s.mobility}")
         for g in asm.mechanism.gears:
             print(f"gear pair {g.name!r}: planet {g.planet!r} on the crank, {g.kind} mesh {g.teeth[0]}/{g.teeth[1]} "
                   f"teeth, module {g.module:g} m: the planet turns {g.ratio:+g} times the crank")
+        for c in asm.mechanism.cams:
+            kind = "oscillating about its pivot" if oscillating(asm.mechanism, c) else "translating on its guide"
+            print(f"cam pair {c.name!r}: the cam on the crank drives the follower {c.follower!r} ({kind}) through "
+                  f"its roller at {c.roller!r} (radius {c.roller_radius:g} m), a higher pair")
     else:
         print(f"mobility W = 3·n - 2·p5 = 3·{s.moving_links} - 2·{s.lower_pairs} = {s.mobility}")
     print(f"input link: I(0,1) crank {s.crank!r}, driven at {s.drive.name!r}")

@@ -30,6 +30,8 @@ def forces_json(f: Forces, mech, i: int = 0) -> dict:
         "reduced_moment": float(f.reduced.moment[i]),
         **({"tooth": {k: {"force": v[i].tolist(), "on": g}
                       for (k, v), g in zip(f.tooth.items(), (g.planet for g in mech.gears))}} if f.tooth else {}),
+        **({"contact": {c.name: {"normal_force": float(f.contact[c.name][i]), "on": c.follower}
+                        for c in mech.cams}} if f.contact else {}),
     }
 
 
@@ -47,6 +49,9 @@ def _columns(f: Forces) -> tuple[list[str], list[np.ndarray]]:
     for k, v in f.tooth.items():
         cols += [f"{k}.tooth_force.x", f"{k}.tooth_force.y"]
         data += [v[:, 0], v[:, 1]]
+    for k, v in f.contact.items():
+        cols += [f"{k}.contact_force"]
+        data += [v]
     return cols, data
 
 
@@ -92,6 +97,10 @@ def cmd_forces(args) -> int:
     for k, q in result.get("tooth", {}).items():
         fx, fy = q["force"]
         print(f"tooth force of gear {k!r} on {q['on']!r}: ({fx:.6g}, {fy:.6g}) N, |F| = {math.hypot(fx, fy):.6g} N")
+    for k, q in result.get("contact", {}).items():
+        n = q["normal_force"]
+        print(f"contact force of cam {k!r} on its follower {q['on']!r}: {n:.6g} N along the profile's normal"
+              + ("" if n >= 0 else " — negative: the follower would leave the cam here (a stronger spring keeps it on)"))
     return 0
 
 

@@ -185,6 +185,8 @@ def _check_one(path: Path, report: Path | None, practical: bool, nthread: int | 
                          f"`linkgen simulate` still work for it"}
     except LinkgenError as exc:
         return {"model": path.stem, "file": str(path), "ok": False, "error": message_for(path, exc)}
+    if asm.mechanism.cams:
+        return _check_cam_linkage(path, asm, report, t0)
     cc = crosscheck(asm, practical=practical, nthread=nthread, max_steps=max_steps,
                     progress=_progress(asm.mechanism.name) if progress else None)
     out = {"file": str(path)} | cc.to_json()
@@ -201,6 +203,25 @@ def _check_one(path: Path, report: Path | None, practical: bool, nthread: int | 
         report.mkdir(parents=True, exist_ok=True)
         out["figures"] = plot_mechanism(asm, report) + plot_model(cc.comparison, report)
         out["summary"] = summarize(asm).to_dict()
+    out["total_wall_s"] = time.perf_counter() - t0
+    return out
+
+
+def _check_cam_linkage(path: Path, asm, report: Path | None, t0: float) -> dict:
+    """A linkage whose crank carries a cam (``mujoco.cam_linkage``): contact in MuJoCo, the cam's tolerances."""
+    from linkgen.cli.files import message_for
+    from linkgen.mujoco.cam_linkage import check_cam_linkage
+
+    try:
+        r = check_cam_linkage(asm)
+    except LinkgenError as exc:
+        return {"model": path.stem, "file": str(path), "ok": False, "error": message_for(path, exc)}
+    out = {"file": str(path), "ok": r.ok, "model": r.model, "cam_linkage": r.to_json(), "line": r.summary()}
+    if report is not None:
+        from linkgen.crosscheck.report import plot_mechanism
+
+        report.mkdir(parents=True, exist_ok=True)
+        out["figures"] = plot_mechanism(asm, report)
     out["total_wall_s"] = time.perf_counter() - t0
     return out
 
@@ -226,7 +247,7 @@ def _summary(r: dict) -> str:
 
     if "error" in r:
         return f"{r['model']:<22} FAIL {r['error']}"
-    if "spatial" in r:
+    if "spatial" in r or "cam_linkage" in r:
         return f"{r['model']:<22} {r['line']}"
     if "cam" in r:
         c = r["cam"]

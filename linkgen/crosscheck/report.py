@@ -108,6 +108,15 @@ def write_index(results: list[dict], out: Path, wall: float, cores: float) -> Pa
                          f"{e['displacement']:.2e} | cam: `contact_force` (5° means) | {e['contact_force']:.2e} |  |  |  | "
                          f"{r['cam']['timestep']:.3g} |  | {r['cam']['steps']} | {r.get('total_wall_s', 0.0):.2f} |")
             continue
+        if "cam_linkage" in r:
+            e = r["cam_linkage"]["errors"]
+            kin = max((k for k in e if not k.endswith(("contact_force", "torque"))), key=lambda k: e[k]["error"])
+            frc = max((k for k in e if k.endswith(("contact_force", "torque"))), key=lambda k: e[k]["error"])
+            lines.append(f"| {r['model']} | {'yes' if r['ok'] else '**NO**'} | cam contact: `{kin}` | "
+                         f"{e[kin]['error']:.2e} | `{frc}` (5° means) | {e[frc]['error']:.2e} |  |  |  | "
+                         f"{r['cam_linkage']['timestep']:.3g} |  | {r['cam_linkage']['steps']} | "
+                         f"{r.get('total_wall_s', 0.0):.2f} |")
+            continue
         if "quantities" not in r:
             lines.append(f"| {r['model']} | **NO** | {r.get('error', 'run failed')} |  |  |  |  |  |  |  |  |  |  |")
             continue
@@ -118,6 +127,12 @@ def write_index(results: list[dict], out: Path, wall: float, cores: float) -> Pa
     for r in results:
         if "spatial" in r:
             lines += _spatial_section(r)
+            continue
+        if "cam_linkage" in r:
+            lines += ["", f"## {r['model']} (a cam on the crank)", ""] + [f"![{f}]({f})\n" for f in r.get("figures", [])]
+            lines += ["| quantity | relative error | tolerance | ok |", "|---|---|---|---|"]
+            lines += [f"| `{k}` | {e['error']:.2e} | {e['tolerance']:g} | {'yes' if e['error'] <= e['tolerance'] else '**NO**'} |"
+                      for k, e in r["cam_linkage"]["errors"].items()]
             continue
         if "quantities" not in r:
             continue

@@ -163,6 +163,7 @@ def draw_skeleton(ax, pos: Positions, frame: Frame, i: int, *, alpha: float = 1.
                             alpha=alpha, zorder=1))
         ax.add_patch(Circle(centre, g.planet_radius, facecolor=(*LINK, 0.08 * alpha), edgecolor=(*LINK, alpha),
                             lw=1.2, ls=(0, (6, 3)), zorder=2.5))
+    _cams(ax, pos, frame, i, alpha)
     for link in mech.links:
         if link.name == GROUND:
             continue
@@ -196,6 +197,35 @@ def draw_skeleton(ax, pos: Positions, frame: Frame, i: int, *, alpha: float = 1.
             ax.text(q[0], q[1], name, fontsize=9, color=INK, alpha=alpha, zorder=7, ha="center", va="center")
 
 
+# Drawings at this opacity or above are a plan's solid position (or a single drawing).
+SOLID_ALPHA = 0.99
+
+
+def _cams(ax, pos: Positions, frame: Frame, i: int, alpha: float) -> None:
+    """Each cam's profile turned with the crank, and its roller on the follower."""
+    from matplotlib.patches import Circle, Polygon
+
+    mech = pos.mechanism
+    if not mech.cams:
+        return
+    from linkgen.planar.assembly import assemble
+    from linkgen.planar.cam_profile import profile
+
+    asm = assemble(mech)
+    o = pos.points[mech.revolute(mech.drive.joint).point][i]
+    k = pos.points[mech.link(mech.crank).points[1]][i]
+    a = math.atan2(k[1] - o[1], k[0] - o[0])  # the crank's frame: x from its first point to its second
+    c, s = math.cos(a), math.sin(a)
+    for cam in mech.cams:
+        xy = o + profile(asm, cam) @ np.array([[c, s], [-s, c]])
+        if alpha >= SOLID_ALPHA:  # a position plan draws the profile once, with its solid position
+            ax.add_patch(Polygon(xy, closed=True, facecolor=(*CRANK, 0.15 * alpha), edgecolor=(*CRANK, alpha), lw=1.2,
+                                 zorder=2.5))
+        if cam.roller_radius > 0:
+            ax.add_patch(Circle(pos.points[cam.roller][i], cam.roller_radius, facecolor=(1, 1, 1, alpha),
+                                edgecolor=(*LINK, alpha), lw=1.2, zorder=3.5))
+
+
 def set_limits(ax, paths: Positions, frame: Frame, margin: float = 0.12) -> None:
     """Equal scale, the whole range's extent plus a margin (a fraction of the size)."""
     x0, x1, y0, y1 = paths.bounds()
@@ -203,6 +233,14 @@ def set_limits(ax, paths: Positions, frame: Frame, margin: float = 0.12) -> None
     for g in mech.gears:  # the fixed gear's pitch circle is part of the drawing
         px, py = paths.points[mech.revolute(mech.drive.joint).point][0]
         r = g.fixed_radius
+        x0, x1, y0, y1 = min(x0, px - r), max(x1, px + r), min(y0, py - r), max(y1, py + r)
+    if mech.cams:  # a cam's profile turns within the circle of its largest radius
+        from linkgen.planar.assembly import assemble
+        from linkgen.planar.cam_profile import profile
+
+        asm = assemble(mech)
+        px, py = paths.points[mech.revolute(mech.drive.joint).point][0]
+        r = max(float(np.hypot(*profile(asm, cam).T).max()) for cam in mech.cams)
         x0, x1, y0, y1 = min(x0, px - r), max(x1, px + r), min(y0, py - r), max(y1, py + r)
     m = margin * frame.size
     ax.set_xlim(x0 - m, x1 + m)

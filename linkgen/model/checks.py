@@ -9,7 +9,8 @@ from linkgen.model import limits
 from linkgen.errors import DescriptionError
 from linkgen.model.names import GROUND, check_name
 from linkgen.model.defaults import DEFAULT_BLOCK_MASS, DEFAULT_DENSITY
-from linkgen.model.units import shown
+from linkgen.model.units import bounded, shown
+from linkgen.model.higher_pairs import check_cams, check_gears
 
 if TYPE_CHECKING:
     from linkgen.model.description import Mechanism
@@ -20,12 +21,7 @@ def _finite(x: float, where: str) -> None:
         raise DescriptionError(where, f"must be a finite number, got {shown(x)}")
 
 
-def _bounded(x: float, where: str, limit: float, unit: str) -> None:
-    """A finite number with |x| <= limit (see linkgen.limits for where each limit comes from)."""
-    _finite(x, where)
-    if abs(x) > limit:
-        raise DescriptionError(where, f"must be within ±{limit:g} {unit} (linkgen's limits, see the README), "
-                               f"got {x!r}")
+_bounded = bounded
 
 
 def _length(x: float, where: str) -> None:
@@ -48,7 +44,8 @@ def validate(m: Mechanism) -> None:
     for i, g in enumerate(m.gravity):
         _bounded(g, f"mechanism.gravity[{i}]", limits.MAX_GRAVITY, "m/s²")
     _check_loads(m)
-    _check_gears(m)
+    check_gears(m)
+    check_cams(m)
     _check_mobility(m)
 
 
@@ -275,7 +272,7 @@ def _check_loads(m: Mechanism) -> None:
 def _check_mobility(m: Mechanism) -> None:
     n = len(m.moving_links)
     p5 = len(m.revolutes) + len(m.prismatics)
-    p4 = len(m.gears)
+    p4 = len(m.gears) + len(m.cams)
     w = 3 * n - 2 * p5 - p4
     if w != 1:
         higher = f" - p4 = 3·{n} - 2·{p5} - {p4}" if p4 else f" = 3·{n} - 2·{p5}"
@@ -284,44 +281,3 @@ def _check_mobility(m: Mechanism) -> None:
             f"mobility W = 3·n - 2·p5{' - p4' if p4 else ''}{higher} = {w}; linkgen needs exactly 1 degree of "
             f"freedom (one driven crank)",
         )
-
-
-# The planet's centre must sit the gear pair's centre distance from the crank's pivot, to this
-# fraction of the mechanism's extent (the sketch's coordinates are exact where a gear is given).
-GEAR_CENTRE_TOL = 1e-9
-
-
-def _check_gears(m: Mechanism) -> None:
-    seen = set()
-    for g in m.gears:
-        where = f"gear.{g.name}"
-        check_name(g.name, where)
-        if g.planet not in m.link_names or g.planet in (GROUND, m.crank):
-            raise DescriptionError(f"{where}.planet", f"must be a moving link other than the crank {m.crank!r}, "
-                                                      f"got {g.planet!r}")
-        if g.planet in seen:
-            raise DescriptionError(f"{where}.planet", f"link {g.planet!r} already carries a gear")
-        seen.add(g.planet)
-        if g.kind not in ("internal", "external"):
-            raise DescriptionError(f"{where}.kind", f"must be \"internal\" (a ring gear) or \"external\" (a sun "
-                                                    f"gear), got {g.kind!r}")
-        zf, zp = g.teeth
-        if not (isinstance(zf, int) and isinstance(zp, int) and zf > 0 and zp > 0):
-            raise DescriptionError(f"{where}.teeth", f"must be two whole numbers > 0 [fixed, planet], got {list(g.teeth)}")
-        if g.kind == "internal" and zf <= zp:
-            raise DescriptionError(f"{where}.teeth", f"a ring gear needs more teeth than its planet, got {list(g.teeth)}")
-        if not (math.isfinite(g.module) and g.module > 0):
-            raise DescriptionError(f"{where}.module", f"must be > 0 m, got {g.module!r}")
-        if not 0.0 <= g.pressure_angle < math.radians(45.0):
-            raise DescriptionError(f"{where}.pressure_angle", f"must be in [0°, 45°), got {math.degrees(g.pressure_angle):g}°")
-        centre = m.link(g.planet).points[0]
-        if centre not in m.link(m.crank).points:
-            raise DescriptionError(f"links.{g.planet}.points[0]", f"the planet's first point, {centre!r}, is its gear's "
-                                                                  f"centre and must be a point of the crank {m.crank!r}")
-        pivot = m.points[m.revolute(m.drive.joint).point]
-        d = math.dist(pivot, m.points[centre])
-        size = max(math.dist(a, b) for a in m.points.values() for b in m.points.values())
-        if abs(d - g.centre_distance) > GEAR_CENTRE_TOL * size:
-            raise DescriptionError(f"points.{centre}", f"the planet's centre is {d:.9g} m from the crank's pivot; gear "
-                                                       f"{g.name!r} needs the centre distance m·(z_fixed {'−' if g.kind == 'internal' else '+'} "
-                                                       f"z_planet)/2 = {g.centre_distance:.9g} m")

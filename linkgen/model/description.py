@@ -160,6 +160,26 @@ class Gear:
 
 
 @dataclass(frozen=True)
+class CamPair:
+    """A disc cam on the crank driving link ``follower`` through a roller (or knife edge, radius 0)
+    centred on the follower's point ``roller``: a higher pair. The follower turns about its
+    revolute with the ground (oscillating) or slides on its prismatic pair with the ground
+    (translating) by q(θ) − q(0) from the sketch, q the ``program`` (``linkgen.cams.laws``: rad or
+    m) and θ the crank's angle from the sketch, so the sketch shows the follower at θ = 0; the
+    cam's profile follows by inversion. Rising moves the roller away from the cam's axis. A spring
+    of ``spring_rate`` [N·m/rad or N/m] and ``spring_preload`` [N·m or N at the program's lowest
+    position] holds the follower on the cam."""
+
+    name: str
+    follower: str
+    roller: str
+    program: object
+    roller_radius: float = 0.0
+    spring_rate: float = 0.0
+    spring_preload: float = 0.0
+
+
+@dataclass(frozen=True)
 class Mechanism:
     """A validated planar mechanism. Raises DescriptionError on construction if invalid."""
 
@@ -177,6 +197,7 @@ class Mechanism:
     torques: tuple[LinkTorque, ...] = ()
     title: str = ""
     gears: tuple[Gear, ...] = ()
+    cams: tuple[CamPair, ...] = ()
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "points", MappingProxyType(dict(self.points)))
@@ -185,6 +206,7 @@ class Mechanism:
         object.__setattr__(self, "forces", tuple(self.forces))
         object.__setattr__(self, "torques", tuple(self.torques))
         object.__setattr__(self, "gears", tuple(self.gears))
+        object.__setattr__(self, "cams", tuple(self.cams))
         validate(self)
 
     def link(self, name: str) -> Link:
@@ -210,12 +232,12 @@ class Mechanism:
 
     @cached_property
     def revolutes(self) -> tuple[Revolute, ...]:
-        return derive_revolutes(self.links, self.prismatics, self.drive.joint, tuple(g.planet for g in self.gears))
+        return derive_revolutes(self.links, self.prismatics, self.drive.joint, self.planets)
 
     @cached_property
     def planets(self) -> tuple[str, ...]:
-        """Links whose angle a gear pair ties to the crank's: known with it."""
-        return tuple(g.planet for g in self.gears)
+        """Links a higher pair ties to the crank, known with it: gear planets, cam followers."""
+        return tuple(g.planet for g in self.gears) + tuple(c.follower for c in self.cams)
 
     def revolute(self, name: str) -> Revolute:
         return self._by_name[1][name]
@@ -295,6 +317,7 @@ def _decomposed_hinges(links, prismatics, drive_joint, carriers, planets=()) -> 
 
 __all__ = [
     "GROUND",
+    "CamPair",
     "Gear",
     "MassProperties",
     "Link",

@@ -7,6 +7,7 @@ from pathlib import Path
 from typing import Any
 
 from linkgen.model.description import (
+    CamPair,
     Drive,
     Gear,
     Link,
@@ -17,11 +18,12 @@ from linkgen.model.description import (
     Prismatic,
 )
 from linkgen.model.machine import machine_from_dict
-from linkgen.model.names import check_name
+from linkgen.model.names import GROUND, check_name
 from linkgen.errors import DescriptionError
 from linkgen.model.units import angular_acceleration, angular_speed, finite, length, parse_angle, point2, shown, vector2
 
-_TOP = {"mechanism", "points", "links", "prismatic", "drive", "force", "torque", "machine", "gear"}
+_TOP = {"mechanism", "points", "links", "prismatic", "drive", "force", "torque", "machine", "gear", "cam"}
+_CAM = {"follower", "roller", "roller_radius", "spring_rate", "spring_preload", "segment", "law"}
 _GEAR = {"planet", "kind", "module", "teeth", "pressure_angle"}
 _MECH = {"name", "title", "gravity"}
 _LINK = {"points", "length", "inertial", "density", "shape", "areal_density"}
@@ -127,7 +129,7 @@ def loads(raw: bytes | str, source: str = "<description>") -> Mechanism:
 
 def from_dict(data: dict) -> Mechanism:
     """Build a Mechanism from the parsed TOML structure."""
-    if isinstance(data, dict) and "cam" in data:
+    if isinstance(data, dict) and "cam" in data and "links" not in data:
         raise DescriptionError("cam", "this is a cam mechanism; analyze, draw, profile, build and validate take it "
                                       "(docs/cams.md), this command takes linkages")
     _keys(data, _TOP, {"mechanism", "points", "links", "drive"}, "description")
@@ -152,7 +154,27 @@ def from_dict(data: dict) -> Mechanism:
         forces=tuple(_force(i, f) for i, f in enumerate(_list(data.get("force", []), "force"))),
         torques=tuple(_torque(i, t) for i, t in enumerate(_list(data.get("torque", []), "torque"))),
         gears=tuple(_gear(name, spec) for name, spec in _table(data.get("gear", {}), "gear").items()),
+        cams=tuple(_cam(name, spec, data) for name, spec in _table(data.get("cam", {}), "cam").items()),
     )
+
+
+def _cam(name: str, spec: Any, data: dict) -> CamPair:
+    """A ``[cam.NAME]`` pair: the follower's kind (oscillating or translating) is that of its pair
+    with the ground, which sets the program's unit (angles or lengths)."""
+    from linkgen.cams.description import program_from_table
+
+    where = f"cam.{name}"
+    t = _table(spec, where)
+    _keys(t, _CAM, {"follower", "roller"}, where)
+    follower = _str(t["follower"], f"{where}.follower")
+    prismatic = _table(data.get("prismatic", {}), "prismatic")
+    slides = any(isinstance(p, dict) and {p.get("slider"), p.get("guide")} == {follower, GROUND}
+                 for p in prismatic.values())
+    return CamPair(check_name(name, where), follower, _str(t["roller"], f"{where}.roller"),
+                   program_from_table(t, not slides, where),
+                   length(t.get("roller_radius", 0.0), f"{where}.roller_radius"),
+                   finite(t.get("spring_rate", 0.0), f"{where}.spring_rate"),
+                   finite(t.get("spring_preload", 0.0), f"{where}.spring_preload"))
 
 
 def _gear(name: str, spec: Any) -> Gear:

@@ -127,3 +127,12 @@ def vector2(value: object, field: str) -> tuple[float, float]:
     if not isinstance(value, (list, tuple)) or len(value) != 2:
         raise DescriptionError(field, f"must be a list of 2 numbers [x, y], got {shown(value)}")
     return (finite(value[0], f"{field}[0]"), finite(value[1], f"{field}[1]"))
+
+
+def bounded(x: float, where: str, limit: float, unit: str) -> None:
+    """A finite number with |x| <= limit (linkgen.model.limits says where each limit comes from)."""
+    if isinstance(x, bool) or not isinstance(x, (int, float)) or not math.isfinite(x):
+        raise DescriptionError(where, f"must be a finite number, got {shown(x)}")
+    if abs(x) > limit:
+        raise DescriptionError(where, f"must be within ±{limit:g} {unit} (linkgen's limits, see the README), "
+                               f"got {x!r}")

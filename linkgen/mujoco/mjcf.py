@@ -164,6 +164,11 @@ def write_mjcf(source: Mechanism | Assembly, settings: Settings | None = None) -
         settings = settings_for(source)
     mech, pose, size = src.mech, src.pose, src.size
     info = spanning_tree(mech)
+    if mech.cams:  # a cam's contact needs the closed form (its profile) and a short enough timestep
+        from linkgen.mujoco.cam_pair import cam_settings
+
+        cam_asm = source if isinstance(source, Assembly) else assemble(source)
+        settings = cam_settings(cam_asm, settings)
 
     root = etree.Element("mujoco", model=mech.name)
     etree.SubElement(root, "compiler", angle="radian", inertiafromgeom="false", autolimits="true")
@@ -236,6 +241,10 @@ def write_mjcf(source: Mechanism | Assembly, settings: Settings | None = None) -
     actuator = etree.SubElement(root, "actuator")
     etree.SubElement(actuator, "motor", name=DRIVE_ACTUATOR, joint=mech.drive.joint, gear="1")
     add_servo(actuator, mech.drive.joint, settings.armature, mech.drive.omega)
+    if mech.cams:
+        from linkgen.mujoco.cam_pair import add_cams
+
+        add_cams(root, cam_asm, settings)
     sensor = etree.SubElement(root, "sensor")
     for link in mech.links:
         for p in link.points:

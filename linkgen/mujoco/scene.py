@@ -70,9 +70,18 @@ def motion_extent(src) -> tuple[float, float, float, float]:
     from linkgen.planar.positions import drive_angles, positions
 
     try:
-        return positions(src.mech, drive_angles(src.mech, EXTENT_SAMPLES)).bounds()
+        x0, x1, y0, y1 = positions(src.mech, drive_angles(src.mech, EXTENT_SAMPLES)).bounds()
     except LinkgenError:
         return pose_extent(src)
+    if getattr(src.mech, "cams", ()):  # a cam's profile turns within the circle of its largest radius
+        from linkgen.planar.assembly import assemble
+        from linkgen.planar.cam_profile import profile
+
+        asm = assemble(src.mech)
+        px, py = src.mech.points[src.mech.revolute(src.mech.drive.joint).point]
+        r = max(float(np.hypot(*profile(asm, cam).T).max()) for cam in src.mech.cams)
+        x0, x1, y0, y1 = min(x0, px - r), max(x1, px + r), min(y0, py - r), max(y1, py + r)
+    return x0, x1, y0, y1
 
 
 def add_scene(world, extent: tuple[float, float, float, float], size: float) -> None:

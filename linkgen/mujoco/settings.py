@@ -188,6 +188,10 @@ def derive(asm: Assembly, model: mujoco.MjModel, *, omega: float, epsilon: float
     armature = round_down(ARMATURE_RATIO * j_peak) if j_peak > 0 else 1.0
     settings = Settings(timestep=dt, timeconst=tau, armature=armature,
                         label="derived, coarsened to the step budget" if capped else "derived")
+    if asm.mechanism.cams:  # a cam's contact needs a shorter step than the loops may
+        from linkgen.mujoco.cam_pair import cam_settings
+
+        settings = cam_settings(asm, settings)
     k_a = int(np.argmax(a0))
     closures = spanning_tree(asm).closures
     scales = Scales(size, abs(omega), a_peak, s_min, float(phi[k_min]), j_peak, tau_gap, tau_phase, tau_floor,

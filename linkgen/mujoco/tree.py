@@ -85,9 +85,13 @@ def spanning_tree(source: Mechanism | Assembly) -> TreeInfo:
     planet_pins = [p for p in revolutes if any(set(p.links) == {mech.crank, planet} and
                                                mech.revolute(p.name).point == mech.link(planet).points[0]
                                                for planet in mech.planets)]
-    revolutes = [p for p in revolutes if p not in planet_pins]
+    # a cam's follower hangs on the ground by its own pair: the spring acts on that joint
+    followers = {c.follower for c in mech.cams}
+    follower_pins = [p for p in pairs if GROUND in p.links and set(p.links) & followers]
+    revolutes = [p for p in revolutes if p not in planet_pins and p not in follower_pins]
     # a planet hangs on the crank by its pin, so its gear coupling ties two joints of the tree
-    ordered = [drive] + planet_pins + [p for p in pairs if p.kind == "P"] + revolutes
+    ordered = ([drive] + planet_pins + follower_pins + [p for p in pairs if p.kind == "P" and p not in follower_pins]
+               + revolutes)
     root = {n: n for n in mech.link_names}
 
     def find(n):

@@ -33,6 +33,7 @@ from linkgen.planar.primitives import (
     rotvec,
     zeros,
 )
+from linkgen.planar.cam_pair import follower_pose
 from linkgen.planar.structure import Group, GroupKind, Structure
 
 # The one rule for singular and near-singular poses. Each group divides by a normalised
@@ -49,7 +50,8 @@ SINGULAR_TOL = 1e-4
 
 
 def input_poses(mech: Mechanism, structure: Structure, shapes: dict[str, LinkShape], phi: np.ndarray) -> dict:
-    """Poses of the ground and the crank at crank angles ``phi`` (n,) [rad]."""
+    """Poses of the ground, the crank and the links a higher pair ties to it (gear planets, cam
+    followers) at crank angles ``phi`` (n,) [rad]."""
     n = phi.shape[0]
     crank = shapes[structure.crank]
     pivot = shapes[GROUND].local[mech.revolute(mech.drive.joint).point]
@@ -64,6 +66,8 @@ def input_poses(mech: Mechanism, structure: Structure, shapes: dict[str, LinkSha
         theta = Scalar(planet.sketch_angle + k * (phi - crank.sketch_angle), np.broadcast_to(k, (n,)),
                        zeros(n), zeros(n))
         poses[g.planet] = pose_from_point(poses[structure.crank].point(crank.local[centre]), planet.local[centre], theta)
+    for cam in mech.cams:  # the follower moves by the cam's program from the sketch
+        poses[cam.follower] = follower_pose(mech, shapes, cam, phi, crank.sketch_angle)
     return poses
 
 

@@ -32,6 +32,7 @@ from linkgen.planar.assembly import Assembly, assemble
 from linkgen.planar.blocks import in_blocks
 from linkgen.model.description import GROUND
 from linkgen.errors import BalanceError, MagnitudeError, SingularityError, angle_ranges
+from linkgen.planar.cam_pair import contact as cam_contact, ground_pair
 from linkgen.planar.kinematics import BlockFailed, Kinematics, checked_angles, checked_mode, raise_failure, solve_block
 from linkgen.planar.motion import rate
 from linkgen.planar.loads import applied_loads, mass_table
@@ -53,6 +54,9 @@ class Forces:
         tooth: gear pair name → the tooth force on its planet (n, 2) [N]: the tangential part
             from the planet's moment balance about its centre, the radial part |F_t|·tan α
             pushing the gears apart (along the line of action at the pressure angle α).
+        contact: cam pair name → the contact force N (n,) [N] the cam presses on its follower's
+            roller with, along the pitch curve's outward normal through the roller's centre
+            (``planar.cam_pair``); N < 0 where the follower would leave the cam.
         singular: (n,) True at angles marked singular (``on_singular="mark"``); there every
             force and torque is 0.
     """
@@ -72,6 +76,7 @@ class Forces:
     reduced: "ReducedDynamics"
     singular: np.ndarray
     tooth: dict = field(default_factory=dict)
+    contact: dict = field(default_factory=dict)
 
 
 @dataclass(frozen=True)
@@ -149,9 +154,9 @@ def forces(mech_or_asm, phi, omega, epsilon=0.0, threads: int | None = None, *,
     bad = [r for info in infos for r in info[0]]
     if bad:
         raise BalanceError(bad, max(info[1] for info in infos), BALANCE_TOL)
-    torque, power, reactions, normal, moment, (j, dj, m_red), marked, tooth = tree
+    torque, power, reactions, normal, moment, (j, dj, m_red), marked, tooth, contact = tree
     return Forces(phi, np.array(np.broadcast_to(w, (n,))), np.array(np.broadcast_to(e, (n,))), torque, power,
-                  reactions, normal, moment, ReducedDynamics(j, dj, m_red), marked, tooth)
+                  reactions, normal, moment, ReducedDynamics(j, dj, m_red), marked, tooth, contact)
 
 
 @np.errstate(invalid="ignore", divide="ignore", over="ignore")  # found and named by angle below
@@ -235,6 +240,27 @@ def _block_forces(asm: Assembly, kin: Kinematics, w: np.ndarray, e: np.ndarray):
         transmit(o1, group.known[0], x[:, 0:2])
         transmit(o2, group.known[1], x[:, 4:6])
 
+    contact: dict[str, np.ndarray] = {}
+    for cam in mech.cams:  # each follower: the contact force along the cam's normal and its pair with the ground
+        follower = cam.follower
+        kind, gp = ground_pair(mech, cam)
+        pair = Pair(kind, gp.name, gp.links if kind == "R" else (gp.slider, gp.guide))
+        c, nrm, _ = cam_contact(kin, cam)
+        d = c - com[follower]
+        a = np.zeros((n, 3, 3))
+        a[:, 0:2, 0], a[:, 2, 0] = nrm, d[:, 0] * nrm[:, 1] - d[:, 1] * nrm[:, 0]
+        for k, (f, m) in enumerate(columns(pair, follower)):
+            a[:, 0:2, 1 + k], a[:, 2, 1 + k] = f, m
+        b = np.concatenate([load[follower][0], load[follower][1][:, None]], axis=1)
+        x = _solve(a, -b, kin.phi, marked, f"the follower {follower!r} of cam {cam.name!r} (equilibrium equations)")
+        contact[cam.name] = x[:, 0].copy()
+        store(pair, x[:, 1:3])
+        on_cam = -x[:, :1] * nrm  # through C, on the line of the contact
+        dc = c - com[crank]
+        load[crank][0] = load[crank][0] + on_cam
+        load[crank][1] = load[crank][1] + dc[:, 0] * on_cam[:, 1] - dc[:, 1] * on_cam[:, 0]
+        scale += np.abs(x[:, 0]) * np.hypot(*(c - kin.points[mech.revolute(drive.name).point].p).T)
+
     tooth: dict[str, np.ndarray] = {}
     for g in mech.gears:  # each planet: its tooth force from the moment about its centre, then its pin
         planet, centre = g.planet, mech.link(g.planet).points[0]
@@ -270,7 +296,8 @@ def _block_forces(asm: Assembly, kin: Kinematics, w: np.ndarray, e: np.ndarray):
         for arr in (power, red.inertia, red.inertia_derivative, red.moment):
             arr[marked] = 0.0
     bad, worst = balance_failures(kin.phi, torque, power, scale, marked)
-    tree = (torque, power, reactions, normal, moment, (red.inertia, red.inertia_derivative, red.moment), marked, tooth)
+    tree = (torque, power, reactions, normal, moment, (red.inertia, red.inertia_derivative, red.moment), marked, tooth,
+            contact)
     return tree, (bad, worst)
 
 

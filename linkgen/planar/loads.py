@@ -14,6 +14,7 @@ import numpy as np
 from linkgen.planar.assembly import Assembly
 from linkgen.model.description import GROUND, MassProperties, PointForce
 from linkgen.model.geometry import effective_mass_properties
+from linkgen.planar.cam_pair import spring_load
 from linkgen.planar.kinematics import Kinematics
 from linkgen.planar.primitives import Vec
 
@@ -48,8 +49,8 @@ class LinkLoad:
 
 
 def applied_loads(asm: Assembly, kin: Kinematics, gravity: bool = True) -> dict[str, LinkLoad]:
-    """Gravity (unless ``gravity`` is False), external point forces (inside their strokes) and
-    external torques per moving link."""
+    """Gravity (unless ``gravity`` is False), external point forces (inside their strokes),
+    external torques and cam followers' springs per moving link."""
     mech = asm.mechanism
     n = kin.phi.shape[0]
     g = np.asarray(mech.gravity if gravity else (0.0, 0.0), dtype=float)
@@ -69,6 +70,12 @@ def applied_loads(asm: Assembly, kin: Kinematics, gravity: bool = True) -> dict[
     for t in mech.torques:
         if t.link != GROUND:
             out[t.link].moment[:] += t.torque
+    for cam in mech.cams:  # the follower's spring, against the rise
+        load = out[cam.follower]
+        force, torque = spring_load(kin, cam)
+        arm = kin.points[cam.roller].p - load.com.p
+        load.force[:] += force
+        load.moment[:] += torque + arm[:, 0] * force[:, 1] - arm[:, 1] * force[:, 0]
     return out
 
 

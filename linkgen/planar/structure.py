@@ -124,7 +124,7 @@ def analyze(mech: Mechanism) -> Structure:
         groups.append(Group(GroupKind(kind), (l1, l2), (o1, inner, o2), (o1.other(l1), o2.other(l2)),
                             (2 + 2 * i, 3 + 2 * i)))
     return Structure(
-        mobility=3 * n - 2 * len(pairs) - len(mech.gears),
+        mobility=3 * n - 2 * len(pairs) - len(mech.gears) - len(mech.cams),
         moving_links=n,
         lower_pairs=len(pairs),
         crank=crank,

@@ -20,7 +20,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from linkgen.errors import BalanceError, angle_ranges
+from linkgen.errors import BalanceError, MagnitudeError, angle_ranges
 from linkgen.spatial.chain import Chain
 from linkgen.spatial.description import SpatialMechanism
 from linkgen.spatial.jets import Jet, rotate
@@ -150,7 +150,12 @@ def forces(mech: SpatialMechanism, phi, omega: float | None = None, epsilon: flo
         rhs[:, row[b]:row[b] + 3] = loads[b][2]
         rhs[:, row[b] + 3:row[b] + 6] = loads[b][3]
     A = np.stack(columns, axis=-1)  # (n, 18, unknowns)
+    inf = ~np.isfinite(A).all(axis=(1, 2)) | ~np.isfinite(rhs).all(axis=1)
+    if inf.any():  # the loads or the geometry overflowed: named by angle, never a NaN handed on
+        raise MagnitudeError("the spatial kinetostatics", angle_ranges(phi, inf))
     x = np.einsum("nij,nj->ni", np.linalg.pinv(A, rcond=1e-10), rhs)
+    if not np.isfinite(x).all():
+        raise MagnitudeError("the spatial kinetostatics", angle_ranges(phi, ~np.isfinite(x).all(axis=1)))
     scale = 1.0 + sum(np.abs(loads[b][2]).max() + np.abs(loads[b][3]).max() for b in bodies)
     resid = np.abs(np.einsum("nij,nj->ni", A, x) - rhs).max(axis=1) / scale
     if (resid > RESIDUAL_TOL).any():

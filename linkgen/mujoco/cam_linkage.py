@@ -1,0 +1,144 @@
+"""A linkage with cam pairs in MuJoCo against its closed form.
+
+The crank turns by its rotor inertia from the closed-form state at the sketch; after a settling
+eighth of a turn every step of one turn is compared at MuJoCo's own crank angle: each follower's
+coordinate δ (relative to its stroke) and every moving point's position (relative to the largest
+extent of a point's path), at every step; each cam's contact force and the balancing torque as
+means over WINDOWS equal parts of the turn (relative to their peaks). The tolerances are the
+stand-alone cam's (``linkgen.mujoco.cam.CAM_TOLERANCES``): the contact is the same, and its
+faceted profile, not the linkage, sets the error.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass
+
+import mujoco
+import numpy as np
+
+from linkgen.errors import SimulationError, angle_ranges
+from linkgen.mujoco.cam import CAM_TOLERANCES, PROFILE_POINTS, WINDOWS, _window_means
+from linkgen.mujoco.cam_pair import roller_name
+from linkgen.mujoco.log import no_log_file
+from linkgen.mujoco.mjcf import settings_for, write_mjcf
+from linkgen.mujoco.cam_pair import cam_settings
+from linkgen.mujoco.sample import moving_points
+from linkgen.mujoco.scene import switch_off_servo
+from linkgen.mujoco.state import joint_state
+from linkgen.mujoco.tree import site_name
+from linkgen.planar.assembly import Assembly
+from linkgen.planar.cam_pair import ground_pair, lift, sense
+from linkgen.planar.kinematics import solve
+from linkgen.planar.kinetostatics import forces
+
+# Crank angles over a turn at which the closed form's contact force is checked for leaving the cam.
+SCAN = 3600
+
+
+@dataclass(frozen=True)
+class CamLinkageCheck:
+    """Relative errors by quantity (``errors``: name → (error, tolerance)), steps, timestep [s],
+    wall time [s]."""
+
+    model: str
+    errors: dict
+    steps: int
+    timestep: float
+    wall: float
+
+    @property
+    def ok(self) -> bool:
+        return all(e <= tol for e, tol in self.errors.values())
+
+    def summary(self) -> str:
+        parts = ", ".join(f"{k} {e:.2e} (tolerance {t:g})" for k, (e, t) in self.errors.items())
+        return (f"{'ok  ' if self.ok else 'FAIL'} linkage with a cam in MuJoCo (contact with a {PROFILE_POINTS}-vertex "
+                f"profile; forces as {360 / WINDOWS:g}° means): {parts}; {self.steps} steps, {self.wall:.2f} s")
+
+    def to_json(self) -> dict:
+        return {"model": self.model, "ok": self.ok, "errors": {k: {"error": e, "tolerance": t}
+                                                               for k, (e, t) in self.errors.items()},
+                "steps": self.steps, "timestep": self.timestep, "wall_s": self.wall, "windows": WINDOWS,
+                "profile_points": PROFILE_POINTS}
+
+
+def _check_contact(asm: Assembly) -> None:
+    """The closed form's contact force must stay ≥ 0 over the turn, or MuJoCo's follower leaves the cam."""
+    mech = asm.mechanism
+    phi = asm.sketch_phi + np.linspace(0.0, 2 * math.pi, SCAN, endpoint=False)
+    f = forces(asm, phi, mech.drive.omega, 0.0)
+    for name, n in f.contact.items():
+        if np.any(n < 0):
+            ranges = ", ".join(f"{math.degrees(a):.1f}°..{math.degrees(b):.1f}°" for a, b in angle_ranges(phi, n < 0)[:3])
+            raise SimulationError(f"cam {name!r}: the follower would leave the cam at crank angles {ranges} (contact force "
+                                  f"down to {n.min():.3g} N at ω = {mech.drive.omega:g} rad/s); a stronger spring "
+                                  f"(spring_preload, spring_rate) or a lower speed keeps it on")
+
+
+@no_log_file()
+def check_cam_linkage(asm: Assembly) -> CamLinkageCheck:
+    """Run one turn in MuJoCo and compare it with the closed form (module docstring)."""
+    wall0 = time.perf_counter()
+    mech = asm.mechanism
+    _check_contact(asm)
+    w0 = mech.drive.omega
+    settings = cam_settings(asm, settings_for(asm))
+    model = mujoco.MjModel.from_xml_string(write_mjcf(asm, settings))
+    switch_off_servo(model)
+    data = mujoco.MjData(model)
+    data.qpos[:], data.qvel[:], _ = joint_state(asm, model, asm.sketch_phi, w0, 0.0)
+    drive = model.joint(mech.drive.joint)
+    dt = model.opt.timestep
+    per_turn = int(round(2 * math.pi / w0 / dt))
+    lead = per_turn // 8
+    names = moving_points(mech)
+    sites = [model.site(site_name(mech, next(l.name for l in mech.links if p in l.points), p)).id for p in names]
+    rollers = {cam.name: model.geom(roller_name(cam)).id for cam in mech.cams}
+    joints = {cam.name: model.joint(ground_pair(mech, cam)[1].name) for cam in mech.cams}
+    phi, om, ep = (np.zeros(per_turn) for _ in range(3))
+    pts = np.zeros((per_turn, len(names), 2))
+    q = {c: np.zeros(per_turn) for c in rollers}
+    normal = {c: np.zeros(per_turn) for c in rollers}
+    force6 = np.zeros(6)
+    for k in range(lead + per_turn):
+        if k >= lead:
+            i = k - lead
+            mujoco.mj_forward(model, data)
+            phi[i] = data.qpos[drive.qposadr[0]] + asm.sketch_phi
+            om[i], ep[i] = data.qvel[drive.dofadr[0]], data.qacc[drive.dofadr[0]]
+            pts[i] = data.site_xpos[sites, :2]
+            for c, gid in rollers.items():
+                q[c][i] = data.qpos[joints[c].qposadr[0]]
+                for j in range(data.ncon):
+                    con = data.contact[j]
+                    if gid in (con.geom1, con.geom2):
+                        mujoco.mj_contactForce(model, data, j, force6)
+                        normal[c][i] += force6[0]
+        mujoco.mj_step(model, data)
+        if not np.isfinite(data.qvel).all():
+            raise SimulationError(f"{mech.name}: MuJoCo diverged at t = {data.time:.6g} s (step {k})")
+    kin = solve(asm, phi)
+    fc = forces(asm, phi, om, ep)
+    errors = {}
+    for cam in mech.cams:
+        sig = sense(mech, asm.shapes, cam)
+        delta = lift(cam, phi - asm.sketch_phi)[0]
+        stroke = float(np.ptp(lift(cam, np.linspace(0.0, 2 * math.pi, SCAN))[0])) or 1.0
+        errors[f"{cam.name}.displacement"] = (float(np.abs(sig * q[cam.name] - delta).max()) / stroke,
+                                             CAM_TOLERANCES["displacement"])
+        errors[f"{cam.name}.contact_force"] = _windowed(normal[cam.name], fc.contact[cam.name], CAM_TOLERANCES["contact_force"])
+    ref = np.stack([kin.points[p].p for p in names], axis=1)
+    extent = max(float(np.hypot(*np.ptp(ref[:, j], axis=0))) for j in range(len(names))) or 1.0
+    errors["points"] = (float(np.abs(pts - ref).max()) / extent, CAM_TOLERANCES["displacement"])
+    errors["balancing_torque"] = _windowed(-settings.armature * ep, fc.balancing_torque, CAM_TOLERANCES["cam_torque"])
+    return CamLinkageCheck(mech.name, errors, lead + per_turn, dt, time.perf_counter() - wall0)
+
+
+def _windowed(mj: np.ndarray, cf: np.ndarray, tol: float) -> tuple[float, float]:
+    a, b = _window_means(mj, WINDOWS), _window_means(cf, WINDOWS)
+    return float(np.abs(a - b).max()) / (float(np.abs(cf).max()) or 1.0), tol
+
+
+__all__ = ["CamLinkageCheck", "check_cam_linkage"]
