@@ -5,10 +5,12 @@ table."""
 from __future__ import annotations
 
 import math
+import time
 from pathlib import Path
 
 import numpy as np
 
+from linkgen.errors import LinkgenError
 from linkgen.cli.common import OptionError, check_finite, print_json, write_rows
 
 UNITS = {"theta": "rad", "omega": "rad/s", "translating": "m, m/s, m/s², m/s³", "oscillating": "rad, rad/s, rad/s², rad/s³",
@@ -148,4 +150,51 @@ def add_command(sub) -> None:
     p.set_defaults(func=cmd_profile)
 
 
-__all__ = ["add_command", "cam_summary", "cmd_analyze_cam", "cmd_profile"]
+def check_cam_linkage_file(path: Path, asm, report: Path | None, t0: float) -> dict:
+    """A linkage whose crank carries a cam (``mujoco.cam_linkage``): contact in MuJoCo, the cam's tolerances."""
+    from linkgen.cli.files import message_for
+    from linkgen.mujoco.cam_linkage import check_cam_linkage
+
+    try:
+        r = check_cam_linkage(asm)
+    except LinkgenError as exc:
+        return {"model": path.stem, "file": str(path), "ok": False, "error": message_for(path, exc)}
+    out = {"file": str(path), "ok": r.ok, "model": r.model, "cam_linkage": r.to_json(), "line": r.summary()}
+    if report is not None:
+        from linkgen.crosscheck.report import plot_mechanism
+
+        report.mkdir(parents=True, exist_ok=True)
+        out["figures"] = plot_mechanism(asm, report)
+    out["total_wall_s"] = time.perf_counter() - t0
+    return out
+
+
+def check_cam_file(path: Path, t0: float) -> dict:
+    """A cam mechanism in MuJoCo against its closed form (``mujoco.cam.compare_cam``)."""
+    from linkgen.cams.description import load_cam
+    from linkgen.cli.files import message_for
+    from linkgen.mujoco.cam import CAM_TOLERANCES, compare_cam
+
+    try:
+        r = compare_cam(load_cam(path))
+    except LinkgenError as exc:
+        return {"model": path.stem, "file": str(path), "ok": False, "error": message_for(path, exc)}
+    e = r["errors_relative"]
+    ok = all(e[k] <= tol for k, tol in CAM_TOLERANCES.items())
+    return {"file": str(path), "ok": ok, "cam": r | {"tolerances": CAM_TOLERANCES}, "model": r["model"],
+            "total_wall_s": time.perf_counter() - t0}
+
+
+def cam_line(r: dict) -> str:
+    """The one-line result of a cam file's MuJoCo check."""
+    c = r["cam"]
+    e, tol = c["errors_relative"], c["tolerances"]
+    return (f"{r['model']:<22} {'ok  ' if r['ok'] else 'FAIL'} cam in MuJoCo (contact with a {c['profile_points']}-"
+            f"vertex profile): displacement {e['displacement']:.2e} of the stroke (tolerance "
+            f"{tol['displacement']:g}), contact force {e['contact_force']:.2e} and cam torque {e['cam_torque']:.2e} "
+            f"of their peaks as {360 / c['windows']:g}° means (tolerance {tol['contact_force']:g}), "
+            f"{c['steps']} steps, {r['total_wall_s']:.2f} s")
+
+
+__all__ = ["add_command", "cam_line", "cam_summary", "check_cam_file", "check_cam_linkage_file", "cmd_analyze_cam",
+           "cmd_profile"]

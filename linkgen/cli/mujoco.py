@@ -12,6 +12,7 @@ from pathlib import Path
 
 import numpy as np
 
+from linkgen.cli.cams import cam_line, check_cam_file, check_cam_linkage_file
 from linkgen.errors import DescriptionError, LinkgenError
 
 REPORT_DIR = Path("validation/report")
@@ -172,7 +173,7 @@ def _check_one(path: Path, report: Path | None, practical: bool, nthread: int | 
     from linkgen.cams.description import is_cam_file
 
     if is_cam_file(path):
-        return _check_cam(path, t0)
+        return check_cam_file(path, t0)
     from linkgen.cli.spatial import check_spatial_file, is_spatial_file
 
     if is_spatial_file(path):
@@ -186,7 +187,7 @@ def _check_one(path: Path, report: Path | None, practical: bool, nthread: int | 
     except LinkgenError as exc:
         return {"model": path.stem, "file": str(path), "ok": False, "error": message_for(path, exc)}
     if asm.mechanism.cams:
-        return _check_cam_linkage(path, asm, report, t0)
+        return check_cam_linkage_file(path, asm, report, t0)
     cc = crosscheck(asm, practical=practical, nthread=nthread, max_steps=max_steps,
                     progress=_progress(asm.mechanism.name) if progress else None)
     out = {"file": str(path)} | cc.to_json()
@@ -207,41 +208,6 @@ def _check_one(path: Path, report: Path | None, practical: bool, nthread: int | 
     return out
 
 
-def _check_cam_linkage(path: Path, asm, report: Path | None, t0: float) -> dict:
-    """A linkage whose crank carries a cam (``mujoco.cam_linkage``): contact in MuJoCo, the cam's tolerances."""
-    from linkgen.cli.files import message_for
-    from linkgen.mujoco.cam_linkage import check_cam_linkage
-
-    try:
-        r = check_cam_linkage(asm)
-    except LinkgenError as exc:
-        return {"model": path.stem, "file": str(path), "ok": False, "error": message_for(path, exc)}
-    out = {"file": str(path), "ok": r.ok, "model": r.model, "cam_linkage": r.to_json(), "line": r.summary()}
-    if report is not None:
-        from linkgen.crosscheck.report import plot_mechanism
-
-        report.mkdir(parents=True, exist_ok=True)
-        out["figures"] = plot_mechanism(asm, report)
-    out["total_wall_s"] = time.perf_counter() - t0
-    return out
-
-
-def _check_cam(path: Path, t0: float) -> dict:
-    """A cam mechanism in MuJoCo against its closed form (``mujoco.cam.compare_cam``)."""
-    from linkgen.cams.description import load_cam
-    from linkgen.cli.files import message_for
-    from linkgen.mujoco.cam import CAM_TOLERANCES, compare_cam
-
-    try:
-        r = compare_cam(load_cam(path))
-    except LinkgenError as exc:
-        return {"model": path.stem, "file": str(path), "ok": False, "error": message_for(path, exc)}
-    e = r["errors_relative"]
-    ok = all(e[k] <= tol for k, tol in CAM_TOLERANCES.items())
-    return {"file": str(path), "ok": ok, "cam": r | {"tolerances": CAM_TOLERANCES}, "model": r["model"],
-            "total_wall_s": time.perf_counter() - t0}
-
-
 def _summary(r: dict) -> str:
     from linkgen.crosscheck.report import number as _num
 
@@ -250,13 +216,7 @@ def _summary(r: dict) -> str:
     if "spatial" in r or "cam_linkage" in r:
         return f"{r['model']:<22} {r['line']}"
     if "cam" in r:
-        c = r["cam"]
-        e, tol = c["errors_relative"], c["tolerances"]
-        return (f"{r['model']:<22} {'ok  ' if r['ok'] else 'FAIL'} cam in MuJoCo (contact with a {c['profile_points']}-"
-                f"vertex profile): displacement {e['displacement']:.2e} of the stroke (tolerance "
-                f"{tol['displacement']:g}), contact force {e['contact_force']:.2e} and cam torque {e['cam_torque']:.2e} "
-                f"of their peaks as {360 / c['windows']:g}° means (tolerance {tol['contact_force']:g}), "
-                f"{c['steps']} steps, {r['total_wall_s']:.2f} s")
+        return cam_line(r)
     lines = []
     if "quantities" in r:
         q = r["quantities"]
