@@ -4,6 +4,7 @@ dynamics) against the closed form, the viewer keyframe, and the CLI."""
 from __future__ import annotations
 
 import json
+import re
 import subprocess
 import sys
 
@@ -158,3 +159,18 @@ def test_the_idle_spin_keeps_its_rate_and_leaves_the_output_alone(model):
     cf = solve(mech, np.array(phis), chain)
     scale = chain.size if chain.kind == "RSSP" else 1.0  # the slider's metres over the size, the rocker's radians
     assert np.abs(np.array(turns) - cf.turn.d[0]).max() / scale <= REL_TOL
+
+
+def test_structure_names_where_a_chain_cannot_assemble(tmp_path):
+    """rssr with a 0.5 m crank: A = (−0.5, 0, 0) at 180° is √(1.1² + 0.2²) = 1.118 m from the
+    nearest point of B's circle, beyond the 1 m coupler, so a range around 180° is named."""
+    text = (ROOT / "models" / "rssr.toml").read_text(encoding="utf-8")
+    text = text.replace("A = [0.25, 0.0, 0.0]", "A = [0.5, 0.0, 0.0]").replace("length = 0.25", "length = 0.5", 1)
+    path = tmp_path / "partial.toml"
+    path.write_text(text, encoding="utf-8")
+    p = _cli("structure", path)
+    assert p.returncode == 0, p.stderr
+    line = p.stdout.strip().splitlines()[-1]
+    lo, hi = (float(x) for x in re.search(r"at crank angles ([\d.]+)°\.\.([\d.]+)°", line).groups())
+    assert 130.0 < lo < 180.0 < hi < 230.0 and abs((lo + hi) / 2 - 180.0) < 0.2  # the chain is symmetric in y
+    assert "whole turn" in _cli("structure", RSSR).stdout.strip().splitlines()[-1]

@@ -74,7 +74,28 @@ def cmd_structure(args) -> int:
         print(f"overconstrained: {why}")
     print(f"pairs: " + ", ".join(f"{j.kind} {j.name} [{j.links[0]}, {j.links[1]}]" for j in mech.joints)
           + "".join(f", prismatic {s.name} [{s.guide}, {s.slider}]" for s in mech.slides))
+    print(_assembly_range(mech, c))
     return 0
+
+
+# Crank angles over a turn at which `structure` tries the assembly (every 0.1°).
+RANGE_SAMPLES = 3600
+
+
+def _assembly_range(mech, chain) -> str:
+    """Whether the chain assembles over the whole turn of its crank, or where it does not."""
+    from linkgen.errors import AssemblyError, SingularityError, format_ranges
+    from linkgen.spatial.kinematics import solve
+
+    phi = np.linspace(0.0, 2 * np.pi, RANGE_SAMPLES, endpoint=False)
+    try:
+        solve(mech, phi, chain)
+    except AssemblyError as exc:
+        return (f"assembly: not over the whole turn — the coupler cannot reach the output at crank angles "
+                f"{format_ranges(exc.ranges)} (within 0.1°); the crank can only rock in the rest")
+    except SingularityError as exc:
+        return f"assembly: over the whole turn, singular at crank angles {format_ranges(exc.ranges)}"
+    return "assembly: over the whole turn of the crank (checked every 0.1°)"
 
 
 def _output_name(chain) -> str:
