@@ -294,3 +294,103 @@ def test_cli_structure_analyze_forces_for_a_cam_linkage():
     assert math.isclose(fol["velocity"], math.pi / 10 * math.cos(math.radians(30)), rel_tol=1e-12)
     f = json.loads(run("forces", model, "--angle", "30deg", "--json"))
     assert f["contact"]["disc"]["normal_force"] > 0 and f["contact"]["disc"]["on"] == "follower"
+
+
+# ---- generated cams: the linkage form against the stand-alone closed form ----
+
+from hypothesis import HealthCheck, Phase, assume, given, settings  # noqa: E402
+from hypothesis import strategies as st  # noqa: E402
+
+from linkgen.cams.description import cam_from_dict  # noqa: E402
+from linkgen.cams.laws import LAWS  # noqa: E402
+from linkgen.model.reader import from_dict  # noqa: E402
+
+GENERATED = dict(max_examples=40, deadline=None, derandomize=True, phases=[Phase.explicit, Phase.generate],
+                 suppress_health_check=[HealthCheck.too_slow])
+# Pressure angles kept below this [rad]: near 90° the contact force's direction is ill-conditioned.
+MAX_PRESSURE = math.radians(75.0)
+
+
+@st.composite
+def translating_cams(draw):
+    rb = draw(st.floats(0.1, 0.4))
+    rr = draw(st.floats(0.0, 0.05))
+    e = draw(st.floats(-0.5, 0.5)) * rb
+    rise, dwell, ret = (draw(st.floats(90.0, 150.0)), draw(st.floats(20.0, 60.0)), draw(st.floats(90.0, 150.0)))
+    h = draw(st.floats(0.1, 0.4)) * rb
+    laws = (draw(st.sampled_from(list(LAWS))), draw(st.sampled_from(list(LAWS))))
+    segs = [{"kind": "rise", "span": f"{rise}deg", "law": laws[0], "height": h}, {"kind": "dwell", "span": f"{dwell}deg"},
+            {"kind": "return", "span": f"{ret}deg", "law": laws[1], "height": h},
+            {"kind": "dwell", "span": f"{360.0 - rise - dwell - ret}deg"}]
+    m, k, f0 = draw(st.floats(0.1, 5.0)), draw(st.floats(0.0, 5e3)), draw(st.floats(0.0, 100.0))
+    stand = {"mechanism": {"name": "t"}, "cam": {"base_radius": rb, "omega": 10.0},
+             "follower": {"kind": "translating", "roller_radius": rr, "offset": e, "mass": m, "spring_rate": k,
+                          "spring_preload": f0}, "segment": segs}
+    cy = math.sqrt((rb + rr) ** 2 - e * e)
+    linkage = {"mechanism": {"name": "t"}, "points": {"O": [0.0, 0.0], "K": [0.1, 0.0], "Q": [e, 0.0], "C": [e, cy]},
+               "links": {"ground": {"points": ["O", "Q"]},
+                         "cam": {"points": ["O", "K"], "inertial": {"mass": 1.0, "com": [0.0, 0.0], "inertia": 0.001}},
+                         "follower": {"points": ["C"], "inertial": {"mass": m, "com": [0.0, 0.0], "inertia": 0.001}}},
+               "prismatic": {"stem": {"slider": "follower", "guide": "ground", "point": "C", "through": "Q",
+                                      "angle": "90deg"}},
+               "cam": {"disc": {"follower": "follower", "roller": "C", "roller_radius": rr, "spring_rate": k,
+                                "spring_preload": f0, "segment": segs}},
+               "drive": {"joint": "O", "omega": 10.0}}
+    return stand, linkage
+
+
+@st.composite
+def oscillating_cams(draw):
+    a, arm = draw(st.floats(0.2, 0.4)), draw(st.floats(0.15, 0.35))
+    mean, amp = draw(st.floats(35.0, 60.0)), draw(st.floats(5.0, 15.0))
+    reach = math.sqrt(a * a + arm * arm - 2 * a * arm * math.cos(math.radians(mean - amp)))
+    rr = draw(st.floats(0.0, 0.3)) * reach
+    inertia, k, f0 = draw(st.floats(0.01, 0.5)), draw(st.floats(0.0, 50.0)), draw(st.floats(0.0, 20.0))
+    law = {"kind": "sine", "amplitude": f"{amp}deg", "mean": f"{mean}deg"}
+    stand = {"mechanism": {"name": "o"}, "cam": {"omega": 10.0},
+             "follower": {"kind": "oscillating", "roller_radius": rr, "pivot_distance": a, "arm_length": arm,
+                          "inertia": inertia, "lowest_angle": f"{mean - amp}deg", "spring_rate": k,
+                          "spring_preload": f0}, "law": law}
+    psi = math.radians(mean)
+    linkage = {"mechanism": {"name": "o"},
+               "points": {"O": [0.0, 0.0], "K": [0.1, 0.0], "P": [a, 0.0],
+                          "C": [a - arm * math.cos(psi), arm * math.sin(psi)]},
+               "links": {"ground": {"points": ["O", "P"]},
+                         "cam": {"points": ["O", "K"], "inertial": {"mass": 1.0, "com": [0.0, 0.0], "inertia": 0.001}},
+                         "follower": {"points": ["P", "C"], "inertial": {"mass": 1.0, "com": [0.0, 0.0],
+                                                                          "inertia": inertia}}},
+               "cam": {"disc": {"follower": "follower", "roller": "C", "roller_radius": rr, "spring_rate": k,
+                                "spring_preload": f0, "law": law}},
+               "drive": {"joint": "O", "omega": 10.0}}
+    return stand, linkage
+
+
+def _same(stand: dict, linkage: dict) -> None:
+    cm = cam_from_dict(stand)
+    ref = state(cm, TURN)
+    assume(np.abs(ref.pressure_angle).max() < MAX_PRESSURE)
+    mech = from_dict(linkage)
+    asm = assemble(mech)
+    kin = solve(asm, TURN)
+    cam = mech.cams[0]
+    d0, d1, d2, d3 = lift(cam, TURN)
+    base = cm.follower.output(np.zeros(1))[0][0]
+    w = cm.omega
+    for got, want in ((d0 + base, ref.displacement), (d1 * w, ref.velocity), (d2 * w * w, ref.acceleration),
+                      (d3 * w**3, ref.jerk), (contact(kin, cam)[2], ref.pressure_angle)):
+        assert np.abs(got - want).max() <= SAME_TOL * max(np.abs(want).max(), 1.0)
+    f = forces(asm, TURN, w, 0.0)
+    for got, want in ((f.contact["disc"], ref.contact_force), (f.balancing_torque, ref.cam_torque)):
+        assert np.abs(got - want).max() <= SAME_TOL * max(np.abs(want).max(), 1e-300)
+
+
+@settings(**GENERATED)
+@given(translating_cams())
+def test_generated_translating_cams_agree_as_linkages(pair):
+    _same(*pair)
+
+
+@settings(**GENERATED)
+@given(oscillating_cams())
+def test_generated_oscillating_cams_agree_as_linkages(pair):
+    _same(*pair)
