@@ -150,13 +150,13 @@ def add_command(sub) -> None:
     p.set_defaults(func=cmd_profile)
 
 
-def check_cam_linkage_file(path: Path, asm, report: Path | None, t0: float) -> dict:
+def check_cam_linkage_file(path: Path, asm, report: Path | None, t0: float, progress=None) -> dict:
     """A linkage whose crank carries a cam (``mujoco.cam_linkage``): contact in MuJoCo, the cam's tolerances."""
     from linkgen.cli.files import message_for
     from linkgen.mujoco.cam_linkage import check_cam_linkage
 
     try:
-        r = check_cam_linkage(asm)
+        r = check_cam_linkage(asm, progress)
     except LinkgenError as exc:
         return {"model": path.stem, "file": str(path), "ok": False, "error": message_for(path, exc)}
     out = {"file": str(path), "ok": r.ok, "model": r.model, "cam_linkage": r.to_json(), "line": r.summary()}

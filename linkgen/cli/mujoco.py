@@ -187,7 +187,7 @@ def _check_one(path: Path, report: Path | None, practical: bool, nthread: int | 
     except LinkgenError as exc:
         return {"model": path.stem, "file": str(path), "ok": False, "error": message_for(path, exc)}
     if asm.mechanism.cams:
-        return check_cam_linkage_file(path, asm, report, t0)
+        return check_cam_linkage_file(path, asm, report, t0, _progress(asm.mechanism.name) if progress else None)
     cc = crosscheck(asm, practical=practical, nthread=nthread, max_steps=max_steps,
                     progress=_progress(asm.mechanism.name) if progress else None)
     out = {"file": str(path)} | cc.to_json()

@@ -25,6 +25,7 @@ from linkgen.mujoco.log import no_log_file
 from linkgen.mujoco.mjcf import settings_for, write_mjcf
 from linkgen.mujoco.cam_pair import cam_settings
 from linkgen.mujoco.sample import moving_points
+from linkgen.mujoco.simulate import PROGRESS_AFTER
 from linkgen.mujoco.scene import switch_off_servo
 from linkgen.mujoco.state import joint_state
 from linkgen.mujoco.tree import site_name
@@ -35,6 +36,8 @@ from linkgen.planar.kinetostatics import forces
 
 # Crank angles over a turn at which the closed form's contact force is checked for leaving the cam.
 SCAN = 3600
+# Steps between progress reports (about a second of the run on this machine's cores).
+PROGRESS_STEPS = 2500
 
 
 @dataclass(frozen=True)
@@ -78,8 +81,10 @@ def _check_contact(asm: Assembly) -> None:
 
 
 @no_log_file()
-def check_cam_linkage(asm: Assembly) -> CamLinkageCheck:
-    """Run one turn in MuJoCo and compare it with the closed form (module docstring)."""
+def check_cam_linkage(asm: Assembly, progress=None) -> CamLinkageCheck:
+    """Run one turn in MuJoCo and compare it with the closed form (module docstring);
+    ``progress(fraction done, seconds elapsed)`` is called every PROGRESS_STEPS steps once the
+    run has lasted PROGRESS_AFTER seconds."""
     wall0 = time.perf_counter()
     mech = asm.mechanism
     _check_contact(asm)
@@ -117,6 +122,8 @@ def check_cam_linkage(asm: Assembly) -> CamLinkageCheck:
                         mujoco.mj_contactForce(model, data, j, force6)
                         normal[c][i] += force6[0]
         mujoco.mj_step(model, data)
+        if progress is not None and k % PROGRESS_STEPS == 0 and time.perf_counter() - wall0 > PROGRESS_AFTER:
+            progress(k / (lead + per_turn), time.perf_counter() - wall0)
         if not np.isfinite(data.qvel).all():
             raise SimulationError(f"{mech.name}: MuJoCo diverged at t = {data.time:.6g} s (step {k})")
     kin = solve(asm, phi)
