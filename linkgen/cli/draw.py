@@ -122,12 +122,75 @@ def _draw_cam(args) -> int:
     return 0
 
 
+def _other_kind(path) -> str | None:
+    """"cam" for a cam file, "spatial" for a spatial four-bar, None for a planar linkage."""
+    from linkgen.cams.description import is_cam_file
+    from linkgen.spatial.description import is_spatial_file
+
+    return "cam" if is_cam_file(path) else "spatial" if is_spatial_file(path) else None
+
+
+def _animate_other(args, kind: str) -> int:
+    """A cam's or a spatial four-bar's animation over one turn (the drawing of `linkgen draw`)."""
+    from linkgen.cli.files import atomic_output
+    from linkgen.draw.animate import save_animation
+    from linkgen.draw.frames import cam_frames, spatial_frames, turn_angles
+
+    if args.mujoco:
+        raise OptionError(f"{args.model}: --mujoco puts MuJoCo's run beside planar linkages; for this model "
+                          f"`linkgen render` gives MuJoCo's frames and `linkgen validate` its run")
+    angles = turn_angles(args.frames)
+    progress = _progress(f"drawing {args.output.name}")
+    if kind == "cam":
+        from linkgen.cams.description import load_cam
+
+        model = load_cam(args.model)
+        frames = cam_frames(model, angles, progress)
+    else:
+        from linkgen.model.reader import load
+
+        model = load(args.model)
+        frames = spatial_frames(model, angles, progress)
+    with atomic_output(args.output) as tmp:
+        save_animation(frames, tmp, args.fps)
+    h, w = frames[0].shape[:2]
+    print(f"wrote {args.output}: {len(frames)} frames of {w}×{h} px at {args.fps} frames/s over one turn")
+    return 0
+
+
+def _render_other(args, kind: str) -> int:
+    from PIL import Image
+
+    from linkgen.cli.files import atomic_output
+    from linkgen.draw.frames import cam_render, spatial_render
+
+    angle = 0.0 if args.angle is None else args.angle
+    if kind == "cam":
+        from linkgen.cams.description import load_cam
+
+        model = load_cam(args.model)
+        frames = cam_render(model, angle, args.width, args.height)
+    else:
+        from linkgen.model.reader import load
+
+        model = load(args.model)
+        frames = spatial_render(model, angle, args.width, args.height)
+    with atomic_output(args.output) as tmp:
+        Image.fromarray(frames[0]).save(tmp, format="PNG")
+    print(f"wrote {args.output}: MuJoCo frame of {model.name} at {'θ' if kind == 'cam' else 'φ'} = "
+          f"{math.degrees(angle):.6g}°, {args.width}×{args.height} px, camera 'overview'")
+    return 0
+
+
 def cmd_animate(args) -> int:
     from linkgen.cli.files import atomic_output
     from linkgen.draw.animate import drawn_frames, frame_angles, mujoco_run_frames, save_animation
     from linkgen.model.reader import load
 
     _suffix(args.output, ("gif", "mp4"), "an animation")
+    kind = _other_kind(args.model)
+    if kind is not None:
+        return _animate_other(args, kind)
     mech = load(args.model)
     phi = frame_angles(mech, args.frames)
     shots = None
@@ -151,6 +214,9 @@ def cmd_render(args) -> int:
     from linkgen.model.reader import load
 
     _suffix(args.output, ("png",), "a MuJoCo frame")
+    kind = _other_kind(args.model)
+    if kind is not None:
+        return _render_other(args, kind)
     mech = load(args.model)
     phi = mech.drive.start if args.angle is None else args.angle
     _in_range(mech, np.array([phi]), "--angle")

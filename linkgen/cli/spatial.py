@@ -9,25 +9,11 @@ from pathlib import Path
 
 import numpy as np
 
+from linkgen.spatial.description import is_spatial_file
 from linkgen.cli.common import OptionError, check_crank_options, check_finite, drive_rates, print_json, write_rows
 from linkgen.spatial.jets import motion as jet_motion
 
-SUPPORTED = ("structure", "analyze", "forces", "build", "validate", "draw")
-
-
-def is_spatial_file(path) -> bool:
-    """True for a readable TOML file whose [mechanism] says space = "spatial"."""
-    import tomllib
-
-    try:
-        p = Path(path)
-        if not p.is_file():
-            return False
-        from linkgen.spatial.description import is_spatial
-
-        return is_spatial(tomllib.loads(p.read_bytes().decode("utf-8-sig")))
-    except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError, RecursionError):
-        return False
+SUPPORTED = ("structure", "analyze", "forces", "build", "validate", "draw", "render", "animate")
 
 
 def route(args):
@@ -38,8 +24,8 @@ def route(args):
     handlers = {"structure": cmd_structure, "analyze": cmd_analyze, "forces": cmd_forces, "draw": cmd_draw}
     if args.command in handlers:
         return handlers[args.command]
-    if args.command in ("build", "validate"):
-        return None  # they handle spatial files themselves (file by file, folders too)
+    if args.command in ("build", "validate", "render", "animate"):
+        return None  # they handle spatial files themselves
 
     def refuse(args):
         raise OptionError(f"{model}: a spatial mechanism; `linkgen {args.command}` is for planar linkages "

@@ -27,6 +27,7 @@ from lxml import etree
 from linkgen.cams.description import CamMechanism
 from linkgen.cams.kinetics import SAMPLES, state
 from linkgen.errors import SimulationError
+from linkgen.mujoco.scene import add_scene, add_scene_assets
 
 # Profile vertices and steps per turn: measured on the bundled cams, 4000 and 20000 hold the
 # displacement to ~1e-4 of the stroke; finer meshes and steps do not improve it (the roller's
@@ -87,14 +88,22 @@ def cam_mjcf(cm: CamMechanism) -> str:
     etree.SubElement(root, "compiler", angle="radian", inertiafromgeom="false")
     etree.SubElement(root, "option", timestep=_f(dt), integrator="RK4", gravity=f"{_f(cm.gravity[0])} {_f(cm.gravity[1])} 0",
                      ccd_tolerance=_f(CCD_TOLERANCE), ccd_iterations=str(CCD_ITERATIONS), cone="pyramidal")
+    default = etree.SubElement(root, "default")  # only the profile and the roller collide (set on them)
+    etree.SubElement(default, "geom", contype="0", conaffinity="0")
     visual = etree.SubElement(root, "visual")
-    etree.SubElement(visual, "headlight", ambient="0.3 0.3 0.3", diffuse="0.5 0.5 0.5")
+    etree.SubElement(visual, "global", offwidth="1280", offheight="960")
+    etree.SubElement(visual, "headlight", ambient="0.25 0.25 0.25", diffuse="0.45 0.45 0.45", specular="0.05 0.05 0.05")
     asset = etree.SubElement(root, "asset")
     vert = " ".join(f"{_f(x)} {_f(y)} {_f(z)}" for z in (-half, half) for x, y in prof)
     etree.SubElement(asset, "mesh", name="cam:profile", vertex=vert)
+    add_scene_assets(asset)
     world = etree.SubElement(root, "worldbody")
-    etree.SubElement(world, "light", pos=f"0 0 {_f(5 * size)}", dir="0 0 -1", directional="true")
-    etree.SubElement(world, "camera", name="overview", pos=f"0 0 {_f(1.6 * size / math.tan(math.radians(22.5)))}")
+    etree.SubElement(world, "light", pos=f"0 0 {_f(5 * size)}", dir="0 0 -1", directional="true",
+                     diffuse="0.35 0.35 0.35", specular="0.05 0.05 0.05")
+    r = 0.5 * size  # the pitch curve's largest radius; the follower's pivot or stem beyond it
+    reach = max(r, f.pivot_distance + 0.1 * r) if f.kind == "oscillating" else r
+    top = r if f.kind == "oscillating" else f.lift_origin + float(np.ptp(f.output(th)[0])) + 0.3 * size
+    add_scene(world, (-r, reach, -r, max(r, top)), size)
     contact = {"solref": f"{_f(CONTACT_TIME * dt)} 1", "solimp": "0.9999 0.9999 0.001 0.5 2", "condim": "1", "margin": "0",
                "friction": "0 0 0"}
     cam = etree.SubElement(world, "body", name=CAM)

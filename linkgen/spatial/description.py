@@ -23,6 +23,7 @@ plane square to it — for an axis along z, from +x about +z.
 from __future__ import annotations
 
 import math
+from pathlib import Path
 from dataclasses import dataclass
 from types import MappingProxyType
 from typing import Any, Mapping
@@ -297,4 +298,18 @@ def _link(name: str, t: dict, points: dict) -> Link3:
     return Link3(name, tuple(pts), size, mass)
 
 
-__all__ = ["Drive3", "Joint3", "Link3", "Slide3", "SpatialMechanism", "is_spatial", "spatial_from_dict"]
+def is_spatial_file(path) -> bool:
+    """True for a readable TOML file whose [mechanism] says space = "spatial"."""
+    import tomllib
+
+    try:
+        p = Path(path)
+        if not p.is_file():
+            return False
+        return is_spatial(tomllib.loads(p.read_bytes().decode("utf-8-sig")))
+    except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError, RecursionError):
+        return False
+
+
+__all__ = ["Drive3", "Joint3", "Link3", "Slide3", "SpatialMechanism", "is_spatial", "is_spatial_file",
+           "spatial_from_dict"]
