@@ -292,3 +292,37 @@ def test_a_slider_without_direction_is_named():
     del data["prismatic"]["guide"]["direction"]
     with pytest.raises(DescriptionError, match=r"prismatic\.guide\.direction"):
         spatial_from_dict(data)
+
+
+# A refined limit lies at or beyond every sampled value (up to the rounding of q, ~1e-14 of it),
+# and beyond the best sample by at most (Δφ)²·max|q″|/8, Δφ the sampling step.
+LIMIT_ROUNDING = 1e-12
+SAMPLES = 36_000
+
+
+@pytest.mark.parametrize("model", ["rssr", "rssp", "spherical_fourbar"])
+def test_summary_limits_where_the_output_stops(model):
+    """analyze --summary's limit positions: the output's extremes of a 0.001°-dense scan, and for
+    RSSR/RSSP the crank pin's velocity square to the coupler there (B stands still, so A's velocity
+    has no component along AB) — a geometric fact, not the transfer function the summary used."""
+    from linkgen.spatial.summary import summarize
+
+    mech = linkgen.load(ROOT / "models" / f"{model}.toml")
+    sm = summarize(mech)
+    assert [k for k, _, _ in sm.limits] in (["min", "max"], ["max", "min"])
+    scan = solve(mech, np.linspace(0.0, 2 * math.pi, SAMPLES, endpoint=False)).turn
+    q, bound = scan.d[0], (2 * math.pi / SAMPLES) ** 2 * np.abs(scan.d[2]).max() / 8 + LIMIT_ROUNDING
+    values = {k: v for k, _, v in sm.limits}
+    assert -LIMIT_ROUNDING <= values["max"] - q.max() <= bound and -LIMIT_ROUNDING <= q.min() - values["min"] <= bound
+    assert abs(sm.swing - (values["max"] - values["min"])) == 0.0
+    if model != "spherical_fourbar":
+        chain = solve(mech, [0.0]).chain
+        for _, a, _ in sm.limits:
+            k = solve(mech, [a])
+            pa, pb = k.points[chain.pair_a].d[0][0], k.points[chain.pair_b].d[0][0]
+            va = np.cross(chain.ka, pa - chain.a0)
+            assert abs(va @ (pb - pa)) <= 1e-9 * np.linalg.norm(va) * np.linalg.norm(pb - pa)
+    # the time ratio from the limit angles
+    lo, hi = (next(a for k, a, _ in sm.limits if k == kind) for kind in ("min", "max"))
+    work = (hi - lo) % (2 * math.pi)
+    assert sm.time_ratio == pytest.approx(work / (2 * math.pi - work), rel=1e-12)

@@ -121,11 +121,41 @@ def state_json(mech, phi: float, omega: float, epsilon: float, transfer: bool = 
     return result
 
 
+def _summary(args) -> int:
+    """`analyze --summary` of a spatial four-bar (linkgen.spatial.summary)."""
+    from linkgen.spatial.summary import summarize
+
+    sm = summarize(_load(args.model))
+    if args.json:
+        print_json(sm.to_dict())
+        return 0
+    unit = "m" if sm.unit == "m" else "°"
+    show = (lambda v: f"{v:.6g} m") if sm.unit == "m" else (lambda v: f"{math.degrees(v):.6g}°")
+    if sm.swing is None:
+        print(f"{sm.model}: spatial {sm.kind}, output {sm.output!r} turns fully with the crank (no limit positions)")
+    else:
+        print(f"{sm.model}: spatial {sm.kind}, output {sm.output!r}: {'stroke' if unit == 'm' else 'swing'} "
+              f"{show(sm.swing)} (positions measured from the sketch)")
+    for kind, a, v in sm.limits:
+        print(f"  limit position ({kind}) at φ = {math.degrees(a):.6g}°: {show(v)}")
+    if sm.time_ratio is not None:
+        work = 360.0 * sm.time_ratio / (1.0 + sm.time_ratio)
+        print(f"  min→max over {work:.6g}° of crank turn, max→min over {360.0 - work:.6g}°: time ratio "
+              f"K = {sm.time_ratio:.6g} (at constant ω)")
+    t, a = sm.peak_torque
+    print(f"  peak balancing torque: {t:.6g} N·m at φ = {math.degrees(a):.4g}°")
+    for name, (v, a) in sm.peak_pair_forces.items():
+        print(f"  peak force at pair {name}: {v:.6g} N at φ = {math.degrees(a):.4g}°")
+    if sm.indeterminate:
+        print(f"  pair forces: statically indeterminate by {sm.indeterminate}, not summarised")
+    return 0
+
+
 def cmd_analyze(args) -> int:
     from linkgen.spatial.kinematics import solve
 
     if getattr(args, "summary", False):
-        raise OptionError(f"{args.model}: --summary is for planar linkages and cams")
+        return _summary(args)
     check_crank_options(args)
     mech = _load(args.model)
     omega, epsilon = drive_rates(mech, args)
