@@ -146,10 +146,8 @@ def kinematics(source: Mechanism | Assembly, phi, omega=None, epsilon=None) -> K
     """Positions, velocities, accelerations, jerks and transfer functions at crank angles φ [rad]
     (scalar or (n,)), speed ω [rad/s] and acceleration ε [rad/s²] (default the description's;
     the jerk takes ε constant in time: x‴ω³ + 3x″ωε)."""
-    if _spatial(source):  # a spatial four-bar: its SpatialMotion (points' jets, linkgen.spatial.jets.motion)
-        from linkgen.spatial.kinematics import solve as _solve3
-
-        return _solve3(source, phi)
+    if _spatial(source):  # a spatial four-bar: points (3,) per angle, its output under links or sliders
+        return _spatial_kinematics(source, phi, omega, epsilon)
     asm = _assembly(source)
     scalar = np.ndim(phi) == 0
     phis = np.atleast_1d(np.asarray(phi, dtype=float))
@@ -168,6 +166,29 @@ def kinematics(source: Mechanism | Assembly, phi, omega=None, epsilon=None) -> K
         {k: q(v, mo.jerk["points"][k], kin.points[k]) for k, v in mo.points.items()},
         {k: q(v, mo.jerk["links"][k], kin.links[k].angle) for k, v in mo.links.items()},
         {k: q(v, mo.jerk["sliders"][k], kin.sliders[k]) for k, v in mo.sliders.items()})
+
+
+def _spatial_kinematics(mech, phi, omega, epsilon) -> KinematicsResult:
+    """``kinematics`` of a spatial four-bar: every point, and the output (a rocker's turn from its
+    sketch under ``links``, a slider's travel under ``sliders``, named by its pair)."""
+    from linkgen.spatial.jets import motion as jet_motion
+    from linkgen.spatial.kinematics import solve as solve3
+
+    scalar = np.ndim(phi) == 0
+    phis = np.atleast_1d(np.asarray(phi, dtype=float))
+    w = float(mech.drive.omega if omega is None else omega)
+    e = float(mech.drive.epsilon if epsilon is None else epsilon)
+    k = solve3(mech, phis)
+    n = phis.shape[0]
+
+    def q(jet):
+        pos, vel, acc, jerk = jet_motion(jet, w, e)
+        return Quantity(*(_shape(x, scalar) for x in (pos, vel, acc, jet.d[1], jet.d[2], jerk, jet.d[3])))
+
+    out = {k.chain.pair_out: q(k.turn)}
+    return KinematicsResult(mech.name, float(phis[0]) if scalar else phis, _shape(np.full(n, w), scalar),
+                            _shape(np.full(n, e), scalar), {p: q(j) for p, j in k.points.items()},
+                            {} if k.chain.output_slides else out, out if k.chain.output_slides else {})
 
 
 @dataclass(frozen=True, repr=False)

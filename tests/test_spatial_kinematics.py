@@ -326,3 +326,18 @@ def test_summary_limits_where_the_output_stops(model):
     lo, hi = (next(a for k, a, _ in sm.limits if k == kind) for kind in ("min", "max"))
     work = (hi - lo) % (2 * math.pi)
     assert sm.time_ratio == pytest.approx(work / (2 * math.pi - work), rel=1e-12)
+
+
+def test_the_python_api_gives_velocities_of_spatial_points():
+    """linkgen.kinematics on a spatial model: each point's velocity and the output's rate are the
+    time derivatives of the positions at ω (central differences in time, h = 1e-6 s)."""
+    mech = linkgen.load(ROOT / "models" / "rssr.toml")
+    w, h, phi = 10.0, 1e-6, np.radians([10.0, 130.0, 250.0])
+    k = linkgen.kinematics(mech, phi, omega=w)
+    ahead, behind = linkgen.kinematics(mech, phi + w * h, omega=w), linkgen.kinematics(mech, phi - w * h, omega=w)
+    for p, q in k.points.items():
+        fd = (ahead.points[p].position - behind.points[p].position) / (2 * h)
+        assert np.abs(fd - q.velocity).max() <= 1e-7 * max(1.0, np.abs(q.velocity).max()), p
+    fd = (ahead.links["B0"].value - behind.links["B0"].value) / (2 * h)
+    assert np.abs(fd - k.links["B0"].velocity).max() <= 1e-7 * np.abs(k.links["B0"].velocity).max()
+    assert k.points["B"].position.shape == (3, 3) and linkgen.kinematics(mech, 0.3).points["B"].position.shape == (3,)

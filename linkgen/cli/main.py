@@ -10,6 +10,12 @@ stopped by SIGPIPE would.
 
 from __future__ import annotations
 
+DESCRIPTION = ("Mechanisms from their descriptions (models/*.toml): closed-form kinematics and kinetostatics "
+               "from Assur groups, MuJoCo models and runs checked against them. Planar linkages take every "
+               "command; machines with a [machine] table also dynamics and flywheel; cam files and spatial "
+               "four-bars ([mechanism] space = \"spatial\") take structure (spatial), analyze, forces (spatial), "
+               "draw, animate, render, build, validate and profile (cams). docs/ has the formats.")
+
 import argparse
 import os
 import sys
@@ -38,7 +44,7 @@ class _Parser(argparse.ArgumentParser):
 
 
 def build_parser() -> argparse.ArgumentParser:
-    p = _Parser(prog="linkgen", description=__doc__.splitlines()[0])
+    p = _Parser(prog="linkgen", description=DESCRIPTION)
     p.add_argument("--version", action="version", version=f"linkgen {_version()}")
     sub = p.add_subparsers(dest="command", required=True)
 

@@ -64,8 +64,27 @@ def cmd_structure(args) -> int:
     return 0
 
 
-# Crank angles over a turn at which `structure` tries the assembly (every 0.1°).
+# Crank angles over a turn at which `structure` tries the assembly (every 0.1°), and how finely
+# [rad] it then bisects each edge of a range where the chain cannot assemble.
 RANGE_SAMPLES = 3600
+EDGE_TOL = 1e-12
+
+
+def _edge(mech, chain, ok: float, bad: float) -> float:
+    """The crank angle [rad] between ``ok`` (assembles) and ``bad`` (does not) where assembly ends."""
+    from linkgen.errors import AssemblyError, SingularityError
+    from linkgen.spatial.kinematics import solve
+
+    while abs(bad - ok) > EDGE_TOL:
+        mid = 0.5 * (ok + bad)
+        try:
+            solve(mech, [mid], chain)
+            ok = mid
+        except SingularityError:  # at the edge the chain is at a dead centre: still assembled
+            ok = mid
+        except AssemblyError:
+            bad = mid
+    return bad
 
 
 def _assembly_range(mech, chain) -> str:
@@ -77,8 +96,11 @@ def _assembly_range(mech, chain) -> str:
     try:
         solve(mech, phi, chain)
     except AssemblyError as exc:
-        return (f"assembly: not over the whole turn — the coupler cannot reach the output at crank angles "
-                f"{format_ranges(exc.ranges)} (within 0.1°); the crank can only rock in the rest")
+        step = 2 * np.pi / RANGE_SAMPLES
+        exact = [(_edge(mech, chain, lo - step, lo), _edge(mech, chain, hi + step, hi)) for lo, hi in exc.ranges]
+        return ("assembly: not over the whole turn — the coupler cannot reach the output at crank angles "
+                + ", ".join(f"{math.degrees(a):.6f}°..{math.degrees(b):.6f}°" for a, b in exact)
+                + "; the crank can only rock in the rest")
     except SingularityError as exc:
         return f"assembly: over the whole turn, singular at crank angles {format_ranges(exc.ranges)}"
     return "assembly: over the whole turn of the crank (checked every 0.1°)"
@@ -173,8 +195,9 @@ def cmd_analyze(args) -> int:
                     for i, axis in enumerate("xyz"):
                         cols.append(f"{name}.position.d{tag}.{axis}")
                         data.append(jet.d[tag][:, i])
-        unit = "displacement" if k.chain.output_slides else "angle"
-        for q, arr in zip((unit, "velocity", "acceleration", "jerk"), jet_motion(k.output, omega, epsilon)):
+        names = (("displacement", "velocity", "acceleration", "jerk") if k.chain.output_slides else
+                 ("angle", "angular_velocity", "angular_acceleration", "angular_jerk"))
+        for q, arr in zip(names, jet_motion(k.output, omega, epsilon)):
             cols.append(f"{k.chain.pair_out}.{q}")
             data.append(arr)
         write_rows(cols, data, args.csv, units=True)
@@ -248,7 +271,12 @@ def cmd_draw(args) -> int:
     if args.angle is not None and args.angles is not None:
         raise OptionError("--angle cannot be combined with --angles: --angle draws one position, --angles a plan")
     mech = _load(args.model)
-    angles = np.atleast_1d(args.angles if args.angles is not None else [0.0 if args.angle is None else args.angle])
+    if args.angles is None and args.angle is None:  # the sketch's own pose
+        from linkgen.spatial.kinematics import assembled_chain
+
+        angles = np.array([assembled_chain(mech).phi_s])
+    else:
+        angles = np.atleast_1d(args.angles if args.angles is not None else [args.angle])
     with atomic_output(args.output) as tmp:
         draw_spatial(mech, np.asarray(angles, dtype=float), tmp)
     what = (f"position plan of {len(angles)} positions" if len(angles) > 1

@@ -132,9 +132,17 @@ def from_dict(data: dict) -> Mechanism:
     if isinstance(data, dict) and "cam" in data and "links" not in data:
         raise DescriptionError("cam", "this is a cam mechanism; analyze, draw, profile, build and validate take it "
                                       "(docs/cams.md), this command takes linkages")
+    given = data.get("mechanism") if isinstance(data, dict) else None
+    if isinstance(given, dict) and given.get("space", "planar") != "planar":
+        raise DescriptionError("mechanism.space", f"must be \"spatial\" (a spatial four-bar, docs/spatial.md) or "
+                                                  f"\"planar\" (the default), got {shown(given['space'])}")
+    if isinstance(data, dict) and "joints" in data:
+        raise DescriptionError("joints", "[joints] tables describe a spatial model: add space = \"spatial\" to "
+                                         "[mechanism] (docs/spatial.md); a planar linkage's revolutes are the points "
+                                         "its links share")
     _keys(data, _TOP, {"mechanism", "points", "links", "drive"}, "description")
     mech = _table(data["mechanism"], "mechanism")
-    _keys(mech, _MECH, {"name"}, "mechanism")
+    _keys(mech, _MECH | {"space"}, {"name"}, "mechanism")
     points = {
         check_name(name, f"points.{name}"): point2(xy, f"points.{name}")
         for name, xy in _table(data["points"], "points").items()

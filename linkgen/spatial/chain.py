@@ -202,10 +202,12 @@ def _four_revolutes(mech, axes, size: float, names) -> tuple[str, np.ndarray | N
     worst = max(bad.values())
     if worst < GEOMETRY_TOL:
         return "Bennett", None
-    what = ", ".join(f"{k} {v:.3g}" for k, v in bad.items() if v >= GEOMETRY_TOL)
+    what = ", ".join(f"{k} {v:.3g}{' rad' if 'twists' in k else ''}" for k, v in bad.items() if v >= GEOMETRY_TOL)
     raise StructureError(
         f"{mech.name}: the four revolutes {', '.join(names)} are neither parallel, nor meet at one point, nor make a "
-        f"Bennett linkage (defects: {what}); a general 4R loop cannot move (W = 6·3 − 5·4 = −2)")
+        f"Bennett linkage — Bennett's conditions miss by: {what} (lengths and offsets as fractions of the longest "
+        f"link's common normal, {max(l[0] for l in (common_normal(*axes[i], *axes[(i + 1) % 4]) for i in range(4))):.6g} m; "
+        f"each must be below {GEOMETRY_TOL:g}); a general 4R loop cannot move (W = 6·3 − 5·4 = −2)")
 
 
 def common_normal(p1, u1, p2, u2) -> tuple[float, float, np.ndarray, np.ndarray]:

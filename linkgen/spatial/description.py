@@ -246,6 +246,10 @@ def _from_dict(data: Mapping, source: str | None) -> SpatialMechanism:
     dj = drive_t.get("joint")
     revolutes = [j.name for j in joints if j.kind == "revolute" and GROUND in j.links]
     if dj not in revolutes:
+        other = next((j for j in joints if j.name == dj), None)
+        if other is not None and other.kind != "revolute" and GROUND in other.links:
+            raise DescriptionError(f"joints.{dj}.kind", f"the driven pair {dj!r} must be a revolute with its axis (the "
+                                                        f"crank turns about it), got {other.kind!r}")
         raise DescriptionError("drive.joint", f"must be a revolute pair with the ground ({', '.join(revolutes) or 'none'}), "
                                               f"got {shown(dj)}")
     if "omega" not in drive_t:
