@@ -90,7 +90,8 @@ def rssr_check():
 def test_report_figures_of_a_mujoco_check(rssr_check, tmp_path):
     mech, check = rssr_check
     names = plot_spatial_check(check, tmp_path, mech)
-    assert names == [f"{check.model}_coordinates.png", f"{check.model}_torque.png", f"{check.model}_loop_gap.png"]
+    assert names == [f"{check.model}_{kind}.png" for kind in ("coordinates", "velocities", "accelerations", "torque",
+                                                               "loop_gap")]
     widths = {}
     for name in names:
         px = _pixels(tmp_path / name)

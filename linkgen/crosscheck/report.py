@@ -93,12 +93,13 @@ def write_index(results: list[dict], out: Path, wall: float, cores: float) -> Pa
     for r in results:
         if "spatial" in r:
             sp = r["spatial"]
-            kin = {k: v for k, v in sp["errors"].items() if k.startswith("points.")}
-            frc = {k: v for k, v in sp["errors"].items() if not k.startswith("points.")}
-            wk = max(kin, key=lambda k: kin[k]["error"])
-            wf = max(frc, key=lambda k: frc[k]["error"])
+            kin = {k: v for k, v in sp["errors"].items() if k.startswith(("points.", "links."))}
+            inv = {k: v for k, v in sp["errors"].items() if k.startswith("inverse.")}
+            frc = {k: v for k, v in sp["errors"].items() if k not in kin and k not in inv}
+            wk, wf, wi = (max(g, key=lambda k, g=g: g[k]["error"]) for g in (kin, frc, inv))
             lines.append(f"| {r['model']} | {'yes' if r['ok'] else '**NO**'} | {sp['kind']}: `{wk}` | "
-                         f"{kin[wk]['error']:.2e} | `{wf}` | {frc[wf]['error']:.2e} |  |  | {sp['loop_gap']:.1e} | "
+                         f"{kin[wk]['error']:.2e} | `{wf}` | {frc[wf]['error']:.2e} | `{wi}` | {inv[wi]['error']:.2e} | "
+                         f"{sp['loop_gap']:.1e} | "
                          f"{sp['settings']['timestep']:.3g} | {sp['settings']['timeconst']:.3g} | {sp['steps']} | "
                          f"{r.get('total_wall_s', sp['wall_s']):.2f} |")
             continue

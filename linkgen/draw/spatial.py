@@ -269,7 +269,8 @@ def _columns(plt, path, title, cols, phi, thin, size):
 
 def plot_spatial_check(check, out_dir: Path, mech=None) -> list[str]:
     """Figures of a ``SpatialCheck`` in ``out_dir``, closed form against MuJoCo over φ: the points' coordinates
-    (and the output's angle or travel, given the ``mech``), the balancing torque, the loop gap; their file names."""
+    (and the output's angle or travel, given the ``mech``), velocities, accelerations, the balancing torque, the
+    loop gap; their file names."""
     plt = plt_module()
     s, name, out_dir, kind = check.samples, check.model, Path(out_dir), f"{check.model} ({check.kind})"
     phi, thin = np.degrees(s["phi"]), max(1, len(s["phi"]) // 36)
@@ -285,9 +286,15 @@ def plot_spatial_check(check, out_dir: Path, mech=None) -> list[str]:
                          {"output angle ψ": (*(np.degrees(np.unwrap(x)) for x in (ours, theirs)), "C3")}))
     cols += [(f"point {p}", "m", {c: (s["closed"][p][0][:, k], s["points"][p][:, 0, k], f"C{k}") for k, c in enumerate("xyz")})
              for p in s["points"]]
-    names = [f"{name}_coordinates.png", f"{name}_torque.png", f"{name}_loop_gap.png"]
+    names = [f"{name}_coordinates.png", f"{name}_velocities.png", f"{name}_accelerations.png", f"{name}_torque.png",
+             f"{name}_loop_gap.png"]
     _columns(plt, out_dir / names[0], f"{kind}: positions, closed form vs MuJoCo", cols, phi, thin, (3.4 * len(cols) + 1.8, 6))
-    _columns(plt, out_dir / names[1], f"{kind}: balancing torque on the crank, closed form vs MuJoCo",
+    for order, (fname, what, unit) in enumerate(((names[1], "velocities", "m/s"), (names[2], "accelerations", "m/s²")), 1):
+        moving = [(f"point {p}", unit, {c: (s["closed"][p][order][:, k], s["points"][p][:, order, k], f"C{k}")
+                                        for k, c in enumerate("xyz")}) for p in s["points"]]
+        _columns(plt, out_dir / fname, f"{kind}: {what}, closed form vs MuJoCo", moving, phi, thin,
+                 (3.4 * len(moving) + 1.8, 6))
+    _columns(plt, out_dir / names[3], f"{kind}: balancing torque on the crank, closed form vs MuJoCo",
              [("", "N·m", {"balancing torque": (s["closed_torque"], s["torque"], "C3")})], phi, thin, (9, 6))
     fig, ax = plt.subplots(figsize=(9.0, 3.8), layout="constrained")
     ax.semilogy(phi, np.maximum(s["gap"], 1e-18), "k", lw=1, label="loop gap in MuJoCo:\ndistance across the closing pair")
@@ -296,5 +303,5 @@ def plot_spatial_check(check, out_dir: Path, mech=None) -> list[str]:
     ax.set(title=f"{kind}: loop gap over the revolution", xlabel="φ [deg]", ylabel="[m]", xlim=(phi.min(), phi.max()))
     ax.grid(True, which="both", lw=0.3, alpha=0.5)
     ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0, frameon=False)
-    fig.savefig(out_dir / names[2], dpi=CHECK_DPI), plt.close(fig)
+    fig.savefig(out_dir / names[4], dpi=CHECK_DPI), plt.close(fig)
     return names
