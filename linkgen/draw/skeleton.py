@@ -208,16 +208,15 @@ def _cams(ax, pos: Positions, frame: Frame, i: int, alpha: float) -> None:
     mech = pos.mechanism
     if not mech.cams:
         return
-    from linkgen.planar.assembly import assemble
-    from linkgen.planar.cam_profile import profile
+    from linkgen.planar.cam_profile import drawn_profiles
 
-    asm = assemble(mech)
+    profiles = drawn_profiles(mech)
     o = pos.points[mech.revolute(mech.drive.joint).point][i]
     k = pos.points[mech.link(mech.crank).points[1]][i]
     a = math.atan2(k[1] - o[1], k[0] - o[0])  # the crank's frame: x from its first point to its second
     c, s = math.cos(a), math.sin(a)
     for cam in mech.cams:
-        xy = o + profile(asm, cam) @ np.array([[c, s], [-s, c]])
+        xy = o + profiles[cam.name] @ np.array([[c, s], [-s, c]])
         if alpha >= SOLID_ALPHA:  # a position plan draws the profile once, with its solid position
             ax.add_patch(Polygon(xy, closed=True, facecolor=(*CRANK, 0.15 * alpha), edgecolor=(*CRANK, alpha), lw=1.2,
                                  zorder=2.5))
@@ -235,12 +234,10 @@ def set_limits(ax, paths: Positions, frame: Frame, margin: float = 0.12) -> None
         r = g.fixed_radius
         x0, x1, y0, y1 = min(x0, px - r), max(x1, px + r), min(y0, py - r), max(y1, py + r)
     if mech.cams:  # a cam's profile turns within the circle of its largest radius
-        from linkgen.planar.assembly import assemble
-        from linkgen.planar.cam_profile import profile
+        from linkgen.planar.cam_profile import cam_reach
 
-        asm = assemble(mech)
         px, py = paths.points[mech.revolute(mech.drive.joint).point][0]
-        r = max(float(np.hypot(*profile(asm, cam).T).max()) for cam in mech.cams)
+        r = cam_reach(mech)
         x0, x1, y0, y1 = min(x0, px - r), max(x1, px + r), min(y0, py - r), max(y1, py + r)
     m = margin * frame.size
     ax.set_xlim(x0 - m, x1 + m)

@@ -21,11 +21,8 @@ def _finite(x: float, where: str) -> None:
         raise DescriptionError(where, f"must be a finite number, got {shown(x)}")
 
 
-_bounded = bounded
-
-
 def _length(x: float, where: str) -> None:
-    _bounded(x, where, limits.MAX_LENGTH, "m")
+    bounded(x, where, limits.MAX_LENGTH, "m")
 
 
 def validate(m: Mechanism) -> None:
@@ -42,7 +39,7 @@ def validate(m: Mechanism) -> None:
     _check_prismatics(m)
     _check_drive(m)
     for i, g in enumerate(m.gravity):
-        _bounded(g, f"mechanism.gravity[{i}]", limits.MAX_GRAVITY, "m/s²")
+        bounded(g, f"mechanism.gravity[{i}]", limits.MAX_GRAVITY, "m/s²")
     _check_loads(m)
     check_gears(m)
     check_cams(m)
@@ -116,7 +113,7 @@ def _check_links(m: Mechanism) -> None:
             _positive(link.inertial.mass, f"{where}.inertial.mass", "kg")
             _length(link.inertial.com[0], f"{where}.inertial.com[0]")
             _length(link.inertial.com[1], f"{where}.inertial.com[1]")
-            _bounded(link.inertial.inertia, f"{where}.inertial.inertia", limits.MAX_INERTIA, "kg·m²")
+            bounded(link.inertial.inertia, f"{where}.inertial.inertia", limits.MAX_INERTIA, "kg·m²")
             if link.inertial.inertia < 0:
                 raise DescriptionError(
                     f"{where}.inertial.inertia", f"must be >= 0 kg·m², got {link.inertial.inertia!r}"
@@ -215,7 +212,7 @@ def _check_prismatics(m: Mechanism) -> None:
             raise DescriptionError(
                 f"{where}.through", f"{pj.through!r} is not a point of link {pj.guide!r}"
             )
-        _bounded(pj.angle, f"{where}.angle", limits.MAX_ANGLE, "rad")
+        bounded(pj.angle, f"{where}.angle", limits.MAX_ANGLE, "rad")
         _length(pj.offset, f"{where}.offset")
 
 
@@ -234,10 +231,10 @@ def _check_drive(m: Mechanism) -> None:
             f"the crank's first point must be the drive pivot {joint.point!r} and it needs a second point, "
             f"got {list(crank.points)}",
         )
-    _bounded(d.omega, "drive.omega", limits.MAX_OMEGA, "rad/s")
-    _bounded(d.epsilon, "drive.epsilon", limits.MAX_EPSILON, "rad/s²")
-    _bounded(d.start, "drive.range[0]", limits.MAX_ANGLE, "rad")
-    _bounded(d.stop, "drive.range[1]", limits.MAX_ANGLE, "rad")
+    bounded(d.omega, "drive.omega", limits.MAX_OMEGA, "rad/s")
+    bounded(d.epsilon, "drive.epsilon", limits.MAX_EPSILON, "rad/s²")
+    bounded(d.start, "drive.range[0]", limits.MAX_ANGLE, "rad")
+    bounded(d.stop, "drive.range[1]", limits.MAX_ANGLE, "rad")
     if not d.start < d.stop or d.stop - d.start > 2 * math.pi + 1e-12:
         raise DescriptionError(
             "drive.range", f"must be [from, to] with from < to <= from + 360deg, got [{d.start!r}, {d.stop!r}] rad"
@@ -251,11 +248,11 @@ def _check_loads(m: Mechanism) -> None:
             raise DescriptionError(f"{where}.link", f"unknown link {f.link!r}; known links: {list(m.link_names)}")
         if f.point not in m.link(f.link).points:
             raise DescriptionError(f"{where}.point", f"{f.point!r} is not a point of link {f.link!r}")
-        _bounded(f.force[0], f"{where}.force[0]", limits.MAX_FORCE, "N")
-        _bounded(f.force[1], f"{where}.force[1]", limits.MAX_FORCE, "N")
+        bounded(f.force[0], f"{where}.force[0]", limits.MAX_FORCE, "N")
+        bounded(f.force[1], f"{where}.force[1]", limits.MAX_FORCE, "N")
         if f.stroke is not None:
-            _bounded(f.stroke[0], f"{where}.stroke[0]", limits.MAX_ANGLE, "rad")
-            _bounded(f.stroke[1], f"{where}.stroke[1]", limits.MAX_ANGLE, "rad")
+            bounded(f.stroke[0], f"{where}.stroke[0]", limits.MAX_ANGLE, "rad")
+            bounded(f.stroke[1], f"{where}.stroke[1]", limits.MAX_ANGLE, "rad")
             width = f.stroke[1] - f.stroke[0]
             if not 0.0 < width <= 2 * math.pi + 1e-12:
                 raise DescriptionError(
@@ -266,7 +263,7 @@ def _check_loads(m: Mechanism) -> None:
     for i, t in enumerate(m.torques):
         if t.link not in m.link_names:
             raise DescriptionError(f"torque[{i}].link", f"unknown link {t.link!r}; known links: {list(m.link_names)}")
-        _bounded(t.torque, f"torque[{i}].torque", limits.MAX_TORQUE, "N·m")
+        bounded(t.torque, f"torque[{i}].torque", limits.MAX_TORQUE, "N·m")
 
 
 def _check_mobility(m: Mechanism) -> None:

@@ -9,7 +9,7 @@ from typing import TYPE_CHECKING
 from linkgen.errors import DescriptionError
 from linkgen.model import limits
 from linkgen.model.names import GROUND, check_name
-from linkgen.model.units import bounded as _bounded
+from linkgen.model.units import bounded
 
 if TYPE_CHECKING:
     from linkgen.model.description import Mechanism
@@ -71,8 +71,8 @@ def check_cams(m: Mechanism) -> None:
             raise DescriptionError(f"{where}.roller", f"must be a point of the follower {cam.follower!r} (the roller's "
                                                       f"centre), one of {list(m.link(cam.follower).points)}; got "
                                                       f"{cam.roller!r}")
-        _bounded(cam.spring_rate, f"{where}.spring_rate", limits.MAX_FORCE, "N/m or N·m/rad")
-        _bounded(cam.spring_preload, f"{where}.spring_preload", limits.MAX_FORCE, "N or N·m")
+        bounded(cam.spring_rate, f"{where}.spring_rate", limits.MAX_FORCE, "N/m or N·m/rad")
+        bounded(cam.spring_preload, f"{where}.spring_preload", limits.MAX_FORCE, "N or N·m")
         pivot = m.points[m.revolute(m.drive.joint).point]
         reach = math.dist(pivot, m.points[cam.roller])
         if not 0.0 <= cam.roller_radius < reach:

@@ -129,10 +129,11 @@ def vector2(value: object, field: str) -> tuple[float, float]:
     return (finite(value[0], f"{field}[0]"), finite(value[1], f"{field}[1]"))
 
 
-def bounded(x: float, where: str, limit: float, unit: str) -> None:
-    """A finite number with |x| <= limit (linkgen.model.limits says where each limit comes from)."""
+def bounded(x: float, where: str, limit: float, unit: str) -> float:
+    """``x``, a finite number with |x| <= limit (linkgen.model.limits says where each limit comes from)."""
     if isinstance(x, bool) or not isinstance(x, (int, float)) or not math.isfinite(x):
         raise DescriptionError(where, f"must be a finite number, got {shown(x)}")
     if abs(x) > limit:
         raise DescriptionError(where, f"must be within ±{limit:g} {unit} (linkgen's limits, see the README), "
                                f"got {x!r}")
+    return x

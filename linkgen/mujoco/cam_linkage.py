@@ -23,7 +23,6 @@ from linkgen.mujoco.cam import CAM_TOLERANCES, PROFILE_POINTS, WINDOWS, _window_
 from linkgen.mujoco.cam_pair import roller_name
 from linkgen.mujoco.log import no_log_file
 from linkgen.mujoco.mjcf import settings_for, write_mjcf
-from linkgen.mujoco.cam_pair import cam_settings
 from linkgen.mujoco.sample import moving_points
 from linkgen.mujoco.simulate import PROGRESS_AFTER
 from linkgen.mujoco.scene import switch_off_servo
@@ -89,7 +88,7 @@ def check_cam_linkage(asm: Assembly, progress=None) -> CamLinkageCheck:
     mech = asm.mechanism
     _check_contact(asm)
     w0 = mech.drive.omega
-    settings = cam_settings(asm, settings_for(asm))
+    settings = settings_for(asm)  # derived with the cam's timestep (mujoco.settings.derive)
     model = mujoco.MjModel.from_xml_string(write_mjcf(asm, settings))
     switch_off_servo(model)
     data = mujoco.MjData(model)

@@ -50,8 +50,7 @@ def check_convex(cam: CamPair, prof: np.ndarray, phi_s: float) -> None:
     the crank angles where."""
     e = np.roll(prof, -1, axis=0) - prof
     f = np.roll(e, -1, axis=0)
-    turn = (e[:, 0] * f[:, 1] - e[:, 1] * f[:, 0]) / np.maximum(np.hypot(*e.T) * np.hypot(*np.roll(e, -1, axis=0).T),
-                                                           np.finfo(float).tiny)
+    turn = (e[:, 0] * f[:, 1] - e[:, 1] * f[:, 0]) / np.maximum(np.hypot(*e.T) * np.hypot(*f.T), np.finfo(float).tiny)
     area = float(np.sum(prof[:, 0] * np.roll(prof[:, 1], -1) - np.roll(prof[:, 0], -1) * prof[:, 1]))
     bad = np.sign(area) * turn < -CONCAVE_TOL  # the cam turns one way, the profile is traced the other
     if np.any(bad):
@@ -68,8 +67,9 @@ def cam_settings(asm: Assembly, settings: Settings) -> Settings:
     return settings if settings.timestep <= dt else replace(settings, timestep=dt)
 
 
-def add_cams(root, asm: Assembly, settings: Settings) -> None:
-    """Add every cam pair's mesh, roller, contact settings and spring to the MJCF tree ``root``."""
+def add_cams(root, asm: Assembly, settings: Settings, size: float) -> None:
+    """Add every cam pair's mesh, roller, contact settings and spring to the MJCF tree ``root``
+    (``size`` [m]: the mechanism's, which scales the geoms)."""
     mech = asm.mechanism
     option = root.find("option")
     option.set("ccd_tolerance", repr(CCD_TOLERANCE))
@@ -77,8 +77,6 @@ def add_cams(root, asm: Assembly, settings: Settings) -> None:
     option.set("cone", "pyramidal")
     asset = root.find("asset")
     actuator = root.find("actuator")
-    size = max(float(np.hypot(*(np.asarray(a) - np.asarray(b)))) for a in mech.points.values()
-               for b in mech.points.values())
     half = float(0.02 * size)
     contact = {"solref": f"{CONTACT_TIME * settings.timestep!r} 1", "solimp": "0.9999 0.9999 0.001 0.5 2",
                "condim": "1", "margin": "0", "friction": "0 0 0"}

@@ -244,7 +244,7 @@ def write_mjcf(source: Mechanism | Assembly, settings: Settings | None = None) -
     if mech.cams:
         from linkgen.mujoco.cam_pair import add_cams
 
-        add_cams(root, cam_asm, settings)
+        add_cams(root, cam_asm, settings, size)
     sensor = etree.SubElement(root, "sensor")
     for link in mech.links:
         for p in link.points:

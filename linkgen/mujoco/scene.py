@@ -74,12 +74,10 @@ def motion_extent(src) -> tuple[float, float, float, float]:
     except LinkgenError:
         return pose_extent(src)
     if getattr(src.mech, "cams", ()):  # a cam's profile turns within the circle of its largest radius
-        from linkgen.planar.assembly import assemble
-        from linkgen.planar.cam_profile import profile
+        from linkgen.planar.cam_profile import cam_reach
 
-        asm = assemble(src.mech)
         px, py = src.mech.points[src.mech.revolute(src.mech.drive.joint).point]
-        r = max(float(np.hypot(*profile(asm, cam).T).max()) for cam in src.mech.cams)
+        r = cam_reach(src.mech)
         x0, x1, y0, y1 = min(x0, px - r), max(x1, px + r), min(y0, py - r), max(y1, py + r)
     return x0, x1, y0, y1
 

@@ -28,4 +28,22 @@ def profile(asm: Assembly, cam: CamPair, points: int = 720) -> np.ndarray:
     return np.stack([cs * world[:, 0] + sn * world[:, 1], -sn * world[:, 0] + cs * world[:, 1]], axis=1)
 
 
-__all__ = ["profile"]
+def drawn_profiles(mech) -> dict[str, np.ndarray]:
+    """Every cam's profile (720, 2) [m] in the crank's frame, by cam name: computed once per
+    mechanism (drawings and cameras ask for it at every position)."""
+    cached = mech.__dict__.get("_linkgen_cam_profiles")
+    if cached is None:
+        from linkgen.planar.assembly import assemble
+
+        asm = assemble(mech)
+        cached = {cam.name: profile(asm, cam) for cam in mech.cams}
+        mech.__dict__["_linkgen_cam_profiles"] = cached  # the Mechanism is frozen: derived once
+    return cached
+
+
+def cam_reach(mech) -> float:
+    """The largest radius [m] of any cam's profile about the crank's pivot (0 without cams)."""
+    return max((float(np.hypot(*p.T).max()) for p in drawn_profiles(mech).values()), default=0.0)
+
+
+__all__ = ["cam_reach", "drawn_profiles", "profile"]

@@ -28,7 +28,7 @@ import numpy as np
 from linkgen.model.description import GROUND, Mechanism
 from linkgen.errors import ArgumentError, AssemblyError, DescriptionError, SingularityError
 from linkgen.model.geometry import guide_shapes, link_shapes
-from linkgen.planar.cam_pair import ground_pair, lift, oscillating, sense
+from linkgen.planar.cam_pair import ground_pair, lift, sense
 
 # Newton stops when every position row is below POSE_TOL × the mechanism's size [m] and every
 # angle row below POSE_TOL [rad]: ~1e4 ulp of double precision, so reachable, and far below the
@@ -97,7 +97,7 @@ class _Constraints:
         self.gears = [(g.planet, g.ratio, self.shapes[g.planet].sketch_angle - g.ratio * crank) for g in mech.gears]
         # a cam pair: the follower's angle (or its roller centre along the guide) is the program's δ
         # of the crank's angle from the sketch (linkgen.planar.cam_pair)
-        self.cams = [(cam, sense(mech, self.shapes, cam), oscillating(mech, cam)) for cam in mech.cams]
+        self.cams = [(cam, sense(mech, self.shapes, cam), self._guide_direction(cam)) for cam in mech.cams]
         self.n = 3 * len(self.links)
         rows = 2 * len(self.rev) + 2 * len(self.pri) + len(self.gears) + len(self.cams) + 1
         if rows != self.n:  # validate() enforces mobility 1, so this is a programming error
@@ -105,6 +105,14 @@ class _Constraints:
         self.length_row = np.zeros(self.n, dtype=bool)  # rows measured in metres (others in radians)
         self.length_row[:2 * len(self.rev)] = True
         self.length_row[2 * len(self.rev):2 * len(self.rev) + 2 * len(self.pri):2] = True
+
+    def _guide_direction(self, cam) -> np.ndarray | None:
+        """A translating follower's guide direction (2,) in the world; None for an oscillating one."""
+        kind, pair = ground_pair(self.mech, cam)
+        if kind == "R":
+            return None
+        alpha = self.guides[pair.name].alpha
+        return np.array([math.cos(alpha), math.sin(alpha)])
 
     def sketch(self) -> tuple[np.ndarray, float]:
         """q at the sketch (link origins at their first points, sketch angles) and the crank angle."""
@@ -168,16 +176,14 @@ class _Constraints:
             put(r, self.mech.crank, [0.0, 0.0, -k])
             r += 1
         crank, phi_s = self.mech.crank, self.shapes[self.mech.crank].sketch_angle
-        for cam, sig, turns in self.cams:
+        for cam, sig, u in self.cams:
             d = lift(cam, np.array([self._frame(q, crank)[1] - phi_s]))
             fol = self.shapes[cam.follower]
-            if turns:
+            if u is None:  # turning about its pivot
                 f[r] = self._frame(q, cam.follower)[1] - fol.sketch_angle - sig * d[0][0]
                 put(r, cam.follower, [0.0, 0.0, 1.0])
             else:  # along the guide line, fixed to the ground
                 pc, dc = self._place(q, cam.follower, fol.local[cam.roller])
-                alpha = self.guides[ground_pair(self.mech, cam)[1].name].alpha
-                u = np.array([math.cos(alpha), math.sin(alpha)])
                 f[r] = u @ (pc - np.asarray(self.mech.points[cam.roller], dtype=float)) - sig * d[0][0]
                 put(r, cam.follower, [u[0], u[1], u @ dc])
             put(r, crank, [0.0, 0.0, -sig * d[1][0]])

@@ -34,7 +34,7 @@ from linkgen.errors import DescriptionError
 from linkgen.model import limits
 from linkgen.model.defaults import DEFAULT_BLOCK_MASS, DEFAULT_DENSITY
 from linkgen.model.names import GROUND, check_name
-from linkgen.model.units import angular_acceleration, angular_speed, finite, length, shown
+from linkgen.model.units import angular_acceleration, angular_speed, bounded, finite, length, shown
 
 _TOP = {"mechanism", "points", "links", "joints", "prismatic", "drive"}
 _MECH = {"name", "title", "space", "gravity"}
@@ -133,20 +133,13 @@ def _keys(table: dict, allowed: set, where: str) -> None:
             raise DescriptionError(f"{where}.{k}", f"unknown key; allowed: {', '.join(sorted(allowed))}")
 
 
-def _within(x: float, field: str, limit: float, unit: str) -> float:
-    """|x| ≤ limit (linkgen.model.limits: the bounds that keep every product of the closed form finite)."""
-    if not abs(x) <= limit:
-        raise DescriptionError(field, f"must be within ±{limit:g} {unit} (linkgen's limits, see the README), got {x!r}")
-    return x
-
-
 def _vector3(value: Any, field: str, lengths: bool = False, limit: float = limits.MAX_LENGTH,
              unit: str = "m") -> tuple[float, float, float]:
     if not isinstance(value, (list, tuple)) or len(value) != 3:
         raise DescriptionError(field, f"must be a list of 3 {'lengths' if lengths else 'numbers'} [x, y, z], "
                                       f"got {shown(value)}")
     read = length if lengths else finite
-    return tuple(_within(read(v, f"{field}[{i}]"), f"{field}[{i}]", limit, unit)  # type: ignore[return-value]
+    return tuple(bounded(read(v, f"{field}[{i}]"), f"{field}[{i}]", limit, unit)  # type: ignore[return-value]
                  for i, v in enumerate(value))
 
 
@@ -254,8 +247,8 @@ def _from_dict(data: Mapping, source: str | None) -> SpatialMechanism:
                                               f"got {shown(dj)}")
     if "omega" not in drive_t:
         raise DescriptionError("drive.omega", "missing: the crank speed (rad/s, or '120rpm')")
-    omega = _within(angular_speed(drive_t["omega"], "drive.omega"), "drive.omega", limits.MAX_OMEGA, "rad/s")
-    epsilon = _within(angular_acceleration(drive_t.get("epsilon", 0.0), "drive.epsilon"), "drive.epsilon",
+    omega = bounded(angular_speed(drive_t["omega"], "drive.omega"), "drive.omega", limits.MAX_OMEGA, "rad/s")
+    epsilon = bounded(angular_acceleration(drive_t.get("epsilon", 0.0), "drive.epsilon"), "drive.epsilon",
                       limits.MAX_EPSILON, "rad/s²")
     return SpatialMechanism(name, title, MappingProxyType(points), links, tuple(joints), tuple(slides),
                             Drive3(dj, omega, epsilon), gravity, source)
@@ -274,7 +267,7 @@ def _link(name: str, t: dict, points: dict) -> Link3:
     if "length" in t:
         if len(pts) != 2:
             raise DescriptionError(f"{where}.length", f"is for a link of two points; this one has {len(pts)}")
-        size = _within(length(t["length"], f"{where}.length"), f"{where}.length", limits.MAX_LENGTH, "m")
+        size = bounded(length(t["length"], f"{where}.length"), f"{where}.length", limits.MAX_LENGTH, "m")
         if not size > 0:
             raise DescriptionError(f"{where}.length", f"must be > 0 m, got {shown(t['length'])}")
     if "mass" in t and "density" in t:
