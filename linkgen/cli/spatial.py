@@ -232,7 +232,8 @@ def cmd_forces(args) -> int:
     if args.samples is not None or args.csv is not None:
         phi = np.linspace(0.0, 2 * math.pi, args.samples or 360, endpoint=False)
         f = forces(mech, phi, omega, epsilon)
-        cols, data = ["phi", "balancing_torque"], [phi, f.balancing_torque]
+        cols = ["phi", "balancing_torque", "power_balance_torque"]
+        data = [phi, f.balancing_torque, f.power_balance_torque]
         for name, r in f.reactions.items():
             for q, arr in (("force", r.force), ("moment", r.moment)):
                 for i, axis in enumerate("xyz"):
@@ -247,12 +248,12 @@ def cmd_forces(args) -> int:
               "balancing_torque": float(f.balancing_torque[0]), "statically_indeterminate": f.indeterminate,
               "reactions": {n: {"on": r.on, "by": r.by, "force": r.force[0].tolist(), "moment": r.moment[0].tolist()}
                             for n, r in f.reactions.items()}}
-    check_finite(result)
+    check_finite(dict(result, power_balance_torque=float(f.power_balance_torque[0])))
     if args.json:
         print_json(result)
         return 0
     print(f"{mech.name}: φ = {math.degrees(phi):.6g}°, ω = {omega:g} rad/s, ε = {epsilon:g} rad/s²: balancing torque "
-          f"{result['balancing_torque']:.6g} N·m")
+          f"{result['balancing_torque']:.6g} N·m (power balance: {f.power_balance_torque[0]:.6g} N·m)")
     for n, r in result["reactions"].items():
         print(f"pair {n}: on {r['on']} by {r['by']}: force [{', '.join(f'{x:.6g}' for x in r['force'])}] N, "
               f"moment [{', '.join(f'{x:.6g}' for x in r['moment'])}] N·m")

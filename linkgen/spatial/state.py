@@ -16,6 +16,7 @@ from linkgen.spatial.chain import Chain
 from linkgen.spatial.description import SpatialMechanism
 from linkgen.spatial.kinematics import SpatialMotion
 from linkgen.spatial.mass import link_body
+from linkgen.spatial.mjloads import loads_at_state
 
 # Crank angles scanned for the peak reduced inertia and loop force.
 SCAN = 73
@@ -77,6 +78,7 @@ def derive_settings(mech: SpatialMechanism, chain: Chain, scan: SpatialMotion, m
     eq = model.equality(chain.pair_b).id
     for k in range(scan.phi.shape[0]):
         data.qpos[:], data.qvel[:] = joint_state(model, chain, scan, k, omega)
+        loads_at_state(mech, model, data, float(scan.phi[k]))  # the loop carries the loads as well
         mujoco.mj_forward(model, data)
         rows = np.flatnonzero((data.efc_type == mujoco.mjtConstraint.mjCNSTR_EQUALITY) & (data.efc_id == eq))
         a0 = max(a0, float(np.abs(data.efc_diagA[rows] * data.efc_force[rows]).max()) if rows.size else 0.0)
