@@ -17,7 +17,7 @@ import pytest
 import linkgen
 from linkgen.crosscheck.tolerances import FORCE_TOL, INVERSE_TOL
 from linkgen.errors import DescriptionError
-from linkgen.spatial.crosscheck import check_spatial
+from linkgen.spatial.crosscheck import check_spatial, derived_settings
 from linkgen.spatial.description import spatial_from_dict
 from linkgen.spatial.forces import forces
 from linkgen.spatial.inverse import inverse_torque
@@ -179,6 +179,9 @@ def test_a_moment_about_an_rssr_couplers_line_is_refused_by_field():
     with pytest.raises(DescriptionError, match=r"^m\.toml: torque\[0\]: has a moment about the line A–B of the coupler "
                                                r"'coupler' .* the coupler turns on two ball joints"):
         forces(mech, np.linspace(0.0, 6.0, 7))
+    # nor does `build` write a model whose coupler MuJoCo would spin
+    with pytest.raises(DescriptionError, match=r"torque\[0\]: has a moment about the line A–B"):
+        derived_settings(mech)
     # a force through the line is fine
     ok = spatial_from_dict(_with(RSSR, [{"link": "coupler", "point": "A", "force": [0.0, 0.0, 5.0]}]))
     assert np.isfinite(forces(ok, np.linspace(0.0, 6.0, 7)).balancing_torque).all()

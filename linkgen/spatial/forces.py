@@ -125,7 +125,7 @@ def applied_loads(mech: SpatialMechanism, motion: SpatialMotion) -> dict:
     return out
 
 
-def _check_line_moments(mech: SpatialMechanism, motion: SpatialMotion) -> None:
+def check_line_moments(mech: SpatialMechanism, motion: SpatialMotion) -> None:
     """A coupler on two ball joints (RSSR, RSSP) is held by forces through its line A–B only: a
     load with a moment about that line would spin it freely. Named by field and crank angles."""
     chain = motion.chain
@@ -161,7 +161,7 @@ def forces(mech: SpatialMechanism, phi, omega: float | None = None, epsilon: flo
     w = mech.drive.omega if omega is None else omega
     eps = mech.drive.epsilon if epsilon is None else epsilon
     loads = body_loads(mech, motion, w, eps)
-    _check_line_moments(mech, motion)
+    check_line_moments(mech, motion)
     given = applied_loads(mech, motion)
     bodies = [chain.crank, chain.coupler, chain.output]
     row = {b: 6 * i for i, b in enumerate(bodies)}
@@ -242,4 +242,4 @@ def _angle(motion: SpatialMotion) -> Jet:
     return variable(motion.phi)
 
 
-__all__ = ["Reaction", "SpatialForces", "body_loads", "forces"]
+__all__ = ["Reaction", "SpatialForces", "applied_loads", "body_loads", "check_line_moments", "forces"]
