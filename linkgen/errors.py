@@ -73,15 +73,53 @@ class AssemblyError(LinkgenError):
     Attributes:
         group: the group's label, e.g. ``"II(2,3) RRR [coupler, rocker]"``.
         ranges: list of (first, last) crank angles [rad] where assembly fails.
+        assembles: (lo, hi) crank angles [rad] where the whole chain does assemble over a turn
+            (exact edges), or None when not known.
+        suggestion: TOML text for ``[drive]`` (``range = [...]``) running over the widest range
+            where the chain is assembled and regular, or None.
+
+    ``where``, if given, is called for (assembles, suggestion) the first time either or the
+    message is asked for: a caller that catches the error to try other angles pays nothing.
     """
 
-    def __init__(self, group: str, ranges: list[tuple[float, float]], reason: str):
+    def __init__(self, group: str, ranges: list[tuple[float, float]], reason: str, where=None):
         self.group = group
         self.ranges = ranges
         self.reason = reason
-        super().__init__(
-            f"group {group} cannot be assembled at crank angles {format_ranges(ranges)}: {reason}"
-        )
+        self._where = where
+        self._found: tuple | None = None
+        super().__init__(f"group {group} cannot be assembled at crank angles {format_ranges(ranges)}: {reason}")
+
+    def _lookup(self) -> tuple:
+        if self._found is None:
+            self._found = (None, None) if self._where is None else tuple(self._where())
+        return self._found
+
+    @property
+    def assembles(self) -> list[tuple[float, float]] | None:
+        return self._lookup()[0]
+
+    @property
+    def suggestion(self) -> str | None:
+        return self._lookup()[1]
+
+    def __str__(self) -> str:
+        assembles, suggestion = self._lookup()
+        text = super().__str__()
+        if assembles is not None:
+            text += (f"; the chain assembles at crank angles {format_ranges(assembles)}" if assembles
+                     else "; the chain assembles at no crank angle")
+        if suggestion:
+            text += f"; to run over the widest of them where it is regular, put under [drive]: {suggestion}"
+        return text
+
+    def __reduce__(self):  # pickled with what it found, not the function that finds it
+        assembles, suggestion = self._lookup()
+        return (_assembly_error, (self.group, self.ranges, self.reason, assembles, suggestion))
+
+
+def _assembly_error(group, ranges, reason, assembles, suggestion) -> AssemblyError:
+    return AssemblyError(group, ranges, reason, lambda: (assembles, suggestion))
 
 
 class SingularityError(LinkgenError):

@@ -6,6 +6,7 @@ import tomllib
 from pathlib import Path
 
 from linkgen.spatial import description as d
+from linkgen.spatial import loads
 from linkgen.spatial.description import spatial_from_dict
 
 PAGE = (Path(__file__).resolve().parents[1] / "docs" / "spatial.md").read_text()
@@ -30,8 +31,14 @@ def test_the_example_and_the_slider_fragment_load():
     assert spatial_from_dict(slid).slides[0].slider == "slider"
 
 
+def test_the_loads_example_loads():
+    full = tomllib.loads(BLOCKS[0]) | tomllib.loads(BLOCKS[2])
+    mech = spatial_from_dict(full)
+    assert [f.force for f in mech.forces] == [(0.0, 40.0, 0.0)] and [t.torque for t in mech.torques] == [(0.0, 0.0, -100.0)]
+
+
 def test_every_allowed_key_is_documented():
-    for table in (d._MECH, d._LINK, d._JOINT, d._PRISMATIC, d._DRIVE):
+    for table in (d._MECH, d._LINK, d._JOINT, d._PRISMATIC, d._DRIVE, loads._FORCE, loads._TORQUE):
         for key in table:
             assert re.search(rf"^{key} =", PAGE, flags=re.M), key
 

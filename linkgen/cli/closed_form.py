@@ -76,7 +76,40 @@ def cmd_structure(args) -> int:
         pairs = ", ".join(f"{p.kind} {p.name}" for p in g.pairs)
         print(f"group {g.label}: pairs {pairs}; attached to {list(g.known)}; assembly mode m = {m:+d}")
     print(f"structure formula: {s.formula}")
+    for line in turn_lines(asm):
+        print(line)
     return 0
+
+
+def turn_lines(asm) -> list[str]:
+    """Whether the crank turns fully and where the chain assembles (``linkgen.model.turn``)."""
+    from linkgen.model.turn import EDGE_TOL, degrees_text, drive_range_text
+    from linkgen.planar.turn import planar_turn
+
+    t = planar_turn(asm)
+    how = f"scanned every 0.1°, edges bisected to {EDGE_TOL:g} rad"
+    if t.full:
+        lines = [f"crank: turns fully — the chain assembles at every crank angle ({how})"]
+        if not t.regular:
+            lines.append(f"regular at crank angles {degrees_text(t.clean)}; dead centres in between")
+        return lines
+    lines = [f"crank: does not turn fully — the chain assembles at crank angles {degrees_text(t.assembles)} "
+             f"and cannot at {degrees_text(t.fails)} ({how}); it rocks between dead centres"]
+    d = asm.mechanism.drive
+    given = f"the drive's crank-angle range {math.degrees(d.start):.6g}°..{math.degrees(d.stop):.6g}°"
+    if any(lo - 1e-12 <= d.start and d.stop <= hi + 1e-12 for lo, hi in _turns(t.clean)):
+        lines.append(f"{given} lies where the chain is assembled and regular")
+        return lines
+    best = t.suggestion()
+    if best is not None:
+        lines.append(f"{given} leaves where the chain is regular; to run over the widest range where it is, put "
+                     f"under [drive]: {drive_range_text(best)}")
+    return lines
+
+
+def _turns(ranges):
+    """Each range [rad] and its copies one turn either side."""
+    return [(lo + k * 2 * math.pi, hi + k * 2 * math.pi) for lo, hi in ranges for k in (-1, 0, 1)]
 
 
 def cmd_analyze(args) -> int:

@@ -64,45 +64,45 @@ def cmd_structure(args) -> int:
     return 0
 
 
-# Crank angles over a turn at which `structure` tries the assembly (every 0.1°), and how finely
-# [rad] it then bisects each edge of a range where the chain cannot assemble.
-RANGE_SAMPLES = 3600
-EDGE_TOL = 1e-12
-
-
-def _edge(mech, chain, ok: float, bad: float) -> float:
-    """The crank angle [rad] between ``ok`` (assembles) and ``bad`` (does not) where assembly ends."""
+def _status(mech, chain):
+    """Crank angles (n,) [rad] → (fails, singular) masks of the spatial chain, for
+    ``linkgen.model.turn`` (the scan and bisection planar linkages use as well)."""
     from linkgen.errors import AssemblyError, SingularityError
     from linkgen.spatial.kinematics import solve
 
-    while abs(bad - ok) > EDGE_TOL:
-        mid = 0.5 * (ok + bad)
+    def within(phi, ranges):
+        return np.any([(phi >= lo) & (phi <= hi) for lo, hi in ranges], axis=0)
+
+    def at(phi):
+        fails, singular = np.zeros(phi.shape[0], bool), np.zeros(phi.shape[0], bool)
         try:
-            solve(mech, [mid], chain)
-            ok = mid
-        except SingularityError:  # at the edge the chain is at a dead centre: still assembled
-            ok = mid
-        except AssemblyError:
-            bad = mid
-    return bad
+            solve(mech, phi, chain)
+        except AssemblyError as exc:
+            fails = within(phi, exc.ranges)
+            if not fails.all():
+                try:
+                    solve(mech, phi[~fails], chain)
+                except SingularityError as sing:
+                    singular[~fails] = within(phi[~fails], sing.ranges)
+        except SingularityError as exc:
+            singular = within(phi, exc.ranges)
+        return fails, singular
+
+    return at
 
 
 def _assembly_range(mech, chain) -> str:
     """Whether the chain assembles over the whole turn of its crank, or where it does not."""
-    from linkgen.errors import AssemblyError, SingularityError, format_ranges
-    from linkgen.spatial.kinematics import solve
+    from linkgen.model.turn import EDGE_TOL, degrees_text, turn_assembly
 
-    phi = np.linspace(0.0, 2 * np.pi, RANGE_SAMPLES, endpoint=False)
-    try:
-        solve(mech, phi, chain)
-    except AssemblyError as exc:
-        step = 2 * np.pi / RANGE_SAMPLES
-        exact = [(_edge(mech, chain, lo - step, lo), _edge(mech, chain, hi + step, hi)) for lo, hi in exc.ranges]
-        return ("assembly: not over the whole turn — the coupler cannot reach the output at crank angles "
-                + ", ".join(f"{math.degrees(a):.6f}°..{math.degrees(b):.6f}°" for a, b in exact)
-                + "; the crank can only rock in the rest")
-    except SingularityError as exc:
-        return f"assembly: over the whole turn, singular at crank angles {format_ranges(exc.ranges)}"
+    t = turn_assembly(_status(mech, chain))
+    if not t.full:
+        return (f"assembly: not over the whole turn — the coupler cannot reach the output at crank angles "
+                f"{degrees_text(t.fails)}; the crank can only rock in the rest ({degrees_text(t.assembles)}; edges "
+                f"bisected to {EDGE_TOL:g} rad)")
+    if not t.regular:
+        return (f"assembly: over the whole turn, regular at crank angles {degrees_text(t.clean)} "
+                "(dead centres in between)")
     return "assembly: over the whole turn of the crank (checked every 0.1°)"
 
 
@@ -232,7 +232,8 @@ def cmd_forces(args) -> int:
     if args.samples is not None or args.csv is not None:
         phi = np.linspace(0.0, 2 * math.pi, args.samples or 360, endpoint=False)
         f = forces(mech, phi, omega, epsilon)
-        cols, data = ["phi", "balancing_torque"], [phi, f.balancing_torque]
+        cols = ["phi", "balancing_torque", "power_balance_torque"]
+        data = [phi, f.balancing_torque, f.power_balance_torque]
         for name, r in f.reactions.items():
             for q, arr in (("force", r.force), ("moment", r.moment)):
                 for i, axis in enumerate("xyz"):
@@ -247,12 +248,12 @@ def cmd_forces(args) -> int:
               "balancing_torque": float(f.balancing_torque[0]), "statically_indeterminate": f.indeterminate,
               "reactions": {n: {"on": r.on, "by": r.by, "force": r.force[0].tolist(), "moment": r.moment[0].tolist()}
                             for n, r in f.reactions.items()}}
-    check_finite(result)
+    check_finite(dict(result, power_balance_torque=float(f.power_balance_torque[0])))
     if args.json:
         print_json(result)
         return 0
     print(f"{mech.name}: φ = {math.degrees(phi):.6g}°, ω = {omega:g} rad/s, ε = {epsilon:g} rad/s²: balancing torque "
-          f"{result['balancing_torque']:.6g} N·m")
+          f"{result['balancing_torque']:.6g} N·m (power balance: {f.power_balance_torque[0]:.6g} N·m)")
     for n, r in result["reactions"].items():
         print(f"pair {n}: on {r['on']} by {r['by']}: force [{', '.join(f'{x:.6g}' for x in r['force'])}] N, "
               f"moment [{', '.join(f'{x:.6g}' for x in r['moment'])}] N·m")

@@ -57,17 +57,27 @@ def apply_loads(asm: Assembly, model: mujoco.MjModel, data: mujoco.MjData, phi: 
     for f in mech.forces:
         if f.link == GROUND or not stroke_active(f, np.array([phi]))[0]:
             continue
-        _add_force(data, model.body(body_name(f.link)).id, data.site(site_name(asm, f.link, f.point)).xpos,
+        add_force(data, model.body(body_name(f.link)).id, data.site(site_name(asm, f.link, f.point)).xpos,
                    np.array([f.force[0], f.force[1], 0.0]))
     for t in mech.torques:
         if t.link != GROUND:
             data.xfrc_applied[model.body(body_name(t.link)).id, 5] += t.torque
 
 
-def _add_force(data: mujoco.MjData, body: int, point: np.ndarray, force: np.ndarray) -> None:
+def add_force(data: mujoco.MjData, body: int, point: np.ndarray, force: np.ndarray) -> None:
     """Add a force (3,) [N] acting at a world point to the body's ``xfrc_applied`` (at its COM)."""
     data.xfrc_applied[body, :3] += force
     data.xfrc_applied[body, 3:] += np.cross(point - data.xipos[body], force)
+
+
+def applied_generalized(model: mujoco.MjModel, data: mujoco.MjData) -> np.ndarray:
+    """Jᵀ·xfrc_applied (nv,): the generalised force of the body wrenches now set (positions and
+    ``mj_comPos`` done)."""
+    out = np.zeros(model.nv)
+    for b in range(1, model.nbody):
+        if np.any(data.xfrc_applied[b]):
+            mujoco.mj_applyFT(model, data, data.xfrc_applied[b, :3], data.xfrc_applied[b, 3:], data.xipos[b], b, out)
+    return out
 
 
 def has_loads(asm: Assembly) -> bool:
@@ -100,11 +110,7 @@ def inverse_forces(asm: Assembly, model: mujoco.MjModel, data: mujoco.MjData, ph
     mujoco.mj_comPos(model, data)
     apply_loads(asm, model, data, phi)
     mujoco.mj_inverse(model, data)
-    applied = np.zeros(model.nv)
-    for b in range(1, model.nbody):
-        if np.any(data.xfrc_applied[b]):
-            mujoco.mj_applyFT(model, data, data.xfrc_applied[b, :3], data.xfrc_applied[b, 3:],
-                              data.xipos[b], b, applied)
+    applied = applied_generalized(model, data)
     crank = model.joint(asm.mechanism.drive.joint)
     cols = list(closure_jacobian(asm, model, data))
     anchors = []
@@ -130,9 +136,9 @@ def inverse_forces(asm: Assembly, model: mujoco.MjModel, data: mujoco.MjData, ph
     for i, (pair, eq, b1, b2, point) in enumerate(anchors):
         lam = x[2 * i:2 * i + 2]
         f = np.array([lam[0], lam[1], 0.0])
-        _add_force(data, b1, point, f)
+        add_force(data, b1, point, f)
         if b2 > 0:
-            _add_force(data, b2, point, -f)
+            add_force(data, b2, point, -f)
         reactions[pair.name] = _on_first(asm, model, eq, pair.name, lam)
     mujoco.mj_rnePostConstraint(model, data)
     tree_r, normal, moment = _tree_reactions(asm, model, data, info)
@@ -203,5 +209,5 @@ def load_schedule(asm: Assembly, model: mujoco.MjModel, phi: np.ndarray) -> np.n
     return out.reshape(phi.shape[0], -1)
 
 
-__all__ = ["ForceSamples", "StateForces", "apply_loads", "forward_forces", "has_loads", "inverse_forces",
-           "load_schedule"]
+__all__ = ["ForceSamples", "StateForces", "add_force", "applied_generalized", "apply_loads", "forward_forces",
+           "has_loads", "inverse_forces", "load_schedule"]

@@ -247,7 +247,8 @@ def raise_failure(asm: Assembly, phi: np.ndarray, mark: bool = False) -> None:
     (_, points, _, _, _), _ = solve_block(asm, phi, mark, report)
     for group, fail, overflow, singular in report:
         if np.any(fail):
-            raise AssemblyError(group.label, angle_ranges(phi, fail), fail_reason(group))
+            raise AssemblyError(group.label, angle_ranges(phi, fail), fail_reason(group),
+                                lambda: _where_it_assembles(asm))
         if np.any(overflow):
             raise MagnitudeError(f"group {group.label}'s solution", angle_ranges(phi, overflow))
         if np.any(singular) and not mark:
@@ -257,6 +258,17 @@ def raise_failure(asm: Assembly, phi: np.ndarray, mark: bool = False) -> None:
         if np.any(bad):
             raise MagnitudeError(f"point {name}", angle_ranges(phi, bad))
     raise RuntimeError("a block reported a failure that the whole array does not reproduce")
+
+
+def _where_it_assembles(asm: Assembly) -> tuple[list, str | None]:
+    """For an assembly error: the crank angles where the chain does assemble over a turn, and
+    the ``[drive] range`` a user can paste to run over the widest regular part of them."""
+    from linkgen.model.turn import drive_range_text
+    from linkgen.planar.turn import planar_turn
+
+    turn = planar_turn(asm)
+    best = turn.suggestion()
+    return list(turn.assembles), drive_range_text(best) if best is not None else None
 
 
 def slider_motion(poses: dict[str, LinkPose], g: GuideShape) -> Scalar:

@@ -7,7 +7,9 @@ state a lead-in before the compared revolution; at every sample the closed form 
 MuJoCo's own crank angle, speed and acceleration, so the comparison measures the loop, not the
 rotor. Errors are relative to the scale of each kind of quantity: the size L for positions,
 L·ω for velocities, L·(ω² + |ε|) + |g| for accelerations, the peak closed-form torque and pair
-force for forces. Tolerances are the planar ones (``linkgen.crosscheck.tolerances``).
+force for forces. Tolerances are the planar ones (``linkgen.crosscheck.tolerances``). The
+description's loads are set on MuJoCo's bodies before every step and every read-out, at
+MuJoCo's own positions and crank angle (``spatial.mjloads``).
 """
 
 from __future__ import annotations
@@ -23,12 +25,15 @@ from linkgen.crosscheck.tolerances import FORCE_TOL, GAP_TOL, INVERSE_TOL, REL_T
 from linkgen.errors import SimulationError
 from linkgen.mujoco.log import no_log_file
 from linkgen.mujoco.scene import SERVO
+from linkgen.mujoco.settings import Scales
+from linkgen.mujoco.timing import SETTLE_TARGET, settle_window, switch_angles
 from linkgen.spatial.description import SpatialMechanism
 from linkgen.spatial.forces import forces
 from linkgen.spatial.inverse import inverse_torque
 from linkgen.spatial.jets import motion as jet_motion
 from linkgen.spatial.kinematics import assembled_chain, solve
 from linkgen.spatial.mjcf import DRIVE_ACTUATOR, write_spatial_mjcf
+from linkgen.spatial.mjloads import loads_at_state, loads_while_stepping
 from linkgen.spatial.state import SCAN, derive_settings, joint_state
 
 # The run starts this many crank radians before the compared revolution, from the closed-form
@@ -112,16 +117,43 @@ def check_spatial(mech: SpatialMechanism, samples: int = 360, omega: float | Non
     steps_at = np.rint(t_samples / dt).astype(int)
     states = []
     step = 0
-    for target in steps_at:
-        while step < target:
-            mujoco.mj_step(model, data)
-            step += 1
-            if not np.all(np.isfinite(data.qacc)):
-                raise SimulationError(f"{mech.name}: MuJoCo diverged at t = {data.time:.6g} s (step {step})")
-        states.append((data.time, data.qpos.copy(), data.qvel.copy()))
+    with loads_while_stepping(mech, model, data, model.joint(chain.drive).qposadr[0], chain.phi_s):
+        for target in steps_at:
+            while step < target:
+                mujoco.mj_step(model, data)
+                step += 1
+                if not np.all(np.isfinite(data.qacc)):
+                    raise SimulationError(f"{mech.name}: MuJoCo diverged at t = {data.time:.6g} s (step {step})")
+            states.append((data.time, data.qpos.copy(), data.qvel.copy()))
+    states, left = _after_switches(mech, chain, model, states, settings, scales, w0)
     result = _compare(mech, chain, model, states, w0, settings)
+    note = "; ".join(x for x in (left, result[2]) if x)
     return SpatialCheck(mech.name, chain.kind, result[0], result[1], step, time.perf_counter() - wall0, settings,
-                        scales, result[2], result[3])
+                        scales, note, result[3])
+
+
+def _after_switches(mech, chain, model, states, settings, scales, w0) -> tuple[list, str]:
+    """The samples outside the loop's settling window after a load switches on or off (the
+    planar rule, ``mujoco.timing.settle_window``: a soft loop answers a step in its load with a
+    transient of a few τ), and a note on those left out."""
+    crank = model.joint(chain.drive).qposadr[0]
+    phi = np.array([q[crank] for _, q, _ in states]) + chain.phi_s
+    edges = switch_angles(mech, float(phi[0]), float(phi[-1]))
+    if not edges:
+        return states, ""
+    # The spatial settings do not measure the loop's conditioning: σ = 1 (a well-conditioned loop).
+    sc = Scales(chain.size, w0, scales["loop_acceleration"], 1.0, math.nan, scales["reduced_inertia"],
+                scales["tau_gap"], scales["tau_phase"], math.nan, False)
+    reach = w0 * settle_window(settings, sc, mech.drive.epsilon, SETTLE_TARGET, float(np.linalg.norm(mech.gravity)))
+    hit = np.zeros(phi.shape[0], dtype=bool)
+    for edge in edges:
+        hit |= (phi >= edge) & (phi <= edge + reach)
+    if hit.all():
+        raise SimulationError(f"{mech.name}: every sample lies within {math.degrees(reach):.3g}° after a load switch, "
+                              "where the loop still settles; nothing is left to compare")
+    note = (f"{int(hit.sum())} samples within {math.degrees(reach):.3g}° after {len(edges)} load switch(es) left out "
+            "(the loop's transient)")
+    return [s for s, h in zip(states, hit) if not h], note
 
 
 def _compare(mech, chain, model, states, w0, settings):
@@ -141,6 +173,7 @@ def _compare(mech, chain, model, states, w0, settings):
         d.time, d.qpos[:], d.qvel[:] = t, qpos, qvel
         d.ctrl[:] = 0.0
         d.ctrl[model.actuator(DRIVE_ACTUATOR).id] = 0.0
+        loads_at_state(mech, model, d, float(qpos[crank.qposadr[0]]) + chain.phi_s)
         mujoco.mj_forward(model, d)
         mujoco.mj_rnePostConstraint(model, d)
         phi[k] = qpos[crank.qposadr[0]] + chain.phi_s

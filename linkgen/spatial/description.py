@@ -14,6 +14,8 @@ inside, SI units and radians.
                        direction = [x, y, z]: the slider's point moves on the line through its
                        sketch position along ``direction``
     [drive]            joint (the revolute between ground and the crank), omega, epsilon
+    [[force]]          link, point, force = [Fx, Fy, Fz], stroke (optional) — see ``spatial.loads``
+    [[torque]]         link, torque = [Tx, Ty, Tz]
 
 The crank angle φ is the angle of the crank's second point about the drive axis, measured
 from the world axis least aligned with the drive axis (x, then y, then z) projected onto the
@@ -35,8 +37,9 @@ from linkgen.model import limits
 from linkgen.model.defaults import DEFAULT_BLOCK_MASS, DEFAULT_DENSITY
 from linkgen.model.names import GROUND, check_name
 from linkgen.model.units import angular_acceleration, angular_speed, bounded, finite, length, shown
+from linkgen.spatial.loads import LinkTorque3, PointForce3, read_loads
 
-_TOP = {"mechanism", "points", "links", "joints", "prismatic", "drive"}
+_TOP = {"mechanism", "points", "links", "joints", "prismatic", "drive", "force", "torque"}
 _MECH = {"name", "title", "space", "gravity"}
 _LINK = {"points", "length", "mass", "density"}
 _JOINT = {"kind", "axis"}
@@ -102,6 +105,8 @@ class SpatialMechanism:
     drive: Drive3
     gravity: tuple[float, float, float] = (0.0, 0.0, 0.0)
     source: str | None = None
+    forces: tuple[PointForce3, ...] = ()
+    torques: tuple[LinkTorque3, ...] = ()
 
     def __repr__(self) -> str:
         return f"SpatialMechanism({self.name!r}, {len(self.links)} links, {len(self.joints) + len(self.slides)} pairs)"
@@ -250,8 +255,9 @@ def _from_dict(data: Mapping, source: str | None) -> SpatialMechanism:
     omega = bounded(angular_speed(drive_t["omega"], "drive.omega"), "drive.omega", limits.MAX_OMEGA, "rad/s")
     epsilon = bounded(angular_acceleration(drive_t.get("epsilon", 0.0), "drive.epsilon"), "drive.epsilon",
                       limits.MAX_EPSILON, "rad/s²")
+    point_forces, torques = read_loads(dict(data), {l.name: l.points for l in links})
     return SpatialMechanism(name, title, MappingProxyType(points), links, tuple(joints), tuple(slides),
-                            Drive3(dj, omega, epsilon), gravity, source)
+                            Drive3(dj, omega, epsilon), gravity, source, point_forces, torques)
 
 
 def _link(name: str, t: dict, points: dict) -> Link3:

@@ -5,11 +5,13 @@ are the coupler's angular velocity relative to the crank in the coupler's frame 
 derivative). ``mj_inverse`` returns the generalised force the state needs; the loop force λ at
 the closing ``connect`` and the drive torque τ follow from
 
-    qfrc_inverse + qfrc_constraint = J_loopᵀ·λ + e_drive·τ,
+    qfrc_inverse + qfrc_constraint − Jᵀ·xfrc = J_loopᵀ·λ + e_drive·τ,
 
 solved by least squares (a coupler's idle spin adds a row 0 = 0; a 4R chain's loop has a
 redundant row, so λ is then not unique but τ is). Independent of the Newton–Euler solution in
-``forces``: MuJoCo's own recursive dynamics on its own model.
+``forces``: MuJoCo's own recursive dynamics on its own model. The description's loads enter as
+body wrenches at MuJoCo's positions (``spatial.mjloads``); ``mj_inverse`` returns the force the
+motion needs, so their generalised force Jᵀ·xfrc is taken off.
 """
 
 from __future__ import annotations
@@ -17,10 +19,12 @@ from __future__ import annotations
 import mujoco
 import numpy as np
 
+from linkgen.mujoco.forces import applied_generalized
 from linkgen.mujoco.log import no_log_file
 from linkgen.spatial.description import SpatialMechanism
 from linkgen.spatial.kinematics import assembled_chain, solve
 from linkgen.spatial.mjcf import write_spatial_mjcf
+from linkgen.spatial.mjloads import loads_at_state
 from linkgen.spatial.state import joint_state
 
 
@@ -68,13 +72,14 @@ def inverse_torque(mech: SpatialMechanism, phi, omega: float | None = None, epsi
     for k in range(n):
         data.qpos[:], data.qvel[:] = joint_state(model, chain, motion, k, w)
         data.qacc[:] = _joint_acceleration(model, chain, motion, k, w, e)
+        loads_at_state(mech, model, data, float(motion.phi[k]))
         mujoco.mj_inverse(model, data)
         point = motion.points[chain.pair_b].d[0][k]
         mujoco.mj_jac(model, data, jac_p1, None, point, b1)
         mujoco.mj_jac(model, data, jac_p2, None, point, b2)
         jl = jac_p1 - jac_p2  # λ on body 1 (the coupler), −λ on body 2
         a = np.column_stack([jl.T, np.eye(model.nv)[:, drive]])
-        rhs = data.qfrc_inverse + data.qfrc_constraint
+        rhs = data.qfrc_inverse + data.qfrc_constraint - applied_generalized(model, data)
         x = np.linalg.lstsq(a, rhs, rcond=1e-12)[0]
         loop[k], torque[k] = -x[:3], x[3]
     return torque, loop

@@ -70,7 +70,7 @@ def write_spatial_mjcf(mech: SpatialMechanism, settings: Settings | None = None,
     root.append(etree.Comment(
         f" linkgen spatial four-bar ({chain.kind}): timestep {settings.timestep:g} s (RK4), loop-closing connect with "
         f"time constant {settings.timeconst:g} s, rotor inertia {settings.armature:g} kg·m² on the drive joint "
-        "that keeps the crank speed constant. "))
+        "that keeps the crank speed constant. " + _loads_note(mech)))
     etree.SubElement(root, "compiler", angle="radian", inertiafromgeom="false", autolimits="true")
     etree.SubElement(root, "option", timestep=repr(settings.timestep), integrator=settings.integrator,
                      solver="Newton", iterations=str(settings.iterations), tolerance=repr(settings.tolerance),
@@ -144,6 +144,15 @@ def write_spatial_mjcf(mech: SpatialMechanism, settings: Settings | None = None,
     _keyframe(root, mech, chain)
     etree.indent(root, space="  ")
     return etree.tostring(root, pretty_print=True, encoding="unicode")
+
+
+def _loads_note(mech: SpatialMechanism) -> str:
+    """What the file leaves out: the description's [[force]]/[[torque]] loads."""
+    n_f, n_t = len(mech.forces), len(mech.torques)
+    if not n_f + n_t:
+        return ""
+    return (f"Not in this file: the description's {n_f} [[force]] and {n_t} [[torque]] load(s); linkgen applies "
+            "them as body wrenches (xfrc_applied) before every step. ")
 
 
 def _keyframe(root, mech: SpatialMechanism, chain: Chain) -> None:

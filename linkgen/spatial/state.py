@@ -15,7 +15,9 @@ from linkgen.mujoco.settings import ARMATURE_RATIO, GAP_TARGET, PHASE, STEPS_PER
 from linkgen.spatial.chain import Chain
 from linkgen.spatial.description import SpatialMechanism
 from linkgen.spatial.kinematics import SpatialMotion
+from linkgen.spatial.forces import check_line_moments
 from linkgen.spatial.mass import link_body
+from linkgen.spatial.mjloads import loads_at_state
 
 # Crank angles scanned for the peak reduced inertia and loop force.
 SCAN = 73
@@ -69,6 +71,7 @@ def derive_settings(mech: SpatialMechanism, chain: Chain, scan: SpatialMotion, m
     predicted loop gap (1 − d)·d·τ²·a0 at GAP_TARGET of the size (a0 the peak of MuJoCo's
     A_diag·λ over the scanned closed-form states), dt = τ/STEPS_PER_TAU, the rotor
     ARMATURE_RATIO times the peak reduced inertia. Returns the settings and what they came from."""
+    check_line_moments(mech, scan)  # a load MuJoCo's coupler would spin on: refused before any model is used
     j_peak = float(reduced_inertia(mech, scan).max())
     armature = round_down(ARMATURE_RATIO * max(j_peak, 1e-300))
     model.dof_armature[model.joint(chain.drive).dofadr[0]] = armature
@@ -77,6 +80,7 @@ def derive_settings(mech: SpatialMechanism, chain: Chain, scan: SpatialMotion, m
     eq = model.equality(chain.pair_b).id
     for k in range(scan.phi.shape[0]):
         data.qpos[:], data.qvel[:] = joint_state(model, chain, scan, k, omega)
+        loads_at_state(mech, model, data, float(scan.phi[k]))  # the loop carries the loads as well
         mujoco.mj_forward(model, data)
         rows = np.flatnonzero((data.efc_type == mujoco.mjtConstraint.mjCNSTR_EQUALITY) & (data.efc_id == eq))
         a0 = max(a0, float(np.abs(data.efc_diagA[rows] * data.efc_force[rows]).max()) if rows.size else 0.0)
