@@ -36,6 +36,15 @@ def _version() -> str:
         return "(not installed)"
 
 
+class _VersionAction(argparse.Action):
+    """``--version``, looked up only when asked for (importlib.metadata costs every other run
+    a few milliseconds of its cold start)."""
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        print(f"linkgen {_version()}")
+        parser.exit()
+
+
 class _Parser(argparse.ArgumentParser):
     """argparse with one-line errors (the usage is one ``--help`` away); subcommands inherit it."""
 
@@ -45,7 +54,7 @@ class _Parser(argparse.ArgumentParser):
 
 def build_parser() -> argparse.ArgumentParser:
     p = _Parser(prog="linkgen", description=DESCRIPTION)
-    p.add_argument("--version", action="version", version=f"linkgen {_version()}")
+    p.add_argument("--version", action=_VersionAction, nargs=0, help="show the program's version number and exit")
     sub = p.add_subparsers(dest="command", required=True)
 
     s = sub.add_parser("structure", help="mobility, Assur groups and the structure formula")
