@@ -15,8 +15,9 @@ $(STAMP): pyproject.toml
 demo: $(STAMP)
 	$(BIN)/linkgen validate models/ || echo "some models missed their tolerance: see validation/report/README.md"
 
+# Two workers: the suite is CPU-bound and its tests independent (this machine has two cores).
 test: $(STAMP)
-	$(BIN)/python -m pytest -q
+	$(BIN)/python -m pytest -q -n 2
 
 bench: $(STAMP)
 	$(BIN)/python -m pip install --quiet -e '.[bench]'
