@@ -17,6 +17,23 @@ does and into memory already mapped), and the CPU time of each timed run. On thi
 (measured: solve_motion single-threaded, 377 ms wall for 115 ms of CPU at load average 5.5):
 compare CPU times across runs, and read the load average printed at the start and the end.
 
+Where the time goes (issue 23; CPU times, one thread, 10^6 angles, on this machine while
+it was shared, so +-10 %). The fall from 72-95 ms (6b94d89, 22 November) to 336-378 ms is
+mostly not in the code: the same run of that commit and of today's code cost 85-101 ms and
+115-137 ms of CPU. The rest was a busy machine (377 ms wall for 115 ms of CPU at load 5.5).
+The code's own +30-35 % is the jerk: third transfer functions in every primitive and a fourth
+result array per quantity (results 152 -> 200 bytes per angle). Per angle: the crank's point
+19.7 ns (np.cos + np.sin of φ 16 ns: libm, NumPy has no SIMD float64 cos/sin), the RRR
+intersection with three orders of transfer functions 27 ns, the two link poses 23 ns, the
+points and finiteness checks ~12 ns, velocities/accelerations/jerks 11 ns, the results'
+fresh memory and the copy out of each block ~25 ns. Two threads gain ~1.2x only: each block
+holds the GIL between its ~1500 NumPy calls. The kinetostatics spends ~40 % of its time in
+np.linalg.solve's 6x6 LAPACK call per group and angle (330 ns each). Memory beyond the
+results is flat: ~50 MB at 0.25, 1 and 4 x 10^6 angles. A compiled kernel (numba) was
+measured and not taken: ``import numba`` alone is 0.25 s of CPU (the whole cold budget), and
+numba's arctan2 (libm) differs from NumPy's (SVML) in the last bit for 7.7 % of 10^6 random
+arguments, so its results could not stay bit-for-bit the same as today's.
+
 Cold runs come in two kinds on this machine. Back to back, a fresh process reuses memory
 the previous one just freed. After a few seconds idle, the virtual machine has handed freed
 memory back to its host, and the first touch of each page costs far more (measured: 200 MB
