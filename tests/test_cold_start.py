@@ -43,12 +43,14 @@ def test_closed_form_commands_import_no_simulator_nor_plotting(args):
     assert status == 0 and heavy == [], (status, heavy)
 
 
-def test_a_broken_opengl_backend_does_not_stop_the_closed_form():
+def test_a_broken_opengl_backend_does_not_stop_the_closed_form(tmp_path):
     env = {k: v for k, v in os.environ.items() if k not in ("DISPLAY", "WAYLAND_DISPLAY")}
     env["MUJOCO_GL"] = "no-such-backend"
     p = subprocess.run([sys.executable, "-m", "linkgen", "analyze", "models/fourbar.toml", "--angle", "30deg"],
                        capture_output=True, text=True, timeout=120, cwd=ROOT, env=env)
     assert p.returncode == 0 and "B" in p.stdout, p.stderr
-    p = subprocess.run([sys.executable, "-m", "linkgen", "build", "models/fourbar.toml", "-o", os.devnull],
+    out = tmp_path / "fourbar.xml"
+    p = subprocess.run([sys.executable, "-m", "linkgen", "build", "models/fourbar.toml", "-o", str(out)],
                        capture_output=True, text=True, timeout=120, cwd=ROOT, env=env)
     assert p.returncode == 2 and "MUJOCO_GL" in p.stderr and "Traceback" not in p.stderr, p.stderr
+    assert not out.exists()
