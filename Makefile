@@ -16,8 +16,9 @@ demo: $(STAMP)
 	@# Validates every model, then exits non-zero if any missed its tolerance.
 	$(BIN)/linkgen validate models/ || { echo "some models missed their tolerance: see validation/report/README.md" >&2; exit 1; }
 
+# Two workers: the suite is CPU-bound and its tests independent (this machine has two cores).
 test: $(STAMP)
-	$(BIN)/python -m pytest -q
+	$(BIN)/python -m pytest -q -n 2
 
 bench: $(STAMP)
 	$(BIN)/python -m pip install --quiet -e '.[bench]'

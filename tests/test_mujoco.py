@@ -71,11 +71,25 @@ def test_validate_json_shape(capsys):
     assert out["settings"]["timestep"] > 0 and out["diagnosis"] == [] and out["left_out"] == []
 
 
+# One bundled model of each kind the report writes rows and sections for: a planar linkage, a
+# stand-alone cam, a cam on a linkage's crank, a spatial chain. Every other model is run in
+# MuJoCo by its own test (test_mujoco_matches_the_closed_form, test_spatial_mujoco, the cam
+# tests); the whole folder is ``make demo``'s job (several minutes on two cores).
+REPORT_MODELS = ("fourbar", "cam_translating", "cam_rocker_slider", "spherical_fourbar")
+
+
 def test_report_is_written(tmp_path):
-    main(["validate", str(ROOT / "models"), "--report", str(tmp_path)])
-    text = (tmp_path / "README.md").read_text()
+    models, out = tmp_path / "models", tmp_path / "report"
+    models.mkdir()
+    for name in REPORT_MODELS:
+        (models / f"{name}.toml").write_bytes((ROOT / "models" / f"{name}.toml").read_bytes())
+    assert main(["validate", str(models), "--report", str(out)]) == 0
+    text = (out / "README.md").read_text()
     assert "| fourbar | yes |" in text
-    assert (tmp_path / "fourbar_kinematics.png").stat().st_size > 10_000
+    assert (out / "fourbar_kinematics.png").stat().st_size > 10_000
+    for name in REPORT_MODELS:
+        assert f"| {name} | yes |" in text, name
+    assert "## cam_rocker_slider (a cam on the crank)" in text and "## spherical_fourbar (spatial " in text
 
 
 def test_constant_angular_acceleration_is_followed():

@@ -36,6 +36,15 @@ def _version() -> str:
         return "(not installed)"
 
 
+class _VersionAction(argparse.Action):
+    """``--version``, looked up only when asked for (importlib.metadata costs every other run
+    a few milliseconds of its cold start)."""
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        print(f"linkgen {_version()}")
+        parser.exit()
+
+
 class _Parser(argparse.ArgumentParser):
     """argparse with one-line errors (the usage is one ``--help`` away); subcommands inherit it."""
 
@@ -45,7 +54,7 @@ class _Parser(argparse.ArgumentParser):
 
 def build_parser() -> argparse.ArgumentParser:
     p = _Parser(prog="linkgen", description=DESCRIPTION)
-    p.add_argument("--version", action="version", version=f"linkgen {_version()}")
+    p.add_argument("--version", action=_VersionAction, nargs=0, help="show the program's version number and exit")
     sub = p.add_subparsers(dest="command", required=True)
 
     s = sub.add_parser("structure", help="mobility, Assur groups and the structure formula")
@@ -103,13 +112,18 @@ def _mujoco_imports() -> str | None:
     return None
 
 
+# Commands that never touch MuJoCo: they skip its import (a fifth of a second, and a
+# failure there says nothing about them). Every other command checks it first.
+CLOSED_FORM_COMMANDS = frozenset({"structure", "analyze", "forces", "assemble"})
+
+
 def main(argv: list[str] | None = None) -> int:
-    problem = _mujoco_imports()
+    parser = build_parser()
+    args = parser.parse_args(_join_signed(sys.argv[1:] if argv is None else list(argv)))
+    problem = None if args.command in CLOSED_FORM_COMMANDS else _mujoco_imports()
     if problem:
         print(f"linkgen: error: {problem}", file=sys.stderr)
         return 2
-    parser = build_parser()
-    args = parser.parse_args(_join_signed(sys.argv[1:] if argv is None else list(argv)))
     try:
         from linkgen.cli.spatial import route
 

@@ -299,7 +299,7 @@ def _json_default(x):
 def add_commands(sub) -> None:
     from linkgen.model import limits
     from linkgen.cli.common import _float_arg, _positive_int, rate_arg
-    from linkgen.mujoco.settings import MAX_STEPS
+    from linkgen.mujoco.options import MAX_STEPS
 
     b = sub.add_parser("build", help="write the MJCF of a model, or of every model in a folder")
     b.add_argument("model", type=Path)

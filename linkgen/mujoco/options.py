@@ -9,6 +9,10 @@ from dataclasses import asdict, dataclass
 IMPEDANCE = 0.9999
 # Newton iterations per step at tolerance 0: converged to rounding on every bundled model.
 SOLVER_ITERATIONS = 50
+# A run may take at most this many steps (per segment): 1e6 RK4 steps of a ten-link model are
+# about 20 s here. Beyond it the settings are coarsened and the result says so. (Here, not in
+# ``settings``, so that the command line's help reads it without importing MuJoCo.)
+MAX_STEPS = 1_000_000
 
 
 def _fmt(x: float) -> str:

@@ -34,7 +34,7 @@ from linkgen.planar.assembly import Assembly
 from linkgen.model.description import Mechanism
 from linkgen.errors import SimulationError
 from linkgen.planar.kinetostatics import forces
-from linkgen.mujoco.options import IMPEDANCE, Settings
+from linkgen.mujoco.options import IMPEDANCE, MAX_STEPS, Settings
 from linkgen.crosscheck.tolerances import GAP_TOL, REL_TOL
 from linkgen.mujoco.loops import acceleration_scale, closure_diag, closure_forces, closure_jacobian, mechanism_size
 from linkgen.mujoco.state import joint_states
@@ -69,9 +69,6 @@ SETTLE_ERROR = 1e-7
 GAP_PREDICTION_LOW = 0.03
 # Crank angles scanned for the loop forces and conditioning.
 SCAN = 181
-# A run may take at most this many steps (per segment): 1e6 RK4 steps of a ten-link model are
-# about 20 s here. Beyond it the settings are coarsened and the result says so.
-MAX_STEPS = 1_000_000
 
 
 @dataclass(frozen=True)
