@@ -54,10 +54,13 @@ class CamLinkageCheck:
     def ok(self) -> bool:
         return all(e <= tol for e, tol in self.errors.values())
 
-    def summary(self) -> str:
-        parts = ", ".join(f"{k} {e:.2e} (tolerance {t:g})" for k, (e, t) in self.errors.items())
+    def summary(self, wall: str | None = None) -> str:
+        """One line; ``wall``: the wall time as the caller measured it (default: this check's)."""
+        parts = ", ".join(f"{k} {e:.2e} (tolerance {t:g})" for k, (e, t) in
+                          sorted(self.errors.items(), key=lambda kv: -kv[1][0] / kv[1][1]))
         return (f"{'ok  ' if self.ok else 'FAIL'} linkage with a cam in MuJoCo (contact with a {PROFILE_POINTS}-vertex "
-                f"profile; forces as {360 / WINDOWS:g}° means): {parts}; {self.steps} steps, {self.wall:.2f} s")
+                f"profile; forces as {360 / WINDOWS:g}° means): {parts}; {self.steps} steps, "
+                f"{wall or f'{self.wall:.2f} s'}")
 
     def to_json(self) -> dict:
         return {"model": self.model, "ok": self.ok, "errors": {k: {"error": e, "tolerance": t}
@@ -121,7 +124,7 @@ def check_cam_linkage(asm: Assembly, progress=None) -> CamLinkageCheck:
                         mujoco.mj_contactForce(model, data, j, force6)
                         normal[c][i] += force6[0]
         mujoco.mj_step(model, data)
-        if progress is not None and k % PROGRESS_STEPS == 0 and time.perf_counter() - wall0 > PROGRESS_AFTER:
+        if progress is not None and k and k % PROGRESS_STEPS == 0 and time.perf_counter() - wall0 > PROGRESS_AFTER:
             progress(k / (lead + per_turn), time.perf_counter() - wall0)
         if not np.isfinite(data.qvel).all():
             raise SimulationError(f"{mech.name}: MuJoCo diverged at t = {data.time:.6g} s (step {k})")

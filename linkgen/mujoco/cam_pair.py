@@ -20,7 +20,8 @@ from lxml import etree
 
 from linkgen.errors import SimulationError
 from linkgen.model.description import CamPair
-from linkgen.mujoco.cam import CCD_ITERATIONS, CCD_TOLERANCE, CONTACT_TIME, KNIFE_RADIUS, PROFILE_POINTS, STEPS_PER_TURN
+from linkgen.mujoco.cam import (CCD_ITERATIONS, CCD_TOLERANCE, CONTACT_TIME, INTEGRATOR, KNIFE_RADIUS, PROFILE_POINTS,
+                                cam_timestep)
 from linkgen.mujoco.options import Settings
 from linkgen.mujoco.tree import body_name
 from linkgen.planar.assembly import Assembly
@@ -31,6 +32,8 @@ from linkgen.planar.cam_profile import profile
 # there (a convex polygon of PROFILE_POINTS vertices turns by 2π/PROFILE_POINTS per vertex on a
 # circle; rounding of the closed form is ~1e-12).
 CONCAVE_TOL = 1e-9
+# Cam angles over a turn at which a cam's motion is sampled for its timestep.
+CAM_SAMPLES = 3600
 
 
 def spring_name(cam: CamPair) -> str:
@@ -62,9 +65,12 @@ def check_convex(cam: CamPair, prof: np.ndarray, phi_s: float) -> None:
 
 
 def cam_settings(asm: Assembly, settings: Settings) -> Settings:
-    """The settings with a timestep of at most one STEPS_PER_TURN-th of a turn, as a cam needs."""
-    dt = 2 * math.pi / abs(asm.mechanism.drive.omega) / STEPS_PER_TURN
-    return settings if settings.timestep <= dt else replace(settings, timestep=dt)
+    """The settings with the step every cam pair needs (``mujoco.cam.cam_timestep``) and the
+    cams' integrator (``mujoco.cam.INTEGRATOR``: contacts found once per step)."""
+    th = np.linspace(0.0, 2 * math.pi, CAM_SAMPLES, endpoint=False)
+    omega = abs(asm.mechanism.drive.omega)
+    dt = min([settings.timestep] + [cam_timestep(omega, *cam.program.displacement(th)[2:]) for cam in asm.mechanism.cams])
+    return replace(settings, timestep=dt, integrator=INTEGRATOR)
 
 
 def add_cams(root, asm: Assembly, settings: Settings, size: float) -> None:
