@@ -100,10 +100,9 @@ def cmd_build(args) -> int:
 
 
 def _progress(name: str):
-    def report(fraction: float, elapsed: float) -> None:
-        eta = elapsed * (1 - fraction) / max(fraction, 1e-9)
-        print(f"{name}: MuJoCo run {100 * fraction:5.1f}% ({elapsed:.1f} s, about {eta:.0f} s left)",
-              file=sys.stderr, flush=True)
+    def report(fraction: float, elapsed: float, what: str = "MuJoCo run") -> None:
+        left = f", about {elapsed * (1 - fraction) / fraction:.0f} s left" if fraction > 0 else ""
+        print(f"{name}: {what} {100 * fraction:5.1f}% ({elapsed:.1f} s{left})", file=sys.stderr, flush=True)
     return report
 
 
@@ -223,8 +222,9 @@ def _summary(r: dict) -> str:
         worst, err, tol = headline_worst(r)
         gap = r["loop_gap"]
         lines.append(f"{r['model']:<22} {'ok  ' if r['ok'] else 'FAIL'} worst {worst} {err:.2e} "
-                     f"(tolerance {tol:g}), loop gap {gap['relative']:.1e} of the size, "
-                     f"{r['steps']} steps, {wall_text(r['total_wall_s'])}")
+                     + ("of the size " if worst == "loop gap" else "")
+                     + f"(tolerance {tol:g}), " + ("" if worst == "loop gap" else f"loop gap {gap['relative']:.1e} of the size, ")
+                     + f"{r['steps']} steps, {wall_text(r['total_wall_s'])}")
     else:
         lines.append(f"{r['model']:<22} FAIL")
     dyn = r.get("dynamics")
