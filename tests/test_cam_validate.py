@@ -204,3 +204,25 @@ def test_the_practical_settings_runs_report_progress(monkeypatch):
     assert calls and calls[-1][0] == pytest.approx(1.0)
     assert all(w == "practical-settings runs" for _, w in calls)
     assert [f for f, _ in calls] == sorted(f for f, _ in calls)
+
+
+def test_a_knife_edges_small_roller_starts_on_the_profile_not_in_it():
+    """MuJoCo gives a knife edge a roller of KNIFE_RADIUS of the base circle: the profile mesh is
+    offset by that radius, so the follower placed at its closed-form state touches the profile
+    (it sat the whole radius deep, and was thrown off the cam at the first step)."""
+    from linkgen.mujoco.cam import FOLLOWER, KNIFE_RADIUS, PROFILE_POINTS, cam_mjcf
+
+    data = dict(USER_CAM, follower=dict(USER_CAM["follower"], roller_radius=0.0))
+    cm = cam_from_dict(data)
+    model = mujoco.MjModel.from_xml_string(cam_mjcf(cm))
+    d = mujoco.MjData(model)
+    d.qpos[model.joint(FOLLOWER).qposadr[0]] = -state(cm, [0.0]).displacement[0]
+    mujoco.mj_forward(model, d)
+    # the profile polygon's chord sag, L²/(8ρ) with L its longest edge and ρ its least radius of
+    # curvature, bounds how far the true profile lies inside it
+    th = np.linspace(0.0, 2 * math.pi, PROFILE_POINTS, endpoint=False)
+    pitch = cm.follower.pitch_curve(th)[0]  # a knife edge's profile; the mesh's lies inside it, edges no longer
+    edge = float(np.hypot(*np.diff(pitch, axis=0).T).max())
+    sag = edge**2 / (8 * float(cm.follower.pitch_curvature_radius(th).min() - KNIFE_RADIUS * cm.follower.base_radius))
+    assert d.ncon >= 1
+    assert min(-d.contact[i].dist for i in range(d.ncon)) <= sag

@@ -112,7 +112,8 @@ def cam_mjcf(cm: CamMechanism) -> str:
     size = 2 * float(np.hypot(*f.pitch_curve(np.linspace(0, 2 * math.pi, 73))[0].T).max())
     dt = timestep(cm)
     th = np.linspace(0.0, 2 * math.pi, PROFILE_POINTS, endpoint=False)
-    prof = f.profile(th)
+    rr = f.roller_radius if f.roller_radius > 0 else KNIFE_RADIUS * f.base_radius
+    prof = f.profile(th, rr)  # a knife edge's small roller touches, not cuts into, the pitch curve
     half = 0.02 * size
     root = etree.Element("mujoco", model=cm.name)
     root.append(etree.Comment(f" {cm.title or cm.name}: written by linkgen from the cam description. "
@@ -143,7 +144,6 @@ def cam_mjcf(cm: CamMechanism) -> str:
     etree.SubElement(cam, "inertial", pos="0 0 0", mass="1", diaginertia="1e-3 1e-3 1e-3")
     etree.SubElement(cam, "geom", name="cam:profile", type="mesh", mesh="cam:profile", rgba="0.85 0.3 0.2 1",
                      contype="1", conaffinity="2", **contact)
-    rr = f.roller_radius if f.roller_radius > 0 else KNIFE_RADIUS * f.base_radius
     if f.kind == "translating":
         fol = etree.SubElement(world, "body", name=FOLLOWER, pos=f"{_f(f.offset)} {_f(f.lift_origin)} 0")
         etree.SubElement(fol, "joint", name=FOLLOWER, type="slide", axis="0 1 0")

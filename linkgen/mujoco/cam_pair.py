@@ -86,8 +86,10 @@ def add_cams(root, asm: Assembly, settings: Settings, size: float) -> None:
     half = float(0.02 * size)
     contact = {"solref": f"{CONTACT_TIME * settings.timestep!r} 1", "solimp": "0.9999 0.9999 0.001 0.5 2",
                "condim": "1", "margin": "0", "friction": "0 0 0"}
+    o = np.asarray(mech.points[mech.revolute(mech.drive.joint).point], dtype=float)
     for cam in mech.cams:
-        prof = profile(asm, cam, PROFILE_POINTS)
+        radius = cam.roller_radius or KNIFE_RADIUS * math.dist(o, mech.points[cam.roller])
+        prof = profile(asm, cam, PROFILE_POINTS, radius)  # a knife edge's small roller touches, not cuts into, it
         check_convex(cam, prof, asm.sketch_phi)
         vert = " ".join(f"{x!r} {y!r} {z!r}" for z in (-half, half) for x, y in prof.tolist())
         etree.SubElement(asset, "mesh", name=profile_name(cam), vertex=vert)
@@ -96,8 +98,6 @@ def add_cams(root, asm: Assembly, settings: Settings, size: float) -> None:
                          material="mat:crank", contype="1", conaffinity="2", group="0", **contact)
         follower = root.find(f".//body[@name='{body_name(cam.follower)}']")
         local = asm.shapes[cam.follower].local[cam.roller]
-        o = np.asarray(mech.points[mech.revolute(mech.drive.joint).point], dtype=float)
-        radius = cam.roller_radius or KNIFE_RADIUS * math.dist(o, mech.points[cam.roller])
         etree.SubElement(follower, "geom", name=roller_name(cam), type="cylinder", pos=f"{float(local[0])!r} {float(local[1])!r} 0",
                          size=f"{float(radius)!r} {float(half)!r}", material="mat:link", contype="2", conaffinity="1", group="0",
                          **contact)
