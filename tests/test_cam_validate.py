@@ -226,3 +226,30 @@ def test_a_knife_edges_small_roller_starts_on_the_profile_not_in_it():
     sag = edge**2 / (8 * float(cm.follower.pitch_curvature_radius(th).min() - KNIFE_RADIUS * cm.follower.base_radius))
     assert d.ncon >= 1
     assert min(-d.contact[i].dist for i in range(d.ncon)) <= sag
+
+
+def test_a_cam_linkage_run_that_misses_is_diagnosed():
+    """A cam on a linkage's crank: the same diagnosis, on the cam's contact (a synthetic run: the
+    roller off the cam from 100° to 104°, the follower's displacement off by 1e-3 of its stroke)."""
+    from linkgen.cli.cams import cam_linkage_findings
+    from linkgen.cli.mujoco import _summary
+    from linkgen.mujoco.cam_linkage import CamLinkageCheck
+
+    n = 36000
+    th = np.linspace(0.0, 2 * math.pi, n, endpoint=False)
+    deg = np.degrees(th)
+    off = (deg >= 100) & (deg < 104)
+    force = np.where(off, 0.0, 50.0)
+    curves = {"disc.displacement": np.where(off, 1e-3, 1e-5), "disc.contact_force": np.full(n, 1e-2),
+              "points": np.full(n, 1e-5), "balancing_torque": np.full(n, 1e-2)}
+    errors = {k: (float(v.max()), 2e-4 if k in ("disc.displacement", "points") else 0.07) for k, v in curves.items()}
+    contacts = {"disc": {"theta": th, "touching": ~off, "force": force, "force_closed": np.full(n, 50.0),
+                         "penetration": np.zeros(n), "step_angle": 2 * math.pi / n, "travel": 0.1}}
+    r = CamLinkageCheck("rocker", errors, n, 1e-5, 1.0, curves, contacts)
+    found = cam_linkage_findings(r)
+    assert [f.quantity for f in found] == ["disc.displacement"]
+    assert found[0].cause == "contact lost" and "left the cam at 100.0" in found[0].detail
+    assert "landed at 104.00°" in found[0].detail
+    line = _summary({"model": "rocker", "ok": False, "cam_linkage": r.to_json(), "line": r.summary("1 s"),
+                     "diagnosis": [f.to_json() for f in found], "total_wall_s": 1.0})
+    assert "disc.displacement" in line.splitlines()[1] and "contact lost" in line

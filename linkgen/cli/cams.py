@@ -159,7 +159,8 @@ def check_cam_linkage_file(path: Path, asm, report: Path | None, t0: float, prog
         r = check_cam_linkage(asm, progress)
     except LinkgenError as exc:
         return {"model": path.stem, "file": str(path), "ok": False, "error": message_for(path, exc)}
-    out = {"file": str(path), "ok": r.ok, "model": r.model, "cam_linkage": r.to_json()}
+    out = {"file": str(path), "ok": r.ok, "model": r.model, "cam_linkage": r.to_json(),
+           "diagnosis": [f.to_json() for f in cam_linkage_findings(r)]}
     if report is not None:
         from linkgen.crosscheck.report import plot_mechanism
 
@@ -168,6 +169,21 @@ def check_cam_linkage_file(path: Path, asm, report: Path | None, t0: float, prog
     out["total_wall_s"] = time.perf_counter() - t0
     out["line"] = r.summary(wall_text(out["total_wall_s"]))
     return out
+
+
+def cam_linkage_findings(r) -> list:
+    """The diagnosis of a cam linkage's MuJoCo check (``CamLinkageCheck``): every quantity over its
+    tolerance with where and why, judged on its cam's contact (the first cam's for the points and
+    the balancing torque)."""
+    from linkgen.crosscheck.diagnose_cam import ContactTrace, findings
+
+    out = []
+    for name, (err, tol) in r.errors.items():
+        if err <= tol:
+            continue
+        cam = name.split(".", 1)[0] if name.split(".", 1)[0] in r.contacts else next(iter(r.contacts))
+        out += findings(ContactTrace(**r.contacts[cam]), {name: (r.curves[name] > tol, err, tol)})
+    return sorted(out, key=lambda f: -f.relative_error / f.tolerance)
 
 
 def check_cam_file(path: Path, t0: float, report: Path | None = None) -> dict:
