@@ -253,3 +253,13 @@ def test_a_cam_linkage_run_that_misses_is_diagnosed():
     line = _summary({"model": "rocker", "ok": False, "cam_linkage": r.to_json(), "line": r.summary("1 s"),
                      "diagnosis": [f.to_json() for f in found], "total_wall_s": 1.0})
     assert "disc.displacement" in line.splitlines()[1] and "contact lost" in line
+
+
+def test_a_cam_run_reports_progress(monkeypatch):
+    from linkgen.mujoco import simulate
+    from linkgen.mujoco.cam import run_cam
+
+    monkeypatch.setattr(simulate, "PROGRESS_AFTER", 0.0)
+    calls = []
+    run_cam(_user_cam(), revolutions=0.25, progress=lambda f, t: calls.append(f))
+    assert calls and all(0 < f < 1 for f in calls) and calls == sorted(calls)

@@ -186,9 +186,10 @@ def cam_linkage_findings(r) -> list:
     return sorted(out, key=lambda f: -f.relative_error / f.tolerance)
 
 
-def check_cam_file(path: Path, t0: float, report: Path | None = None) -> dict:
+def check_cam_file(path: Path, t0: float, report: Path | None = None, progress=None) -> dict:
     """A cam mechanism in MuJoCo against its closed form (``mujoco.cam.compare_cam``), with the
-    diagnosis of what missed (``crosscheck.diagnose_cam``) and, for a ``report``, its figures."""
+    diagnosis of what missed (``crosscheck.diagnose_cam``) and, for a ``report``, its figures;
+    ``progress``: the MuJoCo run's (``mujoco.cam.run_cam``)."""
     from linkgen.cams.description import load_cam
     from linkgen.cli.files import message_for
     from linkgen.crosscheck.diagnose_cam import diagnose_cam
@@ -196,7 +197,7 @@ def check_cam_file(path: Path, t0: float, report: Path | None = None) -> dict:
 
     try:
         cm = load_cam(path)
-        run = run_cam(cm)
+        run = run_cam(cm, progress=progress)
         r = compare_cam(cm, run=run)
     except LinkgenError as exc:
         return {"model": path.stem, "file": str(path), "ok": False, "error": message_for(path, exc)}

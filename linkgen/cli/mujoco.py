@@ -173,7 +173,7 @@ def _check_one(path: Path, report: Path | None, practical: bool, nthread: int | 
     from linkgen.cams.description import is_cam_file
 
     if is_cam_file(path):
-        return check_cam_file(path, t0, report)
+        return check_cam_file(path, t0, report, _progress(path.stem) if progress else None)
     from linkgen.cli.spatial import check_spatial_file, is_spatial_file
 
     if is_spatial_file(path):

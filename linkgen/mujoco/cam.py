@@ -58,6 +58,8 @@ CCD_ITERATIONS = 200
 # The rotor's inertia holds the cam speed to SPEED_HOLD of ω against the cam torque's energy swing.
 SPEED_HOLD = 1e-9
 CAM, FOLLOWER, SPRING, CONTACT = "cam", "follower", "follower:spring", "follower:contact"
+# Steps between progress reports (about a second of a run on this machine's cores).
+PROGRESS_STEPS = 5000
 # The contact force and cam torque are compared as means over this many equal parts of a turn.
 WINDOWS = 72
 # What MuJoCo's soft, faceted contact holds, set from measurement on the bundled cams (twice the
@@ -199,10 +201,17 @@ class CamRun:
     touching: np.ndarray | None = None
 
 
-def run_cam(cm: CamMechanism, revolutions: float = 1.0) -> CamRun:
+def run_cam(cm: CamMechanism, revolutions: float = 1.0, progress=None) -> CamRun:
     """Turn the cam from θ = 0 at ω, the follower starting on the cam at its closed-form state;
-    record every step over ``revolutions`` turns after a settling eighth of a turn."""
+    record every step over ``revolutions`` turns after a settling eighth of a turn.
+    ``progress(fraction done, seconds elapsed)`` is called every PROGRESS_STEPS steps once the
+    run has lasted PROGRESS_AFTER seconds."""
+    import time
+
     from linkgen.mujoco.log import no_log_file
+    from linkgen.mujoco.simulate import PROGRESS_AFTER
+
+    wall0 = time.perf_counter()
 
     f = cm.follower
     with no_log_file():
@@ -239,6 +248,8 @@ def run_cam(cm: CamMechanism, revolutions: float = 1.0) -> CamRun:
                                  sign * float(data.qvel[fol.dofadr[0]]), sign * float(data.qacc[fol.dofadr[0]]), depth,
                                  touching)
             mujoco.mj_step(model, data)
+            if progress is not None and k and k % PROGRESS_STEPS == 0 and time.perf_counter() - wall0 > PROGRESS_AFTER:
+                progress(k / total, time.perf_counter() - wall0)
             if not np.isfinite(data.qvel).all():
                 raise SimulationError(f"the cam mechanism diverged in MuJoCo at t = {data.time:.6g} s")
     return CamRun(out[:, 0], out[:, 1], out[:, 2], out[:, 3], out[:, 4], total, dt, out[:, 5], out[:, 6], out[:, 7],
