@@ -36,8 +36,8 @@ PROFILE_POINTS = 4000
 STEPS_PER_TURN = 20000
 # Steps per the follower's shortest time scale, max|q″|/(max|q‴|·ω) (how long its acceleration
 # takes to change by its peak): a cam whose motion changes faster than the bundled ones' (a short
-# rise, a high speed) gets a proportionally shorter step. 1000 gives the bundled cams (120°–150°
-# rises and a sine: 950–6300 steps per scale at STEPS_PER_TURN) no finer step than before.
+# rise, a steep law) gets a proportionally shorter step. 1000 gives the bundled cams (120°–150°
+# rises and a sine: 1330–3180 steps per scale at STEPS_PER_TURN) no finer step than before.
 STEPS_PER_SCALE = 1000
 # The integrator: semi-implicit Euler, which finds the contacts once, at the start of each step.
 # MuJoCo's RK4 runs collision detection again at each of its three trial states (mj_RungeKutta
