@@ -138,14 +138,15 @@ class Follower:
         cross = d1[:, 0] * d2[:, 1] - d1[:, 1] * d2[:, 0]
         return -np.hypot(d1[:, 0], d1[:, 1]) ** 3 / cross  # the pitch curve runs clockwise
 
-    def profile(self, theta) -> np.ndarray:
-        """The cam's working surface (n, 2) [m] in its own frame."""
+    def profile(self, theta, radius: float | None = None) -> np.ndarray:
+        """The cam's working surface (n, 2) [m] in its own frame; ``radius``: the roller radius
+        it is offset by, if not the follower's (MuJoCo gives a knife edge a small roller)."""
         if self.flat:
             return self.pitch_curve(theta)[0]  # the contact point itself
         p, d1, _ = self.pitch_curve(theta)
         n = np.column_stack([-d1[:, 1], d1[:, 0]]) / np.hypot(d1[:, 0], d1[:, 1])[:, None]
         inward = np.where((np.sum(n * p, axis=1) > 0)[:, None], -n, n)
-        return p + self.roller_radius * inward
+        return p + (self.roller_radius if radius is None else radius) * inward
 
     def profile_curvature_radius(self, theta) -> np.ndarray:
         """Signed radius of curvature of the profile [m]: the pitch curve's less r_r where convex."""

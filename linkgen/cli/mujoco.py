@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import math
 import multiprocessing
 import os
 import sys
@@ -12,7 +13,7 @@ from pathlib import Path
 
 import numpy as np
 
-from linkgen.cli.cams import cam_line, check_cam_file, check_cam_linkage_file
+from linkgen.cli.cams import cam_line, check_cam_file, check_cam_linkage_file, wall_text
 from linkgen.errors import DescriptionError, LinkgenError
 
 REPORT_DIR = Path("validation/report")
@@ -99,10 +100,9 @@ def cmd_build(args) -> int:
 
 
 def _progress(name: str):
-    def report(fraction: float, elapsed: float) -> None:
-        eta = elapsed * (1 - fraction) / max(fraction, 1e-9)
-        print(f"{name}: MuJoCo run {100 * fraction:5.1f}% ({elapsed:.1f} s, about {eta:.0f} s left)",
-              file=sys.stderr, flush=True)
+    def report(fraction: float, elapsed: float, what: str = "MuJoCo run") -> None:
+        left = f", about {elapsed * (1 - fraction) / fraction:.0f} s left" if fraction > 0 else ""
+        print(f"{name}: {what} {100 * fraction:5.1f}% ({elapsed:.1f} s{left})", file=sys.stderr, flush=True)
     return report
 
 
@@ -173,7 +173,7 @@ def _check_one(path: Path, report: Path | None, practical: bool, nthread: int | 
     from linkgen.cams.description import is_cam_file
 
     if is_cam_file(path):
-        return check_cam_file(path, t0)
+        return check_cam_file(path, t0, report, _progress(path.stem) if progress else None)
     from linkgen.cli.spatial import check_spatial_file, is_spatial_file
 
     if is_spatial_file(path):
@@ -213,18 +213,18 @@ def _summary(r: dict) -> str:
 
     if "error" in r:
         return f"{r['model']:<22} FAIL {r['error']}"
-    if "spatial" in r or "cam_linkage" in r:
-        return f"{r['model']:<22} {r['line']}"
-    if "cam" in r:
-        return cam_line(r)
     lines = []
-    if "quantities" in r:
-        q = r["quantities"]
-        worst = max(q, key=lambda k: q[k]["relative_error"] / q[k]["tolerance"])
+    if "spatial" in r or "cam_linkage" in r:
+        lines.append(f"{r['model']:<22} {r['line']}")
+    elif "cam" in r:
+        lines.append(cam_line(r))
+    elif "quantities" in r:
+        worst, err, tol = headline_worst(r)
         gap = r["loop_gap"]
-        lines.append(f"{r['model']:<22} {'ok  ' if r['ok'] else 'FAIL'} worst {worst} {q[worst]['relative_error']:.2e} "
-                     f"(tolerance {q[worst]['tolerance']:g}), loop gap {gap['relative']:.1e} of the size, "
-                     f"{r['steps']} steps, {r['total_wall_s']:.2f} s")
+        lines.append(f"{r['model']:<22} {'ok  ' if r['ok'] else 'FAIL'} worst {worst} {err:.2e} "
+                     + ("of the size " if worst == "loop gap" else "")
+                     + f"(tolerance {tol:g}), " + ("" if worst == "loop gap" else f"loop gap {gap['relative']:.1e} of the size, ")
+                     + f"{r['steps']} steps, {wall_text(r['total_wall_s'])}")
     else:
         lines.append(f"{r['model']:<22} FAIL")
     dyn = r.get("dynamics")
@@ -240,7 +240,7 @@ def _summary(r: dict) -> str:
                      f"{d['cause']} — {d['detail']}")
     if len(r.get("diagnosis", [])) > len(shown):
         lines.append(f"    … and {len(r['diagnosis']) - len(shown)} more quantities (see --json)")
-    if r.get("diagnosis"):
+    if r.get("diagnosis") and r.get("attempts"):
         tried = "; ".join((f"timestep {a['settings']['timestep']:.3g} s, loop τ {a['settings']['timeconst']:.3g} s"
                            if a["settings"] else "derived settings")
                           + (f" → failed: {a['error']}" if a["error"] else
@@ -248,6 +248,15 @@ def _summary(r: dict) -> str:
                           for a in r.get("attempts", []))
         lines.append(f"    tried: {tried}")
     return "\n".join(lines)
+
+
+def headline_worst(r: dict) -> tuple[str, float, float]:
+    """The quantity a linkage's validate line names: the worst relative to its tolerance of every
+    compared quantity and the loop gap (name, relative error, tolerance)."""
+    q = {k: (v["relative_error"], v["tolerance"]) for k, v in r["quantities"].items()}
+    q["loop gap"] = (r["loop_gap"]["relative"], r["loop_gap"]["tolerance"])
+    worst = max(q, key=lambda k: q[k][0] / q[k][1] if q[k][1] > 0 else math.inf)
+    return worst, *q[worst]
 
 
 def cmd_validate(args) -> int:

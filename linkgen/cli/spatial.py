@@ -327,8 +327,10 @@ def check_spatial_file(path: Path, t0: float, report: Path | None = None) -> dic
         draw_spatial(mech, np.array([0.0]), report / f"{r.model}_drawing.png")
         draw_spatial(mech, np.radians(np.arange(0.0, 360.0, 30.0)), report / f"{r.model}_plan.png")
         out["figures"] = [f"{r.model}_drawing.png", f"{r.model}_plan.png"] + plot_spatial_check(r, report, mech)
+    from linkgen.cli.cams import wall_text
+
     out["total_wall_s"] = time.perf_counter() - t0
-    out["line"] = r.summary()
+    out["line"] = r.summary(wall_text(out["total_wall_s"]))
     return out
 
 

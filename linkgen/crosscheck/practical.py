@@ -8,6 +8,7 @@ settling window before the range where the mechanism assembles there."""
 from __future__ import annotations
 
 import math
+import time
 from dataclasses import dataclass, replace
 
 import numpy as np
@@ -16,7 +17,7 @@ from linkgen.planar.assembly import Assembly
 from linkgen.crosscheck.compare import compare, force_scale, kinematic_scales
 from linkgen.errors import SimulationError
 from linkgen.mujoco.options import Settings
-from linkgen.mujoco.simulate import simulate, steps_per_revolution
+from linkgen.mujoco.simulate import PROGRESS_AFTER, simulate, steps_per_revolution
 
 # MuJoCo's defaults (its XML reference): timestep 2 ms, Euler, solref "0.02 1",
 # solimp "0.9 0.95 0.001 0.5 2", 100 iterations, tolerance 1e-8.
@@ -24,6 +25,8 @@ USER = Settings(timestep=2e-3, timeconst=0.02, impedance=0.9, integrator="Euler"
                 tolerance=1e-8, solimp=(0.9, 0.95, 0.001, 0.5, 2.0), label="MuJoCo defaults (timestep 2 ms)")
 # Samples per revolution for the study (errors are maxima over them).
 SAMPLES = 120
+# How the progress of the study's runs is labelled on stderr.
+PROGRESS_WHAT = "practical-settings runs"
 # A practical run is reported, not aborted, until its loops open by this fraction of the size.
 GAP_REPORT_LIMIT = 0.2
 
@@ -71,17 +74,26 @@ def ladder(validation: Settings) -> list[Settings]:
 
 
 def practical_study(asm: Assembly, validation: Settings, *, nthread: int | None = None,
-                    scales=None) -> list[PracticalRow]:
+                    scales=None, progress=None) -> list[PracticalRow]:
     """One row per setting of ``ladder(validation)`` (one revolution, or the range); ``scales``:
-    the validation run's (``Run.scales``), so that each run does not scan the range again."""
+    the validation run's (``Run.scales``), so that each run does not scan the range again.
+    ``progress(fraction of the study done, seconds elapsed, what)`` is called during each run
+    that lasts long enough (``mujoco.simulate``) and after each run once the study has lasted
+    PROGRESS_AFTER seconds."""
     rows = []
-    for s in ladder(validation):
+    steps = ladder(validation)
+    t0 = time.perf_counter()
+    for i, s in enumerate(steps):
+        what = PROGRESS_WHAT
+        inner = None if progress is None else (
+            lambda f, _t, i=i, what=what: progress((i + f) / len(steps), time.perf_counter() - t0, what))
         try:
             run = simulate(asm, settings=s, samples=SAMPLES, nthread=nthread, gap_abort=GAP_REPORT_LIMIT,
-                           settle=False, scales=scales)  # what a user sees: transients included
+                           settle=False, scales=scales, progress=inner)  # what a user sees: transients included
             cmp = compare(asm, run, inverse=False)
         except SimulationError as exc:
             rows.append(PracticalRow(s, math.nan, math.nan, math.nan, math.nan, math.nan, str(exc)))
+            _report(progress, (i + 1) / len(steps), t0)
             continue
         cf = cmp.closed_forces
         f = force_scale(cf, asm, cmp.size, kinematic_scales(cmp.size, *run.samples.crank[1:],
@@ -92,7 +104,13 @@ def practical_study(asm: Assembly, validation: Settings, *, nthread: int | None 
         per_rev = steps_per_revolution(run)
         rows.append(PracticalRow(s, cmp.gap.relative_error, float(max(reac)) / f, torque / (f * cmp.size),
                                  per_rev, run.wall * per_rev / run.steps))
+        _report(progress, (i + 1) / len(steps), t0)
     return rows
+
+
+def _report(progress, fraction: float, t0: float) -> None:
+    if progress is not None and time.perf_counter() - t0 > PROGRESS_AFTER:
+        progress(fraction, time.perf_counter() - t0, PROGRESS_WHAT)
 
 
 __all__ = ["PracticalRow", "USER", "ladder", "practical_study"]

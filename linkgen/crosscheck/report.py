@@ -86,7 +86,9 @@ def write_index(results: list[dict], out: Path, wall: float, cores: float) -> Pa
              "to the larger of the quantity's own peak and the mechanism's scale for its kind (size L, L·ω, "
              "L·(ω² + |ε|); 1 rad, ω, ω² + |ε|; the peak reaction F, F·L). The loop gap is relative to L. "
              "MuJoCo's settings are derived from each mechanism (see the settings columns).", "",
-             f"{len(results)} model(s) in {wall:.1f} s wall, {cores:.2f} cores busy on average.", "",
+             f"{len(results)} model(s) in {wall:.1f} s wall, {cores:.2f} cores busy on average. A model's wall time "
+             "is the whole of its validation (reading, closed form, MuJoCo runs, figures), the figure `validate` "
+             "prints.", "",
              "| model | ok | worst kinematic quantity | rel. error | worst force (forward) | rel. error "
              "| worst force (inverse) | rel. error | loop gap / L | timestep [s] | loop τ [s] | steps | wall [s] |",
              "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
@@ -101,13 +103,13 @@ def write_index(results: list[dict], out: Path, wall: float, cores: float) -> Pa
                          f"{kin[wk]['error']:.2e} | `{wf}` | {frc[wf]['error']:.2e} | `{wi}` | {inv[wi]['error']:.2e} | "
                          f"{sp['loop_gap']:.1e} | "
                          f"{sp['settings']['timestep']:.3g} | {sp['settings']['timeconst']:.3g} | {sp['steps']} | "
-                         f"{r.get('total_wall_s', sp['wall_s']):.2f} |")
+                         f"{r['total_wall_s']:.2f} |")
             continue
         if "cam" in r:
             e = r["cam"]["errors_relative"]
             lines.append(f"| {r['model']} | {'yes' if r['ok'] else '**NO**'} | cam: `displacement` | "
                          f"{e['displacement']:.2e} | cam: `contact_force` (5° means) | {e['contact_force']:.2e} |  |  |  | "
-                         f"{r['cam']['timestep']:.3g} |  | {r['cam']['steps']} | {r.get('total_wall_s', 0.0):.2f} |")
+                         f"{r['cam']['timestep']:.3g} |  | {r['cam']['steps']} | {r['total_wall_s']:.2f} |")
             continue
         if "cam_linkage" in r:
             e = r["cam_linkage"]["errors"]
@@ -116,7 +118,7 @@ def write_index(results: list[dict], out: Path, wall: float, cores: float) -> Pa
             lines.append(f"| {r['model']} | {'yes' if r['ok'] else '**NO**'} | cam contact: `{kin}` | "
                          f"{e[kin]['error']:.2e} | `{frc}` (5° means) | {e[frc]['error']:.2e} |  |  |  | "
                          f"{r['cam_linkage']['timestep']:.3g} |  | {r['cam_linkage']['steps']} | "
-                         f"{r.get('total_wall_s', 0.0):.2f} |")
+                         f"{r['total_wall_s']:.2f} |")
             continue
         if "quantities" not in r:
             lines.append(f"| {r['model']} | **NO** | {r.get('error', 'run failed')} |  |  |  |  |  |  |  |  |  |  |")
@@ -124,10 +126,13 @@ def write_index(results: list[dict], out: Path, wall: float, cores: float) -> Pa
         q, st = r["quantities"], r["settings"]
         cells = " | ".join(_worst(q, k) for k in ("kin", "fwd", "inv"))
         lines.append(f"| {r['model']} | {'yes' if r['ok'] else '**NO**'} | {cells} | {r['loop_gap']['relative']:.1e} | "
-                     f"{st['timestep']:.3g} | {st['timeconst']:.3g} | {r['steps']} | {r.get('total_wall_s', r['wall_s']):.2f} |")
+                     f"{st['timestep']:.3g} | {st['timeconst']:.3g} | {r['steps']} | {r['total_wall_s']:.2f} |")
     for r in results:
         if "spatial" in r:
             lines += _spatial_section(r)
+            continue
+        if "cam" in r:
+            lines += _cam_section(r)
             continue
         if "cam_linkage" in r:
             lines += ["", f"## {r['model']} (a cam on the crank)", ""] + [f"![{f}]({f})\n" for f in r.get("figures", [])]
@@ -142,13 +147,7 @@ def write_index(results: list[dict], out: Path, wall: float, cores: float) -> Pa
             lines += [f"![{fig}]({fig})", ""]
         if r.get("summary"):
             lines += _summary_lines(r["summary"])
-        if r["diagnosis"]:
-            lines += ["**Diagnosis**", ""]
-            for d in r["diagnosis"]:
-                rng = ", ".join(f"{a:.1f}°..{b:.1f}°" for a, b in d["ranges_deg"][:3])
-                lines.append(f"- `{d['quantity']}` {number(d['relative_error'], '.2e')} (tolerance {d['tolerance']:g}) at {rng}: "
-                             f"{d['cause']} — {d['detail']}")
-            lines.append("")
+        lines += _diagnosis_lines(r["diagnosis"])
         if r["left_out"]:
             lines.append("Left out of the comparison: " + "; ".join(
                 f"{lo['samples']} samples after the {lo['reason']} at {lo['from_deg']:.1f}°" for lo in r["left_out"]))
@@ -174,6 +173,37 @@ def write_index(results: list[dict], out: Path, wall: float, cores: float) -> Pa
     path = out / "README.md"
     path.write_text("\n".join(lines) + "\n", encoding="utf-8")
     return path
+
+
+def _diagnosis_lines(diagnosis: list[dict]) -> list[str]:
+    if not diagnosis:
+        return []
+    lines = ["**Diagnosis**", ""]
+    for d in diagnosis:
+        rng = ", ".join(f"{a:.1f}°..{b:.1f}°" for a, b in d["ranges_deg"][:3])
+        lines.append(f"- `{d['quantity']}` {number(d['relative_error'], '.2e')} (tolerance {d['tolerance']:g}) at {rng}: "
+                     f"{d['cause']} — {d['detail']}")
+    return lines + [""]
+
+
+def _cam_section(r: dict) -> list[str]:
+    """A stand-alone cam's section: its drawing, the follower's motion and the contact, closed
+    form against MuJoCo, the diagnosis and every compared quantity."""
+    c = r["cam"]
+    lines = ["", f"## {r['model']} (a cam)", ""]
+    for fig in r.get("figures", []):
+        lines += [f"![{fig}]({fig})", ""]
+    lines += [f"MuJoCo: a {c['profile_points']}-vertex profile, timestep {c['timestep']:.3g} s ({c.get('integrator', '')}), "
+              f"{c['steps']} steps; the contact force and cam torque compared as {360 / c['windows']:g}° means.", ""]
+    lines += _diagnosis_lines(r.get("diagnosis", []))
+    lines += ["| quantity | relative error | tolerance | ok |", "|---|---|---|---|"]
+    for k, tol in c["tolerances"].items():
+        e = c["errors_relative"][k]
+        lines.append(f"| `{k}` | {e:.2e} | {tol:g} | {'yes' if e <= tol else '**NO**'} |")
+    for k in ("contact_force", "cam_torque"):
+        lines.append(f"| `{k}` (instantaneous, not held to a tolerance) | {c['errors_relative'][k + '_instantaneous']:.2e} "
+                     f"|  |  |")
+    return lines
 
 
 def _spatial_section(r: dict) -> list[str]:

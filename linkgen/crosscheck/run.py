@@ -123,7 +123,9 @@ def finer(settings: Settings, ratio: float, exponent: float, steps_per_segment: 
 def crosscheck(asm: Assembly, *, practical: bool = True, progress=None, nthread: int | None = None,
                max_steps: int = MAX_STEPS) -> CrossCheck:
     """Validate ``asm`` in MuJoCo against the closed form (see the module docstring);
-    ``max_steps``: the step budget of each run, per segment (``mujoco.settings.MAX_STEPS``)."""
+    ``max_steps``: the step budget of each run, per segment (``mujoco.settings.MAX_STEPS``);
+    ``progress(fraction, seconds[, what])``: the validation runs' progress, then the
+    practical-settings runs' (``what`` names them)."""
     first, cmp = _attempt(asm, None, progress, nthread, max_steps=max_steps)
     attempts = [first]
     exponent = 2.0
@@ -154,7 +156,8 @@ def crosscheck(asm: Assembly, *, practical: bool = True, progress=None, nthread:
     elif cmp is None:
         findings = [Finding("run", [], math.inf, 0.0, "time budget" if first.capped else "run failed",
                             first.error or "")]
-    rows = practical_study(asm, cmp.run.settings, nthread=nthread, scales=cmp.run.scales) if (practical and cmp is not None) else []
+    rows = practical_study(asm, cmp.run.settings, nthread=nthread, scales=cmp.run.scales,
+                           progress=progress) if (practical and cmp is not None) else []
     return CrossCheck(asm.mechanism.name, cmp, tuple(attempts), tuple(findings), tuple(rows))
 
 

@@ -34,6 +34,21 @@ from linkgen.mujoco.scene import add_scene, add_scene_assets
 # impacts on the facets, not their number, set the error) and cost time in proportion.
 PROFILE_POINTS = 4000
 STEPS_PER_TURN = 20000
+# Steps per the follower's shortest time scale, max|q″|/(max|q‴|·ω) (how long its acceleration
+# takes to change by its peak): a cam whose motion changes faster than the bundled ones' (a short
+# rise, a steep law) gets a proportionally shorter step. 1000 gives the bundled cams (120°–150°
+# rises and a sine: 1330–3180 steps per scale at STEPS_PER_TURN) no finer step than before.
+STEPS_PER_SCALE = 1000
+# The integrator: semi-implicit Euler, which finds the contacts once, at the start of each step.
+# MuJoCo's RK4 runs collision detection again at each of its three trial states (mj_RungeKutta
+# calls mj_forwardSkip(mjSTAGE_NONE)): when the roller bouncing over the profile's facets is off
+# the cam at the step's start but touches it at a trial state, that stage's stiff contact
+# acceleration (time constant CONTACT_TIME steps) enters the step's weighted sum although no
+# contact acts at the state the step starts from, and the follower is kicked off the cam in one
+# step. (MuJoCo's guidance: RK4 is for smooth, energy-conserving systems.) Euler, measured on the
+# bundled cams: displacement, contact force and cam torque as close or closer, at a quarter of the
+# cost (docs/cams.md).
+INTEGRATOR = "Euler"
 # The contact's time constant in timesteps: 2 (the stiffest MuJoCo allows) makes the roller bounce
 # off the facets in over half the steps; 10 halves that and cuts the displacement error 2–10×.
 CONTACT_TIME = 10
@@ -43,6 +58,8 @@ CCD_ITERATIONS = 200
 # The rotor's inertia holds the cam speed to SPEED_HOLD of ω against the cam torque's energy swing.
 SPEED_HOLD = 1e-9
 CAM, FOLLOWER, SPRING, CONTACT = "cam", "follower", "follower:spring", "follower:contact"
+# Steps between progress reports (about a second of a run on this machine's cores).
+PROGRESS_STEPS = 5000
 # The contact force and cam torque are compared as means over this many equal parts of a turn.
 WINDOWS = 72
 # What MuJoCo's soft, faceted contact holds, set from measurement on the bundled cams (twice the
@@ -65,6 +82,23 @@ def _check_convex(cm: CamMechanism) -> None:
                               "so linkgen does not model this cam in MuJoCo")
 
 
+def cam_timestep(omega: float, q2: np.ndarray, q3: np.ndarray) -> float:
+    """The step [s] a cam turning at ``omega`` needs: at most one STEPS_PER_TURN-th of a turn and
+    one STEPS_PER_SCALE-th of the follower's shortest time scale, from its coordinate's second
+    and third derivatives in the cam angle (``q2``, ``q3`` sampled over a turn)."""
+    dt = 2 * math.pi / omega / STEPS_PER_TURN
+    j = float(np.abs(q3).max())
+    if j > 0:
+        dt = min(dt, float(np.abs(q2).max()) / (j * omega) / STEPS_PER_SCALE)
+    return dt
+
+
+def timestep(cm: CamMechanism) -> float:
+    """The step [s] of a stand-alone cam's run (``cam_timestep``)."""
+    q = cm.follower.output(np.linspace(0.0, 2 * math.pi, SAMPLES, endpoint=False))
+    return cam_timestep(cm.omega, q[2], q[3])
+
+
 def rotor_inertia(cm: CamMechanism) -> float:
     """The cam shaft's armature [kg·m²]: ½·J·ω²·2·SPEED_HOLD ≥ the cam torque's energy swing."""
     th = np.linspace(0.0, 2 * math.pi, SAMPLES, endpoint=False)
@@ -78,15 +112,16 @@ def cam_mjcf(cm: CamMechanism) -> str:
     _check_convex(cm)
     f = cm.follower
     size = 2 * float(np.hypot(*f.pitch_curve(np.linspace(0, 2 * math.pi, 73))[0].T).max())
-    dt = 2 * math.pi / cm.omega / STEPS_PER_TURN
+    dt = timestep(cm)
     th = np.linspace(0.0, 2 * math.pi, PROFILE_POINTS, endpoint=False)
-    prof = f.profile(th)
+    rr = f.roller_radius if f.roller_radius > 0 else KNIFE_RADIUS * f.base_radius
+    prof = f.profile(th, rr)  # a knife edge's small roller touches, not cuts into, the pitch curve
     half = 0.02 * size
     root = etree.Element("mujoco", model=cm.name)
     root.append(etree.Comment(f" {cm.title or cm.name}: written by linkgen from the cam description. "
                               f"Contacts as stiff as the timestep allows; the follower's spring is {SPRING}. "))
     etree.SubElement(root, "compiler", angle="radian", inertiafromgeom="false")
-    etree.SubElement(root, "option", timestep=_f(dt), integrator="RK4", gravity=f"{_f(cm.gravity[0])} {_f(cm.gravity[1])} 0",
+    etree.SubElement(root, "option", timestep=_f(dt), integrator=INTEGRATOR, gravity=f"{_f(cm.gravity[0])} {_f(cm.gravity[1])} 0",
                      ccd_tolerance=_f(CCD_TOLERANCE), ccd_iterations=str(CCD_ITERATIONS), cone="pyramidal")
     default = etree.SubElement(root, "default")  # only the profile and the roller collide (set on them)
     etree.SubElement(default, "geom", contype="0", conaffinity="0")
@@ -111,7 +146,6 @@ def cam_mjcf(cm: CamMechanism) -> str:
     etree.SubElement(cam, "inertial", pos="0 0 0", mass="1", diaginertia="1e-3 1e-3 1e-3")
     etree.SubElement(cam, "geom", name="cam:profile", type="mesh", mesh="cam:profile", rgba="0.85 0.3 0.2 1",
                      contype="1", conaffinity="2", **contact)
-    rr = f.roller_radius if f.roller_radius > 0 else KNIFE_RADIUS * f.base_radius
     if f.kind == "translating":
         fol = etree.SubElement(world, "body", name=FOLLOWER, pos=f"{_f(f.offset)} {_f(f.lift_origin)} 0")
         etree.SubElement(fol, "joint", name=FOLLOWER, type="slide", axis="0 1 0")
@@ -149,8 +183,10 @@ def cam_mjcf(cm: CamMechanism) -> str:
 @dataclass(frozen=True)
 class CamRun:
     """MuJoCo at every step of the compared turn: cam angle θ [rad], cam speed [rad/s], the
-    follower's coordinate from its lowest position q (m or rad), the contact normal force [N] and
-    the cam torque from the contact [N·m]; steps and timestep [s]."""
+    follower's coordinate from its lowest position q (m or rad) with its velocity and
+    acceleration in time, the contact normal force [N], the cam torque from the contact [N·m] and
+    the contact's penetration [m] (0 where the roller is off the cam: ``touching`` False); steps
+    and timestep [s]."""
 
     theta: np.ndarray
     omega: np.ndarray
@@ -159,12 +195,23 @@ class CamRun:
     cam_torque: np.ndarray
     steps: int
     timestep: float
+    velocity: np.ndarray | None = None
+    acceleration: np.ndarray | None = None
+    penetration: np.ndarray | None = None
+    touching: np.ndarray | None = None
 
 
-def run_cam(cm: CamMechanism, revolutions: float = 1.0) -> CamRun:
+def run_cam(cm: CamMechanism, revolutions: float = 1.0, progress=None) -> CamRun:
     """Turn the cam from θ = 0 at ω, the follower starting on the cam at its closed-form state;
-    record every step over ``revolutions`` turns after a settling eighth of a turn."""
+    record every step over ``revolutions`` turns after a settling eighth of a turn.
+    ``progress(fraction done, seconds elapsed)`` is called every PROGRESS_STEPS steps once the
+    run has lasted PROGRESS_AFTER seconds."""
+    import time
+
     from linkgen.mujoco.log import no_log_file
+    from linkgen.mujoco.simulate import PROGRESS_AFTER
+
+    wall0 = time.perf_counter()
 
     f = cm.follower
     with no_log_file():
@@ -180,27 +227,33 @@ def run_cam(cm: CamMechanism, revolutions: float = 1.0) -> CamRun:
         per_turn = round(2 * math.pi / cm.omega / dt)
         lead = per_turn // 8
         total = lead + int(round(revolutions * per_turn))
-        out = np.zeros((total - lead, 5))
+        out = np.zeros((total - lead, 9))
         roller, profile = model.geom(CONTACT).id, model.geom("cam:profile").id
         force6 = np.zeros(6)
         for k in range(total):
             if k >= lead:
                 mujoco.mj_forward(model, data)
-                n_sum, torque = 0.0, 0.0
+                n_sum, torque, depth, touching = 0.0, 0.0, 0.0, 0.0
                 for c in range(data.ncon):
                     con = data.contact[c]
                     if roller not in (con.geom1, con.geom2):
                         continue
+                    touching, depth = 1.0, max(depth, -float(con.dist))
                     mujoco.mj_contactForce(model, data, c, force6)
                     on_cam = force6[0] * con.frame[:3] * (1.0 if con.geom2 == profile else -1.0)
                     n_sum += float(force6[0])
                     torque -= float(con.pos[0] * on_cam[1] - con.pos[1] * on_cam[0])  # the drive balances it
                 out[k - lead] = (float(data.qpos[cam_q.qposadr[0]]), float(data.qvel[cam_q.dofadr[0]]),
-                                 sign * float(data.qpos[fol.qposadr[0]]), n_sum, torque)
+                                 sign * float(data.qpos[fol.qposadr[0]]), n_sum, torque,
+                                 sign * float(data.qvel[fol.dofadr[0]]), sign * float(data.qacc[fol.dofadr[0]]), depth,
+                                 touching)
             mujoco.mj_step(model, data)
+            if progress is not None and k and k % PROGRESS_STEPS == 0 and time.perf_counter() - wall0 > PROGRESS_AFTER:
+                progress(k / total, time.perf_counter() - wall0)
             if not np.isfinite(data.qvel).all():
                 raise SimulationError(f"the cam mechanism diverged in MuJoCo at t = {data.time:.6g} s")
-    return CamRun(out[:, 0], out[:, 1], out[:, 2], out[:, 3], out[:, 4], total, dt)
+    return CamRun(out[:, 0], out[:, 1], out[:, 2], out[:, 3], out[:, 4], total, dt, out[:, 5], out[:, 6], out[:, 7],
+                  out[:, 8] > 0)
 
 
 def _window_means(x: np.ndarray, windows: int) -> np.ndarray:
@@ -208,12 +261,14 @@ def _window_means(x: np.ndarray, windows: int) -> np.ndarray:
     return x[:n].reshape(windows, -1).mean(axis=1)
 
 
-def compare_cam(cm: CamMechanism, windows: int = WINDOWS) -> dict:
+def compare_cam(cm: CamMechanism, windows: int = WINDOWS, run: CamRun | None = None) -> dict:
     """MuJoCo against the closed form at MuJoCo's own cam angles and speeds: the follower's
     displacement at every step (relative to the stroke), and the contact force and cam torque as
     means over ``windows`` equal parts of the turn (relative to their peaks) — the faceted profile
-    makes the roller's contact a train of small impacts, whose mean is the smooth force."""
-    run = run_cam(cm)
+    makes the roller's contact a train of small impacts, whose mean is the smooth force.
+    ``run``: a run already made (default: one turn, ``run_cam``); ``crosscheck.diagnose_cam``
+    says why a quantity missed."""
+    run = run_cam(cm) if run is None else run
     ref = state(cm, run.theta, float(np.mean(run.omega)))
     q = cm.follower.output(run.theta)[0]
     errs = {"displacement": float(np.abs(run.displacement - q).max() / max(float(np.ptp(q)), 1e-300))}
@@ -223,7 +278,8 @@ def compare_cam(cm: CamMechanism, windows: int = WINDOWS) -> dict:
         errs[name] = float(np.abs(a - b).max() / (float(np.abs(cf).max()) or 1.0))
         errs[name + "_instantaneous"] = float(np.abs(mj - cf).max() / (float(np.abs(cf).max()) or 1.0))
     return {"model": cm.name, "errors_relative": errs, "steps": run.steps, "timestep": run.timestep,
-            "windows": windows, "profile_points": PROFILE_POINTS}
+            "integrator": INTEGRATOR, "windows": windows, "profile_points": PROFILE_POINTS}
 
 
-__all__ = ["CAM_TOLERANCES", "CamRun", "cam_mjcf", "compare_cam", "rotor_inertia", "run_cam"]
+__all__ = ["CAM_TOLERANCES", "INTEGRATOR", "CamRun", "cam_mjcf", "cam_timestep", "compare_cam", "rotor_inertia", "run_cam",
+           "timestep"]

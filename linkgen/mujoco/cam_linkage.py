@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import math
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import mujoco
 import numpy as np
@@ -49,15 +49,22 @@ class CamLinkageCheck:
     steps: int
     timestep: float
     wall: float
+    # per compared step: each quantity's error relative to its scale (a force's, its window's), and
+    # each cam's contact (``contact_trace``); for the diagnosis (``crosscheck.diagnose_cam``)
+    curves: dict = field(default_factory=dict, repr=False)
+    contacts: dict = field(default_factory=dict, repr=False)
 
     @property
     def ok(self) -> bool:
         return all(e <= tol for e, tol in self.errors.values())
 
-    def summary(self) -> str:
-        parts = ", ".join(f"{k} {e:.2e} (tolerance {t:g})" for k, (e, t) in self.errors.items())
+    def summary(self, wall: str | None = None) -> str:
+        """One line; ``wall``: the wall time as the caller measured it (default: this check's)."""
+        parts = ", ".join(f"{k} {e:.2e} (tolerance {t:g})" for k, (e, t) in
+                          sorted(self.errors.items(), key=lambda kv: -kv[1][0] / kv[1][1]))
         return (f"{'ok  ' if self.ok else 'FAIL'} linkage with a cam in MuJoCo (contact with a {PROFILE_POINTS}-vertex "
-                f"profile; forces as {360 / WINDOWS:g}° means): {parts}; {self.steps} steps, {self.wall:.2f} s")
+                f"profile; forces as {360 / WINDOWS:g}° means): {parts}; {self.steps} steps, "
+                f"{wall or f'{self.wall:.2f} s'}")
 
     def to_json(self) -> dict:
         return {"model": self.model, "ok": self.ok, "errors": {k: {"error": e, "tolerance": t}
@@ -104,7 +111,8 @@ def check_cam_linkage(asm: Assembly, progress=None) -> CamLinkageCheck:
     phi, om, ep = (np.zeros(per_turn) for _ in range(3))
     pts = np.zeros((per_turn, len(names), 2))
     q = {c: np.zeros(per_turn) for c in rollers}
-    normal = {c: np.zeros(per_turn) for c in rollers}
+    normal, depth = ({c: np.zeros(per_turn) for c in rollers} for _ in range(2))
+    touching = {c: np.zeros(per_turn, dtype=bool) for c in rollers}
     force6 = np.zeros(6)
     for k in range(lead + per_turn):
         if k >= lead:
@@ -120,31 +128,44 @@ def check_cam_linkage(asm: Assembly, progress=None) -> CamLinkageCheck:
                     if gid in (con.geom1, con.geom2):
                         mujoco.mj_contactForce(model, data, j, force6)
                         normal[c][i] += force6[0]
+                        touching[c][i], depth[c][i] = True, max(depth[c][i], -float(con.dist))
         mujoco.mj_step(model, data)
-        if progress is not None and k % PROGRESS_STEPS == 0 and time.perf_counter() - wall0 > PROGRESS_AFTER:
+        if progress is not None and k and k % PROGRESS_STEPS == 0 and time.perf_counter() - wall0 > PROGRESS_AFTER:
             progress(k / (lead + per_turn), time.perf_counter() - wall0)
         if not np.isfinite(data.qvel).all():
             raise SimulationError(f"{mech.name}: MuJoCo diverged at t = {data.time:.6g} s (step {k})")
     kin = solve(asm, phi)
     fc = forces(asm, phi, om, ep)
-    errors = {}
+    curves, contacts = {}, {}
     for cam in mech.cams:
         sig = sense(mech, asm.shapes, cam)
         delta = lift(cam, phi - asm.sketch_phi)[0]
         stroke = float(np.ptp(lift(cam, np.linspace(0.0, 2 * math.pi, SCAN))[0])) or 1.0
-        errors[f"{cam.name}.displacement"] = (float(np.abs(sig * q[cam.name] - delta).max()) / stroke,
-                                             CAM_TOLERANCES["displacement"])
-        errors[f"{cam.name}.contact_force"] = _windowed(normal[cam.name], fc.contact[cam.name], CAM_TOLERANCES["contact_force"])
+        curves[f"{cam.name}.displacement"] = np.abs(sig * q[cam.name] - delta) / stroke
+        curves[f"{cam.name}.contact_force"] = _windowed(normal[cam.name], fc.contact[cam.name])
+        contacts[cam.name] = {"theta": phi - asm.sketch_phi, "touching": touching[cam.name], "force": normal[cam.name],
+                              "force_closed": fc.contact[cam.name], "penetration": depth[cam.name],
+                              "step_angle": abs(w0) * dt,
+                              "travel": float(np.hypot(*np.ptp(kin.points[cam.roller].p, axis=0))) or 1.0}
     ref = np.stack([kin.points[p].p for p in names], axis=1)
     extent = max(float(np.hypot(*np.ptp(ref[:, j], axis=0))) for j in range(len(names))) or 1.0
-    errors["points"] = (float(np.abs(pts - ref).max()) / extent, CAM_TOLERANCES["displacement"])
-    errors["balancing_torque"] = _windowed(-settings.armature * ep, fc.balancing_torque, CAM_TOLERANCES["cam_torque"])
-    return CamLinkageCheck(mech.name, errors, lead + per_turn, dt, time.perf_counter() - wall0)
+    curves["points"] = np.abs(pts - ref).max(axis=(1, 2)) / extent
+    curves["balancing_torque"] = _windowed(-settings.armature * ep, fc.balancing_torque)
+    tol = {"displacement": CAM_TOLERANCES["displacement"], "contact_force": CAM_TOLERANCES["contact_force"],
+           "points": CAM_TOLERANCES["displacement"], "balancing_torque": CAM_TOLERANCES["cam_torque"]}
+    errors = {k: (float(v.max()), tol[k.rsplit(".", 1)[-1]]) for k, v in curves.items()}
+    return CamLinkageCheck(mech.name, errors, lead + per_turn, dt, time.perf_counter() - wall0, curves, contacts)
 
 
-def _windowed(mj: np.ndarray, cf: np.ndarray, tol: float) -> tuple[float, float]:
+def _windowed(mj: np.ndarray, cf: np.ndarray) -> np.ndarray:
+    """Per step, its window's error: the difference of the means of ``mj`` and ``cf`` over each of
+    WINDOWS equal parts of the turn, relative to the peak of ``cf`` (steps past the last whole
+    window: 0)."""
     a, b = _window_means(mj, WINDOWS), _window_means(cf, WINDOWS)
-    return float(np.abs(a - b).max()) / (float(np.abs(cf).max()) or 1.0), tol
+    per = mj.shape[0] // WINDOWS
+    out = np.zeros(mj.shape[0])
+    out[:per * WINDOWS] = np.repeat(np.abs(a - b) / (float(np.abs(cf).max()) or 1.0), per)
+    return out
 
 
 __all__ = ["CamLinkageCheck", "check_cam_linkage"]

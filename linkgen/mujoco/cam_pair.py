@@ -20,7 +20,8 @@ from lxml import etree
 
 from linkgen.errors import SimulationError
 from linkgen.model.description import CamPair
-from linkgen.mujoco.cam import CCD_ITERATIONS, CCD_TOLERANCE, CONTACT_TIME, KNIFE_RADIUS, PROFILE_POINTS, STEPS_PER_TURN
+from linkgen.mujoco.cam import (CCD_ITERATIONS, CCD_TOLERANCE, CONTACT_TIME, INTEGRATOR, KNIFE_RADIUS, PROFILE_POINTS,
+                                cam_timestep)
 from linkgen.mujoco.options import Settings
 from linkgen.mujoco.tree import body_name
 from linkgen.planar.assembly import Assembly
@@ -31,6 +32,8 @@ from linkgen.planar.cam_profile import profile
 # there (a convex polygon of PROFILE_POINTS vertices turns by 2π/PROFILE_POINTS per vertex on a
 # circle; rounding of the closed form is ~1e-12).
 CONCAVE_TOL = 1e-9
+# Cam angles over a turn at which a cam's motion is sampled for its timestep.
+CAM_SAMPLES = 3600
 
 
 def spring_name(cam: CamPair) -> str:
@@ -62,9 +65,12 @@ def check_convex(cam: CamPair, prof: np.ndarray, phi_s: float) -> None:
 
 
 def cam_settings(asm: Assembly, settings: Settings) -> Settings:
-    """The settings with a timestep of at most one STEPS_PER_TURN-th of a turn, as a cam needs."""
-    dt = 2 * math.pi / abs(asm.mechanism.drive.omega) / STEPS_PER_TURN
-    return settings if settings.timestep <= dt else replace(settings, timestep=dt)
+    """The settings with the step every cam pair needs (``mujoco.cam.cam_timestep``) and the
+    cams' integrator (``mujoco.cam.INTEGRATOR``: contacts found once per step)."""
+    th = np.linspace(0.0, 2 * math.pi, CAM_SAMPLES, endpoint=False)
+    omega = abs(asm.mechanism.drive.omega)
+    dt = min([settings.timestep] + [cam_timestep(omega, *cam.program.displacement(th)[2:]) for cam in asm.mechanism.cams])
+    return replace(settings, timestep=dt, integrator=INTEGRATOR)
 
 
 def add_cams(root, asm: Assembly, settings: Settings, size: float) -> None:
@@ -80,8 +86,10 @@ def add_cams(root, asm: Assembly, settings: Settings, size: float) -> None:
     half = float(0.02 * size)
     contact = {"solref": f"{CONTACT_TIME * settings.timestep!r} 1", "solimp": "0.9999 0.9999 0.001 0.5 2",
                "condim": "1", "margin": "0", "friction": "0 0 0"}
+    o = np.asarray(mech.points[mech.revolute(mech.drive.joint).point], dtype=float)
     for cam in mech.cams:
-        prof = profile(asm, cam, PROFILE_POINTS)
+        radius = cam.roller_radius or KNIFE_RADIUS * math.dist(o, mech.points[cam.roller])
+        prof = profile(asm, cam, PROFILE_POINTS, radius)  # a knife edge's small roller touches, not cuts into, it
         check_convex(cam, prof, asm.sketch_phi)
         vert = " ".join(f"{x!r} {y!r} {z!r}" for z in (-half, half) for x, y in prof.tolist())
         etree.SubElement(asset, "mesh", name=profile_name(cam), vertex=vert)
@@ -90,8 +98,6 @@ def add_cams(root, asm: Assembly, settings: Settings, size: float) -> None:
                          material="mat:crank", contype="1", conaffinity="2", group="0", **contact)
         follower = root.find(f".//body[@name='{body_name(cam.follower)}']")
         local = asm.shapes[cam.follower].local[cam.roller]
-        o = np.asarray(mech.points[mech.revolute(mech.drive.joint).point], dtype=float)
-        radius = cam.roller_radius or KNIFE_RADIUS * math.dist(o, mech.points[cam.roller])
         etree.SubElement(follower, "geom", name=roller_name(cam), type="cylinder", pos=f"{float(local[0])!r} {float(local[1])!r} 0",
                          size=f"{float(radius)!r} {float(half)!r}", material="mat:link", contype="2", conaffinity="1", group="0",
                          **contact)

@@ -108,7 +108,7 @@ def settings_comment(settings) -> str:
                 f"solref {settings.solref}, solimp {settings.solimp_text}; rotor inertia (armature) "
                 f"{settings.armature:g} kg·m² on the drive joint. linkgen validate reports what they cost in "
                 f"accuracy (the practical-settings table). ")
-    return (f" linkgen validation settings, derived from this mechanism: timestep {settings.timestep:g} s (RK4), "
+    return (f" linkgen validation settings, derived from this mechanism: timestep {settings.timestep:g} s ({settings.integrator}), "
             f"loop-closing connects with time constant {settings.timeconst:g} s and impedance "
             f"{settings.impedance:g} (they hold the loop gap to ~1e-8 of the size), and a rotor inertia "
             f"(armature) of {settings.armature:g} kg·m² on the drive joint that keeps the crank speed constant. "

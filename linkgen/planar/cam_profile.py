@@ -12,17 +12,18 @@ from linkgen.planar.cam_pair import contact_geometry
 from linkgen.planar.groups import input_poses
 
 
-def profile(asm: Assembly, cam: CamPair, points: int = 720) -> np.ndarray:
+def profile(asm: Assembly, cam: CamPair, points: int = 720, radius: float | None = None) -> np.ndarray:
     """The cam's profile (points, 2) [m] in the crank's frame (origin at the cam's axis, x along
     the crank's first two points) over a turn from the sketch: the roller centre seen from the
-    cam, R(−φ)·(C − O), moved inwards by the roller's radius along the pitch curve's normal."""
+    cam, R(−φ)·(C − O), moved inwards by the roller's radius (or ``radius``: MuJoCo gives a
+    knife edge a small roller) along the pitch curve's normal."""
     mech = asm.mechanism
     phi = asm.sketch_phi + np.linspace(0.0, 2 * math.pi, points, endpoint=False)
     poses = input_poses(mech, asm.structure, asm.shapes, phi)
     c = poses[cam.follower].point(asm.shapes[cam.follower].local[cam.roller])
     nrm, _ = contact_geometry(mech, asm.shapes, cam, c)
     o = np.asarray(mech.points[mech.revolute(mech.drive.joint).point], dtype=float)
-    world = c.p - o - cam.roller_radius * nrm
+    world = c.p - o - (cam.roller_radius if radius is None else radius) * nrm
     ang = poses[asm.structure.crank].angle.v
     cs, sn = np.cos(ang), np.sin(ang)
     return np.stack([cs * world[:, 0] + sn * world[:, 1], -sn * world[:, 0] + cs * world[:, 1]], axis=1)
