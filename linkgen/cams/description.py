@@ -19,7 +19,6 @@ value and what is allowed; inside, SI units and radians.
 from __future__ import annotations
 
 import math
-import tomllib
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -27,6 +26,7 @@ from linkgen.cams.follower import Follower
 from linkgen.cams.laws import LAWS, Program, Segment, SineProgram
 from linkgen.errors import DescriptionError
 from linkgen.model.names import check_name
+from linkgen.model.toml_file import read_toml
 from linkgen.model.units import angular_speed, finite, length, non_negative, parse_angle, shown, vector2
 
 _TOP = {"mechanism", "cam", "follower", "segment", "law"}
@@ -62,8 +62,8 @@ def is_cam_file(path: str | Path) -> bool:
     """True if ``path`` is TOML with a top-level ``[cam]`` table (False for anything unreadable:
     the linkage reader then names the problem)."""
     try:
-        return is_cam_data(tomllib.loads(Path(path).read_bytes().decode("utf-8-sig")))
-    except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError, RecursionError):
+        return is_cam_data(read_toml(path))
+    except DescriptionError:
         return False
 
 
@@ -76,12 +76,7 @@ def is_cam_data(data) -> bool:
 def load_cam(path: str | Path) -> CamMechanism:
     """Read and validate a cam description; DescriptionError names the file, field and value."""
     source = str(path)
-    try:
-        data = tomllib.loads(Path(path).read_bytes().decode("utf-8-sig"))
-    except OSError as exc:
-        raise DescriptionError("", f"cannot be read: {exc.strerror or exc}", source) from None
-    except (UnicodeDecodeError, tomllib.TOMLDecodeError) as exc:
-        raise DescriptionError("", f"not a UTF-8 TOML text: {exc}", source) from None
+    data = read_toml(path)
     try:
         return cam_from_dict(data)
     except DescriptionError as exc:

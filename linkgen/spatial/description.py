@@ -297,14 +297,11 @@ def _link(name: str, t: dict, points: dict) -> Link3:
 
 def is_spatial_file(path) -> bool:
     """True for a readable TOML file whose [mechanism] says space = "spatial"."""
-    import tomllib
+    from linkgen.model.toml_file import read_toml
 
     try:
-        p = Path(path)
-        if not p.is_file():
-            return False
-        return is_spatial(tomllib.loads(p.read_bytes().decode("utf-8-sig")))
-    except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError, RecursionError):
+        return is_spatial(read_toml(path))
+    except DescriptionError:
         return False
 
 
