@@ -70,3 +70,41 @@ def test_not_a_regular_file_is_refused_by_every_command(tmp_path, capsys, kind, 
     assert status == 2
     assert capsys.readouterr().err == (f"linkgen: error: {model}: is not a regular file (a device, pipe or socket); "
                                        "give a description file\n")
+
+
+def _load_error(path) -> str:
+    from linkgen import load
+    from linkgen.cams.description import is_cam_file, load_cam
+
+    with pytest.raises(DescriptionError) as info:
+        (load_cam if is_cam_file(path) else load)(path)
+    return str(info.value)
+
+
+# A list or a table where a name, a kind or a number is expected, in every family: each is named
+# with its field, its value and the type expected (before: TypeError: unhashable type: 'list').
+@pytest.mark.parametrize("model, old, new, message", [
+    ("rssp.toml", 'slider = "slider"', 'slider = ["slider"]', "prismatic.guide.slider: must be a string, got ['slider']"),
+    ("rssp.toml", 'points = ["B"]', 'points = [["B"]]', "links.slider.points[0]: must be a string, got ['B']"),
+    ("rssp.toml", 'guide = "ground"', "guide = {a = 1}", "prismatic.guide.guide: must be a string, got {'a': 1}"),
+    ("rssp.toml", 'kind = "spherical"', "kind = []", "joints.A.kind: must be a string, got []"),
+    ("rssp.toml", "omega = 10.0", "omega = [10.0]",
+     "drive.omega: must be an angular speed: a number in SI or a string like '100rpm' or '10rad/s', got [10.0]"),
+    ("motor_startup.toml", 'kind = "linear"', 'kind = ["linear"]', "machine.motor.kind: must be a string, got ['linear']"),
+    ("motor_startup.toml", "stall_torque = 2000.0", "stall_torque = {value = 2000.0}",
+     "machine.motor.stall_torque: must be a number, got {'value': 2000.0}"),
+    ("slider_crank_offset.toml", 'slider = "slider"', 'slider = ["slider"]',
+     "prismatic.slider.slider: must be a string, got ['slider']"),
+    ("slider_crank_offset.toml", 'joint = "O"', "joint = {O = 1}", "drive.joint: must be a string, got {'O': 1}"),
+    ("planetary_lever.toml", 'planet = "satellite"', 'planet = ["satellite"]',
+     "gear.mesh.planet: must be a string, got ['satellite']"),
+    ("cam_rocker_slider.toml", 'roller = "C"', 'roller = ["C"]', "cam.disc.roller: must be a string, got ['C']"),
+    ("press.toml", 'link = "ram"', 'link = ["ram"]', "force[0].link: must be a string, got ['ram']"),
+    ("cam_translating.toml", 'kind = "translating"', 'kind = ["translating"]',
+     "follower.kind: must be a string, got ['translating']"),
+    ("cam_translating.toml", 'law = "harmonic"', 'law = {name = "harmonic"}',
+     "segment[0].law: must be a string, got {'name': 'harmonic'}"),
+])
+def test_a_value_of_the_wrong_type_is_named(tmp_path, model, old, new, message):
+    path = _mutant(tmp_path, model, old, new)
+    assert _load_error(path) == f"{path}: {message}"

@@ -26,6 +26,7 @@ from linkgen.cams.follower import Follower
 from linkgen.cams.laws import LAWS, Program, Segment, SineProgram
 from linkgen.errors import DescriptionError
 from linkgen.model.names import check_name
+from linkgen.model.schema import CAM_FILE, check as check_types
 from linkgen.model.toml_file import read_toml
 from linkgen.model.units import angular_speed, finite, length, non_negative, parse_angle, shown, vector2
 
@@ -163,6 +164,7 @@ def cam_from_dict(data: dict) -> CamMechanism:
     for k in data:
         if k not in _TOP:
             raise DescriptionError(k, f"unknown table; a cam description has {sorted(_TOP)}")
+    check_types(data, CAM_FILE, "")
     mech = _table(data, "mechanism", _MECH, {"name"})
     name = check_name(mech["name"], "mechanism.name") if isinstance(mech["name"], str) else None
     if name is None:

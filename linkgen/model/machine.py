@@ -39,6 +39,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from linkgen.errors import DescriptionError
+from linkgen.model.schema import MACHINE as MACHINE_TYPES, check as check_types
 from linkgen.model.units import angular_speed, finite, parse_angle, shown
 
 MOTOR_KEYS = {
@@ -167,6 +168,7 @@ def machine_from_dict(data: dict) -> Machine | None:
     """The ``[machine]`` table of a parsed description, or None if it has none."""
     if "machine" not in data:
         return None
+    check_types(data["machine"], MACHINE_TYPES, "machine")
     t = _table(data["machine"], "machine")
     _only(t, _MACHINE, "machine")
     if "motor" not in t:

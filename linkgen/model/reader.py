@@ -19,6 +19,7 @@ from linkgen.model.description import (
 from linkgen.model.machine import machine_from_dict
 from linkgen.model.toml_file import MAX_FILE_BYTES, parse_toml, read_bytes  # noqa: F401 (MAX_FILE_BYTES: its old home)
 from linkgen.model.names import GROUND, check_name
+from linkgen.model.schema import PLANAR, check as check_types
 from linkgen.errors import DescriptionError
 from linkgen.model.units import angular_acceleration, angular_speed, finite, length, parse_angle, point2, shown, vector2
 
@@ -98,6 +99,7 @@ def from_dict(data: dict) -> Mechanism:
         raise DescriptionError("joints", "[joints] tables describe a spatial model: add space = \"spatial\" to "
                                          "[mechanism] (docs/spatial.md); a planar linkage's revolutes are the points "
                                          "its links share")
+    check_types(data, PLANAR, "")
     _keys(data, _TOP, {"mechanism", "points", "links", "drive"}, "description")
     mech = _table(data["mechanism"], "mechanism")
     _keys(mech, _MECH | {"space"}, {"name"}, "mechanism")

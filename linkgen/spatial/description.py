@@ -34,6 +34,7 @@ from linkgen.errors import DescriptionError
 from linkgen.model import limits
 from linkgen.model.defaults import DEFAULT_BLOCK_MASS, DEFAULT_DENSITY
 from linkgen.model.names import GROUND, check_name
+from linkgen.model.schema import SPATIAL, check as check_types
 from linkgen.model.units import angular_acceleration, angular_speed, bounded, finite, length, shown
 
 _TOP = {"mechanism", "points", "links", "joints", "prismatic", "drive"}
@@ -161,6 +162,7 @@ def spatial_from_dict(data: Mapping, source: str | None = None) -> SpatialMechan
 
 def _from_dict(data: Mapping, source: str | None) -> SpatialMechanism:
     _keys(dict(data), _TOP, "")
+    check_types(dict(data), SPATIAL, "")
     mech = _table(data.get("mechanism", {}), "mechanism")
     _keys(mech, _MECH, "mechanism")
     if mech.get("space") != "spatial":
