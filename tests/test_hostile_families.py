@@ -108,3 +108,46 @@ def _load_error(path) -> str:
 def test_a_value_of_the_wrong_type_is_named(tmp_path, model, old, new, message):
     path = _mutant(tmp_path, model, old, new)
     assert _load_error(path) == f"{path}: {message}"
+
+
+@pytest.mark.parametrize("model", ["cam_translating.toml", "fourbar.toml", "rssr.toml"])
+@pytest.mark.parametrize("title, code, position", [
+    ("Disc\\u0007cam", "0007", 5), ("\\u001b[31mred", "001B", 1), ("two\\nlines", "000A", 4), ("tab\\there", "0009", 4),
+    ("del\\u007f", "007F", 4), ("c1\\u0085", "0085", 3),
+])
+def test_a_title_with_a_control_character_is_refused_at_load(tmp_path, model, title, code, position):
+    text = (MODELS / model).read_text(encoding="utf-8")
+    path = tmp_path / "m.toml"
+    path.write_text(text.replace("[mechanism]\n", f'[mechanism]\ntitle = "{title}"\n', 1)
+                    .replace("\ntitle = ", "\n# title = ", 2).replace("# title = ", "title = ", 1), encoding="utf-8")
+    assert _load_error(path) == (f"{path}: mechanism.title: must be one line of printable text; it holds the control "
+                                 f"character U+{code} at position {position}")
+
+
+@pytest.mark.parametrize("title", ["Disc -- cam", "ends with -", "---", "<!-- -->", "a & b < c"])
+def test_any_title_makes_a_valid_cam_mjcf(tmp_path, title):
+    """The MJCF comment quoting the title: '--' and a final '-' (which XML forbids in a comment)
+    are broken by a space; before, lxml raised ValueError."""
+    import mujoco
+    from lxml import etree
+
+    from linkgen.cams.description import load_cam
+    from linkgen.mujoco.cam import cam_mjcf
+
+    path = _mutant(tmp_path, "cam_translating.toml", 'title = "Disc cam', f'title = "{title}" # "Disc cam')
+    xml = cam_mjcf(load_cam(path))
+    mujoco.MjModel.from_xml_string(xml)
+    first = etree.fromstring(xml.encode()).xpath("//comment()")[0].text
+    assert first.startswith(f" {title.replace('--', '- -').replace('--', '- -')}: written by linkgen")
+
+
+def test_a_title_given_in_python_is_written_safely():
+    """A CamMechanism built in Python skips the loader: its MJCF writes what XML cannot carry as
+    character codes."""
+    from dataclasses import replace
+
+    from linkgen.cams.description import load_cam
+    from linkgen.mujoco.cam import cam_mjcf
+
+    cm = replace(load_cam(MODELS / "cam_translating.toml"), title="bell\x07 -- end-")
+    assert "<!-- bellU+0007 - - end-: written by linkgen" in cam_mjcf(cm)

@@ -13,6 +13,7 @@ left to the reader, which names the allowed keys.
 
 from __future__ import annotations
 
+import unicodedata
 from dataclasses import dataclass
 from typing import Any
 
@@ -38,6 +39,17 @@ class Items:
 def string(value: object, field: str) -> None:
     if not isinstance(value, str):
         raise DescriptionError(field, f"must be a string, got {shown(value)}")
+
+
+def title(value: object, field: str) -> None:
+    """One line of printable text: a title reaches terminals, drawings, reports and MJCF comments,
+    and a control character (a bell, an escape sequence, a line end) has no place in any."""
+    string(value, field)
+    bad = next((i for i, c in enumerate(value) if unicodedata.category(c) in ("Cc", "Cs")
+                or c in "\ufffe\uffff\u2028\u2029"), None)
+    if bad is not None:
+        raise DescriptionError(field, f"must be one line of printable text; it holds the control character "
+                                      f"U+{ord(value[bad]):04X} at position {bad + 1}")
 
 
 def whole(value: object, field: str) -> None:
@@ -98,7 +110,7 @@ def check(value: object, spec: Any, field: str) -> None:
 
 SEGMENT = {"kind": string, "span": parse_angle, "law": string, "height": quantity}
 LAW = {"kind": string, "amplitude": quantity, "mean": quantity, "phase": parse_angle}
-MECHANISM = {"name": string, "title": string, "space": string}
+MECHANISM = {"name": string, "title": title, "space": string}
 
 MACHINE = {
     "rotor_inertia": finite, "gear_ratio": finite, "gear_efficiency": finite, "flywheel_inertia": finite,
@@ -147,4 +159,4 @@ SPATIAL = {
     "drive": {"joint": string, "omega": angular_speed, "epsilon": angular_acceleration},
 }
 
-__all__ = ["CAM_FILE", "Each", "Items", "MACHINE", "PLANAR", "SPATIAL", "check", "quantity", "string", "whole"]
+__all__ = ["CAM_FILE", "Each", "Items", "MACHINE", "PLANAR", "SPATIAL", "check", "quantity", "string", "title", "whole"]
