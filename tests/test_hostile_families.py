@@ -151,3 +151,20 @@ def test_a_title_given_in_python_is_written_safely():
 
     cm = replace(load_cam(MODELS / "cam_translating.toml"), title="bell\x07 -- end-")
     assert "<!-- bellU+0007 - - end-: written by linkgen" in cam_mjcf(cm)
+
+
+@pytest.mark.parametrize("name", ["A0", "A", "B"])
+def test_a_spatial_prismatic_pair_named_like_a_pair_is_refused(tmp_path, name):
+    """MuJoCo names each joint after its pair: a prismatic pair named like the pair at a point
+    (before: MuJoCo's "repeated name 'A0' in joint" from build)."""
+    path = _mutant(tmp_path, "rssp.toml", "[prismatic.guide]", f"[prismatic.{name}]")
+    assert _load_error(path) == (f"{path}: prismatic.{name}: duplicate pair name: the pair at point {name} is named "
+                                 "after its point; give the prismatic pair another name")
+
+
+def test_a_spatial_prismatic_pair_named_like_its_link_builds(tmp_path):
+    """Bodies and joints have their own names in MuJoCo: a pair may share its link's name."""
+    text = (MODELS / "rssp.toml").read_text(encoding="utf-8")
+    path = tmp_path / "m.toml"
+    path.write_text(text.replace("[prismatic.guide]", "[prismatic.slider]"), encoding="utf-8")
+    assert main(["build", str(path), "-o", str(tmp_path / "m.xml")]) == 0

@@ -219,6 +219,9 @@ def _from_dict(data: Mapping, source: str | None) -> SpatialMechanism:
     slides = []
     for sname, st in _table(data.get("prismatic", {}), "prismatic").items():
         where = f"prismatic.{check_name(sname, f'prismatic.{sname}')}"
+        if sname in joints_t:  # MuJoCo's joints take the pairs' names: one name, one joint
+            raise DescriptionError(where, f"duplicate pair name: the pair at point {sname} is named after its point; "
+                                          f"give the prismatic pair another name")
         st = _table(st, where)
         _keys(st, _PRISMATIC, where)
         slider = st.get("slider")
