@@ -168,3 +168,58 @@ def test_a_spatial_prismatic_pair_named_like_its_link_builds(tmp_path):
     path = tmp_path / "m.toml"
     path.write_text(text.replace("[prismatic.guide]", "[prismatic.slider]"), encoding="utf-8")
     assert main(["build", str(path), "-o", str(tmp_path / "m.xml")]) == 0
+
+
+_LIMITS = "(linkgen's limits, see the README)"
+
+
+@pytest.mark.parametrize("model, old, new, message", [
+    ("planetary_lever.toml", "teeth = [60, 20]", "teeth = [1" + "0" * 400 + ", 20]",
+     "gear.mesh.teeth: must be at most 9007199254740992 teeth each (the largest count float64 carries exactly; "
+     "linkgen's limits, see the README), got [100000000000000000...0000000000000000000, 20]"),
+    ("planetary_lever.toml", "teeth = [60, 20]", "teeth = [9007199254740993, 20]",
+     "gear.mesh.teeth: must be at most 9007199254740992 teeth each (the largest count float64 carries exactly; "
+     "linkgen's limits, see the README), got [9007199254740993, 20]"),
+    ("planetary_lever.toml", "module = 0.05", "module = 1e300",
+     f"gear.mesh.module: must be within ±1e+12 m {_LIMITS}, got 1e+300"),
+    ("planetary_lever.toml", "module = 0.05", "module = 1e11",
+     f"gear.mesh: a pitch radius m·z/2 = 3e+12 m is beyond ±1e+12 m {_LIMITS}"),
+    ("cam_translating.toml", "base_radius = 0.25", "base_radius = 1e300",
+     f"cam.base_radius: must be within ±1e+12 m {_LIMITS}, got 1e+300"),
+    ("cam_translating.toml", "base_radius = 0.25", "base_radius = 1e-300",
+     f"cam.base_radius: must be at least 1e-90 m {_LIMITS}, got 1e-300"),
+    ("cam_translating.toml", "height = 0.05", "height = 1e300",
+     f"segment[0].height: must be within ±1e+12 m {_LIMITS}, got 1e+300"),
+    ("cam_translating.toml", "omega = 10.0", "omega = 1e31",
+     f"cam.omega: must be within ±1e+30 rad/s {_LIMITS}, got 1e+31"),
+    ("cam_translating.toml", "mass = 2.0", "mass = 1e31", f"follower.mass: must be within ±1e+30 kg {_LIMITS}, got 1e+31"),
+    ("cam_translating.toml", "spring_rate = 2000.0", "spring_rate = 1e103",
+     f"follower.spring_rate: must be within ±1e+102 N/m or N·m/rad {_LIMITS}, got 1e+103"),
+    ("cam_translating.toml", "offset = 0.1", "offset = -1e13",
+     f"follower.offset: must be within ±1e+12 m {_LIMITS}, got -10000000000000.0"),
+    ("cam_oscillating.toml", "arm_length = ", "arm_length = 1e13 # ",
+     f"follower.arm_length: must be within ±1e+12 m {_LIMITS}, got 10000000000000.0"),
+])
+def test_magnitudes_beyond_the_limits_in_every_family(tmp_path, model, old, new, message):
+    path = _mutant(tmp_path, model, old, new)
+    got = _load_error(path)
+    assert got.startswith(f"{path}: {message}"), got
+
+
+@pytest.mark.parametrize("bad", [math.inf, -math.inf, math.nan])
+@pytest.mark.parametrize("to_file", [True, False])
+def test_no_command_writes_a_non_finite_number(tmp_path, capsys, bad, to_file):
+    """The one CSV writer of every command refuses a NaN or an infinity, naming the column and
+    the row, and writes nothing (before: profile and analyze of a huge cam exited 0 with them)."""
+    import numpy as np
+
+    from linkgen.cli.common import write_rows
+    from linkgen.errors import LinkgenError
+
+    out = tmp_path / "out.csv" if to_file else None
+    with pytest.raises(LinkgenError) as info:
+        write_rows(["theta", "x"], [np.array([0.0, 1.0, 2.0]), np.array([0.0, 1.0, bad])], out, units=False)
+    assert str(info.value) == ("the result is not finite in column 'x' at row 3 (the computation overflowed or hit a "
+                               "singular position); nothing was written")
+    assert capsys.readouterr().out == ""
+    assert list(tmp_path.iterdir()) == []
