@@ -223,3 +223,36 @@ def test_no_command_writes_a_non_finite_number(tmp_path, capsys, bad, to_file):
                                "singular position); nothing was written")
     assert capsys.readouterr().out == ""
     assert list(tmp_path.iterdir()) == []
+
+
+@pytest.mark.parametrize("model, old, new, counts", [
+    # a bar hung on the planet: n = 3 moving links, p5 = 3 (O, C, B), p4 = 1 (the mesh)
+    ("planetary_lever.toml", "[gear.mesh]", '[links.bar]\npoints = ["B", "D"]\n[points]\nD = [1.55, 0.5]\n[gear.mesh]',
+     "3·3 - 2·3 - 1 = 2"),
+    # a bar hung on the ram: n = 5, p5 = 6, p4 = 1 (the cam)
+    ("cam_rocker_slider.toml", "[links.rod]", '[links.extra]\npoints = ["E", "X"]\n[points]\nX = [0.9, 0.9]\n[links.rod]',
+     "3·5 - 2·6 - 1 = 2"),
+])
+def test_the_mobility_formula_names_p4_once(tmp_path, model, old, new, counts):
+    path = _mutant(tmp_path, model, old, new)
+    if "[points]\n" in new:  # TOML takes one [points] table: move the added point into it
+        text = path.read_text(encoding="utf-8")
+        extra = new.split("[points]\n")[1].split("\n")[0]
+        text = text.replace(f"[points]\n{extra}\n", "").replace("[points]", f"[points]\n{extra}", 1)
+        path.write_text(text, encoding="utf-8")
+    assert _load_error(path) == (f"{path}: mechanism: mobility W = 3·n - 2·p5 - p4 = {counts}; linkgen needs exactly "
+                                 "1 degree of freedom (one driven crank)")
+
+
+@pytest.mark.parametrize("lowest, centre", [("5deg", "0.0218097"), ("0deg", "0"), ("9.17deg", "0.039969")])
+def test_a_cam_without_base_radius_is_told_what_is_wrong_with_its_lowest_angle(tmp_path, lowest, centre):
+    """The follower's pivot 0.25 m from the cam's axis, its arm 0.25 m, its roller 0.04 m (the centre
+    at 2·0.25·sin(ψ/2) from the axis, 0.5·sin 2.5° = 0.0218097 m at ψ = 5°): the
+    roller's centre clears the roller's radius when ψ > acos((0.25² + 0.25² − 0.04²)/(2·0.25·0.25))
+    = acos(0.9872) = 9.17713°. Before: "cam.base_radius: must be > 0 m, got -0.0181903", a
+    radius the user never gave."""
+    path = _mutant(tmp_path, "cam_oscillating.toml", 'lowest_angle = "27deg"', f'lowest_angle = "{lowest}"')
+    assert _load_error(path) == (
+        f"{path}: follower.lowest_angle: puts the roller's centre {centre} m from the cam's axis, within the roller's "
+        "radius 0.04 m: the cam would have no base circle; give a larger lowest_angle (the arm's angle at the pivot "
+        "from the line to the cam's axis) or a smaller roller_radius; with this roller it must exceed 9.17713°")

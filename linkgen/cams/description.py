@@ -209,6 +209,13 @@ def cam_from_dict(data: dict) -> CamMechanism:
             psi = parse_angle(f["lowest_angle"], "follower.lowest_angle")
             r0 = math.sqrt(a * a + l * l - 2 * a * l * math.cos(psi))
             rb = r0 - rr
+            if not rb > 0:  # the user gave no base radius: say what is wrong with what they gave
+                c = (a * a + l * l - rr * rr) / (2 * a * l)
+                least = f"; with this roller it must exceed {math.degrees(math.acos(c)):.6g}°" if abs(c) <= 1 else ""
+                raise DescriptionError("follower.lowest_angle", f"puts the roller's centre {r0:.6g} m from the cam's axis, "
+                                       f"within the roller's radius {rr:g} m: the cam would have no base circle; give a "
+                                       f"larger lowest_angle (the arm's angle at the pivot from the line to the cam's "
+                                       f"axis) or a smaller roller_radius{least}")
         else:
             rb = _length(cam["base_radius"], "cam.base_radius")
         fol = Follower(kind, program, rb, rr, pivot_distance=a, arm_length=l)
