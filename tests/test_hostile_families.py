@@ -256,3 +256,20 @@ def test_a_cam_without_base_radius_is_told_what_is_wrong_with_its_lowest_angle(t
         f"{path}: follower.lowest_angle: puts the roller's centre {centre} m from the cam's axis, within the roller's "
         "radius 0.04 m: the cam would have no base circle; give a larger lowest_angle (the arm's angle at the pivot "
         "from the line to the cam's axis) or a smaller roller_radius; with this roller it must exceed 9.17713°")
+
+
+def test_the_numeric_pose_reports_a_singular_position_with_its_reason(monkeypatch):
+    """The numeric pose's singularity (a Jacobian conditioned beyond MAX_CONDITION): a
+    SingularityError with its reason (before: TypeError, a missing constructor argument).
+    MAX_CONDITION set to 1 makes every pose count as singular."""
+    from linkgen import load
+    from linkgen.errors import SingularityError
+    from linkgen.planar import pose
+
+    monkeypatch.setattr(pose, "MAX_CONDITION", 1.0)
+    with pytest.raises(SingularityError) as info:
+        pose.state(load(MODELS / "fourbar.toml"), [0.5], 1.0)
+    assert info.value.group == "[coupler, rocker] (numeric)"
+    assert "the pair constraints' Jacobian has condition number" in info.value.reason
+    assert str(info.value).endswith("beyond MAX_CONDITION = 1: a dead centre or lock-up position, where the "
+                                    "velocities are not determined")
