@@ -273,3 +273,50 @@ def test_the_numeric_pose_reports_a_singular_position_with_its_reason(monkeypatc
     assert "the pair constraints' Jacobian has condition number" in info.value.reason
     assert str(info.value).endswith("beyond MAX_CONDITION = 1: a dead centre or lock-up position, where the "
                                     "velocities are not determined")
+
+
+def _subcommands():
+    import argparse
+
+    from linkgen.cli.main import build_parser
+
+    parser = build_parser()
+    return next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction)).choices
+
+
+def test_help_texts_are_plain_and_complete():
+    """Every positional argument says what it is; a flag (on or off) never claims "(no unit)";
+    no help carries reStructuredText markup (``...``) meant for the source."""
+    for name, sub in _subcommands().items():
+        assert "``" not in (sub.description or ""), name
+        for action in sub._actions:
+            if not action.option_strings:
+                assert action.help, (name, action.dest)
+            if action.nargs == 0 and action.help:
+                assert "no unit" not in action.help, (name, action.option_strings)
+            assert "``" not in (action.help or ""), (name, action.dest)
+
+
+# Options a command needs before it reads its model (argparse checks them first).
+_REQUIRED = {"flywheel": ["--delta", "0.02"], "draw": ["-o", "{tmp}/x.svg"], "animate": ["-o", "{tmp}/x.gif"],
+             "render": ["-o", "{tmp}/x.png"]}
+
+
+def test_every_command_that_refuses_a_cam_file_names_exactly_those_that_take_it(tmp_path, capsys):
+    from linkgen.cams.description import CAM_COMMANDS
+
+    cam = MODELS / "cam_translating.toml"
+    listed = "analyze, profile, draw, animate, render, build and validate"
+    refusing = [c for c in _subcommands() if c not in CAM_COMMANDS]
+    assert sorted(refusing) == ["assemble", "dynamics", "flywheel", "forces", "simulate", "structure"]
+    for command in refusing:
+        extra = [a.format(tmp=tmp_path) for a in _REQUIRED.get(command, [])]
+        assert main([command, str(cam), *extra]) == 2, command
+        assert capsys.readouterr().err == (f"linkgen: error: {cam}: cam: this is a cam mechanism; {listed} take it "
+                                           "(docs/cams.md), this command takes linkages\n"), command
+    # the quick ones among those listed take it
+    for command in ("analyze", "profile", "draw", "build"):
+        extra = [a.format(tmp=tmp_path) for a in _REQUIRED.get(command, [])]
+        extra += ["-o", str(tmp_path / "c.xml")] if command == "build" else []
+        assert main([command, str(cam), *extra]) == 0, command
+    capsys.readouterr()

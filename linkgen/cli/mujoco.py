@@ -302,7 +302,8 @@ def add_commands(sub) -> None:
     from linkgen.mujoco.settings import MAX_STEPS
 
     b = sub.add_parser("build", help="write the MJCF of a model, or of every model in a folder")
-    b.add_argument("model", type=Path)
+    b.add_argument("model", type=Path, help="description file (.toml), or a folder whose every description is "
+                                            "written beside itself as .xml")
     b.add_argument("-o", "--output", type=Path, help="output file (one model file only, not a folder)")
     b.add_argument("--practical", action="store_true",
                    help="write MuJoCo's usual settings (timestep 2 ms, Euler, default solref/solimp) instead of "

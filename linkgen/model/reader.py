@@ -89,8 +89,10 @@ def loads(raw: bytes | str, source: str = "<description>") -> Mechanism:
 def from_dict(data: dict) -> Mechanism:
     """Build a Mechanism from the parsed TOML structure."""
     if isinstance(data, dict) and "cam" in data and "links" not in data:
-        raise DescriptionError("cam", "this is a cam mechanism; analyze, draw, profile, build and validate take it "
-                                      "(docs/cams.md), this command takes linkages")
+        from linkgen.cams.description import CAM_COMMANDS
+
+        raise DescriptionError("cam", f"this is a cam mechanism; {', '.join(CAM_COMMANDS[:-1])} and "
+                                      f"{CAM_COMMANDS[-1]} take it (docs/cams.md), this command takes linkages")
     given = data.get("mechanism") if isinstance(data, dict) else None
     if isinstance(given, dict) and given.get("space", "planar") != "planar":
         raise DescriptionError("mechanism.space", f"must be \"spatial\" (a spatial four-bar, docs/spatial.md) or "
