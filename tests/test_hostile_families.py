@@ -328,3 +328,16 @@ def test_every_command_that_refuses_a_cam_file_names_exactly_those_that_take_it(
         extra += ["-o", str(tmp_path / "c.xml")] if command == "build" else []
         assert main([command, str(cam), *extra]) == 0, command
     capsys.readouterr()
+
+
+@pytest.mark.parametrize("model, old, key, field", [
+    ("fourbar.toml", "[links.rocker]", "ro\\u001b[2Jcker", "links.ro\\x1b[2Jcker"),
+    ("rssr.toml", "[links.coupler]", "cou\\u0007pler", "links.cou\\x07pler"),
+    ("cam_translating.toml", "[follower]", "fol\\u009blower", "fol\\x9blower"),
+])
+def test_a_key_with_control_characters_is_shown_by_their_codes(tmp_path, model, old, key, field):
+    """A hostile key carrying a terminal escape: the message shows its codes, never the raw
+    characters (which would act on the user's terminal)."""
+    path = _mutant(tmp_path, model, old, f'[{old[1:-1].rsplit(".", 1)[0]}."{key}"]' if "." in old else f'["{key}"]')
+    message = _load_error(path)
+    assert field in message and not any(c in message for c in "\x07\x1b\x9b"), message
