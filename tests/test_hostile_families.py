@@ -341,3 +341,22 @@ def test_a_key_with_control_characters_is_shown_by_their_codes(tmp_path, model, 
     path = _mutant(tmp_path, model, old, f'[{old[1:-1].rsplit(".", 1)[0]}."{key}"]' if "." in old else f'["{key}"]')
     message = _load_error(path)
     assert field in message and not any(c in message for c in "\x07\x1b\x9b"), message
+
+
+@pytest.mark.parametrize("model", ["fourbar.toml", "cam_translating.toml", "rssr.toml"])
+def test_a_title_with_dollar_signs_is_drawn_as_written(tmp_path, capsys, model):
+    """matplotlib reads text between '$' as a formula and fails on a malformed one (before:
+    ParseSyntaxException from draw); a title is drawn as written."""
+    title = r"a $\\frac{$ b $$"
+    text = (MODELS / model).read_text(encoding="utf-8")
+    path = tmp_path / "m.toml"
+    head, _, rest = text.partition("\ntitle = ")
+    path.write_text(head + f'\ntitle = "{title}"' + "\n" + rest.partition("\n")[2], encoding="utf-8")
+    assert main(["draw", str(path), "-o", str(tmp_path / "m.svg")]) == 0
+    assert (tmp_path / "m.svg").stat().st_size > 0
+    from linkgen import load
+    from linkgen.cams.description import is_cam_file, load_cam
+    from linkgen.draw.plan import title_of
+
+    # what matplotlib is given: every '$' escaped, so it draws the text as written
+    assert title_of((load_cam if is_cam_file(path) else load)(path)) == r"a \$\frac{\$ b \$\$"
