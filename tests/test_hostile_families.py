@@ -360,3 +360,16 @@ def test_a_title_with_dollar_signs_is_drawn_as_written(tmp_path, capsys, model):
 
     # what matplotlib is given: every '$' escaped, so it draws the text as written
     assert title_of((load_cam if is_cam_file(path) else load)(path)) == r"a \$\frac{\$ b \$\$"
+
+
+def test_a_non_finite_vector_column_is_named_by_its_row():
+    """simulate's columns are (n, 2) vectors: the row named is the sample's."""
+    import numpy as np
+
+    from linkgen.cli.common import check_finite_columns
+    from linkgen.errors import LinkgenError
+
+    xy = np.zeros((4, 2))
+    xy[2, 1] = math.inf
+    with pytest.raises(LinkgenError, match=r"^the result is not finite in column 'B\.position' at row 3 "):
+        check_finite_columns(["time", "B.position"], [np.arange(4.0), xy])
