@@ -2,7 +2,11 @@
 
 from __future__ import annotations
 
+import re
+
 import numpy as np
+
+_CONTROL = re.compile("[\x00-\x1f\x7f-\x9f]")
 
 
 class LinkgenError(Exception):
@@ -20,7 +24,9 @@ class DescriptionError(LinkgenError):
         self.field = field
         self.problem = problem
         self.source = source
-        super().__init__(": ".join(part for part in (source, field, problem) if part))
+        # a hostile key may hold control characters (a terminal escape): the message shows their codes
+        shown = _CONTROL.sub(lambda m: f"\\x{ord(m.group()):02x}", field)
+        super().__init__(": ".join(part for part in (source, shown, problem) if part))
 
     def in_file(self, source: str) -> "DescriptionError":
         """The same error attributed to the file ``source``."""

@@ -19,7 +19,6 @@ value and what is allowed; inside, SI units and radians.
 from __future__ import annotations
 
 import math
-import tomllib
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -27,7 +26,10 @@ from linkgen.cams.follower import Follower
 from linkgen.cams.laws import LAWS, Program, Segment, SineProgram
 from linkgen.errors import DescriptionError
 from linkgen.model.names import check_name
-from linkgen.model.units import angular_speed, finite, length, non_negative, parse_angle, shown, vector2
+from linkgen.model.schema import CAM_FILE, check as check_types
+from linkgen.model.toml_file import read_toml
+from linkgen.model import limits
+from linkgen.model.units import angular_speed, bounded, finite, length, non_negative, parse_angle, shown, vector2
 
 _TOP = {"mechanism", "cam", "follower", "segment", "law"}
 _MECH = {"name", "title", "gravity"}
@@ -36,6 +38,10 @@ _FOLLOWER = {"kind", "face", "roller_radius", "offset", "mass", "pivot_distance"
              "spring_rate", "spring_preload"}
 _SEGMENT = {"kind", "span", "law", "height"}
 _LAW = {"kind", "amplitude", "mean", "phase"}
+
+
+# The commands that take a cam file (linkgen.cli); every other one refuses it, naming these.
+CAM_COMMANDS = ("analyze", "profile", "draw", "animate", "render", "build", "validate")
 
 
 @dataclass(frozen=True)
@@ -62,8 +68,8 @@ def is_cam_file(path: str | Path) -> bool:
     """True if ``path`` is TOML with a top-level ``[cam]`` table (False for anything unreadable:
     the linkage reader then names the problem)."""
     try:
-        return is_cam_data(tomllib.loads(Path(path).read_bytes().decode("utf-8-sig")))
-    except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError, RecursionError):
+        return is_cam_data(read_toml(path))
+    except DescriptionError:
         return False
 
 
@@ -76,16 +82,16 @@ def is_cam_data(data) -> bool:
 def load_cam(path: str | Path) -> CamMechanism:
     """Read and validate a cam description; DescriptionError names the file, field and value."""
     source = str(path)
-    try:
-        data = tomllib.loads(Path(path).read_bytes().decode("utf-8-sig"))
-    except OSError as exc:
-        raise DescriptionError("", f"cannot be read: {exc.strerror or exc}", source) from None
-    except (UnicodeDecodeError, tomllib.TOMLDecodeError) as exc:
-        raise DescriptionError("", f"not a UTF-8 TOML text: {exc}", source) from None
+    data = read_toml(path)
     try:
         return cam_from_dict(data)
     except DescriptionError as exc:
         raise exc.in_file(source) from None
+
+
+def _length(value, field: str) -> float:
+    """A length [m] within linkgen's limits (linkgen.model.limits)."""
+    return bounded(length(value, field), field, limits.MAX_LENGTH, "m")
 
 
 def _table(data: dict, key: str, allowed: set[str], required: set[str]) -> dict:
@@ -113,7 +119,12 @@ def program_from_table(data: dict, oscillating: bool, where: str = ""):
 
 
 def _program(data: dict, oscillating: bool):
-    size = (lambda v, f: parse_angle(v, f)) if oscillating else (lambda v, f: length(v, f))
+    if oscillating:
+        def size(v, f):
+            return bounded(parse_angle(v, f), f, limits.MAX_ANGLE, "rad")
+    else:
+        def size(v, f):
+            return bounded(length(v, f), f, limits.MAX_LENGTH, "m")
     if ("segment" in data) == ("law" in data):
         raise DescriptionError("segment", "give the motion either as [[segment]] tables (rise, dwell, return) or as "
                                           "one [law] table (kind = \"sine\"), not both or neither")
@@ -168,6 +179,7 @@ def cam_from_dict(data: dict) -> CamMechanism:
     for k in data:
         if k not in _TOP:
             raise DescriptionError(k, f"unknown table; a cam description has {sorted(_TOP)}")
+    check_types(data, CAM_FILE, "")
     mech = _table(data, "mechanism", _MECH, {"name"})
     name = check_name(mech["name"], "mechanism.name") if isinstance(mech["name"], str) else None
     if name is None:
@@ -179,10 +191,10 @@ def cam_from_dict(data: dict) -> CamMechanism:
         raise DescriptionError("follower.kind", f"must be \"translating\" or \"oscillating\", got {shown(kind)}")
     osc = kind == "oscillating"
     program = _program(data, osc)
-    omega = angular_speed(cam["omega"], "cam.omega")
+    omega = bounded(angular_speed(cam["omega"], "cam.omega"), "cam.omega", limits.MAX_OMEGA, "rad/s")
     if not omega > 0:
         raise DescriptionError("cam.omega", f"must be > 0 (the cam turns counter-clockwise), got {shown(cam['omega'])}")
-    rr = non_negative(length(f.get("roller_radius", 0.0), "follower.roller_radius"), "follower.roller_radius", "m")
+    rr = non_negative(_length(f.get("roller_radius", 0.0), "follower.roller_radius"), "follower.roller_radius", "m")
     wrong = [k for k in (("pivot_distance", "arm_length", "inertia", "lowest_angle") if not osc
                          else ("offset", "mass")) if k in f]
     if wrong:
@@ -191,7 +203,7 @@ def cam_from_dict(data: dict) -> CamMechanism:
         for k in ("pivot_distance", "arm_length"):
             if k not in f:
                 raise DescriptionError(f"follower.{k}", "is required for an oscillating follower")
-        a, l = length(f["pivot_distance"], "follower.pivot_distance"), length(f["arm_length"], "follower.arm_length")
+        a, l = _length(f["pivot_distance"], "follower.pivot_distance"), _length(f["arm_length"], "follower.arm_length")
         if not (a > 0 and l > 0):
             raise DescriptionError("follower", f"pivot_distance and arm_length must be > 0, got {a:g} and {l:g} m")
         if ("base_radius" in cam) == ("lowest_angle" in f):
@@ -201,34 +213,48 @@ def cam_from_dict(data: dict) -> CamMechanism:
             psi = parse_angle(f["lowest_angle"], "follower.lowest_angle")
             r0 = math.sqrt(a * a + l * l - 2 * a * l * math.cos(psi))
             rb = r0 - rr
+            if not rb > 0:  # the user gave no base radius: say what is wrong with what they gave
+                c = (a * a + l * l - rr * rr) / (2 * a * l)
+                least = f"; with this roller it must exceed {math.degrees(math.acos(c)):.6g}°" if abs(c) <= 1 else ""
+                raise DescriptionError("follower.lowest_angle", f"puts the roller's centre {r0:.6g} m from the cam's axis, "
+                                       f"within the roller's radius {rr:g} m: the cam would have no base circle; give a "
+                                       f"larger lowest_angle (the arm's angle at the pivot from the line to the cam's "
+                                       f"axis) or a smaller roller_radius{least}")
         else:
-            rb = length(cam["base_radius"], "cam.base_radius")
+            rb = _length(cam["base_radius"], "cam.base_radius")
         fol = Follower(kind, program, rb, rr, pivot_distance=a, arm_length=l)
     else:
         if "base_radius" not in cam:
             raise DescriptionError("cam.base_radius", "is required")
-        rb = length(cam["base_radius"], "cam.base_radius")
+        rb = _length(cam["base_radius"], "cam.base_radius")
         face = f.get("face", "roller")
         if face not in ("roller", "flat"):
             raise DescriptionError("follower.face", f"must be \"roller\" or \"flat\", got {shown(face)}")
         if face == "flat" and rr > 0:
             raise DescriptionError("follower.roller_radius", "a flat-faced follower has no roller: leave it out or 0")
-        fol = Follower(kind, program, rb, rr, offset=length(f.get("offset", 0.0), "follower.offset"), face=face)
+        fol = Follower(kind, program, rb, rr, offset=_length(f.get("offset", 0.0), "follower.offset"), face=face)
     if not rb > 0:
         raise DescriptionError("cam.base_radius", f"must be > 0 m (the base circle inside the roller), got {rb:g}")
+    if rb < limits.MIN_LENGTH:
+        raise DescriptionError("cam.base_radius", f"must be at least {limits.MIN_LENGTH:g} m (linkgen's limits, see the "
+                                                  f"README), got {rb!r}")
     try:
         fol.psi0 if osc else fol.lift_origin
     except ValueError as exc:
         raise DescriptionError("follower", str(exc)) from None
-    mass = non_negative(f.get("mass", 0.0), "follower.mass", "kg")
-    inertia = non_negative(f.get("inertia", 0.0), "follower.inertia", "kg·m²")
-    rate = non_negative(f.get("spring_rate", 0.0), "follower.spring_rate", "N/m or N·m/rad")
-    preload = finite(f.get("spring_preload", 0.0), "follower.spring_preload")
+    mass = bounded(non_negative(f.get("mass", 0.0), "follower.mass", "kg"), "follower.mass", limits.MAX_MASS, "kg")
+    inertia = bounded(non_negative(f.get("inertia", 0.0), "follower.inertia", "kg·m²"), "follower.inertia",
+                      limits.MAX_INERTIA, "kg·m²")
+    rate = bounded(non_negative(f.get("spring_rate", 0.0), "follower.spring_rate", "N/m or N·m/rad"),
+                   "follower.spring_rate", limits.MAX_FORCE, "N/m or N·m/rad")
+    preload = bounded(finite(f.get("spring_preload", 0.0), "follower.spring_preload"), "follower.spring_preload",
+                      limits.MAX_FORCE, "N or N·m")
     title = mech.get("title", "")
     if not isinstance(title, str):
         raise DescriptionError("mechanism.title", f"must be a string, got {shown(title)}")
     return CamMechanism(name, title, fol, omega, mass, inertia, rate, preload,
-                        vector2(mech.get("gravity", [0.0, 0.0]), "mechanism.gravity"))
+                        tuple(bounded(g, f"mechanism.gravity[{i}]", limits.MAX_GRAVITY, "m/s²") for i, g in
+                              enumerate(vector2(mech.get("gravity", [0.0, 0.0]), "mechanism.gravity"))))
 
 
-__all__ = ["CamMechanism", "cam_from_dict", "is_cam_data", "is_cam_file", "load_cam", "program_from_table"]
+__all__ = ["CAM_COMMANDS", "CamMechanism", "cam_from_dict", "is_cam_data", "is_cam_file", "load_cam", "program_from_table"]

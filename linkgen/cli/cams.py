@@ -10,7 +10,7 @@ from pathlib import Path
 
 import numpy as np
 
-from linkgen.errors import LinkgenError
+from linkgen.errors import DescriptionError, LinkgenError
 from linkgen.cli.common import OptionError, check_finite, print_json, write_rows
 
 UNITS = {"theta": "rad", "omega": "rad/s", "translating": "m, m/s, m/s², m/s³", "oscillating": "rad, rad/s, rad/s², rad/s³",
@@ -128,11 +128,16 @@ def _summary(cm, omega: float, as_json: bool) -> int:
 
 
 def cmd_profile(args) -> int:
-    from linkgen.cams.description import is_cam_file, load_cam
+    from linkgen.cams.description import cam_from_dict, is_cam_data
+    from linkgen.model.toml_file import read_toml
 
-    if not is_cam_file(args.model):
+    data = read_toml(args.model)  # a file that is no description is refused as such
+    if not is_cam_data(data):
         raise OptionError(f"{args.model}: a cam profile needs a cam description (a [cam] table)")
-    cm = load_cam(args.model)
+    try:
+        cm = cam_from_dict(data)
+    except DescriptionError as exc:
+        raise exc.in_file(str(args.model)) from None
     theta = np.linspace(0.0, 2 * math.pi, args.points, endpoint=False)
     prof, pitch = cm.follower.profile(theta), cm.follower.pitch_curve(theta)[0]
     write_rows(["theta [rad]", "profile.x [m]", "profile.y [m]", "pitch.x [m]", "pitch.y [m]"],

@@ -9,6 +9,7 @@ import numpy as np
 from linkgen.cli.common import (check_crank_options, check_finite, crank_grid, drive_rates, print_json,
                                 write_rows)
 from linkgen.cli.singular import report_singular
+from linkgen.model.checks import mobility_formula
 from linkgen.model.reader import load
 from linkgen.planar.assembly import assemble
 from linkgen.planar.cam_pair import above_lowest, contact, lift, oscillating
@@ -60,17 +61,14 @@ def cmd_structure(args) -> int:
     s = asm.structure
     print(f"mechanism: {asm.mechanism.name}")
     p4 = len(asm.mechanism.gears) + len(asm.mechanism.cams)
-    if p4:
-        print(f"mobility W = 3·n - 2·p5 - p4 = 3·{s.moving_links} - 2·{s.lower_pairs} - {p4} = {s.mobility}")
-        for g in asm.mechanism.gears:
-            print(f"gear pair {g.name!r}: planet {g.planet!r} on the crank, {g.kind} mesh {g.teeth[0]}/{g.teeth[1]} "
-                  f"teeth, module {g.module:g} m: the planet turns {g.ratio:+g} times the crank")
-        for c in asm.mechanism.cams:
-            kind = "oscillating about its pivot" if oscillating(asm.mechanism, c) else "translating on its guide"
-            print(f"cam pair {c.name!r}: the cam on the crank drives the follower {c.follower!r} ({kind}) through "
-                  f"its roller at {c.roller!r} (radius {c.roller_radius:g} m), a higher pair")
-    else:
-        print(f"mobility W = 3·n - 2·p5 = 3·{s.moving_links} - 2·{s.lower_pairs} = {s.mobility}")
+    print(f"mobility {mobility_formula(s.moving_links, s.lower_pairs, p4)}")
+    for g in asm.mechanism.gears:
+        print(f"gear pair {g.name!r}: planet {g.planet!r} on the crank, {g.kind} mesh {g.teeth[0]}/{g.teeth[1]} "
+              f"teeth, module {g.module:g} m: the planet turns {g.ratio:+g} times the crank")
+    for c in asm.mechanism.cams:
+        kind = "oscillating about its pivot" if oscillating(asm.mechanism, c) else "translating on its guide"
+        print(f"cam pair {c.name!r}: the cam on the crank drives the follower {c.follower!r} ({kind}) through "
+              f"its roller at {c.roller!r} (radius {c.roller_radius:g} m), a higher pair")
     print(f"input link: I(0,1) crank {s.crank!r}, driven at {s.drive.name!r}")
     for g, m in zip(s.groups, asm.branches):
         pairs = ", ".join(f"{p.kind} {p.name}" for p in g.pairs)

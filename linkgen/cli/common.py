@@ -147,11 +147,24 @@ def with_unit(col: str) -> str:
     return f"{col} [{unit}]"
 
 
+def check_finite_columns(cols: list[str], data: list[np.ndarray]) -> None:
+    """Raise LinkgenError naming the first column and row holding a NaN or an infinity: such a
+    number is never written (a CSV reader would take it for a result). Columns of shape (n,) or
+    (n, k), row = the first axis."""
+    for col, d in zip(cols, data):
+        d = np.asarray(d)
+        if d.dtype.kind in "fc" and not np.all(np.isfinite(d)):
+            row = int(np.argwhere(~np.isfinite(d))[0][0])
+            raise LinkgenError(f"the result is not finite in column {col!r} at row {row + 1} (the computation "
+                               "overflowed or hit a singular position); nothing was written")
+
+
 def write_rows(cols: list[str], data: list[np.ndarray], path: Path | None, units: bool = False) -> None:
     """Columns (each (n,)) as CSV with a header, full precision, to ``path`` (written
     atomically) or stdout; ``units``: each header with its unit (``with_unit``)."""
     if units:
         cols = [with_unit(c) for c in cols]
+    check_finite_columns(cols, data)
     if path is None:
         _write_csv(sys.stdout, cols, data)
         return

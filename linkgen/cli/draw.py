@@ -246,7 +246,7 @@ def add_commands(sub) -> None:
     a.add_argument("--fps", type=_positive_int, default=24, help="frames per second of the file (default 24)")
     a.add_argument("--mujoco", action="store_true",
                    help="also run the mechanism in MuJoCo and show its rendered frames beside the closed-form "
-                        "drawing, at the crank angles MuJoCo reached (no unit; needs EGL or OSMesa without a display)")
+                        "drawing, at the crank angles MuJoCo reached (needs EGL or OSMesa without a display)")
     a.set_defaults(func=cmd_animate)
 
     r = sub.add_parser("render", help="a MuJoCo offscreen frame of the generated model at one crank angle")

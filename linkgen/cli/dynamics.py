@@ -163,7 +163,7 @@ def add_command(sub) -> None:
     d.add_argument("--report", type=Path, help="folder for the figure ω(t), M(t), ω(M)")
     d.add_argument("--mujoco", action="store_true",
                    help="also run the full linkage in MuJoCo over the start-up and --cycles steady cycles and compare "
-                        "ω(t), φ(t), the motor torque and the shaft twist (no unit)")
+                        "ω(t), φ(t), the motor torque and the shaft twist")
     d.add_argument("--mjcf", type=Path, help="also write the machine as a MuJoCo file (.xml): the linkage, rotor, "
                                              "flywheel, shaft and the motor as MuJoCo's own element where it has one")
     d.add_argument("--cycles", type=_samples, default=10,

@@ -9,6 +9,13 @@ normal and ``moment`` [N·m] the couple it carries about the slider's point;
 
 from __future__ import annotations
 
+# The command's --help: the conventions above in plain words.
+HELP = ("Closed-form joint reactions, balancing torque and reduced inertia. Conventions: reactions[J].force is the "
+        "force [N] the second link of pair J (in the description's order) exerts on the first, in the world frame; "
+        "prismatic[P].normal_force [N] is the guide's force on the slider along the guide's left normal, and moment "
+        "[N·m] the couple it carries about the slider's point; balancing_torque [N·m] is the torque the drive applies "
+        "to the crank, about +z.")
+
 import math
 
 import numpy as np
@@ -108,6 +115,6 @@ def add_command(sub) -> None:
     from linkgen.cli.common import add_crank_arguments
 
     f = sub.add_parser("forces", help="joint reactions, balancing torque and reduced inertia (closed form)",
-                       description=__doc__)
+                       description=HELP)
     add_crank_arguments(f, "30deg")
     f.set_defaults(func=cmd_forces)

@@ -67,7 +67,7 @@ def build_parser() -> argparse.ArgumentParser:
                    help="also the transfer functions d/dφ, d²/dφ² and d³/dφ³ (m/rad, rad/rad; in the table, JSON "
                         "or CSV)")
     a.add_argument("--summary", action="store_true",
-                   help="print the design summary over the drive range (no unit; SI units and degrees in the text, "
+                   help="print the design summary over the drive range (SI units and degrees in the text, "
                         "radians in --json): stroke, swing, limit positions, time ratio, least transmission "
                         "angles, peak torque and reactions")
     a.set_defaults(func=closed_form.cmd_analyze)

@@ -107,6 +107,7 @@ def _progress(name: str):
 
 
 def cmd_simulate(args) -> int:
+    from linkgen.cli.common import check_finite_columns
     from linkgen.planar.assembly import assemble
     from linkgen.errors import StructureError
     from linkgen.model.reader import load
@@ -138,6 +139,8 @@ def cmd_simulate(args) -> int:
     arrays |= {f"prismatic.{k}.normal_force": v for k, v in f.normal_force.items()}
     arrays |= {f"prismatic.{k}.moment": v for k, v in f.moment.items()}
     arrays["reduced_inertia"] = s.reduced_inertia
+    if args.out is not None:
+        check_finite_columns(list(arrays), list(arrays.values()))  # nothing non-finite is written
     if args.out is not None and args.out.suffix == ".npz":
         np.savez(args.out, **arrays)
     elif args.out is not None:
@@ -311,7 +314,8 @@ def add_commands(sub) -> None:
     from linkgen.mujoco.options import MAX_STEPS
 
     b = sub.add_parser("build", help="write the MJCF of a model, or of every model in a folder")
-    b.add_argument("model", type=Path)
+    b.add_argument("model", type=Path, help="description file (.toml), or a folder whose every description is "
+                                            "written beside itself as .xml")
     b.add_argument("-o", "--output", type=Path, help="output file (one model file only, not a folder)")
     b.add_argument("--practical", action="store_true",
                    help="write MuJoCo's usual settings (timestep 2 ms, Euler, default solref/solimp) instead of "

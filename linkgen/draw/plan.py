@@ -43,9 +43,11 @@ def draw_paths(ax, paths: Positions, *, lw: float = 0.9) -> None:
 
 
 def title_of(mech: Mechanism, width: int = 90) -> str:
+    """The mechanism's title wrapped at ``width`` characters, drawn as written: each ``$`` escaped,
+    which matplotlib would otherwise take for the start of a formula (and fail to parse)."""
     import textwrap
 
-    return "\n".join(textwrap.wrap(mech.title or mech.name, width))
+    return "\n".join(textwrap.wrap(mech.title or mech.name, width)).replace("$", r"\$")
 
 
 def skeleton_figure(mech: Mechanism, phi: float, out: Path | None = None, *, paths: Positions | None = None):

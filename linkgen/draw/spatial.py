@@ -6,7 +6,6 @@ from __future__ import annotations
 
 import contextlib
 import math
-import textwrap
 from pathlib import Path
 
 import numpy as np
@@ -16,7 +15,7 @@ from mpl_toolkits.mplot3d.art3d import Poly3DCollection
 from scipy.spatial import ConvexHull
 
 from linkgen.crosscheck.tolerances import GAP_TOL
-from linkgen.draw.plan import DPI, plt_module, save
+from linkgen.draw.plan import DPI, plt_module, save, title_of
 from linkgen.draw.skeleton import CRANK, GROUND_GREY, INK, LINK
 from linkgen.errors import LinkgenError
 from linkgen.model.names import GROUND
@@ -242,7 +241,7 @@ def draw_spatial(mech, angles, out: Path) -> Path:
     deg, step = np.degrees(angles), np.diff(np.degrees(angles))
     what = (f"φ = {deg[0]:.4g}°" if len(angles) == 1 else f"position plan: {len(angles)} positions from φ = {deg[0]:.4g}°"
             + (f", every {step[0]:.4g}°" if np.allclose(step, step[0]) else "") + " (0 solid, numbered at the crank pin)")
-    fig.suptitle("\n".join(textwrap.wrap(mech.title or mech.name, 100)) + f"\n{what}", fontsize=11)
+    fig.suptitle(title_of(mech, 100) + f"\n{what}", fontsize=11)
     save(fig, out)
     return Path(out)
 

@@ -5,7 +5,6 @@ MuJoCo comparison."""
 from __future__ import annotations
 
 import math
-import tomllib
 from dataclasses import dataclass, replace
 from pathlib import Path
 
@@ -17,6 +16,7 @@ from linkgen.dynamics.reduced import Reduced, reduce
 from linkgen.errors import DescriptionError, SimulationError
 from linkgen.model.machine import Machine, Motor, machine_from_dict
 from linkgen.model.reader import load
+from linkgen.model.toml_file import read_toml
 from linkgen.planar.assembly import Assembly, assemble
 from linkgen.planar.kinetostatics import forces
 
@@ -28,7 +28,7 @@ def load_machine(path: str | Path) -> tuple[Assembly, Machine]:
     """The assembled mechanism and its machine; DescriptionError naming the file if it has no
     ``[machine]`` table."""
     asm = assemble(load(path))
-    data = tomllib.loads(Path(path).read_bytes().decode("utf-8-sig"))
+    data = read_toml(path)
     machine = machine_from_dict(data)
     if machine is None:
         raise DescriptionError("machine", "is missing: a machine study needs a [machine] table with a "
@@ -222,7 +222,7 @@ def _native_dc(asm: Assembly, machine: Machine, run: MachineRun, t: np.ndarray) 
 def compare_machine(path, cycles: int | None = None) -> dict | None:
     """The dynamics comparison for a description with a ``[machine]`` table (None without one);
     a machine MuJoCo does not model here says so in "skipped"."""
-    data = tomllib.loads(Path(path).read_bytes().decode("utf-8-sig"))
+    data = read_toml(path)
     machine = machine_from_dict(data)
     if machine is None:
         return None

@@ -266,15 +266,21 @@ def _check_loads(m: Mechanism) -> None:
         bounded(t.torque, f"torque[{i}].torque", limits.MAX_TORQUE, "N·m")
 
 
+def mobility_formula(n: int, p5: int, p4: int) -> str:
+    """Chebychev's formula with the counts: ``W = 3·n - 2·p5 [- p4] = 3·3 - 2·4 [- 1] = W``
+    (n moving links, p5 lower pairs, p4 higher pairs: gears and cams)."""
+    w = 3 * n - 2 * p5 - p4
+    if p4:
+        return f"W = 3·n - 2·p5 - p4 = 3·{n} - 2·{p5} - {p4} = {w}"
+    return f"W = 3·n - 2·p5 = 3·{n} - 2·{p5} = {w}"
+
+
 def _check_mobility(m: Mechanism) -> None:
     n = len(m.moving_links)
     p5 = len(m.revolutes) + len(m.prismatics)
     p4 = len(m.gears) + len(m.cams)
-    w = 3 * n - 2 * p5 - p4
-    if w != 1:
-        higher = f" - p4 = 3·{n} - 2·{p5} - {p4}" if p4 else f" = 3·{n} - 2·{p5}"
+    if 3 * n - 2 * p5 - p4 != 1:
         raise DescriptionError(
             "mechanism",
-            f"mobility W = 3·n - 2·p5{' - p4' if p4 else ''}{higher} = {w}; linkgen needs exactly 1 degree of "
-            f"freedom (one driven crank)",
+            f"mobility {mobility_formula(n, p5, p4)}; linkgen needs exactly 1 degree of freedom (one driven crank)",
         )

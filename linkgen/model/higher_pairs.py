@@ -9,7 +9,7 @@ from typing import TYPE_CHECKING
 from linkgen.errors import DescriptionError
 from linkgen.model import limits
 from linkgen.model.names import GROUND, check_name
-from linkgen.model.units import bounded
+from linkgen.model.units import bounded, shown
 
 if TYPE_CHECKING:
     from linkgen.model.description import Mechanism
@@ -37,10 +37,18 @@ def check_gears(m: Mechanism) -> None:
         zf, zp = g.teeth
         if not (isinstance(zf, int) and isinstance(zp, int) and zf > 0 and zp > 0):
             raise DescriptionError(f"{where}.teeth", f"must be two whole numbers > 0 [fixed, planet], got {list(g.teeth)}")
+        if max(zf, zp) > limits.MAX_TEETH:
+            raise DescriptionError(f"{where}.teeth", f"must be at most {limits.MAX_TEETH} teeth each (the largest count "
+                                                     f"float64 carries exactly; linkgen's limits, see the README), got "
+                                                     f"{shown(list(g.teeth))}")
         if g.kind == "internal" and zf <= zp:
             raise DescriptionError(f"{where}.teeth", f"a ring gear needs more teeth than its planet, got {list(g.teeth)}")
         if not (math.isfinite(g.module) and g.module > 0):
             raise DescriptionError(f"{where}.module", f"must be > 0 m, got {g.module!r}")
+        bounded(g.module, f"{where}.module", limits.MAX_LENGTH, "m")
+        if 0.5 * g.module * max(zf, zp) > limits.MAX_LENGTH:
+            raise DescriptionError(f"{where}", f"a pitch radius m·z/2 = {0.5 * g.module * max(zf, zp):g} m is beyond "
+                                               f"±{limits.MAX_LENGTH:g} m (linkgen's limits, see the README)")
         if not 0.0 <= g.pressure_angle < math.radians(45.0):
             raise DescriptionError(f"{where}.pressure_angle", f"must be in [0°, 45°), got {math.degrees(g.pressure_angle):g}°")
         centre = m.link(g.planet).points[0]

@@ -60,6 +60,11 @@ MAX_TORQUE = 1e114  # = MAX_FORCE·MAX_LENGTH
 # where float64's spacing is still 1.8e-12 rad, so a crank angle keeps 12 digits.
 MAX_ANGLE = 1e4
 
+# Most teeth of a gear: 2**53, the largest count float64 carries exactly, so that radii and
+# ratios computed from tooth counts are exact; a gear's pitch radius m·z/2 must also stay within
+# MAX_LENGTH (checked with the module).
+MAX_TEETH = 2**53
+
 # Shortest bar MuJoCo draws [m]: the MJCF shows a link as capsules from its first point to each
 # other point, and MuJoCo's compiler rejects a capsule whose half-length is below mjEPS = 1e-6
 # ("fromto points too close in geom"; measured: the four-bar builds at scale 1e-6, not 1e-7).
@@ -68,5 +73,5 @@ MJCF_MIN_BAR = 2e-6
 
 __all__ = [
     "MAX_LENGTH", "MIN_LENGTH", "MIN_MASS", "MAX_MASS", "MAX_INERTIA", "MAX_OMEGA", "MAX_EPSILON",
-    "MAX_GRAVITY", "MAX_FORCE", "MAX_TORQUE", "MAX_ANGLE", "MJCF_MIN_BAR",
+    "MAX_GRAVITY", "MAX_FORCE", "MAX_TORQUE", "MAX_ANGLE", "MAX_TEETH", "MJCF_MIN_BAR",
 ]

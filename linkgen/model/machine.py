@@ -39,7 +39,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from linkgen.errors import DescriptionError
-from linkgen.model.units import angular_speed, finite, parse_angle, shown
+from linkgen.model.schema import MACHINE as MACHINE_TYPES, check as check_types
+from linkgen.model import limits
+from linkgen.model.units import angular_speed, bounded, finite, parse_angle, shown
 
 MOTOR_KEYS = {
     "constant": ("torque",),
@@ -118,12 +120,26 @@ class Machine:
 SPEED_KEYS = {"no_load_speed", "synchronous_speed", "start_speed"}
 
 
+# Keys bounded by linkgen's limits (linkgen.model.limits): the machine's torques, speeds and
+# inertias within those of the mechanism it drives, so that its reduced moments stay finite.
+BOUNDS = {
+    **{k: (limits.MAX_TORQUE, "N·m") for k in ("torque", "stall_torque")},
+    **{k: (limits.MAX_OMEGA, "rad/s") for k in SPEED_KEYS},
+    **{k: (limits.MAX_INERTIA, "kg·m²") for k in ("rotor_inertia", "flywheel_inertia")},
+    # the motor turns gear_ratio times as fast as the crank: u ≤ MAX_OMEGA keeps u² (the rotor's
+    # inertia reduced to the crank is rotor_inertia·u²) within float64 (1e60)
+    "gear_ratio": (limits.MAX_OMEGA, "as a ratio"),
+}
+
+
 def _number(t: dict, key: str, where: str, *, low: float = -math.inf, strict: bool = False, default=None) -> float:
     if key not in t:
         if default is None:
             raise DescriptionError(f"{where}.{key}", "is required")
         return default
     x = angular_speed(t[key], f"{where}.{key}") if key in SPEED_KEYS else finite(t[key], f"{where}.{key}")
+    if key in BOUNDS:
+        bounded(x, f"{where}.{key}", *BOUNDS[key])
     if x < low or (strict and x == low):
         raise DescriptionError(f"{where}.{key}", f"must be {'>' if strict else '>='} {low:g}, got {shown(t[key])}")
     return x
@@ -167,6 +183,7 @@ def machine_from_dict(data: dict) -> Machine | None:
     """The ``[machine]`` table of a parsed description, or None if it has none."""
     if "machine" not in data:
         return None
+    check_types(data["machine"], MACHINE_TYPES, "machine")
     t = _table(data["machine"], "machine")
     _only(t, _MACHINE, "machine")
     if "motor" not in t:
@@ -186,7 +203,8 @@ def machine_from_dict(data: dict) -> Machine | None:
             if not isinstance(p.get(k), list) or len(p[k]) < 3:
                 raise DescriptionError(f"machine.process_load.{k}", f"must be a list of at least 3 values, got {shown(p.get(k))}")
         ang = [parse_angle(a, f"machine.process_load.angles[{i}]") for i, a in enumerate(p["angles"])]
-        tq = [finite(x, f"machine.process_load.torque[{i}]") for i, x in enumerate(p["torque"])]
+        tq = [bounded(finite(x, f"machine.process_load.torque[{i}]"), f"machine.process_load.torque[{i}]",
+                      limits.MAX_TORQUE, "N·m") for i, x in enumerate(p["torque"])]
         if len(ang) != len(tq):
             raise DescriptionError("machine.process_load", f"angles ({len(ang)}) and torque ({len(tq)}) differ in length")
         if not (np.all(np.diff(ang) > 0) and ang[-1] - ang[0] < 2 * math.pi):

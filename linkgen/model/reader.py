@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import tomllib
 from pathlib import Path
 from typing import Any
 
@@ -18,7 +17,9 @@ from linkgen.model.description import (
     Prismatic,
 )
 from linkgen.model.machine import machine_from_dict
+from linkgen.model.toml_file import MAX_FILE_BYTES, parse_toml, read_bytes  # noqa: F401 (MAX_FILE_BYTES: its old home)
 from linkgen.model.names import GROUND, check_name
+from linkgen.model.schema import PLANAR, check as check_types
 from linkgen.errors import DescriptionError
 from linkgen.model.units import angular_acceleration, angular_speed, finite, length, parse_angle, point2, shown, vector2
 
@@ -56,65 +57,23 @@ def _str(value: Any, where: str) -> str:
     return value
 
 
-_BOM = b"\xef\xbb\xbf"
-# Largest description file [bytes]: a 5000-group chain takes about 1 MB (some 200 bytes a group);
-# beyond 64 MiB a file is not a description, and reading it whole would only spend memory.
-MAX_FILE_BYTES = 64 * 2**20
-
-
 def load(path: str | Path) -> Mechanism:
     """Read and validate a TOML description (UTF-8, with or without a byte-order mark).
 
     Raises:
-        DescriptionError: with ``source`` = the file, for a missing or unreadable file, bytes
-            that are not UTF-8 text, invalid or too deeply nested TOML, and every problem
-            found while building the Mechanism from it.
+        DescriptionError: with ``source`` = the file, for a missing or unreadable file, one that
+            is not a regular file or is too large, bytes that are not UTF-8 text, invalid or too
+            deeply nested TOML (linkgen.model.toml_file), and every problem found while
+            building the Mechanism from it.
     """
-    path = Path(path)
-    source = str(path)
-    if path.is_dir():
-        raise DescriptionError("", "is a folder; give one description file", source)
-    if not path.exists():
-        raise DescriptionError("", "no such description file", source)
-    if not path.is_file():
-        raise DescriptionError("", "is not a regular file (a device, pipe or socket); give a description file",
-                               source)
-    try:
-        size = path.stat().st_size
-        if size > MAX_FILE_BYTES:
-            raise DescriptionError("", f"is {size} bytes; a description is at most {MAX_FILE_BYTES} bytes", source)
-        raw = path.read_bytes()
-    except OSError as exc:
-        raise DescriptionError("", f"cannot be read: {exc.strerror or exc}", source) from None
-    return loads(raw, source)
+    return loads(read_bytes(path), str(path))
 
 
 def loads(raw: bytes | str, source: str = "<description>") -> Mechanism:
     """A Mechanism from the bytes (or text) of a TOML description; errors name ``source``. A
     description with ``[mechanism] space = "spatial"`` gives a
     ``linkgen.spatial.description.SpatialMechanism``."""
-    if isinstance(raw, bytes):
-        if raw.startswith(_BOM):
-            raw = raw[len(_BOM):]
-        try:
-            text = raw.decode("utf-8")
-        except UnicodeDecodeError as exc:
-            line = raw[:exc.start].count(b"\n") + 1
-            raise DescriptionError(
-                "", f"is not UTF-8 text (byte {raw[exc.start]:#04x} at line {line}, offset {exc.start}); "
-                "a description is a UTF-8 TOML file", source) from None
-    else:
-        text = raw.removeprefix("\ufeff")
-    if "\x00" in text:
-        raise DescriptionError("", "contains NUL bytes: a description is a UTF-8 TOML text file", source)
-    try:
-        data = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as exc:
-        raise DescriptionError("", f"not valid TOML: {exc}", source) from None
-    except RecursionError:
-        # tomllib parses nested arrays and inline tables recursively
-        raise DescriptionError("", "nested too deeply to parse: a description needs at most a few "
-                               "levels of tables and arrays", source) from None
+    data = parse_toml(raw, source)
     from linkgen.spatial.description import is_spatial, spatial_from_dict
 
     if is_spatial(data):  # a spatial four-bar: its own format (linkgen.spatial.description)
@@ -130,8 +89,10 @@ def loads(raw: bytes | str, source: str = "<description>") -> Mechanism:
 def from_dict(data: dict) -> Mechanism:
     """Build a Mechanism from the parsed TOML structure."""
     if isinstance(data, dict) and "cam" in data and "links" not in data:
-        raise DescriptionError("cam", "this is a cam mechanism; analyze, draw, profile, build and validate take it "
-                                      "(docs/cams.md), this command takes linkages")
+        from linkgen.cams.description import CAM_COMMANDS
+
+        raise DescriptionError("cam", f"this is a cam mechanism; {', '.join(CAM_COMMANDS[:-1])} and "
+                                      f"{CAM_COMMANDS[-1]} take it (docs/cams.md), this command takes linkages")
     given = data.get("mechanism") if isinstance(data, dict) else None
     if isinstance(given, dict) and given.get("space", "planar") != "planar":
         raise DescriptionError("mechanism.space", f"must be \"spatial\" (a spatial four-bar, docs/spatial.md) or "
@@ -140,6 +101,7 @@ def from_dict(data: dict) -> Mechanism:
         raise DescriptionError("joints", "[joints] tables describe a spatial model: add space = \"spatial\" to "
                                          "[mechanism] (docs/spatial.md); a planar linkage's revolutes are the points "
                                          "its links share")
+    check_types(data, PLANAR, "")
     _keys(data, _TOP, {"mechanism", "points", "links", "drive"}, "description")
     mech = _table(data["mechanism"], "mechanism")
     _keys(mech, _MECH | {"space"}, {"name"}, "mechanism")

@@ -28,6 +28,7 @@ from linkgen.cams.description import CamMechanism
 from linkgen.cams.kinetics import SAMPLES, state
 from linkgen.errors import SimulationError
 from linkgen.mujoco.scene import add_scene, add_scene_assets
+from linkgen.mujoco.xml_text import comment
 
 # Profile vertices and steps per turn: measured on the bundled cams, 4000 and 20000 hold the
 # displacement to ~1e-4 of the stroke; finer meshes and steps do not improve it (the roller's
@@ -118,7 +119,7 @@ def cam_mjcf(cm: CamMechanism) -> str:
     prof = f.profile(th, rr)  # a knife edge's small roller touches, not cuts into, the pitch curve
     half = 0.02 * size
     root = etree.Element("mujoco", model=cm.name)
-    root.append(etree.Comment(f" {cm.title or cm.name}: written by linkgen from the cam description. "
+    root.append(comment(f" {cm.title or cm.name}: written by linkgen from the cam description. "
                               f"Contacts as stiff as the timestep allows; the follower's spring is {SPRING}. "))
     etree.SubElement(root, "compiler", angle="radian", inertiafromgeom="false")
     etree.SubElement(root, "option", timestep=_f(dt), integrator=INTEGRATOR, gravity=f"{_f(cm.gravity[0])} {_f(cm.gravity[1])} 0",

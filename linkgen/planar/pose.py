@@ -219,7 +219,10 @@ class _Constraints:
         jac = self._evaluate(q, phi)[1]
         cond = np.linalg.cond(jac)
         if not cond < MAX_CONDITION:
-            raise SingularityError(self.label, [(phi, phi)])
+            raise SingularityError(self.label, [(phi, phi)],
+                                   f"the pair constraints' Jacobian has condition number {cond:.3g}, beyond "
+                                   f"MAX_CONDITION = {MAX_CONDITION:g}: a dead centre or lock-up position, where "
+                                   "the velocities are not determined")
         e = np.zeros(self.n)
         e[-1] = 1.0
         return np.linalg.solve(jac, e)

@@ -36,6 +36,7 @@ from linkgen.errors import DescriptionError
 from linkgen.model import limits
 from linkgen.model.defaults import DEFAULT_BLOCK_MASS, DEFAULT_DENSITY
 from linkgen.model.names import GROUND, check_name
+from linkgen.model.schema import SPATIAL, check as check_types
 from linkgen.model.units import angular_acceleration, angular_speed, bounded, finite, length, shown
 from linkgen.spatial.loads import LinkTorque3, PointForce3, read_loads
 
@@ -166,6 +167,7 @@ def spatial_from_dict(data: Mapping, source: str | None = None) -> SpatialMechan
 
 def _from_dict(data: Mapping, source: str | None) -> SpatialMechanism:
     _keys(dict(data), _TOP, "")
+    check_types(dict(data), SPATIAL, "")
     mech = _table(data.get("mechanism", {}), "mechanism")
     _keys(mech, _MECH, "mechanism")
     if mech.get("space") != "spatial":
@@ -222,6 +224,9 @@ def _from_dict(data: Mapping, source: str | None) -> SpatialMechanism:
     slides = []
     for sname, st in _table(data.get("prismatic", {}), "prismatic").items():
         where = f"prismatic.{check_name(sname, f'prismatic.{sname}')}"
+        if sname in joints_t:  # MuJoCo's joints take the pairs' names: one name, one joint
+            raise DescriptionError(where, f"duplicate pair name: the pair at point {sname} is named after its point; "
+                                          f"give the prismatic pair another name")
         st = _table(st, where)
         _keys(st, _PRISMATIC, where)
         slider = st.get("slider")
@@ -303,14 +308,11 @@ def _link(name: str, t: dict, points: dict) -> Link3:
 
 def is_spatial_file(path) -> bool:
     """True for a readable TOML file whose [mechanism] says space = "spatial"."""
-    import tomllib
+    from linkgen.model.toml_file import read_toml
 
     try:
-        p = Path(path)
-        if not p.is_file():
-            return False
-        return is_spatial(tomllib.loads(p.read_bytes().decode("utf-8-sig")))
-    except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError, RecursionError):
+        return is_spatial(read_toml(path))
+    except DescriptionError:
         return False
 
 
