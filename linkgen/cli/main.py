@@ -18,12 +18,14 @@ DESCRIPTION = ("Mechanisms from their descriptions (models/*.toml): closed-form 
 
 import argparse
 import os
+import signal
 import sys
 from pathlib import Path
 
 from linkgen.cli import cams, closed_form, draw, dynamics, forces, mujoco, sketch
 from linkgen.cli.common import OptionError, add_crank_arguments
 from linkgen.cli.files import message_for
+from linkgen.outputs import Interrupted
 from linkgen.errors import LinkgenError
 
 
@@ -119,6 +121,11 @@ def main(argv: list[str] | None = None) -> int:
     except BrokenPipeError:
         _silence_stdout()
         return 141
+    except (Interrupted, KeyboardInterrupt) as exc:  # Ctrl-C, or SIGTERM/SIGHUP during a write: no temporary file left
+        signum = getattr(exc, "signum", signal.SIGINT)
+        print(f"linkgen: interrupted by {signal.Signals(signum).name}; an output being written was not written",
+              file=sys.stderr)
+        return 128 + signum
     except OptionError as exc:
         print(f"linkgen {args.command}: error: {exc}", file=sys.stderr)
         return 2
