@@ -73,9 +73,13 @@ def test_run_each_goes_on_and_names_each_bad_file(tmp_path, capsys):
     ]
 
 
-def test_run_each_lets_bugs_through(tmp_path):
-    with pytest.raises(ZeroDivisionError):
-        run_each([tmp_path / "a"], lambda p: 1 / 0)
+def test_run_each_reports_a_bug_and_goes_on(tmp_path, capsys):
+    outcomes = run_each([tmp_path / "a", tmp_path / "b"], lambda p: 1 / 0 if p.name == "a" else "B")
+    assert [(o.ok, o.value) for o in outcomes] == [(False, None), (True, "B")]
+    assert capsys.readouterr().err == (f"linkgen: error: {tmp_path / 'a'}: internal error (ZeroDivisionError: "
+                                       "division by zero); please report it with this file\n")
+    with pytest.raises(KeyboardInterrupt):
+        run_each([tmp_path / "a"], lambda p: (_ for _ in ()).throw(KeyboardInterrupt))
 
 
 def test_build_folder_with_a_bad_file_in_the_middle(tmp_path, capsys):

@@ -43,14 +43,20 @@ def message_for(path: str | Path, exc: BaseException) -> str:
 
 def run_each(paths: list[Path], fn: Callable[[Path], Any], stream: TextIO | None = None) -> list[Outcome]:
     """``fn(path)`` for every path in order. A LinkgenError or OSError is reported on
-    ``stream`` (default stderr) as ``linkgen: error: FILE: message`` and the run goes on; other
-    exceptions (bugs) propagate. The caller exits non-zero if any outcome is not ``ok``."""
+    ``stream`` (default stderr) as ``linkgen: error: FILE: message``, any other exception (a
+    bug) as ``FILE: internal error (Type: message)``, and the run goes on to the next file: one
+    bad file never keeps the others from being processed. The caller exits non-zero if any
+    outcome is not ``ok``. Ctrl-C and SIGTERM still end the run."""
     outcomes = []
     for path in paths:
         try:
             outcomes.append(Outcome(path, value=fn(path)))
         except (LinkgenError, OSError) as exc:
             msg = message_for(path, exc)
+            print(f"linkgen: error: {msg}", file=stream or sys.stderr)
+            outcomes.append(Outcome(path, error=msg))
+        except Exception as exc:  # noqa: BLE001 - reported with its type, and the other files still run
+            msg = f"{path}: internal error ({type(exc).__name__}: {str(exc).strip()}); please report it with this file"
             print(f"linkgen: error: {msg}", file=stream or sys.stderr)
             outcomes.append(Outcome(path, error=msg))
     return outcomes

@@ -32,7 +32,19 @@ def _models(path: Path) -> list[Path]:
 
 
 def _build_one(path: Path, out: Path, practical: bool = False) -> Path:
-    """Compile ``path``'s MJCF in MuJoCo and write it atomically to ``out``."""
+    """Compile ``path``'s MJCF in MuJoCo and write it atomically to ``out``; a model MuJoCo's
+    compiler refuses is a LinkgenError saying what it refused."""
+    try:
+        return _build_checked(path, out, practical)
+    except ValueError as exc:
+        text = str(exc).strip()
+        if not text.startswith("Error"):  # not MuJoCo's compiler: a bug, reported as such
+            raise
+        raise LinkgenError(f"MuJoCo cannot represent this mechanism as described (its compiler refuses the "
+                           f"generated model: {' '.join(text.split())})") from None
+
+
+def _build_checked(path: Path, out: Path, practical: bool = False) -> Path:
     import mujoco
 
     from linkgen.cli.files import atomic_write_text

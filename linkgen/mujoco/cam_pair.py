@@ -20,7 +20,8 @@ from lxml import etree
 
 from linkgen.errors import SimulationError
 from linkgen.model.description import CamPair
-from linkgen.mujoco.cam import CCD_ITERATIONS, CCD_TOLERANCE, CONTACT_TIME, KNIFE_RADIUS, PROFILE_POINTS, STEPS_PER_TURN
+from linkgen.mujoco.cam import (CCD_ITERATIONS, CCD_TOLERANCE, CONTACT_TIME, KNIFE_RADIUS, PROFILE_POINTS, STEPS_PER_TURN,
+                                extrusion_half)
 from linkgen.mujoco.options import Settings
 from linkgen.mujoco.tree import body_name
 from linkgen.planar.assembly import Assembly
@@ -77,12 +78,12 @@ def add_cams(root, asm: Assembly, settings: Settings, size: float) -> None:
     option.set("cone", "pyramidal")
     asset = root.find("asset")
     actuator = root.find("actuator")
-    half = float(0.02 * size)
     contact = {"solref": f"{CONTACT_TIME * settings.timestep!r} 1", "solimp": "0.9999 0.9999 0.001 0.5 2",
                "condim": "1", "margin": "0", "friction": "0 0 0"}
     for cam in mech.cams:
         prof = profile(asm, cam, PROFILE_POINTS)
         check_convex(cam, prof, asm.sketch_phi)
+        half = float(extrusion_half(prof, size))
         vert = " ".join(f"{x!r} {y!r} {z!r}" for z in (-half, half) for x, y in prof.tolist())
         etree.SubElement(asset, "mesh", name=profile_name(cam), vertex=vert)
         crank = root.find(f".//body[@name='{body_name(mech.crank)}']")
