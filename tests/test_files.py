@@ -121,10 +121,10 @@ def test_build_output_option_with_a_folder(tmp_path, capsys):
 def test_output_pointing_at_a_folder(tmp_path, capsys):
     assert main(["build", str(FOURBAR), "-o", str(tmp_path)]) == 2
     assert capsys.readouterr().err == (
-        f"linkgen: error: {FOURBAR}: {tmp_path}: is a folder; give a file name to write\n")
+        f"linkgen: error: {tmp_path}: is a folder; give a file name to write\n")
     assert main(["analyze", str(FOURBAR), "--samples", "4", "--csv", str(tmp_path)]) == 2
     assert capsys.readouterr().err == (
-        f"linkgen: error: {FOURBAR}: {tmp_path}: is a folder; give a file name to write\n")
+        f"linkgen: error: {tmp_path}: is a folder; give a file name to write\n")
     assert list(tmp_path.iterdir()) == []
 
 

@@ -25,7 +25,7 @@ from pathlib import Path
 from linkgen.cli import cams, closed_form, draw, dynamics, forces, mujoco, sketch
 from linkgen.cli.common import OptionError, add_crank_arguments
 from linkgen.cli.files import message_for
-from linkgen.outputs import Interrupted
+from linkgen.outputs import Interrupted, OutputError
 from linkgen.errors import LinkgenError
 
 
@@ -131,7 +131,8 @@ def main(argv: list[str] | None = None) -> int:
         return 2
     except (LinkgenError, OSError) as exc:
         model = getattr(args, "model", None)
-        text = message_for(model, exc) if model is not None else str(exc)
+        # an output's own error names the output, not the description
+        text = message_for(model, exc) if model is not None and not isinstance(exc, OutputError) else str(exc)
         print(f"linkgen: error: {text}", file=sys.stderr)
         return 2
 
