@@ -159,3 +159,16 @@ def test_drawing_is_the_same_bytes_on_every_run(tmp_path, monkeypatch, capsys, s
         assert main(["draw", str(MODELS / model), "-o", str(out)]) == 0
         outs.append(out.read_bytes())
     assert outs[0] == outs[1]
+
+
+def test_library_animation_writer_refuses_a_symlink(tmp_path):
+    from linkgen.draw.animate import save_animation
+
+    link, victim = _plant(tmp_path, "a.gif")
+    with pytest.raises(OutputError, match="is a symbolic link"):
+        save_animation([np.zeros((4, 4, 3), dtype=np.uint8)] * 2, link)
+    assert victim.read_text() == PRECIOUS
+    out = tmp_path / "b.gif"
+    save_animation([np.zeros((4, 4, 3), dtype=np.uint8)] * 2, out)
+    assert out.read_bytes().startswith(b"GIF8")
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["a.gif", "b.gif", "victim.txt"]
