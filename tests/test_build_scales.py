@@ -3,6 +3,7 @@ scaled down and up, spatial four-bars standing still or turning backwards; `buil
 every file and reports each failure."""
 
 import math
+import re
 import shutil
 from pathlib import Path
 
@@ -158,11 +159,14 @@ def test_meshes_of_a_micrometre_mechanism_are_thick_enough_for_mujoco(tmp_path, 
 
 
 def test_a_cam_too_small_for_any_mesh_is_a_clear_error(tmp_path, capsys, quick_cams):
+    # 1e-20 m: no extrusion gives MuJoCo's least mesh volume with a hull its qhull can build
     desc = scale_description(MODELS / "cam_translating.toml", tmp_path / "tiny.toml", 1e-20, masses=False)
     assert main(["build", str(desc)]) == 2
     err = capsys.readouterr().err
-    assert err.startswith(f"linkgen: error: {desc}: MuJoCo cannot represent this mechanism as described (its "
-                          "compiler refuses the generated model: Error: mesh 'cam:profile' "), err
+    assert re.fullmatch(rf"linkgen: error: {re.escape(str(desc))}: the cam's profile \(size \S+ m, area \S+ m²\) is "
+                        r"too small for MuJoCo: a mesh must enclose at least 1e-15 m³, which would take a disc \S+ "
+                        r"times thicker than wide, beyond what MuJoCo's convex hull resolves; MuJoCo cannot model "
+                        r"this cam\n", err), err
     assert "Traceback" not in err and not desc.with_suffix(".xml").exists()
 
 

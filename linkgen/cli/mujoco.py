@@ -38,7 +38,7 @@ def _build_one(path: Path, out: Path, practical: bool = False) -> Path:
         return _build_checked(path, out, practical)
     except ValueError as exc:
         text = str(exc).strip()
-        if not text.startswith("Error"):  # not MuJoCo's compiler: a bug, reported as such
+        if not text.startswith(("Error", "XML Error")):  # not MuJoCo's compiler: a bug, reported as such
             raise
         raise LinkgenError(f"MuJoCo cannot represent this mechanism as described (its compiler refuses the "
                            f"generated model: {' '.join(text.split())})") from None
