@@ -123,8 +123,8 @@ def test_interrupted_csv_leaves_no_temporary_file(tmp_path, signum):
     _, err = proc.communicate(timeout=WAIT_S)
     assert proc.returncode == 128 + signum, err
     assert sorted(p.name for p in tmp_path.iterdir()) == []
-    assert err.decode().endswith(f"linkgen: interrupted by {signal.Signals(signum).name}; an output being written "
-                                 "was not written\n")
+    assert err.decode().endswith(f"linkgen: interrupted by {signal.Signals(signum).name}; no output is left "
+                                 "half-written\n")
 
 
 def test_assemble_write_keeps_the_mode(tmp_path, capsys):

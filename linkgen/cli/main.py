@@ -123,8 +123,7 @@ def main(argv: list[str] | None = None) -> int:
         return 141
     except (Interrupted, KeyboardInterrupt) as exc:  # Ctrl-C, or SIGTERM/SIGHUP during a write: no temporary file left
         signum = getattr(exc, "signum", signal.SIGINT)
-        print(f"linkgen: interrupted by {signal.Signals(signum).name}; an output being written was not written",
-              file=sys.stderr)
+        print(f"linkgen: interrupted by {signal.Signals(signum).name}; no output is left half-written", file=sys.stderr)
         return 128 + signum
     except OptionError as exc:
         print(f"linkgen {args.command}: error: {exc}", file=sys.stderr)
