@@ -169,7 +169,9 @@ def check_cam_linkage_file(path: Path, asm, report: Path | None, t0: float, prog
     if report is not None:
         from linkgen.crosscheck.report import plot_mechanism
 
-        report.mkdir(parents=True, exist_ok=True)
+        from linkgen.outputs import output_folder
+
+        output_folder(report)
         out["figures"] = plot_mechanism(asm, report)
     out["total_wall_s"] = time.perf_counter() - t0
     out["line"] = r.summary(wall_text(out["total_wall_s"]))

@@ -10,6 +10,7 @@ from pathlib import Path
 import numpy as np
 
 from linkgen.cli.common import OptionError, _float_arg, print_json, write_rows
+from linkgen.outputs import output_folder
 
 
 def _positive(text: str) -> float:
@@ -65,7 +66,7 @@ def cmd_dynamics(args) -> int:
         atomic_write_text(args.mjcf, machine_mjcf(asm, machine))
         out["mjcf"] = str(args.mjcf)
     if args.report is not None:
-        args.report.mkdir(parents=True, exist_ok=True)
+        output_folder(args.report)
         fig = args.report / f"{name}_machine.png"
         plot_run(name, mj_run if mj_run is not None else run, fig, mj)
         out["figure"] = str(fig)
@@ -133,7 +134,7 @@ def cmd_flywheel(args) -> int:
            "units": {"inertia_required": "kg·m² at the crank, beyond the mechanism and the rotor",
                      "driving_torque": "N·m", "energy_swing": "J", "omega_mean": "rad/s"}}
     if args.report is not None:
-        args.report.mkdir(parents=True, exist_ok=True)
+        output_folder(args.report)
         red = reduce(asm, machine.process_load)
         added = machine.rotor_inertia * machine.gear_ratio**2
         js = np.geomspace(max(fw.inertia, 1e-6) / 30, max(fw.inertia, 1e-6) * 30, 40)

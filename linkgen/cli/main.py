@@ -18,12 +18,14 @@ DESCRIPTION = ("Mechanisms from their descriptions (models/*.toml): closed-form 
 
 import argparse
 import os
+import signal
 import sys
 from pathlib import Path
 
 from linkgen.cli import cams, closed_form, draw, dynamics, forces, mujoco, sketch
 from linkgen.cli.common import OptionError, add_crank_arguments
 from linkgen.cli.files import message_for
+from linkgen.outputs import Interrupted, OutputError
 from linkgen.errors import LinkgenError
 
 
@@ -133,12 +135,17 @@ def main(argv: list[str] | None = None) -> int:
     except BrokenPipeError:
         _silence_stdout()
         return 141
+    except (Interrupted, KeyboardInterrupt) as exc:  # Ctrl-C, or SIGTERM/SIGHUP during a write: no temporary file left
+        signum = getattr(exc, "signum", signal.SIGINT)
+        print(f"linkgen: interrupted by {signal.Signals(signum).name}; no output is left half-written", file=sys.stderr)
+        return 128 + signum
     except OptionError as exc:
         print(f"linkgen {args.command}: error: {exc}", file=sys.stderr)
         return 2
     except (LinkgenError, OSError) as exc:
         model = getattr(args, "model", None)
-        text = message_for(model, exc) if model is not None else str(exc)
+        # an output's own error names the output, not the description
+        text = message_for(model, exc) if model is not None and not isinstance(exc, OutputError) else str(exc)
         print(f"linkgen: error: {text}", file=sys.stderr)
         return 2
 

@@ -33,7 +33,19 @@ def _models(path: Path) -> list[Path]:
 
 
 def _build_one(path: Path, out: Path, practical: bool = False) -> Path:
-    """Compile ``path``'s MJCF in MuJoCo and write it atomically to ``out``."""
+    """Compile ``path``'s MJCF in MuJoCo and write it atomically to ``out``; a model MuJoCo's
+    compiler refuses is a LinkgenError saying what it refused."""
+    try:
+        return _build_checked(path, out, practical)
+    except ValueError as exc:
+        text = str(exc).strip()
+        if not text.startswith(("Error", "XML Error")):  # not MuJoCo's compiler: a bug, reported as such
+            raise
+        raise LinkgenError(f"MuJoCo cannot represent this mechanism as described (its compiler refuses the "
+                           f"generated model: {' '.join(text.split())})") from None
+
+
+def _build_checked(path: Path, out: Path, practical: bool = False) -> Path:
     import mujoco
 
     from linkgen.cli.files import atomic_write_text
@@ -116,6 +128,10 @@ def cmd_simulate(args) -> int:
 
     if args.out is not None and args.out.suffix not in (".npz", ".csv"):
         raise DescriptionError("--out", f"must end in .npz or .csv, got {str(args.out)!r}")
+    if args.out is not None:  # a symlink or a folder refused before the run, not after it
+        from linkgen.outputs import check_output
+
+        check_output(args.out)
     mech = load(args.model)
     try:
         asm = assemble(mech)
@@ -141,9 +157,24 @@ def cmd_simulate(args) -> int:
     arrays["reduced_inertia"] = s.reduced_inertia
     if args.out is not None:
         check_finite_columns(list(arrays), list(arrays.values()))  # nothing non-finite is written
-    if args.out is not None and args.out.suffix == ".npz":
-        np.savez(args.out, **arrays)
-    elif args.out is not None:
+        _write_samples(args.out, arrays)
+    st = run.settings
+    print(f"{asm.mechanism.name}: {run.steps} steps ({steps_per_revolution(run):.0f} per revolution) in {run.wall:.2f} s "
+          f"on {run.segments} thread(s); timestep {st.timestep:g} s, loop time constant {st.timeconst:g} s; "
+          f"largest loop gap {run.gap_max:.3g} m; {s.time.shape[0]} samples"
+          + (f"; wrote {args.out}" if args.out else ""))
+    return 0
+
+
+def _write_samples(out: Path, arrays: dict[str, np.ndarray]) -> None:
+    """``simulate --out``: the sampled arrays as NPZ, or as CSV (2-D arrays as .x/.y columns;
+    not qpos, qvel), written atomically and never through a symlink."""
+    from linkgen.outputs import atomic_output
+
+    with atomic_output(out) as tmp:
+        if out.suffix == ".npz":
+            np.savez(tmp, **arrays)
+            return
         header, data = [], []
         for k, v in arrays.items():
             if k in ("qpos", "qvel"):
@@ -154,13 +185,7 @@ def cmd_simulate(args) -> int:
             else:
                 header.append(k)
                 data.append(v)
-        np.savetxt(args.out, np.column_stack(data), delimiter=",", header=",".join(header), comments="", fmt="%.17g")
-    st = run.settings
-    print(f"{asm.mechanism.name}: {run.steps} steps ({steps_per_revolution(run):.0f} per revolution) in {run.wall:.2f} s "
-          f"on {run.segments} thread(s); timestep {st.timestep:g} s, loop time constant {st.timeconst:g} s; "
-          f"largest loop gap {run.gap_max:.3g} m; {s.time.shape[0]} samples"
-          + (f"; wrote {args.out}" if args.out else ""))
-    return 0
+        np.savetxt(tmp, np.column_stack(data), delimiter=",", header=",".join(header), comments="", fmt="%.17g")
 
 
 def _check_one(path: Path, report: Path | None, practical: bool, nthread: int | None, progress: bool,
@@ -204,7 +229,9 @@ def _check_one(path: Path, report: Path | None, practical: bool, nthread: int | 
         from linkgen.crosscheck.report import plot_mechanism, plot_model
         from linkgen.planar.summary import summarize
 
-        report.mkdir(parents=True, exist_ok=True)
+        from linkgen.outputs import output_folder
+
+        output_folder(report)
         out["figures"] = plot_mechanism(asm, report) + plot_model(cc.comparison, report)
         out["summary"] = summarize(asm).to_dict()
     out["total_wall_s"] = time.perf_counter() - t0
@@ -268,6 +295,10 @@ def cmd_validate(args) -> int:
 
     paths = _models(args.model)
     report = args.report if args.report is not None else (REPORT_DIR if args.model.is_dir() else None)
+    if report is not None:  # refused before the runs (a symlink, a file), not after them
+        from linkgen.outputs import output_folder
+
+        output_folder(report)
     practical = not args.no_practical
     t0 = time.perf_counter()
     cpu0 = os.times()

@@ -21,7 +21,8 @@ def cmd_assemble(args) -> int:
         for name, (x, y) in sk.points.items():
             if sk.moved[name] > 0.0:
                 table[name] = [x, y]
-        atomic_write_text(Path(args.model), tomlkit.dumps(doc))
+        # in place: a symlinked description is updated at its target, its mode kept
+        atomic_write_text(Path(args.model), tomlkit.dumps(doc), follow_symlink=True)
         load(args.model)  # the written file loads, its sketch now within the tolerance
         worst = max(sk.moved.values())
         print(f"wrote the assembled sketch at φ = {math.degrees(sk.phi):.6g}° into {args.model} "

@@ -323,7 +323,9 @@ def check_spatial_file(path: Path, t0: float, report: Path | None = None) -> dic
     if report is not None:
         from linkgen.draw.spatial import draw_spatial, plot_spatial_check
 
-        report.mkdir(parents=True, exist_ok=True)
+        from linkgen.outputs import output_folder
+
+        output_folder(report)
         draw_spatial(mech, np.array([0.0]), report / f"{r.model}_drawing.png")
         draw_spatial(mech, np.radians(np.arange(0.0, 360.0, 30.0)), report / f"{r.model}_plan.png")
         out["figures"] = [f"{r.model}_drawing.png", f"{r.model}_plan.png"] + plot_spatial_check(r, report, mech)

@@ -15,6 +15,7 @@ from pathlib import Path
 import numpy as np
 
 from linkgen.crosscheck.compare import Comparison
+from linkgen.outputs import save_figure
 
 # A curve whose spread is below this fraction of its scale is "flat" (see the module docstring).
 FLAT = 1e-9
@@ -97,7 +98,7 @@ def plot_paths(cmp: Comparison, path: Path) -> None:
     ax.set(title=f"{cmp.model}: point paths (closed form; MuJoCo dashed; dot = start)", xlabel="x [m]",
            ylabel="y [m]", aspect="equal")
     _legend(ax, len(s.points))
-    fig.savefig(path, dpi=DPI)
+    save_figure(fig, path, dpi=DPI)
     plt.close(fig)
 
 
@@ -136,7 +137,7 @@ def plot_kinematics(cmp: Comparison, path: Path) -> None:
         _errors(axes[1, j], phi, cmp, [names[i] for i in keep], [labels[i] for i in keep],
                 _colors(plt, len(keep)), kind)
     fig.suptitle(f"{cmp.model}: kinematics — closed form (wide pale lines) vs MuJoCo (black dashed)")
-    fig.savefig(path, dpi=DPI)
+    save_figure(fig, path, dpi=DPI)
     plt.close(fig)
 
 
@@ -174,7 +175,7 @@ def plot_forces(cmp: Comparison, path: Path) -> None:
         labels = [n[len(prefix):].replace("reactions.", "").replace(".force", "") for n in names]
         _errors(ax, phi, cmp, names, labels, _colors(plt, len(names)), f"forces, {route}")
     fig.suptitle(f"{cmp.model}: forces — closed form (wide pale lines) vs MuJoCo (black dashed)")
-    fig.savefig(path, dpi=DPI)
+    save_figure(fig, path, dpi=DPI)
     plt.close(fig)
 
 

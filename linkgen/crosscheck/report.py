@@ -79,7 +79,9 @@ def _worst(quantities: dict, kind: str) -> str:
 def write_index(results: list[dict], out: Path, wall: float, cores: float) -> Path:
     """The report's README.md from the per-model results (``CrossCheck.to_json`` plus file,
     figures and wall time)."""
-    out.mkdir(parents=True, exist_ok=True)
+    from linkgen.outputs import atomic_write_text, output_folder
+
+    output_folder(out)
     lines = ["# linkgen validation report", "",
              "Closed-form Assur-group kinematics and kinetostatics against MuJoCo at the same crank states "
              "(φ, ω, ε measured in the MuJoCo run). Each error is the largest over the compared samples, relative "
@@ -171,7 +173,7 @@ def write_index(results: list[dict], out: Path, wall: float, cores: float) -> Pa
             lines.append(f"| `{k}` | {q['max_abs_error']:.3e} | {q['peak']:.3e} | {q['scale']:.3e} | "
                          f"{q['relative_error']:.2e} | {q['tolerance']:g} | {'yes' if q['ok'] else '**NO**'} |")
     path = out / "README.md"
-    path.write_text("\n".join(lines) + "\n", encoding="utf-8")
+    atomic_write_text(path, "\n".join(lines) + "\n")
     return path
 
 

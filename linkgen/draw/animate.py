@@ -89,30 +89,37 @@ def mujoco_run_frames(mech: Mechanism, frames: int, width: int = 480, height: in
 
 def save_animation(frames: list[np.ndarray], out: Path, fps: int = FPS) -> None:
     """Write the frames as an animated GIF (pillow) or MP4 (H.264 through imageio and
-    imageio-ffmpeg, the ``video`` extra), by ``out``'s suffix.
+    imageio-ffmpeg, the ``video`` extra), by ``out``'s suffix; atomically, never through a
+    symlink (``linkgen.outputs``).
 
     Raises:
         ArgumentError: the suffix is neither, or MP4 was asked for without an encoder installed.
     """
+    from linkgen.outputs import atomic_output
+
     kind = Path(out).suffix.lstrip(".").lower()
+    if kind not in FORMATS:
+        raise ArgumentError(f"{out}: an animation is written as {' or '.join('.' + f for f in FORMATS)}, "
+                            f"got {'.' + kind if kind else 'no suffix'}")
+    with atomic_output(out) as tmp:
+        _save_animation(frames, tmp, kind, fps, out)
+
+
+def _save_animation(frames: list[np.ndarray], tmp: Path, kind: str, fps: int, out: Path) -> None:
     if kind == "gif":
         from PIL import Image
 
         images = [Image.fromarray(f) for f in frames]
-        images[0].save(out, format="GIF", save_all=True, append_images=images[1:], duration=round(1000 / fps),
+        images[0].save(tmp, format="GIF", save_all=True, append_images=images[1:], duration=round(1000 / fps),
                        loop=0, optimize=False)
         return
-    if kind == "mp4":
-        try:
-            import imageio.v2 as iio
-            import imageio_ffmpeg  # noqa: F401  (the encoder imageio's FFMPEG format needs)
-        except ImportError:
-            raise ArgumentError(f"{out}: writing MP4 needs imageio and imageio-ffmpeg "
-                                f"(pip install 'linkgen[video]'); write a .gif instead") from None
-        iio.mimwrite(out, _even(frames), fps=fps, format="FFMPEG", macro_block_size=1)
-        return
-    raise ArgumentError(f"{out}: an animation is written as {' or '.join('.' + f for f in FORMATS)}, "
-                        f"got {'.' + kind if kind else 'no suffix'}")
+    try:  # mp4
+        import imageio.v2 as iio
+        import imageio_ffmpeg  # noqa: F401  (the encoder imageio's FFMPEG format needs)
+    except ImportError:
+        raise ArgumentError(f"{out}: writing MP4 needs imageio and imageio-ffmpeg "
+                            f"(pip install 'linkgen[video]'); write a .gif instead") from None
+    iio.mimwrite(tmp, _even(frames), fps=fps, format="FFMPEG", macro_block_size=1)
 
 
 def _even(frames: list[np.ndarray]) -> list[np.ndarray]:

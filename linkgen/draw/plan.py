@@ -100,11 +100,13 @@ def _finish(fig, out: Path | None):
     return fig
 
 
-def save(fig, out: Path) -> None:
+def save(fig, out: Path, dpi: float = DPI) -> None:
     """Write ``fig`` to ``out`` in the format its suffix names (png, svg, pdf) and close it."""
+    from linkgen.outputs import save_figure
+
     plt = plt_module()
     try:
-        fig.savefig(out, dpi=DPI, format=Path(out).suffix.lstrip(".").lower() or "png")
+        save_figure(fig, out, dpi=dpi)  # atomic, never through a symlink, no date in svg/pdf
     finally:
         plt.close(fig)
 

@@ -263,7 +263,7 @@ def _columns(plt, path, title, cols, phi, thin, size):
     style = [Line2D([], [], color="k", lw=1.3, label="closed form"),
              Line2D([], [], ls="none", marker="o", mfc="none", mec="k", label=f"MuJoCo (every {thin}th sample)")]
     fig.legend(handles=[*seen.values(), *style], loc="outside lower center", ncol=len(seen) + 2, fontsize=8, frameon=False)
-    fig.suptitle(title), fig.savefig(path, dpi=CHECK_DPI), plt.close(fig)
+    fig.suptitle(title), save(fig, path, dpi=CHECK_DPI)
 
 
 def plot_spatial_check(check, out_dir: Path, mech=None) -> list[str]:
@@ -302,5 +302,5 @@ def plot_spatial_check(check, out_dir: Path, mech=None) -> list[str]:
     ax.set(title=f"{kind}: loop gap over the revolution", xlabel="φ [deg]", ylabel="[m]", xlim=(phi.min(), phi.max()))
     ax.grid(True, which="both", lw=0.3, alpha=0.5)
     ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0, frameon=False)
-    fig.savefig(out_dir / names[4], dpi=CHECK_DPI), plt.close(fig)
+    save(fig, out_dir / names[4], dpi=CHECK_DPI)
     return names

@@ -8,6 +8,7 @@ from pathlib import Path
 import numpy as np
 
 from linkgen.dynamics.machine import MachineRun
+from linkgen.outputs import save_figure
 
 
 def _plt():
@@ -37,7 +38,7 @@ def plot_run(name: str, run: MachineRun, path: Path, mujoco=None) -> None:
     a3.plot(run.motor_torque, run.omega, color="tab:green", lw=1.2)
     a3.set(title="phase portrait ω(M)", xlabel="M [N·m]", ylabel="ω [rad/s]")
     fig.suptitle(f"{name}: machine start-up and steady running")
-    fig.savefig(path, dpi=90)
+    save_figure(fig, path, dpi=90)
     plt.close(fig)
 
 
@@ -51,7 +52,7 @@ def plot_flywheel(name: str, inertias: np.ndarray, deltas: np.ndarray, sized: tu
            ylabel="δ = (ω_max − ω_min)/ω_mean")
     ax.legend(fontsize=8)
     ax.grid(True, which="both", lw=0.3)
-    fig.savefig(path, dpi=90)
+    save_figure(fig, path, dpi=90)
     plt.close(fig)
 
 

@@ -61,6 +61,23 @@ SPEED_HOLD = 1e-9
 CAM, FOLLOWER, SPRING, CONTACT = "cam", "follower", "follower:spring", "follower:contact"
 # Steps between progress reports (about a second of a run on this machine's cores).
 PROGRESS_STEPS = 5000
+# The profile is extruded HALF_THICKNESS of the size each side of the plane, or thicker where that
+# would enclose less than MESH_VOLUME_MARGIN times MuJoCo's least mesh volume: its compiler
+# rejects a mesh under mjMINVAL = 1e-15 m³ ("mesh volume is too small"; measured by bisection on
+# mujoco 4.0 with boxes of 1e-4 and 1e-6 m sides: 1.0e-15 compiles, below does not). A cam of
+# base radius 0.25 µm is then a disc some centimetres thick: the contact is in the plane, so the
+# thickness changes nothing but the drawing.
+HALF_THICKNESS = 0.02
+# Shortest capsule drawn [m]: MuJoCo's compiler refuses fromto points closer than 1e-7 m
+# ("fromto points too close in geom"; measured on mujoco 4.0 for radii 1e-12..1 m); ten times that.
+MUJOCO_MIN_BAR = 1e-6
+MUJOCO_MIN_MESH_VOLUME = 1e-15  # m³
+MESH_VOLUME_MARGIN = 10.0
+# Thickest extrusion, as a multiple of the size: measured on mujoco 4.0 with the bundled cams
+# scaled down, a 4000-vertex profile 3e13 times thicker than wide still compiles and one 4.6e14
+# times does not (qhull cannot build its convex hull); a profile needing more than 1e12 is
+# refused with the reason before MuJoCo is asked.
+MAX_THICKNESS_RATIO = 1e12
 # The contact force and cam torque are compared as means over this many equal parts of a turn.
 WINDOWS = 72
 # What MuJoCo's soft, faceted contact holds, set from measurement on the bundled cams (twice the
@@ -108,6 +125,25 @@ def rotor_inertia(cm: CamMechanism) -> float:
     return max(swing / (SPEED_HOLD * cm.omega**2), 1.0)
 
 
+def polygon_area(xy: np.ndarray) -> float:
+    """Area [m²] enclosed by the polygon ``xy`` (n, 2) (shoelace formula)."""
+    x, y = xy[:, 0], xy[:, 1]
+    return 0.5 * abs(float(np.dot(x, np.roll(y, -1)) - np.dot(y, np.roll(x, -1))))
+
+
+def extrusion_half(profile_xy: np.ndarray, size: float) -> float:
+    """Half-thickness [m] of a profile's extruded mesh and its follower's contact geom:
+    HALF_THICKNESS of the size, or enough for MuJoCo's least mesh volume (see there)."""
+    area = polygon_area(profile_xy)
+    need = MESH_VOLUME_MARGIN * MUJOCO_MIN_MESH_VOLUME / (2 * area) if area > 0 else math.inf
+    if not need <= MAX_THICKNESS_RATIO * size:
+        raise SimulationError(
+            f"the cam's profile (size {size:.3g} m, area {area:.3g} m²) is too small for MuJoCo: a mesh must enclose "
+            f"at least {MUJOCO_MIN_MESH_VOLUME:g} m³, which would take a disc {need / size:.3g} times thicker than "
+            "wide, beyond what MuJoCo's convex hull resolves; MuJoCo cannot model this cam")
+    return max(HALF_THICKNESS * size, need)
+
+
 def cam_mjcf(cm: CamMechanism) -> str:
     """The MJCF text (module docstring)."""
     _check_convex(cm)
@@ -117,7 +153,7 @@ def cam_mjcf(cm: CamMechanism) -> str:
     th = np.linspace(0.0, 2 * math.pi, PROFILE_POINTS, endpoint=False)
     rr = f.roller_radius if f.roller_radius > 0 else KNIFE_RADIUS * f.base_radius
     prof = f.profile(th, rr)  # a knife edge's small roller touches, not cuts into, the pitch curve
-    half = 0.02 * size
+    half = extrusion_half(prof, size)
     root = etree.Element("mujoco", model=cm.name)
     root.append(comment(f" {cm.title or cm.name}: written by linkgen from the cam description. "
                               f"Contacts as stiff as the timestep allows; the follower's spring is {SPRING}. "))
@@ -152,8 +188,9 @@ def cam_mjcf(cm: CamMechanism) -> str:
         etree.SubElement(fol, "joint", name=FOLLOWER, type="slide", axis="0 1 0")
         etree.SubElement(fol, "inertial", pos="0 0 0", mass=_f(max(cm.mass, 1e-6)), diaginertia="1e-6 1e-6 1e-6")
         roller_pos = "0 0 0"
-        etree.SubElement(fol, "geom", name="follower:stem", type="capsule", fromto=f"0 0 0 0 {_f(0.3 * size)} 0",
-                         size=_f(0.01 * size), rgba="0.25 0.45 0.8 1", contype="0", conaffinity="0")
+        if 0.3 * size >= MUJOCO_MIN_BAR:  # a drawing only: MuJoCo refuses shorter capsules
+            etree.SubElement(fol, "geom", name="follower:stem", type="capsule", fromto=f"0 0 0 0 {_f(0.3 * size)} 0",
+                             size=_f(0.01 * size), rgba="0.25 0.45 0.8 1", contype="0", conaffinity="0")
         bias = f"{_f(-cm.spring_preload)} {_f(-cm.spring_rate)} 0"
     else:
         psi0 = f.psi0
@@ -163,8 +200,9 @@ def cam_mjcf(cm: CamMechanism) -> str:
                          diaginertia=" ".join([_f(max(cm.inertia, 1e-9))] * 3))
         x, y = -f.arm_length * math.cos(psi0), f.arm_length * math.sin(psi0)
         roller_pos = f"{_f(x)} {_f(y)} 0"
-        etree.SubElement(fol, "geom", name="follower:arm", type="capsule", fromto=f"0 0 0 {_f(x)} {_f(y)} 0",
-                         size=_f(0.01 * size), rgba="0.25 0.45 0.8 1", contype="0", conaffinity="0")
+        if f.arm_length >= MUJOCO_MIN_BAR:  # a drawing only: MuJoCo refuses shorter capsules
+            etree.SubElement(fol, "geom", name="follower:arm", type="capsule", fromto=f"0 0 0 {_f(x)} {_f(y)} 0",
+                             size=_f(0.01 * size), rgba="0.25 0.45 0.8 1", contype="0", conaffinity="0")
         # q = −(ψ − ψ0): the spring torque (preload + rate·(ψ − ψ0)) turns the arm towards the cam, +q
         bias = f"{_f(cm.spring_preload)} {_f(-cm.spring_rate)} 0"
     if f.flat:  # the face, square to the motion, wide enough for every contact point x = ds/dθ

@@ -21,7 +21,7 @@ from lxml import etree
 from linkgen.errors import SimulationError
 from linkgen.model.description import CamPair
 from linkgen.mujoco.cam import (CCD_ITERATIONS, CCD_TOLERANCE, CONTACT_TIME, INTEGRATOR, KNIFE_RADIUS, PROFILE_POINTS,
-                                cam_timestep)
+                                cam_timestep, extrusion_half)
 from linkgen.mujoco.options import Settings
 from linkgen.mujoco.tree import body_name
 from linkgen.planar.assembly import Assembly
@@ -83,7 +83,6 @@ def add_cams(root, asm: Assembly, settings: Settings, size: float) -> None:
     option.set("cone", "pyramidal")
     asset = root.find("asset")
     actuator = root.find("actuator")
-    half = float(0.02 * size)
     contact = {"solref": f"{CONTACT_TIME * settings.timestep!r} 1", "solimp": "0.9999 0.9999 0.001 0.5 2",
                "condim": "1", "margin": "0", "friction": "0 0 0"}
     o = np.asarray(mech.points[mech.revolute(mech.drive.joint).point], dtype=float)
@@ -91,6 +90,7 @@ def add_cams(root, asm: Assembly, settings: Settings, size: float) -> None:
         radius = cam.roller_radius or KNIFE_RADIUS * math.dist(o, mech.points[cam.roller])
         prof = profile(asm, cam, PROFILE_POINTS, radius)  # a knife edge's small roller touches, not cuts into, it
         check_convex(cam, prof, asm.sketch_phi)
+        half = float(extrusion_half(prof, size))
         vert = " ".join(f"{x!r} {y!r} {z!r}" for z in (-half, half) for x, y in prof.tolist())
         etree.SubElement(asset, "mesh", name=profile_name(cam), vertex=vert)
         crank = root.find(f".//body[@name='{body_name(mech.crank)}']")

@@ -39,6 +39,7 @@ from linkgen.errors import AssemblyError, DescriptionError, SimulationError, Sin
 from linkgen.model.plate import convex_hull, hull_area
 from linkgen.model.geometry import GuideShape, LinkShape, effective_mass_properties, guide_shapes, link_shapes
 from linkgen.planar.kinematics import solve
+from linkgen.mujoco.cam import MESH_VOLUME_MARGIN, MUJOCO_MIN_BAR, MUJOCO_MIN_MESH_VOLUME
 from linkgen.mujoco.options import PLACEHOLDER, Settings
 from linkgen.planar.pose import mechanism_size, reference_pose
 from linkgen.mujoco.settings import crank_only, derive
@@ -81,7 +82,6 @@ MIN_BAR = BAR_RADIUS
 # and a paler, half-transparent shade of its link's colour so that its bars show through.
 PLATE_HALF_THICKNESS = 0.003
 PLATE_RGBA = {"mat:crank": "0.95 0.6 0.5 0.6", "mat:link": "0.55 0.7 0.95 0.6"}
-MUJOCO_MIN_BAR = 1e-6  # m
 
 
 def fmt(x: float) -> str:
@@ -258,9 +258,10 @@ def write_mjcf(source: Mechanism | Assembly, settings: Settings | None = None) -
 def _plate(src: _Source, body, link: str, pts: list, material: str) -> None:
     """A link of three or more points (not on one line) drawn as a thin plate over their convex hull."""
     hull = convex_hull(pts)
-    if len(hull) < 3 or hull_area(pts) < (MIN_BAR * src.size) ** 2:
-        return
     t = PLATE_HALF_THICKNESS * src.size
+    area = hull_area(pts)
+    if len(hull) < 3 or area < (MIN_BAR * src.size) ** 2 or 2 * t * area < MESH_VOLUME_MARGIN * MUJOCO_MIN_MESH_VOLUME:
+        return  # a drawing only: left out where MuJoCo would reject the mesh as too small
     vertex = " ".join(vec(x, y, z) for z in (-t, t) for x, y in hull)
     asset = body.getroottree().getroot().find("asset")
     etree.SubElement(asset, "mesh", name=f"mesh:{link}", vertex=vertex)

@@ -105,6 +105,14 @@ class _Constraints:
         self.length_row = np.zeros(self.n, dtype=bool)  # rows measured in metres (others in radians)
         self.length_row[:2 * len(self.rev)] = True
         self.length_row[2 * len(self.rev):2 * len(self.rev) + 2 * len(self.pri):2] = True
+        first_cam = 2 * len(self.rev) + 2 * len(self.pri) + len(self.gears)
+        for k, (_, _, u) in enumerate(self.cams):
+            self.length_row[first_cam + k] = u is not None  # a translating follower's lift [m]
+        # Newton and J·q′ = e work on the dimensionless system (lengths over the size): rows in
+        # metres divided by it, origin columns multiplied by it, so that J's conditioning and
+        # the steps do not depend on the mechanism's scale (1e-9 m or 1e9 m alike).
+        self.row_scale = np.where(self.length_row, 1.0 / self.size, 1.0)
+        self.col_scale = np.tile([self.size, self.size, 1.0], len(self.links))
 
     def _guide_direction(self, cam) -> np.ndarray | None:
         """A translating follower's guide direction (2,) in the world; None for an oscillating one."""
@@ -202,7 +210,7 @@ class _Constraints:
         for _ in range(MAX_ITER):
             if err <= POSE_TOL:
                 return q, True
-            step = np.linalg.lstsq(jac, -f, rcond=None)[0]
+            step = self.col_scale * np.linalg.lstsq(self._dimensionless(jac), -self.row_scale * f, rcond=None)[0]
             t = 1.0
             while True:  # backtracking keeps a far start from diverging
                 trial = q + t * step
@@ -216,7 +224,7 @@ class _Constraints:
 
     def rates(self, q: np.ndarray, phi: float) -> np.ndarray:
         """q′ = dq/dφ at a solved pose (J·q′ = e)."""
-        jac = self._evaluate(q, phi)[1]
+        jac = self._dimensionless(self._evaluate(q, phi)[1])
         cond = np.linalg.cond(jac)
         if not cond < MAX_CONDITION:
             raise SingularityError(self.label, [(phi, phi)],
@@ -224,8 +232,11 @@ class _Constraints:
                                    f"MAX_CONDITION = {MAX_CONDITION:g}: a dead centre or lock-up position, where "
                                    "the velocities are not determined")
         e = np.zeros(self.n)
-        e[-1] = 1.0
-        return np.linalg.solve(jac, e)
+        e[-1] = 1.0  # the drive row, in radians: unscaled
+        return self.col_scale * np.linalg.solve(jac, e)
+
+    def _dimensionless(self, jac: np.ndarray) -> np.ndarray:
+        return self.row_scale[:, None] * jac * self.col_scale[None, :]
 
     @property
     def label(self) -> str:

@@ -10,16 +10,24 @@ import numpy as np
 # MuJoCo's mass matrix well conditioned (a coupler on two ball joints spins on that inertia).
 ROD_RADIUS = 0.012
 POINT_RADIUS = 0.02
+# Least principal moment of inertia [kg·m²]: MuJoCo's compiler rejects a fullinertia with an
+# eigenvalue below mjEPS = 1e-14 ("inertia must have positive eigenvalues"; measured by
+# bisection on mujoco 4.0: 1e-14 compiles, 9.99999e-15 does not), which a light or small link
+# reaches (a 5e-10 kg crank of 0.25 mm: m·ℓ²/12 = 2.6e-18). Twice that, so that the
+# eigen-decomposition's rounding stays above it. Part of the mass model on both sides (closed
+# form and MJCF), so the two still describe the same bodies.
+MIN_PRINCIPAL_INERTIA = 2e-14
 
 
 def rod_inertia(mass: float, x: np.ndarray, span2: np.ndarray, size: float) -> np.ndarray:
     """Inertia tensors (n, 3, 3) [kg·m²] about the COM of rods of ``mass`` along unit x (n, 3)
-    with squared lengths span2 (n,): m·ℓ²/12 across the line, ½·m·r² along it; span2 = 0 gives
-    the ball of a one-point link."""
+    with squared lengths span2 (n,): m·ℓ²/12 across the line, ½·m·r² along it, each at least
+    MIN_PRINCIPAL_INERTIA; span2 = 0 gives the ball of a one-point link."""
     x = np.asarray(x, dtype=float)
     span2 = np.asarray(span2, dtype=float).reshape(-1)
-    across = mass * span2 / 12.0
-    along = np.where(span2 > 0, 0.5 * mass * (ROD_RADIUS * size) ** 2, 0.4 * mass * (POINT_RADIUS * size) ** 2)
+    across = np.maximum(mass * span2 / 12.0, MIN_PRINCIPAL_INERTIA)
+    along = np.maximum(np.where(span2 > 0, 0.5 * mass * (ROD_RADIUS * size) ** 2, 0.4 * mass * (POINT_RADIUS * size) ** 2),
+                       MIN_PRINCIPAL_INERTIA)
     xx = np.einsum("ni,nj->nij", x, x)
     eye = np.eye(3)[None]
     ball = span2 == 0

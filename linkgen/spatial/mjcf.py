@@ -18,6 +18,7 @@ import math
 import numpy as np
 from lxml import etree
 
+from linkgen.mujoco.cam import MUJOCO_MIN_BAR
 from linkgen.mujoco.options import PLACEHOLDER, Settings
 from linkgen.mujoco.scene import KEY, SERVO, SERVO_TIME, add_scene_assets
 from linkgen.model.names import GROUND
@@ -108,6 +109,8 @@ def write_spatial_mjcf(mech: SpatialMechanism, settings: Settings | None = None,
         etree.SubElement(b, "inertial", pos=_v(com), mass=repr(mech.link(link).mass), fullinertia=_v(inertia))
         lp = mech.link(link).points
         for i in range(len(lp) - 1):
+            if np.linalg.norm(pts[lp[i + 1]] - pts[lp[i]]) < MUJOCO_MIN_BAR:  # MuJoCo refuses it; a drawing only
+                continue
             etree.SubElement(b, "geom", name=f"{link}:bar:{lp[i]}-{lp[i + 1]}", type="capsule", size=repr(r_bar),
                              fromto=_v(np.r_[pts[lp[i]] - origin, pts[lp[i + 1]] - origin]), material=material)
         if len(lp) == 1:

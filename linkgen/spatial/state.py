@@ -65,9 +65,19 @@ def reduced_inertia(mech: SpatialMechanism, motion: SpatialMotion) -> np.ndarray
     return out
 
 
+def phase_time(mech: SpatialMechanism, chain: Chain, omega: float) -> float:
+    """τ_phase [s]: PHASE radians of crank at |ω|; at ω = 0 PHASE of the time the mechanism
+    falls by its size under gravity, √(size/|g|); with neither, PHASE of a second (nothing
+    moves or loads the loop: any time constant holds it)."""
+    if omega != 0.0:
+        return PHASE / abs(omega)
+    g = float(np.linalg.norm(mech.gravity))
+    return PHASE * math.sqrt(chain.size / g) if g > 0.0 else PHASE * 1.0
+
+
 def derive_settings(mech: SpatialMechanism, chain: Chain, scan: SpatialMotion, model: mujoco.MjModel,
                     omega: float) -> tuple[Settings, dict]:
-    """Settings for a run at crank speed ω: τ = min(τ_gap, PHASE/ω) with τ_gap putting the
+    """Settings for a run at crank speed ω: τ = min(τ_gap, τ_phase) (``phase_time``) with τ_gap putting the
     predicted loop gap (1 − d)·d·τ²·a0 at GAP_TARGET of the size (a0 the peak of MuJoCo's
     A_diag·λ over the scanned closed-form states), dt = τ/STEPS_PER_TAU, the rotor
     ARMATURE_RATIO times the peak reduced inertia. Returns the settings and what they came from."""
@@ -84,7 +94,7 @@ def derive_settings(mech: SpatialMechanism, chain: Chain, scan: SpatialMotion, m
         mujoco.mj_forward(model, data)
         rows = np.flatnonzero((data.efc_type == mujoco.mjtConstraint.mjCNSTR_EQUALITY) & (data.efc_id == eq))
         a0 = max(a0, float(np.abs(data.efc_diagA[rows] * data.efc_force[rows]).max()) if rows.size else 0.0)
-    tau_phase = PHASE / omega
+    tau_phase = phase_time(mech, chain, omega)
     tau_gap = math.sqrt(GAP_TARGET * chain.size / ((1 - IMPEDANCE) * IMPEDANCE * a0)) if a0 > 0 else math.inf
     tau = round_down(min(tau_phase, tau_gap))
     dt = round_down(tau / STEPS_PER_TAU)
@@ -92,4 +102,4 @@ def derive_settings(mech: SpatialMechanism, chain: Chain, scan: SpatialMotion, m
     return settings, {"reduced_inertia": j_peak, "loop_acceleration": a0, "tau_gap": tau_gap, "tau_phase": tau_phase}
 
 
-__all__ = ["derive_settings", "joint_state", "reduced_inertia"]
+__all__ = ["derive_settings", "joint_state", "phase_time", "reduced_inertia"]
