@@ -115,6 +115,9 @@ def stationary(d: Curve, x: np.ndarray, dx: np.ndarray, *, period: float | None 
 # samples, which bounds how far a sample next to a smooth peak falls below it: (Δx)²·|f''|/8)
 # are refined too, so that a peak whose nearest sample happens to fall lower is not missed.
 MARGIN = 1.0
+# At most this many of them, best first: more are rounding noise on a flat curve (an arcsine
+# near 90°), which refinement cannot improve beyond the noise itself.
+MAX_REFINED = 8
 
 
 def peak(f: Curve, x: np.ndarray, fx: np.ndarray, *, kind: str = "max", period: float | None = None,
@@ -142,7 +145,8 @@ def peak(f: Curve, x: np.ndarray, fx: np.ndarray, *, kind: str = "max", period: 
     fs = _scalar(f)
     # local bests (a plateau counts at its edges, whose value it keeps exactly)
     local = (g >= left) & (g >= right) & ((g > left) | (g > right))
-    for k in np.flatnonzero(local & (g >= value - margin)):
+    near = np.flatnonzero(local & (g >= value - margin))
+    for k in near[np.argsort(-g[near], kind="stable")][:MAX_REFINED]:
         if period is not None:
             a = float(x[k - 1] if k > 0 else x[-1] - period)
             b = float(x[k + 1] if k + 1 < n else x[0] + period)
@@ -158,4 +162,4 @@ def peak(f: Curve, x: np.ndarray, fx: np.ndarray, *, kind: str = "max", period: 
     return at, sign * value
 
 
-__all__ = ["Extremum", "MARGIN", "PEAK_XTOL", "XTOL", "peak", "samples", "stationary"]
+__all__ = ["Extremum", "MARGIN", "MAX_REFINED", "PEAK_XTOL", "XTOL", "peak", "samples", "stationary"]

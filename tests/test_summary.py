@@ -195,3 +195,150 @@ def test_summary_cli():
     p = subprocess.run([SCRIPT, "analyze", ROOT / "models" / "fourbar.toml", "--summary", "--samples", "10"],
                        capture_output=True, text=True, timeout=120)
     assert p.returncode == 2 and "--summary" in p.stderr and "Traceback" not in p.stderr
+
+
+# ---------------------------------------------------------------------------------------------
+# Every extremum of the summary against a dense independent scan of the closed form: 200 000
+# crank angles, limit positions refined by Newton's method on the analytic second transfer
+# function, peaks by zooming in with denser scans — neither uses the summary's search or its Brent refinement.
+
+from conftest import MODELS  # noqa: E402  (the planar linkages)
+
+from linkgen.model.description import GROUND  # noqa: E402
+from linkgen.planar.kinematics import solve  # noqa: E402
+from linkgen.planar.summary import transmission_angles  # noqa: E402
+
+DENSE = 200_000
+# Limit positions: Newton's method on d/dφ with the analytic d²/dφ² converges to a few ulps of
+# the crank angle; both sides then agree to the conditioning of d/dφ = 0 (1e-15/d²), well
+# inside 1e-9 rad for every bundled output; the values there to 1e-12 of the output's size.
+DENSE_ANGLE_TOL = 1e-9
+DENSE_VALUE_TOL = 1e-12
+# Peaks (forces, torques): both refinements end at a flat top, where the value is exact to a few
+# ulps; 1e-10 of the peak leaves room for that, and is 1000× below a 0.1° grid's error (1e-7).
+PEAK_REL_TOL = 1e-10
+# The least transmission angle μ = arcsin|D|: near 90° the arcsine turns a rounding of D into
+# √(2·1e-16) ≈ 1.5e-8 rad; elsewhere both refinements agree to a few ulps.
+MU_TOL = 5e-8
+# A full turn is a period when the closed form repeats itself to this after it (it does to ~1e-15).
+REPEAT_TOL = 1e-9
+
+
+def _dense_peak(fun, phi: np.ndarray, values: np.ndarray) -> float:
+    """The largest value of ``fun`` (vectorised over crank angles): the best of the DENSE
+    samples, then three rounds of 1001 samples between the best one's neighbours (spacing down
+    to 2e-13 rad: the value is then exact to rounding at a smooth top, and at a kink or jump)."""
+    k = int(np.argmax(values))
+    best = float(values[k])
+    a, b = phi[max(k - 1, 0)], phi[min(k + 1, len(phi) - 1)]
+    for _ in range(3):
+        x = np.linspace(a, b, 1001)
+        y = fun(x)
+        j = int(np.argmax(y))
+        best = max(best, float(y[j]))
+        a, b = x[max(j - 1, 0)], x[min(j + 1, len(x) - 1)]
+    return best
+
+
+def _outputs(asm):
+    """(name, kind, pick) of every slider and ground-pivoted link but the crank, pick(kin) →
+    (value, d/dφ, d²/dφ²)."""
+    mech = asm.mechanism
+    out = [(n, "slider", lambda k, n=n: (k.sliders[n].v, k.sliders[n].d1, k.sliders[n].d2)) for n in asm.guides]
+    pivoted = {p for r in mech.revolutes if GROUND in r.links for p in r.links if p != GROUND}
+    out += [(l.name, "rocker", lambda k, n=l.name: (k.links[n].angle.v, k.links[n].angle.d1, k.links[n].angle.d2))
+            for l in mech.links if l.name in pivoted and l.name != mech.crank]
+    return out
+
+
+def _dense_limits(asm, kin, pick, full: bool):
+    """Reference limit positions [(φ, value, kind)] from the dense solution ``kin``, whether the
+    output repeats over the turn, and its values at the range's ends."""
+    d = asm.mechanism.drive
+    phi = kin.phi
+    v, d1, _ = pick(kin)
+    v = np.unwrap(v)
+    periodic = full and abs(v[-1] - v[0]) <= REPEAT_TOL * max(1.0, float(np.abs(v).max()))
+    s = np.sign(d1[:-1] if periodic else d1)
+    nxt = np.roll(s, -1) if periodic else s[1:]
+    roots = []
+    for k in np.flatnonzero((s if periodic else s[:-1]) != nxt):
+        x = float(phi[k])
+        for _ in range(30):  # Newton on d/dφ with the analytic d²/dφ²
+            _, g1, g2 = pick(solve(asm, [x], on_singular="mark"))
+            step = g1[0] / g2[0]
+            x -= step
+            if abs(step) < 1e-16:
+                break
+        x = d.start + (x - d.start) % (2 * math.pi) if periodic else x
+        if periodic and 2 * math.pi - (x - d.start) < 1e-12:
+            x = d.start
+        if not periodic and not (d.start < x < d.stop):
+            continue
+        if any(abs(x - y) < 1e-9 for y, _, _ in roots):
+            continue
+        val, _, g2 = pick(solve(asm, [x], on_singular="mark"))
+        if g2[0] == 0.0:
+            continue  # an inflection with a horizontal tangent: no extremum
+        roots.append((x, float(val[0]), "max" if g2[0] < 0 else "min"))
+    return sorted(roots), periodic, (float(v[0]), float(v[-1]))
+
+
+@pytest.mark.parametrize("path", MODELS, ids=[p.stem for p in MODELS])
+def test_summary_extrema_agree_with_a_dense_independent_scan(path):
+    asm = assemble(load(path))
+    s = summarize(asm)
+    d = asm.mechanism.drive
+    full = abs(d.stop - d.start - 2 * math.pi) <= 1e-12
+    outputs = {(o.name, o.kind): o for o in s.outputs}
+    phi = np.linspace(d.start, d.stop, DENSE + 1)
+    kin = solve(asm, phi, on_singular="mark")
+    for name, kind, pick in _outputs(asm):
+        o = outputs[name, kind]
+        if o.travel is None:  # a link that turns fully round
+            continue
+        ref, periodic, ends = _dense_limits(asm, kin, pick, full)
+        assert [x.kind for x in o.limits] == [k for _, _, k in ref], (name, o.limits, ref)
+        scale = max(1.0, max(abs(v) for _, v, _ in ref)) if ref else 1.0
+        for lim, (x, v, _) in zip(o.limits, ref):
+            gap = abs(lim.phi - x)
+            assert min(gap, 2 * math.pi - gap) <= DENSE_ANGLE_TOL, (name, lim, x)
+            if kind == "rocker":  # the same angle up to whole turns
+                v = v + 2 * math.pi * round((lim.value - v) / (2 * math.pi))
+            assert abs(lim.value - v) <= DENSE_VALUE_TOL * scale, (name, lim, v)
+        values = [v for _, v, _ in ref]
+        if not periodic:
+            values += list(ends)
+        if values and kind == "slider":
+            assert o.travel == pytest.approx(max(values) - min(values), abs=DENSE_VALUE_TOL * scale)
+        if periodic and len(ref) == 2:
+            lo = next(x for x, _, k in ref if k == "min")
+            hi = next(x for x, _, k in ref if k == "max")
+            work = (hi - lo) % (2 * math.pi)
+            assert o.time_ratio == pytest.approx(max(work, 2 * math.pi - work) / min(work, 2 * math.pi - work),
+                                                 abs=1e-8)
+        else:
+            assert o.time_ratio is None
+    for t in s.transmission:
+        mu = transmission_angles(asm, phi)[t.group]
+        least = -_dense_peak(lambda p, g=t.group: -transmission_angles(asm, p)[g], phi, -mu)
+        assert abs(t.minimum - least) <= MU_TOL, (t, least)
+        assert transmission_angles(asm, np.array([t.at]))[t.group][0] == pytest.approx(t.minimum, abs=1e-15)
+    if s.torque is None:
+        return
+    w, e = s.omega, s.epsilon
+    from linkgen.planar.kinetostatics import forces as closed_forces
+
+    f = closed_forces(asm, phi, w, e)
+    ref = _dense_peak(lambda p: np.abs(closed_forces(asm, p, w, e).balancing_torque), phi, np.abs(f.balancing_torque))
+    assert s.torque.value == pytest.approx(ref, rel=PEAK_REL_TOL)
+    assert abs(closed_forces(asm, np.array([s.torque.at]), w, e).balancing_torque[0]) == pytest.approx(
+        s.torque.value, rel=1e-14)
+    for p in s.reactions:
+        def mag(x, n=p.name):
+            r = np.asarray(closed_forces(asm, x, w, e).reactions[n])
+            return np.hypot(r[:, 0], r[:, 1])
+        r = np.asarray(f.reactions[p.name])
+        ref = _dense_peak(mag, phi, np.hypot(r[:, 0], r[:, 1]))
+        assert p.value == pytest.approx(ref, rel=PEAK_REL_TOL), p.name
+        assert mag(np.array([p.at]))[0] == pytest.approx(p.value, rel=1e-14)
