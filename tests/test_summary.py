@@ -342,3 +342,155 @@ def test_summary_extrema_agree_with_a_dense_independent_scan(path):
         ref = _dense_peak(mag, phi, np.hypot(r[:, 0], r[:, 1]))
         assert p.value == pytest.approx(ref, rel=PEAK_REL_TOL), p.name
         assert mag(np.array([p.at]))[0] == pytest.approx(p.value, rel=1e-14)
+
+
+# ---------------------------------------------------------------------------------------------
+# Mechanisms sketched exactly at a dead centre (φ = 0 is a limit position): both limit positions
+# and the time ratio, against geometry.
+
+def test_press_lists_both_dead_centres_and_its_time_ratio():
+    (o,) = summarize(assemble(load(ROOT / "models" / "press.toml"))).outputs
+    assert [(x.kind, x.phi, x.value) for x in o.limits] == [
+        ("max", pytest.approx(0.0, abs=ANGLE_TOL), pytest.approx(0.5, abs=VALUE_TOL)),  # crank 0.1 + rod 0.4
+        ("min", pytest.approx(math.pi, abs=ANGLE_TOL), pytest.approx(0.3, abs=VALUE_TOL))]  # rod − crank
+    assert o.travel == pytest.approx(0.2, abs=VALUE_TOL)
+    assert o.strokes == pytest.approx((math.pi, math.pi), abs=ANGLE_TOL) and o.time_ratio == pytest.approx(1.0, abs=1e-10)
+
+
+def _offset_slider_crank_at_dead_centre(a: float, b: float, e: float):
+    """Crank a, rod b, the guide offset e (to its left) and turned by −asin(e/(a + b)) so that
+    crank and rod lie in line along +x at φ = 0: the sketch is the outer dead centre."""
+    psi = -math.asin(e / (a + b))
+    return loads(f"""
+[mechanism]
+name = "offset_at_dead_centre"
+[points]
+O = [0.0, 0.0]
+A = [{a!r}, 0.0]
+B = [{a + b!r}, 0.0]
+[links.ground]
+points = ["O"]
+[links.crank]
+points = ["O", "A"]
+length = {a!r}
+[links.rod]
+points = ["A", "B"]
+length = {b!r}
+[links.slider]
+points = ["B"]
+[prismatic.slider]
+slider = "slider"
+guide = "ground"
+point = "B"
+through = "O"
+angle = {psi!r}
+offset = {e!r}
+[drive]
+joint = "O"
+omega = 1.0
+"""), psi
+
+
+@pytest.mark.parametrize("a,b,e", [(0.02, 0.035, 0.0), (0.02, 0.035, 0.005), (0.1, 0.25, -0.04), (0.1, 0.3, 0.02)])
+def test_a_slider_crank_sketched_at_its_dead_centre(a, b, e):
+    mech, psi = _offset_slider_crank_at_dead_centre(a, b, e)
+    (o,) = summarize(assemble(mech)).outputs
+    far, near = _by_kind(o, "max"), _by_kind(o, "min")
+    assert len(o.limits) == 2
+    assert min(far.phi, 2 * math.pi - far.phi) == pytest.approx(0.0, abs=ANGLE_TOL)
+    assert far.value == pytest.approx(math.sqrt((a + b) ** 2 - e * e), abs=VALUE_TOL)
+    s = math.sqrt((b - a) ** 2 - e * e)  # folded: B on the guide at b − a from O, the crank opposite
+    bx, by = s * math.cos(psi) - e * math.sin(psi), s * math.sin(psi) + e * math.cos(psi)
+    folded = (math.atan2(by, bx) + math.pi) % (2 * math.pi)
+    assert near.phi == pytest.approx(folded, abs=ANGLE_TOL) and near.value == pytest.approx(s, abs=VALUE_TOL)
+    work = 2 * math.pi - folded  # min → max: from the folded dead centre on to φ = 2π ≡ 0
+    assert o.strokes == pytest.approx((work, folded), abs=ANGLE_TOL)
+    assert o.time_ratio == pytest.approx(max(work, folded) / min(work, folded), abs=1e-9)
+
+
+def _crank_rocker_at_dead_centre(a, b, c, d):
+    """Crank a, coupler b, rocker c, ground d, sketched with crank and coupler in line along +x
+    (φ = 0, the extended dead centre) and the rocker's pivot C below the x axis."""
+    L = a + b
+    cx = (d * d - c * c + L * L) / (2 * L)
+    cy = -math.sqrt(d * d - cx * cx)
+    mech = loads(f"""
+[mechanism]
+name = "crank_rocker_at_dead_centre"
+[points]
+O = [0.0, 0.0]
+A = [{a!r}, 0.0]
+B = [{L!r}, 0.0]
+C = [{cx!r}, {cy!r}]
+[links.ground]
+points = ["O", "C"]
+[links.crank]
+points = ["O", "A"]
+length = {a!r}
+[links.coupler]
+points = ["A", "B"]
+length = {b!r}
+[links.rocker]
+points = ["C", "B"]
+length = {c!r}
+[drive]
+joint = "O"
+omega = 1.0
+""")
+    return mech, (cx, cy)
+
+
+@pytest.mark.parametrize("dims", [(0.3, 1.0, 0.7, 1.0), (0.2, 0.9, 0.6, 0.8)])
+def test_a_crank_rocker_sketched_at_its_dead_centre(dims):
+    a, b, c, d = dims
+    mech, (cx, cy) = _crank_rocker_at_dead_centre(a, b, c, d)
+    (o,) = summarize(assemble(mech)).outputs
+    assert len(o.limits) == 2
+    # extended at φ = 0: B = (a + b, 0); folded: |OB| = b − a, B on the same side of OC as sketched
+    theta_c = math.atan2(cy, cx)
+    beta = theta_c + math.acos(((b - a) ** 2 + d * d - c * c) / (2 * (b - a) * d))
+    folded = (beta + math.pi) % (2 * math.pi)
+    rocker = {0.0: math.atan2(-cy, a + b - cx),
+              folded: math.atan2((b - a) * math.sin(beta) - cy, (b - a) * math.cos(beta) - cx)}
+    ext_kind = "max" if rocker[0.0] > rocker[folded] else "min"
+    ext = _by_kind(o, ext_kind)
+    fold = _by_kind(o, "min" if ext_kind == "max" else "max")
+    assert min(ext.phi, 2 * math.pi - ext.phi) == pytest.approx(0.0, abs=ANGLE_TOL)
+    assert fold.phi == pytest.approx(folded, abs=ANGLE_TOL)
+    for lim, phi in ((ext, 0.0), (fold, folded)):
+        assert math.remainder(lim.value - rocker[phi], 2 * math.pi) == pytest.approx(0.0, abs=1e-12)
+    assert o.travel == pytest.approx(abs(rocker[0.0] - rocker[folded]), abs=1e-12)
+    k = folded / (2 * math.pi - folded)
+    assert o.time_ratio == pytest.approx(max(k, 1 / k), abs=1e-9)
+
+
+def test_a_planetary_slider_keeps_its_global_maximum_at_phi_0():
+    """The planetary lever (ring 60, satellite 20: B = (cos φ + 0.55·cos 2φ, sin φ − 0.55·sin 2φ))
+    with a 3 m rod from B to a slider D on the x axis: D is farthest, 1 + 0.55 + 3 m, at φ = 0."""
+    text = (ROOT / "models" / "planetary_lever.toml").read_text(encoding="utf-8")
+    text = text.replace('B = [1.55, 0.0]\n', 'B = [1.55, 0.0]\nD = [4.55, 0.0]\n').replace("[gear.mesh]", """
+[links.rod]
+points = ["B", "D"]
+length = 3.0
+
+[links.slider]
+points = ["D"]
+
+[prismatic.slider]
+slider = "slider"
+guide = "ground"
+point = "D"
+through = "O"
+angle = 0.0
+
+[gear.mesh]""")
+    (o,) = summarize(assemble(loads(text))).outputs
+    top = max(o.limits, key=lambda x: x.value)
+    assert top.kind == "max" and min(top.phi, 2 * math.pi - top.phi) == pytest.approx(0.0, abs=ANGLE_TOL)
+    assert top.value == pytest.approx(4.55, abs=VALUE_TOL)
+    phi = np.linspace(0.0, 2 * math.pi, DENSE, endpoint=False)
+    xb, yb = np.cos(phi) + 0.55 * np.cos(2 * phi), np.sin(phi) - 0.55 * np.sin(2 * phi)
+    xd = xb + np.sqrt(9.0 - yb * yb)
+    assert o.travel == pytest.approx(4.55 - xd.min(), abs=1e-9)  # DENSE samples: (Δφ)²·|x″|/8 < 1e-9 m
+    steps = np.sign(np.diff(np.append(xd, xd[0])))
+    assert len(o.limits) == int(np.count_nonzero(steps != np.roll(steps, 1)))
