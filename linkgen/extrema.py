@@ -133,11 +133,11 @@ def peak(f: Curve, x: np.ndarray, fx: np.ndarray, *, kind: str = "max", period: 
     n = len(g)
     if period is not None:
         left, right = np.roll(g, 1), np.roll(g, -1)
-        d2 = np.abs(np.roll(g, -1) - 2 * g + np.roll(g, 1))
     else:
         left = np.concatenate([[-np.inf], g[:-1]])
         right = np.concatenate([g[1:], [-np.inf]])
-        d2 = np.abs(g[2:] - 2 * g[1:-1] + g[:-2]) if n > 2 else np.zeros(1)
+    with np.errstate(invalid="ignore"):  # a quantity may be ±inf where undefined (a cam's hold/pull)
+        d2 = np.abs(right - 2 * g + left)
     finite = np.isfinite(d2)
     margin = MARGIN * (float(np.max(d2[finite])) if finite.any() else 0.0)
     best = int(np.argmax(g))
@@ -154,7 +154,8 @@ def peak(f: Curve, x: np.ndarray, fx: np.ndarray, *, kind: str = "max", period: 
             a, b = float(x[max(k - 1, 0)]), float(x[min(k + 1, n - 1)])
         if not b > a:
             continue
-        r = minimize_scalar(lambda t: -sign * fs(t), bounds=(a, b), method="bounded", options={"xatol": xtol})
+        with np.errstate(invalid="ignore", over="ignore"):
+            r = minimize_scalar(lambda t: -sign * fs(t), bounds=(a, b), method="bounded", options={"xatol": xtol})
         if np.isfinite(r.fun) and -r.fun > value:
             at, value = float(r.x), float(-r.fun)
     if period is not None:

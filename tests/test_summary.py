@@ -207,6 +207,7 @@ from conftest import MODELS  # noqa: E402  (the planar linkages)
 from linkgen.model.description import GROUND  # noqa: E402
 from linkgen.planar.kinematics import solve  # noqa: E402
 from linkgen.planar.summary import transmission_angles  # noqa: E402
+from independent_checks import zoomed_peak as _dense_peak  # noqa: E402
 
 DENSE = 200_000
 # Limit positions: Newton's method on d/dφ with the analytic d²/dφ² converges to a few ulps of
@@ -222,22 +223,6 @@ PEAK_REL_TOL = 1e-10
 MU_TOL = 5e-8
 # A full turn is a period when the closed form repeats itself to this after it (it does to ~1e-15).
 REPEAT_TOL = 1e-9
-
-
-def _dense_peak(fun, phi: np.ndarray, values: np.ndarray) -> float:
-    """The largest value of ``fun`` (vectorised over crank angles): the best of the DENSE
-    samples, then three rounds of 1001 samples between the best one's neighbours (spacing down
-    to 2e-13 rad: the value is then exact to rounding at a smooth top, and at a kink or jump)."""
-    k = int(np.argmax(values))
-    best = float(values[k])
-    a, b = phi[max(k - 1, 0)], phi[min(k + 1, len(phi) - 1)]
-    for _ in range(3):
-        x = np.linspace(a, b, 1001)
-        y = fun(x)
-        j = int(np.argmax(y))
-        best = max(best, float(y[j]))
-        a, b = x[max(j - 1, 0)], x[min(j + 1, len(x) - 1)]
-    return best
 
 
 def _outputs(asm):
@@ -494,3 +479,58 @@ angle = 0.0
     assert o.travel == pytest.approx(4.55 - xd.min(), abs=1e-9)  # DENSE samples: (Δφ)²·|x″|/8 < 1e-9 m
     steps = np.sign(np.diff(np.append(xd, xd[0])))
     assert len(o.limits) == int(np.count_nonzero(steps != np.roll(steps, 1)))
+
+
+# ---------------------------------------------------------------------------------------------
+# The stand-alone cams' summaries against the same dense independent scan.
+
+from conftest import CAM_MODELS  # noqa: E402
+
+from linkgen.cams.description import load_cam  # noqa: E402
+from linkgen.cams.kinetics import state as cam_state  # noqa: E402
+from linkgen.cams.summary import cam_summary  # noqa: E402
+
+
+@pytest.mark.parametrize("path", CAM_MODELS, ids=[p.stem for p in CAM_MODELS])
+def test_cam_summary_extrema_agree_with_a_dense_independent_scan(path):
+    cm = load_cam(path)
+    w = cm.omega
+    s = cam_summary(cm, w)
+    th = np.linspace(0.0, 2 * math.pi, DENSE, endpoint=False)
+    st = cam_state(cm, th, w)
+
+    def top(fun, values):  # the largest value, dense and zoomed
+        return _dense_peak(fun, th, values)
+
+    def quantity(name, sign=1.0, absolute=False):
+        def fun(x):
+            v = sign * getattr(cam_state(cm, x, w), name)
+            return np.abs(v) if absolute else v
+        return fun, fun(th)
+
+    stroke = top(*quantity("displacement")) + top(*quantity("displacement", -1.0))
+    assert s["stroke"] == pytest.approx(stroke, rel=PEAK_REL_TOL)
+    alpha = top(*quantity("pressure_angle", absolute=True))
+    assert s["max_pressure_angle"]["value"] == pytest.approx(alpha, rel=PEAK_REL_TOL, abs=1e-15)
+    rho = cm.follower.profile_curvature_radius
+    assert s["min_profile_curvature_radius"]["value"] == pytest.approx(-top(lambda x: -rho(x), -rho(th)),
+                                                                      rel=PEAK_REL_TOL)
+    assert s["peak_contact_force"]["value"] == pytest.approx(top(*quantity("contact_force")), rel=PEAK_REL_TOL)
+    assert s["min_contact_force"] == pytest.approx(-top(*quantity("contact_force", -1.0)), rel=PEAK_REL_TOL)
+    assert s["peak_cam_torque"]["value"] == pytest.approx(top(*quantity("cam_torque", absolute=True)),
+                                                          rel=PEAK_REL_TOL)
+    for key in ("max_pressure_angle", "peak_contact_force", "peak_cam_torque"):  # the value is the one at "at"
+        name = {"max_pressure_angle": "pressure_angle", "peak_contact_force": "contact_force",
+                "peak_cam_torque": "cam_torque"}[key]
+        at = getattr(cam_state(cm, [s[key]["at"]], w), name)[0]
+        assert abs(at) == pytest.approx(s[key]["value"], rel=1e-14, abs=1e-15)
+    # leave speed: ω² = least of (spring − weight)/(−m·q″) where q″ < 0 (st.spring is the spring force)
+    mass = cm.inertia if cm.follower.kind == "oscillating" else cm.mass
+    weight = cm.mass * cm.gravity[1] if cm.follower.kind == "translating" else 0.0
+
+    def ratio(x):
+        q2 = cm.follower.output(x)[2]
+        hold = cam_state(cm, x, w).spring - weight
+        return np.where(q2 < 0, -hold / np.where(q2 < 0, -mass * q2, 1.0), -np.inf)
+
+    assert s["leave_speed"] == pytest.approx(math.sqrt(-top(ratio, ratio(th))), rel=PEAK_REL_TOL)
