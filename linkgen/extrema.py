@@ -31,6 +31,7 @@ XTOL = 1e-13
 PEAK_XTOL = 1e-12
 
 Curve = Callable[[np.ndarray], np.ndarray]
+_SQRT_EPS = float(np.sqrt(np.finfo(float).eps))
 
 
 @dataclass(frozen=True)
@@ -154,10 +155,17 @@ def peak(f: Curve, x: np.ndarray, fx: np.ndarray, *, kind: str = "max", period: 
             a, b = float(x[max(k - 1, 0)]), float(x[min(k + 1, n - 1)])
         if not b > a:
             continue
-        with np.errstate(invalid="ignore", over="ignore"):
-            r = minimize_scalar(lambda t: -sign * fs(t), bounds=(a, b), method="bounded", options={"xatol": xtol})
-        if np.isfinite(r.fun) and -r.fun > value:
-            at, value = float(r.x), float(-r.fun)
+        # searched as a + u, u in [0, b − a]: the minimiser's own floor, √eps·|u|, is then a
+        # fraction of the bracket, not of the coordinate; a second pass round the first's result,
+        # in a bracket a few floors wide, takes a peak at a kink or jump to xtol as well
+        for _ in range(2):
+            with np.errstate(invalid="ignore", over="ignore"):
+                r = minimize_scalar(lambda u, a=a: -sign * fs(a + u), bounds=(0.0, b - a), method="bounded",
+                                    options={"xatol": xtol})
+            if np.isfinite(r.fun) and -r.fun > value:
+                at, value = a + float(r.x), float(-r.fun)
+            floor = 4 * (_SQRT_EPS * float(r.x) + xtol)
+            a, b = max(a, a + float(r.x) - floor), min(b, a + float(r.x) + floor)
     if period is not None:
         at = float(x[0]) + (at - float(x[0])) % period
     return at, sign * value

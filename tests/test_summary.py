@@ -534,3 +534,41 @@ def test_cam_summary_extrema_agree_with_a_dense_independent_scan(path):
         return np.where(q2 < 0, -hold / np.where(q2 < 0, -mass * q2, 1.0), -np.inf)
 
     assert s["leave_speed"] == pytest.approx(math.sqrt(-top(ratio, ratio(th))), rel=PEAK_REL_TOL)
+
+
+# ---------------------------------------------------------------------------------------------
+# The machines' peak forces over the steady cycle against a dense scan of the same cycle. The
+# bundled machines whose integration to a steady cycle takes seconds, not tens of seconds.
+
+MACHINE_DENSE = 20_000  # times over the cycle; each then zoomed in three rounds of 1001
+# The press's peak balancing torque sits at its stroke switch, where ε follows the reduced
+# moment's piecewise-linear table across the switch: |τ| falls ~1e5 N·m/s there, so a time
+# 1e-12 s from the sup (the refinement's tolerance) is 1e-7 N·m (4e-10) below it.
+MACHINE_PEAK_REL_TOL = 1e-9
+
+
+@pytest.mark.parametrize("name,duration", [("machine_press", 2.5), ("motor_startup", 5.0), ("dc_motor_startup", 5.0)])
+def test_machine_cycle_peaks_agree_with_a_dense_scan(name, duration):
+    from linkgen.dynamics.machine import run_machine
+    from linkgen.dynamics.reduced import reduce
+    from linkgen.dynamics.study import cycle_forces, load_machine
+    from linkgen.planar.kinetostatics import forces as closed_forces
+
+    asm, machine = load_machine(ROOT / "models" / f"{name}.toml")
+    run = run_machine(machine, reduce(asm, machine.process_load), samples=50, duration=duration)
+    cf = cycle_forces(asm, run)
+    s = run.steady
+    t = s.t_start + s.period * np.arange(MACHINE_DENSE) / MACHINE_DENSE
+
+    def along(tt):  # the mechanism's forces at the machine's state at times tt, ε the ODE's own
+        y = run.solution(tt)
+        eps = np.array([run.rate(tk, y[:, k])[1] for k, tk in enumerate(tt)])
+        return closed_forces(asm, y[0], y[1], eps)
+
+    f = along(t)
+    scale = float(np.abs(f.balancing_torque).max())
+    ref = _dense_peak(lambda x: np.abs(along(x).balancing_torque), t, np.abs(f.balancing_torque))
+    assert abs(cf.balancing_torque) == pytest.approx(ref, rel=MACHINE_PEAK_REL_TOL, abs=1e-12 * scale)
+    for n, r in f.reactions.items():
+        ref = _dense_peak(lambda x, n=n: np.linalg.norm(along(x).reactions[n], axis=1), t, np.linalg.norm(r, axis=1))
+        assert cf.reactions[n][0] == pytest.approx(ref, rel=MACHINE_PEAK_REL_TOL), n

@@ -79,6 +79,7 @@ class MachineRun:
     steady: SteadyCycle | None
     startup_time: float | None
     solution: object = field(default=None, repr=False, compare=False)  # dense output, t → state
+    rate: object = field(default=None, repr=False, compare=False)  # the ODE's right-hand side, (t, y) → dy/dt
 
     def state_at(self, t) -> tuple[np.ndarray, np.ndarray]:
         """Crank angle [rad] and speed [rad/s] at times t [s] from the solver's dense output."""
@@ -181,7 +182,7 @@ def run_machine(machine: Machine, red: Reduced, *, samples: int = 2000, duration
         startup = 0.0 if out.size == 0 else (float(t[out[-1] + 1]) if out[-1] + 1 < t.size else None)
     return MachineRun(t, y[0], y[1], eps, np.asarray(mm, dtype=float) * np.ones_like(t),
                       None if cur is None else np.asarray(cur, dtype=float) * np.ones_like(t), twist, ts, steady,
-                      startup, sol.sol)
+                      startup, sol.sol, model.rhs)
 
 
 def _turn_times(sol, phi0: float) -> np.ndarray:
