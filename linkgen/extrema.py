@@ -31,7 +31,6 @@ XTOL = 1e-13
 PEAK_XTOL = 1e-12
 
 Curve = Callable[[np.ndarray], np.ndarray]
-_SQRT_EPS = float(np.sqrt(np.finfo(float).eps))
 
 
 @dataclass(frozen=True)
@@ -156,16 +155,12 @@ def peak(f: Curve, x: np.ndarray, fx: np.ndarray, *, kind: str = "max", period: 
         if not b > a:
             continue
         # searched as a + u, u in [0, b − a]: the minimiser's own floor, √eps·|u|, is then a
-        # fraction of the bracket, not of the coordinate; a second pass round the first's result,
-        # in a bracket a few floors wide, takes a peak at a kink or jump to xtol as well
-        for _ in range(2):
-            with np.errstate(invalid="ignore", over="ignore"):
-                r = minimize_scalar(lambda u, a=a: -sign * fs(a + u), bounds=(0.0, b - a), method="bounded",
-                                    options={"xatol": xtol})
-            if np.isfinite(r.fun) and -r.fun > value:
-                at, value = a + float(r.x), float(-r.fun)
-            floor = 4 * (_SQRT_EPS * float(r.x) + xtol)
-            a, b = max(a, a + float(r.x) - floor), min(b, a + float(r.x) + floor)
+        # fraction of the bracket, not of the coordinate (a peak at a kink or jump at t = 100 s)
+        with np.errstate(invalid="ignore", over="ignore"):
+            r = minimize_scalar(lambda u, a=a: -sign * fs(a + u), bounds=(0.0, b - a), method="bounded",
+                                options={"xatol": xtol})
+        if np.isfinite(r.fun) and -r.fun > value:
+            at, value = a + float(r.x), float(-r.fun)
     if period is not None:
         at = float(x[0]) + (at - float(x[0])) % period
     return at, sign * value
