@@ -623,3 +623,75 @@ def test_spatial_summary_extrema_agree_with_a_dense_independent_scan(path):
             return np.linalg.norm(spatial_forces(mech, x, w, e).reactions[n].force, axis=1)
         dense = np.linalg.norm(f.reactions[n].force, axis=1)
         assert value == pytest.approx(_dense_peak(mag, phi, dense), rel=PEAK_REL_TOL), n
+
+
+# ---------------------------------------------------------------------------------------------
+# The extremum finder itself on curves whose extrema are known in closed form.
+
+from linkgen.extrema import peak, samples, stationary  # noqa: E402
+
+TURN = 2 * math.pi
+# Brent's bounded minimiser stops within √eps·u (u ≤ two sample steps, 3.5e-3 rad here) of the
+# best point: at a kink of slope 1 that is the value's error too, ≤ 5e-11.
+KINK_TOL = 1e-10
+
+
+def test_stationary_points_on_samples_and_at_the_wrap():
+    # cos: d = −sin is exactly 0 at the samples 0 and π; both extremes, each once
+    x = samples(0.0, TURN, 360, periodic=True)
+    found = stationary(lambda p: -np.sin(p), x, -np.sin(x), period=TURN)
+    assert [(e.kind, e.x) for e in found] == [("max", 0.0), ("min", pytest.approx(math.pi, abs=1e-15))]
+    # a maximum between the last sample and 2π (cos(φ − a), a just below 2π), found round the wrap
+    a = TURN - 0.3 * TURN / 360
+    found = stationary(lambda p: -np.sin(p - a), x, -np.sin(x - a), period=TURN)
+    assert [e.kind for e in found] == ["min", "max"]
+    assert found[1].x == pytest.approx(a, abs=1e-12) and found[0].x == pytest.approx(a - math.pi, abs=1e-12)
+    # the same from a range that starts at −90°
+    x = samples(-0.5 * math.pi, 1.5 * math.pi, 360, periodic=True)
+    found = stationary(lambda p: -np.sin(p - a), x, -np.sin(x - a), period=TURN)
+    assert sorted(e.x for e in found) == pytest.approx([a - TURN, a - math.pi], abs=1e-12)
+
+
+def test_stationary_on_a_partial_range_reports_its_ends():
+    x = samples(0.2, 2.0, 101, periodic=False)  # sin rises to its maximum at π/2, then falls
+    found = stationary(np.cos, x, np.cos(x))
+    assert [(e.kind, e.end) for e in found] == [("min", True), ("max", False), ("min", True)]
+    assert found[1].x == pytest.approx(math.pi / 2, abs=1e-13)
+    assert (found[0].x, found[2].x) == (0.2, 2.0)
+
+
+def test_stationary_across_a_dwell():
+    # a rise, a dwell at the top (d = 0 over a run of samples), a return: one maximum, one minimum
+    def d(p):
+        p = np.mod(p, TURN)
+        return np.where(p < 2.0, np.sin(p * math.pi / 2.0), np.where(p < 3.0, 0.0, -np.sin((p - 3.0) * math.pi / (TURN - 3.0))))
+    x = samples(0.0, TURN, 720, periodic=True)
+    found = stationary(d, x, d(x), period=TURN)
+    assert [e.kind for e in found] == ["min", "max"]
+    assert 2.0 <= found[1].x <= 3.0 and found[0].x in (0.0, pytest.approx(0.0, abs=1e-12))
+
+
+def test_peak_of_a_kink_a_jump_and_round_the_wrap():
+    x = samples(0.0, TURN, 3600, periodic=True)
+    # |sin(φ − c)| has kinks at its zeros: its least value 0 at c (between samples)
+    c = 1.0 + 0.37 * TURN / 3600
+
+    def kink(p):
+        return np.abs(np.sin(p - c))
+    at, least = peak(kink, x, kink(x), kind="min", period=TURN)
+    assert least <= KINK_TOL and at == pytest.approx(c, abs=KINK_TOL)
+
+    # a jump: 1 + φ/10 up to c, 0 after: the sup is at c
+    def jump(p):
+        return np.where(np.mod(p, TURN) <= c, 1.0 + np.mod(p, TURN) / 10, 0.0)
+    at, top = peak(jump, x, jump(x), period=TURN)
+    assert top == pytest.approx(1.0 + c / 10, abs=KINK_TOL) and top <= 1.0 + c / 10
+
+    # cos(φ − a), its maximum between the last sample and 2π
+    a = TURN - 0.3 * TURN / 3600
+    at, top = peak(lambda p: np.cos(p - a), x, np.cos(x - a), period=TURN)
+    assert top == pytest.approx(1.0, abs=1e-15) and at == pytest.approx(a, abs=1e-7)
+    # a plateau (a constant) keeps its value and is not refined sample by sample
+    calls = []
+    at, top = peak(lambda p: calls.append(p) or np.full(len(p), 2.0), x, np.full(len(x), 2.0), period=TURN)
+    assert top == 2.0 and not calls
