@@ -12,8 +12,8 @@ extremes of the quantity on it.
   ends of a partial range.
 - ``peak``: the largest (or least) value of a quantity known only by its values (a peak force,
   the least transmission angle): every sample that is a local best within MARGIN of the best
-  sample, refined by Brent's bounded minimiser inside its two neighbours (round the wrap for a
-  period), kinks and jumps included.
+  sample (at most MAX_REFINED), refined by Brent's bounded minimiser inside its two neighbours
+  (round the wrap for a period); the ends of a partial range are samples like the others.
 """
 
 from __future__ import annotations
@@ -26,8 +26,10 @@ import numpy as np
 # A root of the derivative is refined to this drive coordinate (Brent's method on a smooth
 # derivative: the bracket closes to a few ulps of 2π).
 XTOL = 1e-13
-# Brent's bounded minimiser stops within this (plus √eps relative, its own floor) of the best
-# point; the value there is then within rounding of the peak's, the curve being flat at it.
+# Brent's bounded minimiser stops within this, plus its own floor √eps·u (u ≤ two sample steps
+# from the bracket's start: 2.6e-11 rad for 0.1° samples), of the best point. At a smooth peak
+# the value is then exact to rounding (the curve is flat there); at a kink or a jump it is off
+# by the slope times that distance.
 PEAK_XTOL = 1e-12
 
 Curve = Callable[[np.ndarray], np.ndarray]

@@ -3,7 +3,9 @@ their limit (dead-centre) positions, the time ratio of a working and a return st
 group's least transmission angle, and the peak balancing torque and joint reactions.
 
 Limit positions are the crank angles where an output's first transfer function changes sign,
-found on a grid of SAMPLES angles and refined by Brent's method on the closed form to XTOL.
+found on a grid of SAMPLES angles — round the wrap from 2π to 0 over a full turn, and where it
+is exactly 0 at a sample — and refined by Brent's method on the closed form to XTOL; the least
+transmission angles and the peaks are refined between the samples too (``linkgen.extrema``).
 The transmission angle of a class-II group is μ = arcsin|D|, D the group's normalised
 transfer-function denominator (``groups``): the angle between the two links at the middle joint
 of an RRR group (folded into 0..90°), between the rod and the guide's normal for an RRP group,
@@ -144,7 +146,7 @@ def _output(asm: Assembly, name: str, kind: str, phi: np.ndarray, full: bool, pi
             return Output(name, kind, None, ())
     period = _period(full, v)
     x, dx = _on_range(phi, period, d1)
-    found = stationary(lambda p: pick(solve(asm, p, on_singular="mark"))[1], x, dx, period=period)
+    found = stationary(lambda p: pick(solve(asm, p, on_singular="mark"))[1], x, dx, period=period, xtol=XTOL)
     at = np.array([e.x for e in found])
     values = pick(solve(asm, at, on_singular="mark"))[0] if found else np.zeros(0)
     extremes = []
