@@ -572,6 +572,11 @@ def test_machine_cycle_peaks_agree_with_a_dense_scan(name, duration):
     for n, r in f.reactions.items():
         ref = _dense_peak(lambda x, n=n: np.linalg.norm(along(x).reactions[n], axis=1), t, np.linalg.norm(r, axis=1))
         assert cf.reactions[n][0] == pytest.approx(ref, rel=MACHINE_PEAK_REL_TOL), n
+    # the cycle's speed range (δ): ω of the dense output, dense and zoomed
+    w = run.solution(t)[1]
+    top = _dense_peak(lambda x: run.solution(x)[1], t, w)
+    bottom = -_dense_peak(lambda x: -run.solution(x)[1], t, -w)
+    assert (s.omega_min, s.omega_max) == pytest.approx((bottom, top), rel=PEAK_REL_TOL)
 
 
 # ---------------------------------------------------------------------------------------------
@@ -579,8 +584,8 @@ def test_machine_cycle_peaks_agree_with_a_dense_scan(name, duration):
 
 from conftest import SPATIAL_MODELS  # noqa: E402
 
-# A spatial force solution costs ~0.15 ms an angle: 20 000 angles (every 0.018°), then zoomed.
-SPATIAL_DENSE = 20_000
+# A spatial force solution costs ~0.15 ms an angle: 5000 angles (every 0.072°), then zoomed.
+SPATIAL_DENSE = 5_000
 
 
 @pytest.mark.parametrize("path", SPATIAL_MODELS, ids=[p.stem for p in SPATIAL_MODELS])

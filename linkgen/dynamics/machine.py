@@ -185,6 +185,18 @@ def run_machine(machine: Machine, red: Reduced, *, samples: int = 2000, duration
                       startup, sol.sol, model.rhs)
 
 
+def speed_range(solution, a: float, b: float, *, periodic: bool, n: int = 64 * CYCLE_POINTS) -> tuple[float, float]:
+    """ω_min and ω_max [rad/s] of the dense output ``solution`` (t → state) over times [a, b]
+    (a cycle, if ``periodic``): n samples, each extreme refined between them (``linkgen.extrema``)."""
+    from linkgen.extrema import peak, samples
+
+    t = samples(a, b, n, periodic)
+    w = solution(t)[1]
+    period = (b - a) if periodic else None
+    speed = lambda tt: solution(tt)[1]  # noqa: E731
+    return peak(speed, t, w, kind="min", period=period)[1], peak(speed, t, w, period=period)[1]
+
+
 def _turn_times(sol, phi0: float) -> np.ndarray:
     """Times [s] at which the crank has turned by 2π·k from φ0 (k = 1, 2, …), from the dense
     output (root of φ(t) − φ0 − 2πk by bisection between the solver's steps)."""
@@ -216,10 +228,10 @@ def steady_cycle(sol, phi0: float) -> SteadyCycle | None:
         if prev is not None:
             mean = 2 * math.pi / (b - a)
             if np.abs(w - prev).max() <= STEADY_TOL * mean:
-                fine = sol.sol(np.linspace(a, b, 64 * CYCLE_POINTS))[1]
-                return SteadyCycle(float(a), float(b - a), mean, float(fine.min()), float(fine.max()))
+                low, high = speed_range(sol.sol, a, b, periodic=True)
+                return SteadyCycle(float(a), float(b - a), mean, low, high)
         prev = w
     return None
 
 
-__all__ = ["MachineRun", "RTOL", "STEADY_TOL", "SteadyCycle", "run_machine", "steady_cycle"]
+__all__ = ["MachineRun", "RTOL", "STEADY_TOL", "SteadyCycle", "run_machine", "speed_range", "steady_cycle"]

@@ -12,7 +12,7 @@ from pathlib import Path
 import numpy as np
 
 from linkgen.dynamics.flywheel import Flywheel, size_flywheel
-from linkgen.dynamics.machine import MachineRun, run_machine
+from linkgen.dynamics.machine import MachineRun, run_machine, speed_range
 from linkgen.dynamics.reduced import Reduced, reduce
 from linkgen.errors import DescriptionError, SimulationError
 from linkgen.extrema import peak, samples as grid
@@ -98,8 +98,8 @@ def check_flywheel(red: Reduced, machine: Machine, fw: Flywheel) -> float:
     one = phi - phi[0] <= 2 * math.pi
     if not (phi[-1] - phi[0] > 2 * math.pi):
         raise SimulationError("the flywheel check did not complete a turn")
-    w = w[one]
-    return float((w.max() - w.min()) / (0.5 * (w.max() + w.min())))
+    low, high = speed_range(run.solution, 0.0, float(t[one][-1]), periodic=False, n=int(np.count_nonzero(one)))
+    return float((high - low) / (0.5 * (high + low)))
 
 
 def flywheel_study(asm: Assembly, machine: Machine, delta: float, omega_mean: float | None = None) -> tuple[Flywheel, float]:
