@@ -104,7 +104,8 @@ def stationary(d: Curve, x: np.ndarray, dx: np.ndarray, *, period: float | None 
             found.append(Extremum(float(0.5 * (x[i] + x[j])), "max" if before > 0 else "min"))
     if period is not None:
         found = [Extremum(start + (e.x - start) % period, e.kind) for e in found]
-    else:
+    else:  # a stationary point at an end of the range is that end's extreme, reported once as the end
+        found = [e for e in found if min(e.x - x[0], x[-1] - e.x) > xtol]
         nz = np.flatnonzero(s)
         if nz.size:
             first, last = s[nz[0]], s[nz[-1]]

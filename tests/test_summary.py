@@ -700,3 +700,36 @@ def test_peak_of_a_kink_a_jump_and_round_the_wrap():
     calls = []
     at, top = peak(lambda p: calls.append(p) or np.full(len(p), 2.0), x, np.full(len(x), 2.0), period=TURN)
     assert top == 2.0 and not calls
+
+
+def test_a_turn_that_does_not_repeat_keeps_its_ends():
+    """Ring 50, satellite 20 (ratio 2.5): after a turn of the crank the satellite has turned −1.5
+    turns, so the slider on B does not come back; its extremes over the turn include the range's
+    ends, and there is no wrap to search and no time ratio."""
+    text = (ROOT / "models" / "planetary_lever.toml").read_text(encoding="utf-8")
+    text = (text.replace("C = [1.0, 0.0]", "C = [0.75, 0.0]").replace("B = [1.55, 0.0]\n", "B = [1.3, 0.0]\nD = [4.3, 0.0]\n")
+            .replace("length = 1.0\n", "length = 0.75\n").replace("teeth = [60, 20]", "teeth = [50, 20]")
+            .replace("[gear.mesh]", """
+[links.rod]
+points = ["B", "D"]
+length = 3.0
+
+[links.slider]
+points = ["D"]
+
+[prismatic.slider]
+slider = "slider"
+guide = "ground"
+point = "D"
+through = "O"
+angle = 0.0
+
+[gear.mesh]"""))
+    (o,) = summarize(assemble(loads(text))).outputs
+    phi = np.linspace(0.0, 2 * math.pi, DENSE + 1)
+    xb, yb = 0.75 * np.cos(phi) + 0.55 * np.cos(1.5 * phi), 0.75 * np.sin(phi) - 0.55 * np.sin(1.5 * phi)
+    xd = xb + np.sqrt(9.0 - yb * yb)
+    assert xd[-1] != pytest.approx(xd[0], abs=0.1)
+    assert o.travel == pytest.approx(xd.max() - xd.min(), abs=1e-9)  # DENSE samples: (Δφ)²·|x″|/8 < 1e-9 m
+    steps = np.sign(np.diff(xd))
+    assert len(o.limits) == int(np.count_nonzero(steps[1:] != steps[:-1])) and o.time_ratio is None

@@ -116,16 +116,18 @@ class DesignSummary:
 
 
 def _grid(asm: Assembly) -> tuple[np.ndarray, bool]:
-    """SAMPLES crank angles over the drive's range, both ends included, and whether it is a full turn."""
+    """SAMPLES crank angles over the drive's range, both ends included, and whether it is a full
+    turn (or more)."""
     d = asm.mechanism.drive
-    full = abs(d.stop - d.start - 2 * math.pi) <= 1e-12
+    full = d.stop - d.start >= 2 * math.pi - 1e-12
     return np.linspace(d.start, d.stop, SAMPLES), full
 
 
-def _period(full: bool, v: np.ndarray) -> float | None:
-    """2π if the range is a full turn and the quantity ``v`` (sampled over it, both ends) comes
-    back to its first value (a gear train of a non-integer ratio does not), else None."""
-    if not full:
+def _period(phi: np.ndarray, v: np.ndarray) -> float | None:
+    """2π if the crank angles ``phi`` span one turn and the quantity ``v`` sampled there comes
+    back to its first value (a gear train of a non-integer ratio does not), else None: the
+    range's ends are then extremes of their own."""
+    if abs(float(phi[-1] - phi[0]) - 2 * math.pi) > 1e-12:
         return None
     scale = float(np.max(np.abs(v))) if v.size else 0.0
     return 2 * math.pi if abs(float(v[-1] - v[0])) <= PERIODIC_TOL * max(scale, 1.0) else None
@@ -144,7 +146,7 @@ def _output(asm: Assembly, name: str, kind: str, phi: np.ndarray, full: bool, pi
         v = np.unwrap(v)
         if full and abs(v[-1] - v[0]) > math.pi:  # turns fully round: no swing, no limits
             return Output(name, kind, None, ())
-    period = _period(full, v)
+    period = _period(phi, v)
     x, dx = _on_range(phi, period, d1)
     found = stationary(lambda p: pick(solve(asm, p, on_singular="mark"))[1], x, dx, period=period, xtol=XTOL)
     at = np.array([e.x for e in found])
@@ -168,9 +170,9 @@ def _output(asm: Assembly, name: str, kind: str, phi: np.ndarray, full: bool, pi
     return Output(name, kind, travel, tuple(limits), strokes, ratio)
 
 
-def _peak(f, phi: np.ndarray, fx: np.ndarray, full: bool, kind: str = "max") -> tuple[float, float]:
+def _peak(f, phi: np.ndarray, fx: np.ndarray, kind: str = "max") -> tuple[float, float]:
     """(crank angle, value) of the refined peak of ``f`` (vectorised over crank angles)."""
-    period = _period(full, fx)
+    period = _period(phi, fx)
     x, fx = _on_range(phi, period, fx)
     return peak(f, x, fx, kind=kind, period=period)
 
@@ -211,7 +213,7 @@ def summarize(asm: Assembly, omega: float | None = None, epsilon: float | None =
                                    lambda k, n=link.name: (k.links[n].angle.v, k.links[n].angle.d1)))
     trans = []
     for label, mu in transmission_angles(asm, phi).items():
-        at, least = _peak(lambda p, n=label: transmission_angles(asm, p)[n], phi, mu, full, "min")
+        at, least = _peak(lambda p, n=label: transmission_angles(asm, p)[n], phi, mu, "min")
         trans.append(Transmission(label, least, at))
     torque, peaks, note = None, [], ""
     try:
@@ -220,13 +222,13 @@ def summarize(asm: Assembly, omega: float | None = None, epsilon: float | None =
         note = f"no peak forces: {exc}"
     else:
         at, value = _peak(lambda p: np.abs(forces(asm, p, w, e).balancing_torque), phi,
-                          np.abs(f.balancing_torque), full)
+                          np.abs(f.balancing_torque))
         torque = Peak("balancing torque", value, at)
         for name, r in f.reactions.items():
             def mag(p, n=name):
                 r = np.asarray(forces(asm, p, w, e).reactions[n])
                 return np.hypot(r[:, 0], r[:, 1])
-            at, value = _peak(mag, phi, np.hypot(r[:, 0], r[:, 1]), full)
+            at, value = _peak(mag, phi, np.hypot(r[:, 0], r[:, 1]))
             peaks.append(Peak(name, value, at))
     return DesignSummary(mech.name, w, e, tuple(outputs), tuple(trans), torque, tuple(peaks), note)
 
