@@ -17,6 +17,7 @@ import pytest
 from linkgen.cams.description import cam_from_dict, load_cam
 from linkgen.cams.kinetics import leave_speed, state
 from linkgen.errors import DescriptionError
+from independent_checks import zoomed_peak
 
 ROOT = Path(__file__).resolve().parents[1]
 MODELS = ROOT / "models"
@@ -174,11 +175,17 @@ def test_smallest_base_circle_meets_the_pressure_angle():
     limit = math.radians(30.0)
     rb = smallest_base_radius(f, limit)
     assert rb == pytest.approx(min_base_radius(f.program, limit, f.roller_radius, f.offset), rel=1e-6)
-    th = np.linspace(0, 2 * math.pi, 3600, endpoint=False)
-    assert np.abs(replace(f, base_radius=rb).pressure_angle(th)).max() == pytest.approx(limit, abs=1e-9)
+    th = np.linspace(0, 2 * math.pi, 200_000, endpoint=False)
+
+    def worst(follower):  # the largest |α| by a dense scan zoomed in on its best sample
+        def alpha(x):
+            return np.abs(follower.pressure_angle(x))
+        return zoomed_peak(alpha, th, alpha(th))
+
+    assert worst(replace(f, base_radius=rb)) == pytest.approx(limit, abs=1e-12)
     # the textbook's oscillating follower (pivot and arm 0.25 m) reaches 40.8°; at 45° a smaller
     # base circle still holds, and at it the largest pressure angle is the limit
     osc = load_cam(MODELS / "cam_oscillating.toml").follower
     rb = smallest_base_radius(osc, math.radians(45.0))
     assert rb < osc.base_radius
-    assert np.abs(replace(osc, base_radius=rb).pressure_angle(th)).max() == pytest.approx(math.radians(45.0), abs=1e-9)
+    assert worst(replace(osc, base_radius=rb)) == pytest.approx(math.radians(45.0), abs=1e-12)

@@ -164,14 +164,18 @@ class Follower:
 def smallest_base_radius(follower: Follower, max_pressure_angle: float, samples: int = 3600) -> float:
     """The smallest base circle [m] for which the follower's pressure angle stays within
     ±max_pressure_angle [rad] over the turn, everything else kept (bisection: the largest |α|
-    falls as the base circle grows)."""
+    falls as the base circle grows); the largest |α| of each trial is refined between the
+    samples (``linkgen.extrema``)."""
     from dataclasses import replace
+
+    from linkgen.extrema import peak
 
     theta = np.linspace(0.0, 2 * math.pi, samples, endpoint=False)
 
     def worst(rb: float) -> float:
         try:
-            return float(np.abs(replace(follower, base_radius=rb).pressure_angle(theta)).max())
+            alpha = replace(follower, base_radius=rb).pressure_angle
+            return peak(lambda th: np.abs(alpha(th)), theta, np.abs(alpha(theta)), period=2 * math.pi)[1]
         except ValueError:  # the follower cannot reach a base circle this small
             return math.inf
 

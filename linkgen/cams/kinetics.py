@@ -68,18 +68,28 @@ def state(cm: CamMechanism, theta, omega: float | None = None) -> CamState:
 
 def leave_speed(cm: CamMechanism) -> float:
     """The cam speed [rad/s] above which the follower would leave the cam somewhere in the turn
-    (inf if it never would; 0 if the spring cannot hold it even at rest)."""
-    th = np.linspace(0.0, 2 * math.pi, SAMPLES, endpoint=False)
-    q, _, q2, _ = cm.follower.output(th)
-    hold = cm.spring_preload + cm.spring_rate * q - _weight_along(cm)
-    if np.any(hold < 0):
-        return 0.0
+    (inf if it never would; 0 if the spring cannot hold it even at rest). The least hold and
+    the least hold/pull ratio are refined between samples (``linkgen.extrema``)."""
+    from linkgen.extrema import peak, samples
+
+    turn = 2 * math.pi
     m = _inertia(cm)
-    pull = -m * q2
-    mask = pull > 0
-    if not np.any(mask):
+
+    def hold_pull(th):
+        q, _, q2, _ = cm.follower.output(th)
+        return cm.spring_preload + cm.spring_rate * q - _weight_along(cm), -m * q2
+
+    def ratio(th):
+        hold, pull = hold_pull(th)
+        return np.where(pull > 0, hold / np.where(pull > 0, pull, 1.0), np.inf)
+
+    th = samples(0.0, turn, SAMPLES, periodic=True)
+    hold, pull = hold_pull(th)
+    if peak(lambda x: hold_pull(x)[0], th, hold, kind="min", period=turn)[1] < 0:
+        return 0.0
+    if not np.any(pull > 0):
         return math.inf
-    return float(np.sqrt(np.min(hold[mask] / pull[mask])))
+    return float(np.sqrt(peak(ratio, th, ratio(th), kind="min", period=turn)[1]))
 
 
 __all__ = ["CamState", "SAMPLES", "leave_speed", "state"]

@@ -10,6 +10,7 @@ from pathlib import Path
 
 import numpy as np
 
+from linkgen.cams.summary import cam_summary
 from linkgen.errors import DescriptionError, LinkgenError
 from linkgen.cli.common import OptionError, check_finite, print_json, write_rows
 
@@ -65,40 +66,6 @@ def cmd_analyze_cam(args) -> int:
     print(f"  pressure angle {math.degrees(f['pressure_angle']):.6g}°, contact force {f['contact_force']:.6g} N, "
           f"cam torque {f['cam_torque']:.6g} N·m")
     return 0
-
-
-def cam_summary(cm, omega: float) -> dict:
-    """The cam's design figures over a turn (SI units, radians)."""
-    from linkgen.cams.kinetics import SAMPLES, leave_speed, state
-
-    theta = np.linspace(0.0, 2 * math.pi, SAMPLES, endpoint=False)
-    st = state(cm, theta, omega)
-    f = cm.follower
-    rho = f.profile_curvature_radius(theta)
-    k_alpha, k_rho = int(np.argmax(np.abs(st.pressure_angle))), int(np.argmin(rho))
-    k_n, k_t = int(np.argmax(st.contact_force)), int(np.argmax(np.abs(st.cam_torque)))
-    under = f.undercut(theta)
-    return {"model": cm.name, "omega": omega, "kind": f.kind, "base_radius": f.base_radius,
-            "stroke": float(st.displacement.max() - st.displacement.min()),
-            "max_pressure_angle": {"value": float(abs(st.pressure_angle[k_alpha])), "at": float(theta[k_alpha])},
-            "min_profile_curvature_radius": {"value": float(rho[k_rho]), "at": float(theta[k_rho])},
-            "convex": bool(np.all(rho > 0)), "undercut": bool(np.any(under)),
-            "peak_contact_force": {"value": float(st.contact_force[k_n]), "at": float(theta[k_n])},
-            "min_contact_force": float(st.contact_force.min()),
-            "peak_cam_torque": {"value": float(abs(st.cam_torque[k_t])), "at": float(theta[k_t])},
-            "leave_speed": leave_speed(cm),
-            "smallest_base_radius_for_30deg": _smallest(f, math.radians(30.0))}
-
-
-def _smallest(f, alpha: float) -> float | None:
-    from linkgen.cams.follower import smallest_base_radius
-
-    if f.flat:  # a flat face's pressure angle is 0 whatever the base circle
-        return None
-    try:
-        return smallest_base_radius(f, alpha)
-    except ValueError:
-        return None
 
 
 def _summary(cm, omega: float, as_json: bool) -> int:

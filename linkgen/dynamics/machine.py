@@ -79,6 +79,7 @@ class MachineRun:
     steady: SteadyCycle | None
     startup_time: float | None
     solution: object = field(default=None, repr=False, compare=False)  # dense output, t → state
+    rate: object = field(default=None, repr=False, compare=False)  # the ODE's right-hand side, (t, y) → dy/dt
 
     def state_at(self, t) -> tuple[np.ndarray, np.ndarray]:
         """Crank angle [rad] and speed [rad/s] at times t [s] from the solver's dense output."""
@@ -181,7 +182,19 @@ def run_machine(machine: Machine, red: Reduced, *, samples: int = 2000, duration
         startup = 0.0 if out.size == 0 else (float(t[out[-1] + 1]) if out[-1] + 1 < t.size else None)
     return MachineRun(t, y[0], y[1], eps, np.asarray(mm, dtype=float) * np.ones_like(t),
                       None if cur is None else np.asarray(cur, dtype=float) * np.ones_like(t), twist, ts, steady,
-                      startup, sol.sol)
+                      startup, sol.sol, model.rhs)
+
+
+def speed_range(solution, a: float, b: float, *, periodic: bool, n: int = 64 * CYCLE_POINTS) -> tuple[float, float]:
+    """ω_min and ω_max [rad/s] of the dense output ``solution`` (t → state) over times [a, b]
+    (a cycle, if ``periodic``): n samples, each extreme refined between them (``linkgen.extrema``)."""
+    from linkgen.extrema import peak, samples
+
+    t = samples(a, b, n, periodic)
+    w = solution(t)[1]
+    period = (b - a) if periodic else None
+    speed = lambda tt: solution(tt)[1]  # noqa: E731
+    return peak(speed, t, w, kind="min", period=period)[1], peak(speed, t, w, period=period)[1]
 
 
 def _turn_times(sol, phi0: float) -> np.ndarray:
@@ -215,10 +228,10 @@ def steady_cycle(sol, phi0: float) -> SteadyCycle | None:
         if prev is not None:
             mean = 2 * math.pi / (b - a)
             if np.abs(w - prev).max() <= STEADY_TOL * mean:
-                fine = sol.sol(np.linspace(a, b, 64 * CYCLE_POINTS))[1]
-                return SteadyCycle(float(a), float(b - a), mean, float(fine.min()), float(fine.max()))
+                low, high = speed_range(sol.sol, a, b, periodic=True)
+                return SteadyCycle(float(a), float(b - a), mean, low, high)
         prev = w
     return None
 
 
-__all__ = ["MachineRun", "RTOL", "STEADY_TOL", "SteadyCycle", "run_machine", "steady_cycle"]
+__all__ = ["MachineRun", "RTOL", "STEADY_TOL", "SteadyCycle", "run_machine", "speed_range", "steady_cycle"]

@@ -11,9 +11,10 @@ from pathlib import Path
 import numpy as np
 
 from linkgen.dynamics.flywheel import Flywheel, size_flywheel
-from linkgen.dynamics.machine import MachineRun, run_machine
+from linkgen.dynamics.machine import MachineRun, run_machine, speed_range
 from linkgen.dynamics.reduced import Reduced, reduce
 from linkgen.errors import DescriptionError, SimulationError
+from linkgen.extrema import peak, samples as grid
 from linkgen.model.machine import Machine, Motor, machine_from_dict
 from linkgen.model.reader import load
 from linkgen.model.toml_file import read_toml
@@ -53,21 +54,30 @@ class CycleForces:
 
 
 def cycle_forces(asm: Assembly, run: MachineRun, samples: int = CYCLE_SAMPLES) -> CycleForces | None:
-    """Kinetostatics at the actual φ(t), ω(t), ε(t) over the steady cycle (None without one)."""
+    """Kinetostatics at the actual φ(t), ω(t), ε(t) over the steady cycle (None without one):
+    each peak found on ``samples`` times over the cycle and refined between them
+    (``linkgen.extrema``, round the cycle's wrap)."""
     s = run.steady
     if s is None:
         return None
-    t = np.linspace(s.t_start, s.t_start + s.period, samples, endpoint=False)
-    y = run.solution(t)
-    eps = np.gradient(y[1], t)  # checked against the ODE's own ε in tests/test_dynamics.py
-    f = forces(asm, y[0], y[1], eps)
-    k = int(np.argmax(np.abs(f.balancing_torque)))
+    t = grid(s.t_start, s.t_start + s.period, samples, periodic=True)
+
+    def at(tt):
+        """Crank angles and forces at times tt (m,) [s], ε the ODE's own at each state."""
+        y = run.solution(tt)
+        eps = np.array([run.rate(tk, y[:, k])[1] for k, tk in enumerate(tt)])
+        return y[0], forces(asm, y[0], y[1], eps)
+
+    _, f = at(t)
+    k_at, torque = peak(lambda tt: np.abs(at(tt)[1].balancing_torque), t, np.abs(f.balancing_torque),
+                        period=s.period)
+    sign = math.copysign(1.0, float(at(np.array([k_at]))[1].balancing_torque[0]))
     reactions = {}
     for name, r in f.reactions.items():
-        mag = np.linalg.norm(r, axis=1)
-        j = int(np.argmax(mag))
-        reactions[name] = (float(mag[j]), float(y[0][j]))
-    return CycleForces(float(f.balancing_torque[k]), float(y[0][k]), reactions)
+        j_at, mag = peak(lambda tt, n=name: np.linalg.norm(at(tt)[1].reactions[n], axis=1), t,
+                         np.linalg.norm(r, axis=1), period=s.period)
+        reactions[name] = (mag, float(run.solution(np.array([j_at]))[0][0]))
+    return CycleForces(sign * torque, float(run.solution(np.array([k_at]))[0][0]), reactions)
 
 
 def constant_drive(machine: Machine, torque: float, flywheel: float, start_speed: float) -> Machine:
@@ -88,8 +98,8 @@ def check_flywheel(red: Reduced, machine: Machine, fw: Flywheel) -> float:
     one = phi - phi[0] <= 2 * math.pi
     if not (phi[-1] - phi[0] > 2 * math.pi):
         raise SimulationError("the flywheel check did not complete a turn")
-    w = w[one]
-    return float((w.max() - w.min()) / (0.5 * (w.max() + w.min())))
+    low, high = speed_range(run.solution, 0.0, float(t[one][-1]), periodic=False, n=int(np.count_nonzero(one)))
+    return float((high - low) / (0.5 * (high + low)))
 
 
 def flywheel_study(asm: Assembly, machine: Machine, delta: float, omega_mean: float | None = None) -> tuple[Flywheel, float]:

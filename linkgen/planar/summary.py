@@ -3,7 +3,9 @@ their limit (dead-centre) positions, the time ratio of a working and a return st
 group's least transmission angle, and the peak balancing torque and joint reactions.
 
 Limit positions are the crank angles where an output's first transfer function changes sign,
-found on a grid of SAMPLES angles and refined by Brent's method on the closed form to XTOL.
+found on a grid of SAMPLES angles — round the wrap from 2π to 0 over a full turn, and where it
+is exactly 0 at a sample — and refined by Brent's method on the closed form to XTOL; the least
+transmission angles and the peaks are refined between the samples too (``linkgen.extrema``).
 The transmission angle of a class-II group is μ = arcsin|D|, D the group's normalised
 transfer-function denominator (``groups``): the angle between the two links at the middle joint
 of an RRR group (folded into 0..90°), between the rod and the guide's normal for an RRP group,
@@ -18,6 +20,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from linkgen.errors import LinkgenError
+from linkgen.extrema import peak, stationary
 from linkgen.model.description import GROUND
 from linkgen.planar.assembly import Assembly
 from linkgen.planar.groups import input_poses, solve_group
@@ -28,6 +31,9 @@ SAMPLES = 3601
 # Limit positions are refined to this crank angle [rad] (Brent's method; the transfer function
 # is smooth, so the bracket closes to a few ulps of 2π).
 XTOL = 1e-13
+# A full turn is a period of a quantity whose values at its two ends agree to this (relative to
+# its size; the closed form repeats to ~1e-15): else its range's ends count as extremes.
+PERIODIC_TOL = 1e-9
 
 
 @dataclass(frozen=True)
@@ -110,24 +116,26 @@ class DesignSummary:
 
 
 def _grid(asm: Assembly) -> tuple[np.ndarray, bool]:
+    """SAMPLES crank angles over the drive's range, both ends included, and whether it is a full
+    turn (or more)."""
     d = asm.mechanism.drive
     full = d.stop - d.start >= 2 * math.pi - 1e-12
     return np.linspace(d.start, d.stop, SAMPLES), full
 
 
-def _refine(asm: Assembly, value, a: float, b: float) -> float:
-    """Crank angle in [a, b] where ``value(kin)`` (a first transfer function) is 0."""
-    from scipy.optimize import brentq
+def _period(phi: np.ndarray, v: np.ndarray) -> float | None:
+    """2π if the crank angles ``phi`` span one turn and the quantity ``v`` sampled there comes
+    back to its first value (a gear train of a non-integer ratio does not), else None: the
+    range's ends are then extremes of their own."""
+    if abs(float(phi[-1] - phi[0]) - 2 * math.pi) > 1e-12:
+        return None
+    scale = float(np.max(np.abs(v))) if v.size else 0.0
+    return 2 * math.pi if abs(float(v[-1] - v[0])) <= PERIODIC_TOL * max(scale, 1.0) else None
 
-    def f(phi: float) -> float:
-        return float(value(solve(asm, [phi], on_singular="mark"))[0])
 
-    fa, fb = f(a), f(b)
-    if fa == 0.0:
-        return a
-    if fb == 0.0 or fa * fb > 0.0:
-        return b
-    return float(brentq(f, a, b, xtol=XTOL, rtol=4 * np.finfo(float).eps))
+def _on_range(phi: np.ndarray, period: float | None, fx: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The samples to search: without the repeated end over a period."""
+    return (phi[:-1], fx[:-1]) if period else (phi, fx)
 
 
 def _output(asm: Assembly, name: str, kind: str, phi: np.ndarray, full: bool, pick) -> Output:
@@ -138,24 +146,35 @@ def _output(asm: Assembly, name: str, kind: str, phi: np.ndarray, full: bool, pi
         v = np.unwrap(v)
         if full and abs(v[-1] - v[0]) > math.pi:  # turns fully round: no swing, no limits
             return Output(name, kind, None, ())
-    limits = []
-    s = np.sign(d1)
-    for k in np.flatnonzero(s[:-1] * s[1:] < 0):
-        at = _refine(asm, lambda kk: pick(kk)[1], float(phi[k]), float(phi[k + 1]))
-        value = pick(solve(asm, [at], on_singular="mark"))[0][0]
-        if kind == "rocker":  # on the unwrapped branch of the grid
+    period = _period(phi, v)
+    x, dx = _on_range(phi, period, d1)
+    found = stationary(lambda p: pick(solve(asm, p, on_singular="mark"))[1], x, dx, period=period, xtol=XTOL)
+    at = np.array([e.x for e in found])
+    values = pick(solve(asm, at, on_singular="mark"))[0] if found else np.zeros(0)
+    extremes = []
+    for e, value in zip(found, values):
+        if kind == "rocker":  # on the unwrapped branch of the samples
+            k = min(int(np.searchsorted(phi, e.x)), len(v) - 1)
             value = value + 2 * math.pi * round((v[k] - value) / (2 * math.pi))
-        limits.append(Limit(at, float(value), "max" if d1[k] > 0 else "min"))
+        extremes.append((e, float(value)))
+    limits = [Limit(e.x, value, e.kind) for e, value in extremes if not e.end]
     travel = float(np.max(v) - np.min(v))
-    if limits:
-        travel = max(travel, max(x.value for x in limits) - min(x.value for x in limits))
+    if extremes:
+        travel = max(value for _, value in extremes) - min(value for _, value in extremes)
     strokes = ratio = None
-    if full and len(limits) == 2:
+    if period and len(limits) == 2:
         lo, hi = (limits[0], limits[1]) if limits[0].kind == "min" else (limits[1], limits[0])
         out = (hi.phi - lo.phi) % (2 * math.pi)
         strokes = (out, 2 * math.pi - out)
         ratio = max(strokes) / min(strokes)
     return Output(name, kind, travel, tuple(limits), strokes, ratio)
+
+
+def _peak(f, phi: np.ndarray, fx: np.ndarray, kind: str = "max") -> tuple[float, float]:
+    """(crank angle, value) of the refined peak of ``f`` (vectorised over crank angles)."""
+    period = _period(phi, fx)
+    x, fx = _on_range(phi, period, fx)
+    return peak(f, x, fx, kind=kind, period=period)
 
 
 def transmission_angles(asm: Assembly, phi: np.ndarray) -> dict[str, np.ndarray]:
@@ -194,20 +213,23 @@ def summarize(asm: Assembly, omega: float | None = None, epsilon: float | None =
                                    lambda k, n=link.name: (k.links[n].angle.v, k.links[n].angle.d1)))
     trans = []
     for label, mu in transmission_angles(asm, phi).items():
-        k = int(np.argmin(mu))
-        trans.append(Transmission(label, float(mu[k]), float(phi[k])))
+        at, least = _peak(lambda p, n=label: transmission_angles(asm, p)[n], phi, mu, "min")
+        trans.append(Transmission(label, least, at))
     torque, peaks, note = None, [], ""
     try:
         f = forces(asm, phi, w, e)
     except LinkgenError as exc:
         note = f"no peak forces: {exc}"
     else:
-        k = int(np.argmax(np.abs(f.balancing_torque)))
-        torque = Peak("balancing torque", float(abs(f.balancing_torque[k])), float(phi[k]))
+        at, value = _peak(lambda p: np.abs(forces(asm, p, w, e).balancing_torque), phi,
+                          np.abs(f.balancing_torque))
+        torque = Peak("balancing torque", value, at)
         for name, r in f.reactions.items():
-            mag = np.hypot(r[:, 0], r[:, 1])
-            k = int(np.argmax(mag))
-            peaks.append(Peak(name, float(mag[k]), float(phi[k])))
+            def mag(p, n=name):
+                r = np.asarray(forces(asm, p, w, e).reactions[n])
+                return np.hypot(r[:, 0], r[:, 1])
+            at, value = _peak(mag, phi, np.hypot(r[:, 0], r[:, 1]))
+            peaks.append(Peak(name, value, at))
     return DesignSummary(mech.name, w, e, tuple(outputs), tuple(trans), torque, tuple(peaks), note)
 
 

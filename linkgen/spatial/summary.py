@@ -1,7 +1,8 @@
 """A spatial four-bar's design summary: the output's swing or stroke with its limit positions
-(where the first transfer function dq/dφ changes sign, refined by Brent's method), the time
-ratio of a crank-rocker (or crank-slider), and the peak balancing torque and pair forces over a
-turn at the drive's ω and ε."""
+(where the first transfer function dq/dφ changes sign, the wrap from 2π to 0 included, refined
+by Brent's method), the time ratio of a crank-rocker (or crank-slider), and the peak balancing
+torque and pair forces over a turn at the drive's ω and ε, refined between samples — all by
+``linkgen.extrema``."""
 
 from __future__ import annotations
 
@@ -9,8 +10,8 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.optimize import brentq
 
+from linkgen.extrema import peak, samples, stationary
 from linkgen.spatial.description import SpatialMechanism
 from linkgen.spatial.forces import forces
 from linkgen.spatial.kinematics import assembled_chain, solve
@@ -51,35 +52,32 @@ class SpatialSummary:
 def summarize(mech: SpatialMechanism) -> SpatialSummary:
     """The summary over one turn of the crank (it must assemble over the whole turn)."""
     chain = assembled_chain(mech)
-    phi = np.linspace(0.0, 2 * math.pi, SCAN, endpoint=False)
+    turn = 2 * math.pi
+    phi = samples(0.0, turn, SCAN, periodic=True)
     k = solve(mech, phi, chain)
-    d1 = k.turn.d[1]
-    limits = []
-    for i in np.flatnonzero(np.sign(d1) != np.sign(np.roll(d1, -1))):
-        a, b = phi[i], phi[i] + 2 * math.pi / SCAN
-        root = brentq(lambda x: float(solve(mech, [x], chain).turn.d[1][0]), a, b, xtol=ANGLE_TOL)
-        at = solve(mech, [root], chain)
-        kind = "max" if at.turn.d[2][0] < 0 else "min"
-        limits.append((kind, math.remainder(root, 2 * math.pi) % (2 * math.pi), float(at.turn.d[0][0])))
-    limits.sort(key=lambda x: x[1])
-    values = [v for _, _, v in limits]
+    found = stationary(lambda x: solve(mech, x, chain).turn.d[1], phi, k.turn.d[1], period=turn, xtol=ANGLE_TOL)
+    values = solve(mech, [e.x for e in found], chain).turn.d[0] if found else []
+    limits = [(e.kind, e.x, float(v)) for e, v in zip(found, values)]
     swing = float(max(values) - min(values)) if limits else None  # None: the output turns fully
     ratio = None
     if len(limits) == 2:
         lo = next(a for kind, a, _ in limits if kind == "min")
         hi = next(a for kind, a, _ in limits if kind == "max")
-        work = (hi - lo) % (2 * math.pi)
-        ratio = work / (2 * math.pi - work)
-    f = forces(mech, phi, mech.drive.omega, mech.drive.epsilon, motion=k)
-    i = int(np.argmax(np.abs(f.balancing_torque)))
+        work = (hi - lo) % turn
+        ratio = work / (turn - work)
+    w, e = mech.drive.omega, mech.drive.epsilon
+    f = forces(mech, phi, w, e, motion=k)
+    t_at, _ = peak(lambda x: np.abs(forces(mech, x, w, e).balancing_torque), phi, np.abs(f.balancing_torque),
+                   period=turn)
+    torque = float(forces(mech, [t_at], w, e).balancing_torque[0])
     peaks = {}
     if f.indeterminate == 0:
         for name, r in f.reactions.items():
-            mag = np.linalg.norm(r.force, axis=1)
-            j = int(np.argmax(mag))
-            peaks[name] = (float(mag[j]), float(phi[j]))
+            at, mag = peak(lambda x, n=name: np.linalg.norm(forces(mech, x, w, e).reactions[n].force, axis=1), phi,
+                           np.linalg.norm(r.force, axis=1), period=turn)
+            peaks[name] = (mag, at)
     return SpatialSummary(mech.name, chain.kind, chain.pair_out, "m" if chain.output_slides else "rad", tuple(limits),
-                          swing, ratio, (float(f.balancing_torque[i]), float(phi[i])), peaks, f.indeterminate)
+                          swing, ratio, (torque, t_at), peaks, f.indeterminate)
 
 
 __all__ = ["ANGLE_TOL", "SCAN", "SpatialSummary", "summarize"]
