@@ -256,10 +256,10 @@ def test_a_cam_linkage_run_that_misses_is_diagnosed():
 
 
 def test_a_cam_run_reports_progress(monkeypatch):
-    from linkgen.mujoco import simulate
+    from linkgen.mujoco import options
     from linkgen.mujoco.cam import run_cam
 
-    monkeypatch.setattr(simulate, "PROGRESS_AFTER", 0.0)
+    monkeypatch.setattr(options, "PROGRESS_AFTER", 0.0)
     calls = []
     run_cam(_user_cam(), revolutions=0.25, progress=lambda f, t: calls.append(f))
     assert calls and all(0 < f < 1 for f in calls) and calls == sorted(calls)

@@ -77,7 +77,19 @@ def test_stages_are_subpackages():
     for stage in STAGES:
         assert (PACKAGE / stage / "__init__.py").is_file(), stage
     loose = sorted(p.name for p in PACKAGE.glob("*.py"))
-    assert loose == ["__init__.py", "__main__.py", "api.py", "errors.py"], loose
+    assert loose == ["__init__.py", "__main__.py", "api.py", *sorted(f"{m}.py" for m in BOTTOM)], loose
+
+
+# Modules beside the stages, below all of them: the error hierarchy, the one output writer and
+# the one extremum finder every stage uses. They import no stage (only each other).
+BOTTOM = ("errors", "outputs", "extrema")
+
+
+def test_bottom_modules_import_no_stage():
+    edges = _edges(_modules())
+    for m in BOTTOM:
+        above = sorted(e for e in edges[f"linkgen.{m}"] if e.removeprefix("linkgen.") not in BOTTOM)
+        assert not above, (m, above)
 
 
 def test_no_import_cycles():

@@ -82,7 +82,7 @@ def cmd_structure(args) -> int:
 def turn_lines(asm) -> list[str]:
     """Whether the crank turns fully and where the chain assembles (``linkgen.model.turn``)."""
     from linkgen.model.turn import EDGE_TOL, degrees_text, drive_range_text
-    from linkgen.planar.turn import planar_turn
+    from linkgen.planar.kinematics import planar_turn
 
     t = planar_turn(asm)
     how = f"scanned every 0.1°, edges bisected to {EDGE_TOL:g} rad"

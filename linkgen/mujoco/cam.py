@@ -27,6 +27,7 @@ from lxml import etree
 from linkgen.cams.description import CamMechanism
 from linkgen.cams.kinetics import SAMPLES, state
 from linkgen.errors import SimulationError
+from linkgen.mujoco.options import MESH_VOLUME_MARGIN, MUJOCO_MIN_BAR, MUJOCO_MIN_MESH_VOLUME
 from linkgen.mujoco.scene import add_scene, add_scene_assets
 from linkgen.mujoco.xml_text import comment
 
@@ -68,11 +69,6 @@ PROGRESS_STEPS = 5000
 # base radius 0.25 µm is then a disc some centimetres thick: the contact is in the plane, so the
 # thickness changes nothing but the drawing.
 HALF_THICKNESS = 0.02
-# Shortest capsule drawn [m]: MuJoCo's compiler refuses fromto points closer than 1e-7 m
-# ("fromto points too close in geom"; measured on mujoco 4.0 for radii 1e-12..1 m); ten times that.
-MUJOCO_MIN_BAR = 1e-6
-MUJOCO_MIN_MESH_VOLUME = 1e-15  # m³
-MESH_VOLUME_MARGIN = 10.0
 # Thickest extrusion, as a multiple of the size: measured on mujoco 4.0 with the bundled cams
 # scaled down, a 4000-vertex profile 3e13 times thicker than wide still compiles and one 4.6e14
 # times does not (qhull cannot build its convex hull); a profile needing more than 1e12 is
@@ -248,7 +244,7 @@ def run_cam(cm: CamMechanism, revolutions: float = 1.0, progress=None) -> CamRun
     import time
 
     from linkgen.mujoco.log import no_log_file
-    from linkgen.mujoco.simulate import PROGRESS_AFTER
+    from linkgen.mujoco.options import PROGRESS_AFTER  # read at call time (tests lower it)
 
     wall0 = time.perf_counter()
 

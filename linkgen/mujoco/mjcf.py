@@ -39,7 +39,7 @@ from linkgen.errors import AssemblyError, DescriptionError, SimulationError, Sin
 from linkgen.model.plate import convex_hull, hull_area
 from linkgen.model.geometry import GuideShape, LinkShape, effective_mass_properties, guide_shapes, link_shapes
 from linkgen.planar.kinematics import solve
-from linkgen.mujoco.cam import MESH_VOLUME_MARGIN, MUJOCO_MIN_BAR, MUJOCO_MIN_MESH_VOLUME
+from linkgen.mujoco.options import MESH_VOLUME_MARGIN, MUJOCO_MIN_BAR, MUJOCO_MIN_MESH_VOLUME
 from linkgen.mujoco.options import PLACEHOLDER, Settings
 from linkgen.planar.pose import mechanism_size, reference_pose
 from linkgen.mujoco.settings import crank_only, derive

@@ -54,4 +54,16 @@ class Settings:
 # Jacobians): the values that suit a metre-sized linkage at 10 rad/s.
 PLACEHOLDER = Settings(timestep=5e-5, timeconst=1e-3, armature=1e4, label="placeholder")
 
-__all__ = ["IMPEDANCE", "PLACEHOLDER", "SOLVER_ITERATIONS", "Settings"]
+
+
+# MuJoCo compiler limits that every MJCF writer respects (cam, planar and spatial geoms).
+# Shortest capsule drawn [m]: MuJoCo's compiler refuses fromto points closer than 1e-7 m
+# ("fromto points too close in geom"; measured on mujoco 4.0 for radii 1e-12..1 m); ten times that.
+MUJOCO_MIN_BAR = 1e-6
+MUJOCO_MIN_MESH_VOLUME = 1e-15  # m³
+MESH_VOLUME_MARGIN = 10.0
+# Report progress for runs that last longer than this [s].
+PROGRESS_AFTER = 2.0
+
+__all__ = ["IMPEDANCE", "MESH_VOLUME_MARGIN", "MUJOCO_MIN_BAR", "MUJOCO_MIN_MESH_VOLUME", "PLACEHOLDER", "PROGRESS_AFTER",
+           "SOLVER_ITERATIONS", "Settings"]

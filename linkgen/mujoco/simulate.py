@@ -29,7 +29,7 @@ from linkgen.mujoco.log import no_log_file
 from linkgen.mujoco.forces import has_loads, load_schedule
 from linkgen.mujoco.loops import mechanism_size
 from linkgen.mujoco.sample import Samples, read_samples
-from linkgen.mujoco.options import PLACEHOLDER, Settings
+from linkgen.mujoco.options import PLACEHOLDER, PROGRESS_AFTER, Settings
 from linkgen.mujoco.posed import Posed, slider_reference, torque_schedule
 from linkgen.mujoco.settings import MAX_STEPS, Scales, apply, check_budget, crank_only, derive
 from linkgen.mujoco.state import tree_state
@@ -43,8 +43,6 @@ GAP_ABORT = 1e-4
 # Steps per rollout call: bounds the memory of a run (states and sensors of one chunk) and
 # sets how often progress is reported.
 CHUNK_STEPS = 20_000
-# Report progress for runs that last longer than this [s].
-PROGRESS_AFTER = 2.0
 
 
 @dataclass(frozen=True)

@@ -260,11 +260,31 @@ def raise_failure(asm: Assembly, phi: np.ndarray, mark: bool = False) -> None:
     raise RuntimeError("a block reported a failure that the whole array does not reproduce")
 
 
+def planar_turn(asm: Assembly):
+    """The linkage's assembly over the turn [0, 2π) of its crank (``linkgen.model.turn``, the
+    same scan and bisection as for spatial four-bars), from the block solver's own failure and
+    dead-centre masks: some group cannot be assembled, or all are but one is at or too near a
+    dead centre (``SINGULAR_TOL``) or its values overflow."""
+    from linkgen.model.turn import turn_assembly
+
+    def status(phi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        report: list = []
+        with np.errstate(all="ignore"):  # failures come back as masks, not warnings
+            solve_block(asm, np.asarray(phi, dtype=float), True, report)
+        fails = np.zeros(phi.shape[0], dtype=bool)
+        rough = np.zeros(phi.shape[0], dtype=bool)
+        for _, fail, overflow, singular in report:
+            fails |= fail
+            rough |= overflow | singular
+        return fails, rough & ~fails
+
+    return turn_assembly(status)
+
+
 def _where_it_assembles(asm: Assembly) -> tuple[list, str | None]:
     """For an assembly error: the crank angles where the chain does assemble over a turn, and
     the ``[drive] range`` a user can paste to run over the widest regular part of them."""
     from linkgen.model.turn import drive_range_text
-    from linkgen.planar.turn import planar_turn
 
     turn = planar_turn(asm)
     best = turn.suggestion()

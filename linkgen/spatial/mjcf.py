@@ -18,7 +18,7 @@ import math
 import numpy as np
 from lxml import etree
 
-from linkgen.mujoco.cam import MUJOCO_MIN_BAR
+from linkgen.mujoco.options import MUJOCO_MIN_BAR
 from linkgen.mujoco.options import PLACEHOLDER, Settings
 from linkgen.mujoco.scene import KEY, SERVO, SERVO_TIME, add_scene_assets
 from linkgen.model.names import GROUND
