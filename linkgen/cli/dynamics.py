@@ -9,7 +9,7 @@ from pathlib import Path
 
 import numpy as np
 
-from linkgen.cli.common import OptionError, _float_arg, print_json, write_rows
+from linkgen.cli.common import _float_arg, print_json, write_rows
 
 
 def _positive(text: str) -> float:
@@ -29,18 +29,26 @@ def _samples(text: str) -> int:
     return n
 
 
+def integration_progress(name: str):
+    """progress(fraction, elapsed) for a long machine integration, on stderr."""
+    def report(fraction: float, elapsed: float) -> None:
+        eta = elapsed * (1 - fraction) / max(fraction, 1e-9)
+        print(f"{name}: integrating the machine {100 * fraction:5.1f}% of its time ({elapsed:.1f} s, about "
+              f"{eta:.0f} s left)", file=sys.stderr, flush=True)
+    return report
+
+
 def cmd_dynamics(args) -> int:
     from linkgen.dynamics.machine import run_machine
     from linkgen.dynamics.plots import plot_run
     from linkgen.dynamics.reduced import reduce
     from linkgen.dynamics.study import cycle_forces, load_machine
 
-    if args.csv is not None and args.json:
-        raise OptionError("--csv and --json are two outputs of the same run: give one")
     asm, machine = load_machine(args.model)
     name = asm.mechanism.name
     duration = args.duration if args.duration is not None else machine.duration
-    run = run_machine(machine, reduce(asm, machine.process_load), samples=args.samples, duration=duration)
+    run = run_machine(machine, reduce(asm, machine.process_load), samples=args.samples, duration=duration,
+                      progress=integration_progress(name))
     forces = cycle_forces(asm, run)
     mj = compared = mj_run = None
     if args.mujoco:
@@ -54,7 +62,8 @@ def cmd_dynamics(args) -> int:
                      "current": "A", "twist": "rad", "inertia": "kg·m²"},
            "added_inertia": machine.added_inertia,
            "steady": run.steady.to_json() if run.steady else None, "startup_time": run.startup_time,
-           "peak_motor_torque": float(np.abs(run.motor_torque).max()),
+           "peak_motor_torque": run.peak_motor_torque, "peak_motor_torque_at": run.peak_motor_torque_at,
+           "integrator": run.method,
            "forces_over_steady_cycle": forces.to_json() if forces else None}
     if compared is not None:
         out["mujoco"] = compared
@@ -70,14 +79,14 @@ def cmd_dynamics(args) -> int:
         plot_run(name, mj_run if mj_run is not None else run, fig, mj)
         out["figure"] = str(fig)
     if args.csv is not None:
-        cols = ["t", "phi", "omega", "epsilon", "motor_torque"]
+        cols = ["t [s]", "phi [rad]", "omega [rad/s]", "epsilon [rad/s²]", "motor_torque [N·m]"]
         data = [run.t, run.phi, run.omega, run.epsilon, run.motor_torque]
-        for c, arr in (("current", run.current), ("twist", run.twist), ("shaft_torque", run.shaft_torque)):
+        for c, arr in (("current [A]", run.current), ("twist [rad]", run.twist),
+                       ("shaft_torque [N·m]", run.shaft_torque)):
             if arr is not None:
                 cols.append(c)
                 data.append(arr)
-        write_rows(cols, data, args.csv)
-        return 0
+        write_rows(cols, data, args.csv, rows="time samples")
     if args.json:
         print_json(out)
         return 0
@@ -92,7 +101,7 @@ def cmd_dynamics(args) -> int:
               f"ω_min {s.omega_min:.6g}, ω_max {s.omega_max:.6g}, δ = {s.delta:.4g}")
         print(f"  start-up time {run.startup_time:.4g} s (ω within the steady band ±1 % of ω_mean from then on)"
               if run.startup_time is not None else "  start-up: ω had not settled into the steady band by the end")
-    print(f"  peak motor torque {out['peak_motor_torque']:.6g} N·m")
+    print(f"  peak motor torque {out['peak_motor_torque']:.6g} N·m at t = {out['peak_motor_torque_at']:.4g} s")
     if forces:
         print(f"  along the real motion: peak balancing torque {forces.balancing_torque:.6g} N·m at "
               f"{math.degrees(forces.balancing_torque_at) % 360:.1f}°")
@@ -157,8 +166,9 @@ def add_command(sub) -> None:
     d.add_argument("model", type=Path, help="description with a [machine] table")
     d.add_argument("--duration", type=_positive, help="seconds of machine time (default: [machine] duration)")
     d.add_argument("--samples", type=_samples, default=2000, help="time samples in the output (no unit; default 2000)")
-    d.add_argument("--csv", type=Path, help="write t [s], phi [rad], omega [rad/s], epsilon [rad/s²], "
-                                            "motor_torque [N·m] (and current [A], twist [rad]) to this CSV file")
+    d.add_argument("--csv", type=Path, help="also write t [s], phi [rad], omega [rad/s], epsilon [rad/s²], "
+                                            "motor_torque [N·m] (and current [A], twist [rad], shaft_torque "
+                                            "[N·m]) at the time samples to this CSV file")
     d.add_argument("--json", action="store_true", help="print one JSON object")
     d.add_argument("--report", type=Path, help="folder for the figure ω(t), M(t), ω(M)")
     d.add_argument("--mujoco", action="store_true",

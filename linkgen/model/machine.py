@@ -39,7 +39,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from linkgen.errors import DescriptionError
-from linkgen.model.units import angular_speed, finite, parse_angle, shown
+from linkgen.model import limits
+from linkgen.model.units import angular_speed, bounded, finite, parse_angle, shown
 
 MOTOR_KEYS = {
     "constant": ("torque",),
@@ -116,6 +117,13 @@ class Machine:
 
 # Keys that are angular speeds: a number in rad/s or a string with its unit ("1500rpm", "10rad/s").
 SPEED_KEYS = {"no_load_speed", "synchronous_speed", "start_speed"}
+# Keys bounded by linkgen's limits (linkgen.model.limits), so that the reduced moments and the
+# energies of a turn stay within float64's range like the mechanism's own loads: (limit, unit).
+LIMITS = {"torque": (limits.MAX_TORQUE, "N·m"), "stall_torque": (limits.MAX_TORQUE, "N·m"),
+          "no_load_speed": (limits.MAX_OMEGA, "rad/s"), "synchronous_speed": (limits.MAX_OMEGA, "rad/s"),
+          "start_speed": (limits.MAX_OMEGA, "rad/s"), "rotor_inertia": (limits.MAX_INERTIA, "kg·m²"),
+          "flywheel_inertia": (limits.MAX_INERTIA, "kg·m²"),
+          "rated_power": (limits.MAX_TORQUE * limits.MAX_OMEGA, "W")}
 
 
 def _number(t: dict, key: str, where: str, *, low: float = -math.inf, strict: bool = False, default=None) -> float:
@@ -124,6 +132,8 @@ def _number(t: dict, key: str, where: str, *, low: float = -math.inf, strict: bo
             raise DescriptionError(f"{where}.{key}", "is required")
         return default
     x = angular_speed(t[key], f"{where}.{key}") if key in SPEED_KEYS else finite(t[key], f"{where}.{key}")
+    if key in LIMITS:
+        bounded(x, f"{where}.{key}", *LIMITS[key])
     if x < low or (strict and x == low):
         raise DescriptionError(f"{where}.{key}", f"must be {'>' if strict else '>='} {low:g}, got {shown(t[key])}")
     return x
@@ -186,7 +196,8 @@ def machine_from_dict(data: dict) -> Machine | None:
             if not isinstance(p.get(k), list) or len(p[k]) < 3:
                 raise DescriptionError(f"machine.process_load.{k}", f"must be a list of at least 3 values, got {shown(p.get(k))}")
         ang = [parse_angle(a, f"machine.process_load.angles[{i}]") for i, a in enumerate(p["angles"])]
-        tq = [finite(x, f"machine.process_load.torque[{i}]") for i, x in enumerate(p["torque"])]
+        tq = [bounded(finite(x, f"machine.process_load.torque[{i}]"), f"machine.process_load.torque[{i}]",
+                      limits.MAX_TORQUE, "N·m") for i, x in enumerate(p["torque"])]
         if len(ang) != len(tq):
             raise DescriptionError("machine.process_load", f"angles ({len(ang)}) and torque ({len(tq)}) differ in length")
         if not (np.all(np.diff(ang) > 0) and ang[-1] - ang[0] < 2 * math.pi):
