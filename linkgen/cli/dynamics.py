@@ -30,11 +30,11 @@ def _samples(text: str) -> int:
 
 
 def integration_progress(name: str):
-    """progress(fraction, elapsed) for a long machine integration, on stderr."""
+    """progress(fraction, elapsed) for a long machine run (the ODE's or MuJoCo's), on stderr."""
     def report(fraction: float, elapsed: float) -> None:
         eta = elapsed * (1 - fraction) / max(fraction, 1e-9)
-        print(f"{name}: integrating the machine {100 * fraction:5.1f}% of its time ({elapsed:.1f} s, about "
-              f"{eta:.0f} s left)", file=sys.stderr, flush=True)
+        print(f"{name}: machine run {100 * fraction:5.1f}% of its time ({elapsed:.1f} s, about {eta:.0f} s left)",
+              file=sys.stderr, flush=True)
     return report
 
 
@@ -54,9 +54,11 @@ def cmd_dynamics(args) -> int:
     if args.mujoco:
         from linkgen.dynamics.study import compare_machine_run
 
-        print(f"{name}: running the full linkage in MuJoCo over the start-up and {args.cycles} steady cycles …",
-              file=sys.stderr, flush=True)
-        compared, mj, mj_run = compare_machine_run(asm, machine, args.cycles, native=True)
+        what = (f"the start-up and {args.cycles} steady cycles" if run.steady is not None else
+                f"its duration of {machine.duration:g} s (no steady cycle)")
+        print(f"{name}: running the full linkage in MuJoCo over {what} …", file=sys.stderr, flush=True)
+        compared, mj, mj_run = compare_machine_run(asm, machine, args.cycles, native=True,
+                                                   progress=integration_progress(name))
     out = {"model": name, "duration": duration, "samples": args.samples, "motor": machine.motor.kind,
            "units": {"t": "s", "phi": "rad", "omega": "rad/s", "epsilon": "rad/s²", "motor_torque": "N·m (motor shaft)",
                      "current": "A", "twist": "rad", "inertia": "kg·m²"},
@@ -111,11 +113,12 @@ def cmd_dynamics(args) -> int:
         m = compared
         e = {k: v for k, v in m["errors_relative"].items() if v is not None}
         window = (f"start-up and {m['cycles']} steady cycles, {m['duration_s']:.4g} s" if "cycles" in m
+                  else f"{m['duration_s']:.4g} s, the whole duration: no steady cycle" if m.get("no_steady_cycle")
                   else f"{m['duration_s']:.4g} s")
         print(f"  MuJoCo's full linkage ({window}; {m['steps']} steps of {m['timestep']:.3g} s), relative to each "
               f"peak: " + ", ".join(f"{k} {v:.2e}" for k, v in e.items())
               + f"; φ within {m['phi_error_rad']:.2e} rad — {'ok' if m['ok'] else 'OVER'} the tolerance "
-              f"{m['tolerance']:g}")
+              f"{m['tolerance']:g}" + ("" if m["ok"] else f" ({m['worst']})"))
         if "dcmotor" in m:
             d = m["dcmotor"]
             print(f"  MuJoCo's own dcmotor element (the --mjcf file), first {d['duration_s']:.3g} s: ω within "
