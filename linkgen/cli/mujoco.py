@@ -193,7 +193,9 @@ def _check_one(path: Path, report: Path | None, practical: bool, nthread: int | 
     out = {"file": str(path)} | cc.to_json()
     from linkgen.dynamics.study import compare_machine
 
-    dyn = compare_machine(path, progress=_progress(f"{asm.mechanism.name} (machine)") if progress else None)
+    from linkgen.cli.dynamics import integration_progress
+
+    dyn = compare_machine(path, progress=integration_progress(asm.mechanism.name) if progress else None)
     if dyn is not None:
         out["dynamics"] = dyn
         out["ok"] = bool(out["ok"] and dyn["ok"])

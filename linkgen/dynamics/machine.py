@@ -44,6 +44,10 @@ STIFF_STEPS = 1000
 # A time constant shorter than this fraction of the duration cannot be resolved at all: a step
 # of τ at t = duration would be below the spacing of float64 numbers (2.2e-16 of t) times 1e3.
 RESOLVABLE = 1e3 * np.finfo(float).eps
+# The solver's step is at most this fraction of a turn at the top speed: the load table M(φ) is
+# linear between 4096+ angles, and a step over hundreds of its kinks has an error the solver's
+# estimate does not see (dynamics.cycle).
+STEPS_PER_TURN = 64
 # Right-hand sides evaluated at most (about 100 µs each on a 5-body linkage: some minutes).
 MAX_EVALUATIONS = 3_000_000
 # Progress is reported after this much wall time [s], then every PROGRESS_EVERY s.
@@ -241,12 +245,14 @@ def run_machine(machine: Machine, red: Reduced, *, samples: int = 2000, duration
     T = machine.duration if duration is None else float(duration)
     phi0 = float(red.phi[0])
     method, _ = choose_method(machine, red, T)
+    top = machine.top_speed(0.0)
+    max_step = 2 * math.pi / top / STEPS_PER_TURN if top > 0 else math.inf
     scale = np.ones(model.n)
     budget = _Budget(model.rhs, T, progress)
     try:
         with np.errstate(over="ignore", invalid="ignore"):
             sol = solve_ivp(budget, (0.0, T), model.y0(phi0), method=method, rtol=RTOL, atol=RTOL * scale * 1e-3,
-                            dense_output=True)
+                            dense_output=True, max_step=max_step)
     except (ValueError, np.linalg.LinAlgError) as exc:  # the solver's own check of its Jacobian or states
         raise SimulationError(f"the machine's state left float64's range near t = {budget.t:.6g} s ({exc}); check "
                               "the [machine.motor] parameters and the inertias") from None
@@ -259,8 +265,7 @@ def run_machine(machine: Machine, red: Reduced, *, samples: int = 2000, duration
     mm, cur = model.motor(w_rotor, y)
     twist = (y[2] - y[0]) if model.shaft else None
     ts = model.shaft_torque(y) if model.shaft else None
-    j_min = float(red.j(red.phi).min()) + (machine.flywheel_inertia if model.shaft else machine.added_inertia)
-    steady = steady_cycle(sol, phi0, RTOL, red.moment_resolution(), j_min)
+    steady = steady_cycle(sol, phi0, RTOL)
     startup = None if steady is None else startup_time(sol, steady, T)
     top, top_at = peak(sol, lambda s: motor_torque_at(machine, red, s), T)
     return MachineRun(t, y[0], y[1], np.asarray(eps, dtype=float), np.asarray(mm, dtype=float) * np.ones_like(t),

@@ -44,21 +44,6 @@ class Reduced:
         m = self._table.at(phi)
         return m if np.ndim(m) else float(m)
 
-    def moment_resolution(self) -> float:
-        """A bound [N·m] on how far the linear table departs from the smooth load between its
-        angles: w²/8·|M″| at each angle (M″ from the neighbouring slopes, w the wider cell);
-        a switch's zero-width cell is a jump the table keeps exactly, not a curvature."""
-        phi, m = self.moment_phi, self.moment_grid
-        w = np.diff(phi)
-        ok = w > 0
-        slope = np.where(ok, np.diff(m) / np.where(ok, w, 1.0), 0.0)
-        both = ok[1:] & ok[:-1]
-        if not both.any():
-            return 0.0
-        wl, wr = w[:-1][both], w[1:][both]
-        curvature = 2.0 * np.abs(slope[1:][both] - slope[:-1][both]) / (wl + wr)
-        return float(np.max(np.maximum(wl, wr) ** 2 / 8.0 * curvature))
-
     @property
     def _table(self) -> PeriodicTable:
         table = self.__dict__.get("_cached_table")
