@@ -189,3 +189,11 @@ def test_the_machine_docs_say_where_a_machine_starts():
     asm, machine = load_machine(MODELS / "motor_startup.toml")
     run = run_machine(machine, reduce(asm), samples=3)
     assert run.phi[0] == asm.mechanism.drive.start
+
+
+@pytest.mark.parametrize("ratio", ["1e300", "1e-300"])
+def test_a_gear_ratio_past_linkgens_limits_is_refused_at_load(tmp_path, ratio):
+    path = _variant(tmp_path, "machine_press.toml", "gear_ratio = 12.0", f"gear_ratio = {ratio}")
+    with pytest.raises(DescriptionError) as exc:
+        load_machine(path)
+    assert exc.value.field == "machine.gear_ratio"

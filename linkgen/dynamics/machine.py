@@ -204,9 +204,11 @@ def choose_method(machine: Machine, red: Reduced, duration: float) -> tuple[str,
     tau = 1.0 / radius if radius > 0 else math.inf
     if not tau > RESOLVABLE * duration:
         what = ("its accelerations leave the range of float64 numbers" if not math.isfinite(radius) else
-                f"its fastest time constant is {tau:.3g} s, {tau / duration:.2g} of the duration")
+                f"its fastest time constant is {tau:.3g} s, {tau / duration:.2g} of the duration of {duration:g} s, "
+                f"finer than any step can resolve")
         raise SimulationError(f"the machine cannot be integrated: {what}; check the [machine.motor] parameters "
-                              f"({', '.join(f'{k} = {v:g}' for k, v in machine.motor.params)}) and the inertias")
+                              f"({', '.join(f'{k} = {v:g}' for k, v in machine.motor.params)}), the gear ratio, "
+                              "the inertias, the loads" + (" and the duration" if math.isfinite(radius) else ""))
     scale = min(duration, 2 * math.pi / top) if top > 0 else duration
     stiff = model.current or model.shaft is not None or scale / (3 * tau) > STIFF_STEPS
     return ("Radau" if stiff else "DOP853"), tau

@@ -123,7 +123,12 @@ LIMITS = {"torque": (limits.MAX_TORQUE, "N·m"), "stall_torque": (limits.MAX_TOR
           "no_load_speed": (limits.MAX_OMEGA, "rad/s"), "synchronous_speed": (limits.MAX_OMEGA, "rad/s"),
           "start_speed": (limits.MAX_OMEGA, "rad/s"), "rotor_inertia": (limits.MAX_INERTIA, "kg·m²"),
           "flywheel_inertia": (limits.MAX_INERTIA, "kg·m²"),
-          "rated_power": (limits.MAX_TORQUE * limits.MAX_OMEGA, "W")}
+          "rated_power": (limits.MAX_TORQUE * limits.MAX_OMEGA, "W"),
+          # motor speed / crank speed: a ratio of two speeds within linkgen's range, so that
+          # u²·rotor_inertia stays within MAX_OMEGA²·MAX_INERTIA = 1e114 (and 1/u likewise)
+          "gear_ratio": (limits.MAX_OMEGA, "(a speed ratio)")}
+# The smallest gear ratio: 1/MAX_OMEGA (the reciprocal bound of the same ratio).
+MIN_GEAR_RATIO = 1.0 / limits.MAX_OMEGA
 
 
 def _number(t: dict, key: str, where: str, *, low: float = -math.inf, strict: bool = False, default=None) -> float:
@@ -209,7 +214,7 @@ def machine_from_dict(data: dict) -> Machine | None:
     return Machine(
         motor=_motor(_table(t["motor"], "machine.motor")),
         rotor_inertia=_number(t, "rotor_inertia", "machine", low=0.0, default=0.0),
-        gear_ratio=_number(t, "gear_ratio", "machine", low=0.0, strict=True, default=1.0),
+        gear_ratio=_number(t, "gear_ratio", "machine", low=MIN_GEAR_RATIO, default=1.0),
         gear_efficiency=eff,
         flywheel_inertia=_number(t, "flywheel_inertia", "machine", low=0.0, default=0.0),
         start_speed=_number(t, "start_speed", "machine", low=0.0, default=0.0),
