@@ -176,6 +176,14 @@ def _jacobian_radius(model: _Model, y: np.ndarray) -> float:
     return float(np.abs(np.linalg.eigvals(jac)).max())
 
 
+def _speed_scale(machine: Machine, red: Reduced) -> float:
+    """The crank speed [rad/s] the machine runs at, at most: the motor's no-load or synchronous
+    speed, or the start speed; the drive's prescribed speed only where neither gives one (a
+    constant torque from rest)."""
+    top = machine.top_speed(0.0)
+    return top if top > 0 else abs(red.drive_omega)
+
+
 def choose_method(machine: Machine, red: Reduced, duration: float) -> tuple[str, float]:
     """The integrator (see STIFF_STEPS) and the machine's fastest time constant τ [s] (1/the
     largest |eigenvalue| of the Jacobian at the start and at the top speed); SimulationError if τ
@@ -183,7 +191,7 @@ def choose_method(machine: Machine, red: Reduced, duration: float) -> tuple[str,
     range."""
     model = _Model(machine, red)
     y0 = model.y0(float(red.phi[0]))
-    top = machine.top_speed(0.0)
+    top = _speed_scale(machine, red)
     states = [y0]
     if model.current:  # at rest with the stall current U/R: the largest current and torque
         stall = y0.copy()
@@ -247,7 +255,7 @@ def run_machine(machine: Machine, red: Reduced, *, samples: int = 2000, duration
     T = machine.duration if duration is None else float(duration)
     phi0 = float(red.phi[0])
     method, _ = choose_method(machine, red, T)
-    top = machine.top_speed(0.0)
+    top = _speed_scale(machine, red)
     max_step = 2 * math.pi / top / STEPS_PER_TURN if top > 0 else math.inf
     scale = np.ones(model.n)
     budget = _Budget(model.rhs, T, progress)
