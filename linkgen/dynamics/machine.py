@@ -12,10 +12,10 @@ speed ω_r, reduced to the crank) is a second mass:
     T = c·dz(θ − φ) + b·(ω_r − ω),  dz the dead zone of the backlash.
 
 A DC motor with inductance adds its current i (``motors.dc_current_rate``). Integrated by scipy's
-``solve_ivp`` (DOP853; Radau when a current or a shaft makes it stiff) from the start speed to
-``duration`` (Radau also where the machine's time constants make it stiff: ``choose_method``);
-the steady cycle, the start-up and the peak motor torque are found on the dense output
-(``dynamics.cycle``).
+``solve_ivp`` from the start speed to ``duration``: DOP853, or Radau with a current or a shaft
+or where the machine's time constants make it stiff (``choose_method``), in steps of at most a
+64th of a turn; the steady cycle, the start-up and the peak motor torque are found on the dense
+output (``dynamics.cycle``).
 """
 
 from __future__ import annotations
