@@ -154,7 +154,10 @@ def test_cli_dynamics_and_flywheel(tmp_path):
     p = _cli("dynamics", MODELS / "motor_startup.toml", "--csv", tmp_path / "m.csv", "--samples", "11")
     assert p.returncode == 0, p.stderr
     lines = (tmp_path / "m.csv").read_text().splitlines()
-    assert lines[0].split(",")[:5] == ["t", "phi", "omega", "epsilon", "motor_torque"] and len(lines) == 12
+    assert lines[0].split(",")[:5] == ["t [s]", "phi [rad]", "omega [rad/s]", "epsilon [rad/s²]",
+                                       "motor_torque [N·m]"] and len(lines) == 12
+    # the summary is still printed, and the message counts time samples, not crank angles
+    assert "steady cycle from" in p.stdout and "wrote 11 time samples" in p.stderr
     p = _cli("dynamics", MODELS / "motor_startup.toml", "--json")
     out = json.loads(p.stdout)
     assert set(out["steady"]) >= {"omega_mean", "omega_min", "omega_max", "delta", "period"}

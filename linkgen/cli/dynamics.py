@@ -9,7 +9,7 @@ from pathlib import Path
 
 import numpy as np
 
-from linkgen.cli.common import OptionError, _float_arg, print_json, write_rows
+from linkgen.cli.common import _float_arg, print_json, write_rows
 from linkgen.outputs import output_folder
 
 
@@ -30,32 +30,43 @@ def _samples(text: str) -> int:
     return n
 
 
+def integration_progress(name: str):
+    """progress(fraction, elapsed) for a long machine run (the ODE's or MuJoCo's), on stderr."""
+    def report(fraction: float, elapsed: float) -> None:
+        eta = elapsed * (1 - fraction) / max(fraction, 1e-9)
+        print(f"{name}: machine run {100 * fraction:5.1f}% of its time ({elapsed:.1f} s, about {eta:.0f} s left)",
+              file=sys.stderr, flush=True)
+    return report
+
+
 def cmd_dynamics(args) -> int:
     from linkgen.dynamics.machine import run_machine
     from linkgen.dynamics.plots import plot_run
     from linkgen.dynamics.reduced import reduce
     from linkgen.dynamics.study import cycle_forces, load_machine
 
-    if args.csv is not None and args.json:
-        raise OptionError("--csv and --json are two outputs of the same run: give one")
     asm, machine = load_machine(args.model)
     name = asm.mechanism.name
     duration = args.duration if args.duration is not None else machine.duration
-    run = run_machine(machine, reduce(asm, machine.process_load), samples=args.samples, duration=duration)
+    run = run_machine(machine, reduce(asm, machine.process_load), samples=args.samples, duration=duration,
+                      progress=integration_progress(name))
     forces = cycle_forces(asm, run)
     mj = compared = mj_run = None
     if args.mujoco:
         from linkgen.dynamics.study import compare_machine_run
 
-        print(f"{name}: running the full linkage in MuJoCo over the start-up and {args.cycles} steady cycles …",
-              file=sys.stderr, flush=True)
-        compared, mj, mj_run = compare_machine_run(asm, machine, args.cycles, native=True)
+        what = (f"the start-up and {args.cycles} steady cycles" if run.steady is not None else
+                f"its duration of {machine.duration:g} s (no steady cycle)")
+        print(f"{name}: running the full linkage in MuJoCo over {what} …", file=sys.stderr, flush=True)
+        compared, mj, mj_run = compare_machine_run(asm, machine, args.cycles, native=True,
+                                                   progress=integration_progress(name))
     out = {"model": name, "duration": duration, "samples": args.samples, "motor": machine.motor.kind,
            "units": {"t": "s", "phi": "rad", "omega": "rad/s", "epsilon": "rad/s²", "motor_torque": "N·m (motor shaft)",
                      "current": "A", "twist": "rad", "inertia": "kg·m²"},
            "added_inertia": machine.added_inertia,
            "steady": run.steady.to_json() if run.steady else None, "startup_time": run.startup_time,
-           "peak_motor_torque": float(np.abs(run.motor_torque).max()),
+           "peak_motor_torque": run.peak_motor_torque, "peak_motor_torque_at": run.peak_motor_torque_at,
+           "integrator": run.method,
            "forces_over_steady_cycle": forces.to_json() if forces else None}
     if compared is not None:
         out["mujoco"] = compared
@@ -71,14 +82,14 @@ def cmd_dynamics(args) -> int:
         plot_run(name, mj_run if mj_run is not None else run, fig, mj)
         out["figure"] = str(fig)
     if args.csv is not None:
-        cols = ["t", "phi", "omega", "epsilon", "motor_torque"]
+        cols = ["t [s]", "phi [rad]", "omega [rad/s]", "epsilon [rad/s²]", "motor_torque [N·m]"]
         data = [run.t, run.phi, run.omega, run.epsilon, run.motor_torque]
-        for c, arr in (("current", run.current), ("twist", run.twist), ("shaft_torque", run.shaft_torque)):
+        for c, arr in (("current [A]", run.current), ("twist [rad]", run.twist),
+                       ("shaft_torque [N·m]", run.shaft_torque)):
             if arr is not None:
                 cols.append(c)
                 data.append(arr)
-        write_rows(cols, data, args.csv)
-        return 0
+        write_rows(cols, data, args.csv, rows="time samples")
     if args.json:
         print_json(out)
         return 0
@@ -93,7 +104,7 @@ def cmd_dynamics(args) -> int:
               f"ω_min {s.omega_min:.6g}, ω_max {s.omega_max:.6g}, δ = {s.delta:.4g}")
         print(f"  start-up time {run.startup_time:.4g} s (ω within the steady band ±1 % of ω_mean from then on)"
               if run.startup_time is not None else "  start-up: ω had not settled into the steady band by the end")
-    print(f"  peak motor torque {out['peak_motor_torque']:.6g} N·m")
+    print(f"  peak motor torque {out['peak_motor_torque']:.6g} N·m at t = {out['peak_motor_torque_at']:.4g} s")
     if forces:
         print(f"  along the real motion: peak balancing torque {forces.balancing_torque:.6g} N·m at "
               f"{math.degrees(forces.balancing_torque_at) % 360:.1f}°")
@@ -103,11 +114,12 @@ def cmd_dynamics(args) -> int:
         m = compared
         e = {k: v for k, v in m["errors_relative"].items() if v is not None}
         window = (f"start-up and {m['cycles']} steady cycles, {m['duration_s']:.4g} s" if "cycles" in m
+                  else f"{m['duration_s']:.4g} s, the whole duration: no steady cycle" if m.get("no_steady_cycle")
                   else f"{m['duration_s']:.4g} s")
         print(f"  MuJoCo's full linkage ({window}; {m['steps']} steps of {m['timestep']:.3g} s), relative to each "
               f"peak: " + ", ".join(f"{k} {v:.2e}" for k, v in e.items())
               + f"; φ within {m['phi_error_rad']:.2e} rad — {'ok' if m['ok'] else 'OVER'} the tolerance "
-              f"{m['tolerance']:g}")
+              f"{m['tolerance']:g}" + ("" if m["ok"] else f" ({m['worst']})"))
         if "dcmotor" in m:
             d = m["dcmotor"]
             print(f"  MuJoCo's own dcmotor element (the --mjcf file), first {d['duration_s']:.3g} s: ω within "
@@ -158,8 +170,9 @@ def add_command(sub) -> None:
     d.add_argument("model", type=Path, help="description with a [machine] table")
     d.add_argument("--duration", type=_positive, help="seconds of machine time (default: [machine] duration)")
     d.add_argument("--samples", type=_samples, default=2000, help="time samples in the output (no unit; default 2000)")
-    d.add_argument("--csv", type=Path, help="write t [s], phi [rad], omega [rad/s], epsilon [rad/s²], "
-                                            "motor_torque [N·m] (and current [A], twist [rad]) to this CSV file")
+    d.add_argument("--csv", type=Path, help="also write t [s], phi [rad], omega [rad/s], epsilon [rad/s²], "
+                                            "motor_torque [N·m] (and current [A], twist [rad], shaft_torque "
+                                            "[N·m]) at the time samples to this CSV file")
     d.add_argument("--json", action="store_true", help="print one JSON object")
     d.add_argument("--report", type=Path, help="folder for the figure ω(t), M(t), ω(M)")
     d.add_argument("--mujoco", action="store_true",

@@ -221,7 +221,9 @@ def _check_one(path: Path, report: Path | None, practical: bool, nthread: int | 
     out = {"file": str(path)} | cc.to_json()
     from linkgen.dynamics.study import compare_machine
 
-    dyn = compare_machine(path)
+    from linkgen.cli.dynamics import integration_progress
+
+    dyn = compare_machine(path, progress=integration_progress(asm.mechanism.name) if progress else None)
     if dyn is not None:
         out["dynamics"] = dyn
         out["ok"] = bool(out["ok"] and dyn["ok"])
@@ -260,8 +262,8 @@ def _summary(r: dict) -> str:
     dyn = r.get("dynamics")
     if dyn is not None:
         lines.append(f"    machine: {dyn['skipped']}" if "skipped" in dyn else
-                     f"    machine driven by its motor, {dyn['duration_s']:g} s: MuJoCo's ω within "
-                     f"{dyn['omega_error_relative']:.2e} of its peak (tolerance {dyn['tolerance']:g})"
+                     f"    machine driven by its motor, {dyn['duration_s']:g} s: MuJoCo's worst {dyn['worst']} "
+                     f"{dyn['worst_error_relative']:.2e} of its scale (tolerance {dyn['tolerance']:g})"
                      + ("" if dyn["ok"] else " — over the tolerance"))
     shown = r.get("diagnosis", [])[:DIAGNOSIS_LINES]
     for d in shown:

@@ -10,6 +10,7 @@ each J_f, and J_f from the second by bisection (ω_min grows with J_f). No linea
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -47,27 +48,39 @@ def _speeds(j, de, jf: float, t0: float) -> np.ndarray:
 
 def size_flywheel(red: Reduced, omega_mean: float, delta: float, added: float = 0.0) -> Flywheel:
     """The flywheel for speed fluctuation δ at mean speed ω_m [rad/s] (``added``: rotor inertia
-    already on the crank [kg·m²], part of the total J the result is beyond)."""
+    already on the crank [kg·m²], part of the total J the result is beyond).
+
+    Solved in speeds relative to ω_m and energies over ω_m² [kg·m²] (the answer scales so), so
+    that no square of a small or large speed leaves float range on the way; SimulationError if
+    the flywheel itself is beyond it."""
     if not (omega_mean > 0 and 0 < delta < 2):
         raise SimulationError(f"need ω_mean > 0 and 0 < δ < 2, got {omega_mean!r}, {delta!r}")
     phi, j, de, m_d = _cycle(red)
     j = j + added
-    w_hi, w_lo = omega_mean * (1 + delta / 2), omega_mean * (1 - delta / 2)
+    with np.errstate(over="ignore", under="ignore"):
+        e = de / omega_mean / omega_mean  # ΔE/ω_m² [kg·m²]
+    if not (np.isfinite(e).all() and np.isfinite(j).all()):
+        raise SimulationError(f"the flywheel for δ = {delta:g} at ω_mean = {omega_mean:g} rad/s is beyond float64's "
+                              f"range: the energy swing {float(np.ptp(de)):.3g} J over ω_mean² = {omega_mean:g}² "
+                              "rad²/s² does not fit; give a mean speed nearer the machine's (--omega)")
+    w_hi, w_lo = 1 + delta / 2, 1 - delta / 2
 
     def t0(jf):
-        return float(np.min(0.5 * w_hi**2 * (j + jf) - de))
+        return float(np.min(0.5 * w_hi**2 * (j + jf) - e))
 
     def miss(jf):
-        return float(_speeds(j, de, jf, t0(jf)).min()) - w_lo
+        return float(_speeds(j, e, jf, t0(jf)).min()) - w_lo
 
-    hi = max(float(np.ptp(de)) / (delta * omega_mean**2), 1e-12) * 4 + float(j.max())
+    hi = max(float(np.ptp(e)) / delta, 1e-12 * max(float(j.max()), 1e-300)) * 4 + float(j.max())
     if miss(0.0) >= 0:
         jf = 0.0
     else:
-        while miss(hi) < 0:
+        while miss(hi) < 0 and math.isfinite(hi):
             hi *= 4
+        if not math.isfinite(hi):
+            raise SimulationError(f"no finite flywheel gives δ = {delta:g} at ω_mean = {omega_mean:g} rad/s")
         jf = brentq(miss, 0.0, hi, xtol=1e-14 * hi, rtol=1e-14, maxiter=500)
-    w = _speeds(j, de, jf, t0(jf))
+    w = _speeds(j, e, jf, t0(jf)) * omega_mean
     return Flywheel(jf, m_d, float(np.ptp(de)), float(w[0]), omega_mean, delta)
 
 

@@ -12,53 +12,46 @@ speed ω_r, reduced to the crank) is a second mass:
     T = c·dz(θ − φ) + b·(ω_r − ω),  dz the dead zone of the backlash.
 
 A DC motor with inductance adds its current i (``motors.dc_current_rate``). Integrated by scipy's
-``solve_ivp`` (DOP853; Radau when a current or a shaft makes it stiff) from the start speed to
-``duration``; the steady cycle is the first turn whose ω(φ) repeats the previous turn's to
-STEADY_TOL of the mean speed.
+``solve_ivp`` from the start speed to ``duration``: DOP853, or Radau with a current or a shaft
+or where the machine's time constants make it stiff (``choose_method``), in steps of at most a
+64th of a turn; the steady cycle, the start-up and the peak motor torque are found on the dense
+output (``dynamics.cycle``).
 """
 
 from __future__ import annotations
 
 import math
+import time
 from dataclasses import dataclass, field
 
 import numpy as np
 from scipy.integrate import solve_ivp
 
 from linkgen.dynamics import motors
+from linkgen.dynamics.cycle import CYCLE_POINTS, STEADY_TOL, SteadyCycle, peak, startup_time, steady_cycle
 from linkgen.dynamics.reduced import Reduced
 from linkgen.errors import SimulationError
 from linkgen.model.machine import Machine
 
 # Relative tolerance of the integration; the absolute one is this times the state's scale.
 RTOL = 1e-10
-# Two successive turns are the same cycle when ω(φ) differs by less than this fraction of the
-# mean speed at every one of CYCLE_POINTS crank angles (100× the integration's tolerance).
-STEADY_TOL = 1e-8
-CYCLE_POINTS = 256
-# The start-up ends where ω enters, for good, the steady cycle's band widened by this fraction
-# of the mean speed.
-STARTUP_BAND = 0.01
-
-
-@dataclass(frozen=True)
-class SteadyCycle:
-    """One steady turn: start time [s], period [s], mean speed 2π/period, ω_min, ω_max [rad/s],
-    δ = (ω_max − ω_min)/ω_mean."""
-
-    t_start: float
-    period: float
-    omega_mean: float
-    omega_min: float
-    omega_max: float
-
-    @property
-    def delta(self) -> float:
-        return (self.omega_max - self.omega_min) / self.omega_mean
-
-    def to_json(self) -> dict:
-        return {"t_start": self.t_start, "period": self.period, "omega_mean": self.omega_mean,
-                "omega_min": self.omega_min, "omega_max": self.omega_max, "delta": self.delta}
+# The integrator: DOP853 unless a current or a shaft is present (Radau, as validated) or the
+# machine's fastest time constant τ would hold an explicit method to steps far shorter than a
+# turn needs for accuracy: its stability bound is a step of about 3τ, so beyond STIFF_STEPS
+# such steps per turn at the top speed the implicit Radau takes over (whose step follows the
+# accuracy alone). DOP853 takes some hundreds to a few thousand steps per turn at RTOL.
+STIFF_STEPS = 1000
+# A time constant shorter than this fraction of the duration cannot be resolved at all: a step
+# of τ at t = duration would be below the spacing of float64 numbers (2.2e-16 of t) times 1e3.
+RESOLVABLE = 1e3 * np.finfo(float).eps
+# The solver's step is at most this fraction of a turn at the top speed: the load table M(φ) is
+# linear between 4096+ angles, and a step over hundreds of its kinks has an error the solver's
+# estimate does not see (dynamics.cycle).
+STEPS_PER_TURN = 64
+# Right-hand sides evaluated at most (about 100 µs each on a 5-body linkage: some minutes).
+MAX_EVALUATIONS = 3_000_000
+# Progress is reported after this much wall time [s], then every PROGRESS_EVERY s.
+PROGRESS_AFTER, PROGRESS_EVERY = 2.0, 2.0
 
 
 @dataclass(frozen=True)
@@ -66,7 +59,8 @@ class MachineRun:
     """Samples (n,) of time t [s], crank angle φ [rad], speed ω [rad/s], acceleration ε [rad/s²],
     motor torque [N·m] on the motor shaft, current [A] (DC motor, else None), shaft twist θ − φ
     [rad] and shaft torque [N·m] (elastic shaft, else None); the steady cycle (None if not
-    reached within the duration) and the start-up time [s]."""
+    reached within the duration), the start-up time [s] and the largest |motor torque| [N·m]
+    with its time [s] (both refined on the dense output between samples); the method used."""
 
     t: np.ndarray
     phi: np.ndarray
@@ -79,12 +73,22 @@ class MachineRun:
     steady: SteadyCycle | None
     startup_time: float | None
     solution: object = field(default=None, repr=False, compare=False)  # dense output, t → state
-    rate: object = field(default=None, repr=False, compare=False)  # the ODE's right-hand side, (t, y) → dy/dt
+    rate: object = field(default=None, repr=False, compare=False)  # the ODE's right-hand side (t, y) → dy/dt
+    peak_motor_torque: float = math.nan
+    peak_motor_torque_at: float = math.nan
+    method: str = ""
 
     def state_at(self, t) -> tuple[np.ndarray, np.ndarray]:
         """Crank angle [rad] and speed [rad/s] at times t [s] from the solver's dense output."""
         y = self.solution(np.asarray(t, dtype=float))
         return y[0], y[1]
+
+    def acceleration_at(self, t) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """φ [rad], ω [rad/s] and the crank's ε [rad/s²] at times t [s]: ε is the ODE's own
+        right-hand side at each state (right-continuous where a load jumps), not a difference."""
+        t = np.atleast_1d(np.asarray(t, dtype=float))
+        y = self.solution(t)
+        return y[0], y[1], np.asarray(self.rate(t, y)[1], dtype=float)
 
 
 class _Model:
@@ -154,35 +158,130 @@ def motor_torque_at(machine: Machine, red: Reduced, y: np.ndarray) -> np.ndarray
     return np.asarray(mm, dtype=float) * np.ones(y.shape[1])
 
 
-def run_machine(machine: Machine, red: Reduced, *, samples: int = 2000, duration: float | None = None) -> MachineRun:
+
+def _jacobian_radius(model: _Model, y: np.ndarray) -> float:
+    """The largest |eigenvalue| [1/s] of the right-hand side's Jacobian at state y (central
+    differences); inf where the machine's rates leave float range."""
+    n = y.size
+    jac = np.empty((n, n))
+    with np.errstate(all="ignore"):
+        for j in range(n):
+            h = 1e-6 * max(1.0, abs(y[j]))
+            a, b = y.copy(), y.copy()
+            a[j] -= h
+            b[j] += h
+            jac[:, j] = (model.rhs(0.0, b) - model.rhs(0.0, a)) / (2 * h)
+    if not np.isfinite(jac).all():
+        return math.inf
+    return float(np.abs(np.linalg.eigvals(jac)).max())
+
+
+def _speed_scale(machine: Machine, red: Reduced) -> float:
+    """The crank speed [rad/s] the machine runs at, at most: the motor's no-load or synchronous
+    speed, or the start speed; the drive's prescribed speed only where neither gives one (a
+    constant torque from rest)."""
+    top = machine.top_speed(0.0)
+    return top if top > 0 else abs(red.drive_omega)
+
+
+def choose_method(machine: Machine, red: Reduced, duration: float) -> tuple[str, float]:
+    """The integrator (see STIFF_STEPS) and the machine's fastest time constant τ [s] (1/the
+    largest |eigenvalue| of the Jacobian at the start and at the top speed); SimulationError if τ
+    is beyond what any step can resolve over the duration (RESOLVABLE) or the rates leave float
+    range."""
+    model = _Model(machine, red)
+    y0 = model.y0(float(red.phi[0]))
+    top = _speed_scale(machine, red)
+    states = [y0]
+    if model.current:  # at rest with the stall current U/R: the largest current and torque
+        stall = y0.copy()
+        stall[1:-1] = 0.0
+        stall[-1] = float(motors.dc_static_current(machine.motor, 0.0))
+        states.append(stall)
+    if top > 0 and math.isfinite(top):
+        y1 = y0.copy()
+        y1[1] = top
+        if model.shaft:
+            y1[3] = top
+        if model.current:
+            y1[-1] = float(motors.dc_static_current(machine.motor, machine.gear_ratio * top))
+        states.append(y1)
+    with np.errstate(all="ignore"):
+        finite = all(np.isfinite(model.rhs(0.0, y)).all() for y in states)
+    radius = max(_jacobian_radius(model, y) for y in states) if finite else math.inf
+    tau = 1.0 / radius if radius > 0 else math.inf
+    if not tau > RESOLVABLE * duration:
+        what = ("its accelerations leave the range of float64 numbers" if not math.isfinite(radius) else
+                f"its fastest time constant is {tau:.3g} s, {tau / duration:.2g} of the duration of {duration:g} s, "
+                f"finer than any step can resolve")
+        raise SimulationError(f"the machine cannot be integrated: {what}; check the [machine.motor] parameters "
+                              f"({', '.join(f'{k} = {v:g}' for k, v in machine.motor.params)}), the gear ratio, "
+                              "the inertias, the loads" + (" and the duration" if math.isfinite(radius) else ""))
+    scale = min(duration, 2 * math.pi / top) if top > 0 else duration
+    stiff = model.current or model.shaft is not None or scale / (3 * tau) > STIFF_STEPS
+    return ("Radau" if stiff else "DOP853"), tau
+
+
+class _Budget:
+    """The right-hand side counted: SimulationError past MAX_EVALUATIONS, and progress(fraction,
+    elapsed) every PROGRESS_EVERY s once the run has lasted PROGRESS_AFTER s."""
+
+    def __init__(self, rhs, duration: float, progress):
+        self.rhs, self.duration, self.progress = rhs, duration, progress
+        self.calls, self.t0, self.next, self.t = 0, time.perf_counter(), PROGRESS_AFTER, 0.0
+
+    def __call__(self, t, y):
+        self.calls += 1
+        self.t = t
+        if self.calls % 200 == 0:
+            if self.calls > MAX_EVALUATIONS:
+                raise SimulationError(f"the machine's integration took more than {MAX_EVALUATIONS:,} evaluations "
+                                      f"and stopped at t = {t:.6g} s of {self.duration:g} s; give a shorter "
+                                      "duration or check the [machine] parameters")
+            elapsed = time.perf_counter() - self.t0
+            if self.progress is not None and elapsed >= self.next:
+                self.progress(min(t / self.duration, 1.0), elapsed)
+                self.next = elapsed + PROGRESS_EVERY
+        return self.rhs(t, y)
+
+
+def run_machine(machine: Machine, red: Reduced, *, samples: int = 2000, duration: float | None = None,
+                progress=None) -> MachineRun:
     """Integrate the machine from its start speed over ``duration`` [s] (default the
-    description's) and sample it at ``samples`` equal time steps (the steady cycle and the
-    start-up come from the solver's dense output, not from the samples)."""
+    description's) and sample it at ``samples`` equal time steps (the steady cycle, the start-up
+    and the peak motor torque come from the solver's dense output, not from the samples).
+    ``progress(fraction, elapsed seconds)`` is called during a long integration."""
     model = _Model(machine, red)
     T = machine.duration if duration is None else float(duration)
     phi0 = float(red.phi[0])
-    stiff = model.current or model.shaft is not None
+    method, _ = choose_method(machine, red, T)
+    top = _speed_scale(machine, red)
+    max_step = 2 * math.pi / top / STEPS_PER_TURN if top > 0 else math.inf
     scale = np.ones(model.n)
-    sol = solve_ivp(model.rhs, (0.0, T), model.y0(phi0), method="Radau" if stiff else "DOP853", rtol=RTOL,
-                    atol=RTOL * scale * 1e-3, dense_output=True)
-    if not sol.success:
+    budget = _Budget(model.rhs, T, progress)
+    try:
+        with np.errstate(over="ignore", invalid="ignore"):
+            sol = solve_ivp(budget, (0.0, T), model.y0(phi0), method=method, rtol=RTOL, atol=RTOL * scale * 1e-3,
+                            dense_output=True, max_step=max_step)
+    except (ValueError, np.linalg.LinAlgError) as exc:  # the solver's own check of its Jacobian or states
+        raise SimulationError(f"the machine's state left float64's range near t = {budget.t:.6g} s ({exc}); check "
+                              "the [machine.motor] parameters and the inertias") from None
+    if not sol.success or not np.isfinite(sol.y).all():
         raise SimulationError(f"the machine's integration stopped at t = {sol.t[-1]:.6g} s: {sol.message}")
     t = np.linspace(0.0, T, samples)
     y = sol.sol(t)
-    eps = np.array([model.rhs(tk, y[:, k])[1] for k, tk in enumerate(t)])
+    eps = model.rhs(t, y)[1]
     w_rotor = y[3] if model.shaft else y[1]
     mm, cur = model.motor(w_rotor, y)
     twist = (y[2] - y[0]) if model.shaft else None
     ts = model.shaft_torque(y) if model.shaft else None
-    steady = steady_cycle(sol, phi0)
-    startup = None
-    if steady is not None:
-        band = STARTUP_BAND * steady.omega_mean
-        out = np.flatnonzero((y[1] < steady.omega_min - band) | (y[1] > steady.omega_max + band))
-        startup = 0.0 if out.size == 0 else (float(t[out[-1] + 1]) if out[-1] + 1 < t.size else None)
-    return MachineRun(t, y[0], y[1], eps, np.asarray(mm, dtype=float) * np.ones_like(t),
+    steady = steady_cycle(sol, phi0, RTOL)
+    startup = None if steady is None else startup_time(sol, steady, T)
+    top, top_at = peak(sol, lambda s: motor_torque_at(machine, red, s), T)
+    return MachineRun(t, y[0], y[1], np.asarray(eps, dtype=float), np.asarray(mm, dtype=float) * np.ones_like(t),
                       None if cur is None else np.asarray(cur, dtype=float) * np.ones_like(t), twist, ts, steady,
-                      startup, sol.sol, model.rhs)
+                      startup, sol.sol, model.rhs, top, top_at, method)
+
 
 
 def speed_range(solution, a: float, b: float, *, periodic: bool, n: int = 64 * CYCLE_POINTS) -> tuple[float, float]:
@@ -197,41 +296,5 @@ def speed_range(solution, a: float, b: float, *, periodic: bool, n: int = 64 * C
     return peak(speed, t, w, kind="min", period=period)[1], peak(speed, t, w, period=period)[1]
 
 
-def _turn_times(sol, phi0: float) -> np.ndarray:
-    """Times [s] at which the crank has turned by 2π·k from φ0 (k = 1, 2, …), from the dense
-    output (root of φ(t) − φ0 − 2πk by bisection between the solver's steps)."""
-    turns = (sol.y[0] - phi0) / (2 * math.pi)
-    out = []
-    for k in range(1, int(math.floor(turns.max())) + 1):
-        j = int(np.argmax(turns >= k))
-        a, b = sol.t[j - 1], sol.t[j]
-        for _ in range(100):
-            mid = 0.5 * (a + b)
-            if (sol.sol(mid)[0] - phi0) / (2 * math.pi) >= k:
-                b = mid
-            else:
-                a = mid
-        out.append(0.5 * (a + b))
-    return np.array(out)
-
-
-def steady_cycle(sol, phi0: float) -> SteadyCycle | None:
-    """The first turn whose ω(φ) repeats the previous turn's (STEADY_TOL), or None."""
-    times = _turn_times(sol, phi0)
-    prev = None
-    for k in range(len(times) - 1):
-        a, b = times[k], times[k + 1]
-        ts = np.linspace(a, b, 8 * CYCLE_POINTS)
-        y = sol.sol(ts)
-        grid = phi0 + 2 * math.pi * (k + 1) + np.linspace(0.0, 2 * math.pi, CYCLE_POINTS, endpoint=False)
-        w = np.interp(grid, y[0], y[1])
-        if prev is not None:
-            mean = 2 * math.pi / (b - a)
-            if np.abs(w - prev).max() <= STEADY_TOL * mean:
-                low, high = speed_range(sol.sol, a, b, periodic=True)
-                return SteadyCycle(float(a), float(b - a), mean, low, high)
-        prev = w
-    return None
-
-
-__all__ = ["MachineRun", "RTOL", "STEADY_TOL", "SteadyCycle", "run_machine", "speed_range", "steady_cycle"]
+__all__ = ["MachineRun", "RTOL", "STEADY_TOL", "SteadyCycle", "choose_method", "motor_torque_at", "run_machine",
+           "speed_range", "steady_cycle"]

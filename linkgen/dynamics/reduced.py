@@ -33,6 +33,7 @@ class Reduced:
     inertia_derivative: CubicSpline
     moment_phi: np.ndarray  # (GRID + 1 + 2·switches,) [rad], non-decreasing; a switch angle twice
     moment_grid: np.ndarray  # M at moment_phi [N·m]
+    drive_omega: float = 0.0  # the drive's prescribed speed [rad/s]: a speed scale where a motor has none
 
     def j(self, phi):
         return self.inertia(self._wrap(phi))
@@ -85,7 +86,7 @@ def reduce(asm: Assembly, load: ProcessLoad | None = None, grid: int = GRID) -> 
     m = forces(asm, where, 0.0, 0.0).reduced.moment - process_torque(load, where)
     m[-1] = m[0]  # one turn on: the same load
     return Reduced(phi, CubicSpline(phi, j, bc_type="periodic"), CubicSpline(phi, dj, bc_type="periodic"),
-                   table_phi, m)
+                   table_phi, m, float(d.omega))
 
 
 __all__ = ["GRID", "Reduced", "process_torque", "process_torque_function", "reduce"]

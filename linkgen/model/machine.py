@@ -118,18 +118,18 @@ class Machine:
 
 # Keys that are angular speeds: a number in rad/s or a string with its unit ("1500rpm", "10rad/s").
 SPEED_KEYS = {"no_load_speed", "synchronous_speed", "start_speed"}
-
-
-# Keys bounded by linkgen's limits (linkgen.model.limits): the machine's torques, speeds and
-# inertias within those of the mechanism it drives, so that its reduced moments stay finite.
-BOUNDS = {
-    **{k: (limits.MAX_TORQUE, "N·m") for k in ("torque", "stall_torque")},
-    **{k: (limits.MAX_OMEGA, "rad/s") for k in SPEED_KEYS},
-    **{k: (limits.MAX_INERTIA, "kg·m²") for k in ("rotor_inertia", "flywheel_inertia")},
-    # the motor turns gear_ratio times as fast as the crank: u ≤ MAX_OMEGA keeps u² (the rotor's
-    # inertia reduced to the crank is rotor_inertia·u²) within float64 (1e60)
-    "gear_ratio": (limits.MAX_OMEGA, "as a ratio"),
-}
+# Keys bounded by linkgen's limits (linkgen.model.limits), so that the reduced moments and the
+# energies of a turn stay within float64's range like the mechanism's own loads: (limit, unit).
+LIMITS = {"torque": (limits.MAX_TORQUE, "N·m"), "stall_torque": (limits.MAX_TORQUE, "N·m"),
+          "no_load_speed": (limits.MAX_OMEGA, "rad/s"), "synchronous_speed": (limits.MAX_OMEGA, "rad/s"),
+          "start_speed": (limits.MAX_OMEGA, "rad/s"), "rotor_inertia": (limits.MAX_INERTIA, "kg·m²"),
+          "flywheel_inertia": (limits.MAX_INERTIA, "kg·m²"),
+          "rated_power": (limits.MAX_TORQUE * limits.MAX_OMEGA, "W"),
+          # motor speed / crank speed: a ratio of two speeds within linkgen's range, so that
+          # u²·rotor_inertia stays within MAX_OMEGA²·MAX_INERTIA = 1e114 (and 1/u likewise)
+          "gear_ratio": (limits.MAX_OMEGA, "(a speed ratio)")}
+# The smallest gear ratio: 1/MAX_OMEGA (the reciprocal bound of the same ratio).
+MIN_GEAR_RATIO = 1.0 / limits.MAX_OMEGA
 
 
 def _number(t: dict, key: str, where: str, *, low: float = -math.inf, strict: bool = False, default=None) -> float:
@@ -138,8 +138,8 @@ def _number(t: dict, key: str, where: str, *, low: float = -math.inf, strict: bo
             raise DescriptionError(f"{where}.{key}", "is required")
         return default
     x = angular_speed(t[key], f"{where}.{key}") if key in SPEED_KEYS else finite(t[key], f"{where}.{key}")
-    if key in BOUNDS:
-        bounded(x, f"{where}.{key}", *BOUNDS[key])
+    if key in LIMITS:
+        bounded(x, f"{where}.{key}", *LIMITS[key])
     if x < low or (strict and x == low):
         raise DescriptionError(f"{where}.{key}", f"must be {'>' if strict else '>='} {low:g}, got {shown(t[key])}")
     return x
@@ -216,7 +216,7 @@ def machine_from_dict(data: dict) -> Machine | None:
     return Machine(
         motor=_motor(_table(t["motor"], "machine.motor")),
         rotor_inertia=_number(t, "rotor_inertia", "machine", low=0.0, default=0.0),
-        gear_ratio=_number(t, "gear_ratio", "machine", low=0.0, strict=True, default=1.0),
+        gear_ratio=_number(t, "gear_ratio", "machine", low=MIN_GEAR_RATIO, default=1.0),
         gear_efficiency=eff,
         flywheel_inertia=_number(t, "flywheel_inertia", "machine", low=0.0, default=0.0),
         start_speed=_number(t, "start_speed", "machine", low=0.0, default=0.0),

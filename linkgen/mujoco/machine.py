@@ -20,6 +20,7 @@ linkage has one degree of freedom, so its loads are functions of φ alone). Grav
 from __future__ import annotations
 
 import math
+import time
 from dataclasses import dataclass
 
 import mujoco
@@ -42,6 +43,8 @@ ROTOR, SHAFT, MOTOR = "machine:rotor", "machine:shaft", "machine:motor"
 # Cells of the load table over one turn: linear interpolation errs by (2π/LOAD_GRID)²/8 of the
 # loads' second derivative in φ, 3e-9 of a load that varies like cos φ.
 LOAD_GRID = 16384
+# Seconds of wall time between progress reports of a long run.
+PROGRESS_EVERY = 2.0
 
 
 @dataclass(frozen=True)
@@ -81,16 +84,21 @@ class _LoadTable:
 
 
 @no_log_file()
-def run_machine_mujoco(asm: Assembly, machine: Machine, t: np.ndarray, reactions: bool = False) -> MujocoMachineRun:
+def run_machine_mujoco(asm: Assembly, machine: Machine, t: np.ndarray, reactions: bool = False,
+                       omega: float | None = None, progress=None) -> MujocoMachineRun:
     """Run the machine in MuJoCo from its start speed and sample at times ``t`` (n,) [s]; with
     ``reactions``, also the crank acceleration and every revolute reaction at the samples, read
-    from MuJoCo's constraint and joint forces with every load of that instant applied."""
+    from MuJoCo's constraint and joint forces with every load of that instant applied. The
+    settings are derived for the largest crank speed [rad/s]: the motor's top speed or ``omega``
+    (the speed the ODE reaches) if higher. ``progress(fraction, elapsed s)`` is called every
+    PROGRESS_EVERY s of a run that lasts longer than that."""
     from linkgen.mujoco.forces import has_loads
 
     mech = asm.mechanism
     xml = write_mjcf(asm, PLACEHOLDER)
     model = mujoco.MjModel.from_xml_string(xml)
-    settings, scales = derive(asm, model, omega=machine.top_speed(asm.mechanism.drive.omega))
+    top = max(machine.top_speed(asm.mechanism.drive.omega), omega or 0.0)
+    settings, scales = derive(asm, model, omega=top)
     if machine.shaft is not None:
         model = mujoco.MjModel.from_xml_string(_with_shaft(xml, mech, machine))
     apply(model, settings, mech.drive.joint)
@@ -135,6 +143,8 @@ def run_machine_mujoco(asm: Assembly, machine: Machine, t: np.ndarray, reactions
     phi_c = phi0  # the crank angle, unwrapped
     q_prev = float(data.qpos[adr])
     k, steps = 0, 0
+    wall0 = time.perf_counter()
+    report_at = PROGRESS_EVERY
     while k < t.size:
         while k < t.size and t[k] <= data.time + 0.5 * dt:
             out_t[k], out_phi[k], out_w[k] = data.time, phi_c, float(data.qvel[crank])
@@ -163,6 +173,9 @@ def run_machine_mujoco(asm: Assembly, machine: Machine, t: np.ndarray, reactions
             data.qfrc_applied[dof] += u * eta * _motor_torque(mot, u * w_mid, i_mid)
         mujoco.mj_step(model, data)
         steps += 1
+        if progress is not None and steps % 1000 == 0 and time.perf_counter() - wall0 >= report_at:
+            report_at = time.perf_counter() - wall0 + PROGRESS_EVERY
+            progress(min(data.time / max(float(t[-1]), dt), 1.0), time.perf_counter() - wall0)
         if motors.has_current(mot):
             current = _current_after(mot, u * w_mid, current, dt)
         q = float(data.qpos[adr])
