@@ -174,7 +174,7 @@ def test_validates_machine_line_names_the_failing_quantity():
     from linkgen.cli.mujoco import _summary
 
     r = {"model": "m", "ok": False, "quantities": {"x": {"relative_error": 1e-9, "tolerance": 1e-6}},
-         "loop_gap": {"relative": 1e-10}, "steps": 10, "total_wall_s": 1.0,
+         "loop_gap": {"relative": 1e-10, "tolerance": 1e-8}, "steps": 10, "total_wall_s": 1.0,
          "dynamics": {"ok": False, "duration_s": 1.0, "omega_error_relative": 1e-8, "tolerance": 1e-6,
                       "errors_relative": {"omega": 1e-8, "reactions": 5e-6}, "worst": "reactions",
                       "worst_error_relative": 5e-6}}

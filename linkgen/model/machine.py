@@ -127,7 +127,7 @@ LIMITS = {"torque": (limits.MAX_TORQUE, "N·m"), "stall_torque": (limits.MAX_TOR
           "rated_power": (limits.MAX_TORQUE * limits.MAX_OMEGA, "W"),
           # motor speed / crank speed: a ratio of two speeds within linkgen's range, so that
           # u²·rotor_inertia stays within MAX_OMEGA²·MAX_INERTIA = 1e114 (and 1/u likewise)
-          "gear_ratio": (limits.MAX_OMEGA, "(a speed ratio)")}
+          "gear_ratio": (limits.MAX_OMEGA, "as a ratio")}
 # The smallest gear ratio: 1/MAX_OMEGA (the reciprocal bound of the same ratio).
 MIN_GEAR_RATIO = 1.0 / limits.MAX_OMEGA
 
