@@ -83,7 +83,6 @@ FOR_FAMILY = {
                 "render", "animate"],
     "special": list(COMMANDS),
 }
-ALL = list(COMMANDS)  # the commands drawn from for any family (narrowed by --commands)
 PLANTS = ("none", "none", "symlink", "mode", "sigterm")
 
 
@@ -99,10 +98,12 @@ class CliResult:
     stderr: str = field(repr=False, default="")
 
 
-def choose(family: str, rng: np.random.Generator) -> tuple[str, str]:
-    """A command for ``family`` (one in ten from any family's list: a refusal must be clean too)
-    and a plant."""
-    pool = ALL if rng.random() < 0.1 else FOR_FAMILY[family]
+def choose(family: str, rng: np.random.Generator, commands: tuple[str, ...] | None = None) -> tuple[str, str]:
+    """A command for ``family`` (one in ten from any family's list: a refusal must be clean too),
+    among ``commands`` if given, and a plant."""
+    pool = list(COMMANDS) if rng.random() < 0.1 else FOR_FAMILY[family]
+    if commands:
+        pool = [c for c in pool if c in commands] or list(commands)
     cmd = pool[int(rng.integers(0, len(pool)))]
     plant = PLANTS[int(rng.integers(0, len(PLANTS)))]
     if COMMANDS[cmd][2] is None and plant in ("symlink", "mode"):
@@ -140,7 +141,10 @@ def _changed(before: dict, after: dict) -> list[str]:
 
 # ---------------------------------------------------------------- non-finite numbers in outputs
 _TOKEN = re.compile(r"(?<![A-Za-z_])[-+]?(?:nan|inf(?:inity)?)(?![A-Za-z_])", re.IGNORECASE)
-_ATTR = re.compile(r'="([^"]*)"')
+_ATTR = re.compile(r'([\w:-]+)="([^"]*)"')
+# Attributes holding names (the description's, free text) rather than numbers.
+_NAMED = {"name", "class", "childclass", "id", "joint", "joint1", "joint2", "body", "body1", "body2", "site", "geom1",
+          "geom2", "mesh", "material", "texture", "objname", "target", "actuator", "tendon", "href", "xlink:href"}
 
 
 def _text_non_finite(text: str) -> str | None:
@@ -167,9 +171,11 @@ def _csv_non_finite(text: str) -> str | None:
 def _markup_non_finite(text: str) -> str | None:
     """NaN/inf in an attribute value made of numbers (MJCF, SVG), not in names."""
     for m in _ATTR.finditer(text):
-        toks = m.group(1).replace(",", " ").split()
+        if m.group(1) in _NAMED:
+            continue
+        toks = m.group(2).replace(",", " ").split()
         if toks and all(re.fullmatch(r"[-+0-9.eE]+|[-+]?(?:nan|inf(?:inity)?)", t, re.IGNORECASE) for t in toks):
-            bad = _text_non_finite(m.group(1))
+            bad = _text_non_finite(f'{m.group(1)}="{m.group(2)}"')
             if bad:
                 return bad
     return None

@@ -45,6 +45,7 @@ import shutil  # noqa: E402
 import sys  # noqa: E402
 import tempfile  # noqa: E402
 import time  # noqa: E402
+from dataclasses import dataclass  # noqa: E402
 import tomllib  # noqa: E402
 from pathlib import Path  # noqa: E402
 
@@ -80,7 +81,8 @@ def _name_of(data: bytes) -> str:
         return "model"
 
 
-def run_one(seed: int, k: int, families: tuple[str, ...], timeout: float, cli_every: int) -> dict:
+def run_one(seed: int, k: int, families: tuple[str, ...], timeout: float, cli_every: int,
+            commands: tuple[str, ...] | None = None) -> dict:
     """Mutant ``k``: its library result and, for every ``cli_every``-th, one command's."""
     m = fuzz_mutants.mutant(seed, k, families)
     rng = np.random.default_rng([seed, k, 1])
@@ -106,7 +108,7 @@ def run_one(seed: int, k: int, families: tuple[str, ...], timeout: float, cli_ev
         if cli_every and k % cli_every == 0:
             if m.special == "fifo" and not path.exists():
                 path = fuzz_mutants.materialise(m, box / "in")
-            cmd, plant = fuzz_cli.choose(m.family, rng)
+            cmd, plant = fuzz_cli.choose(m.family, rng, commands)
             samples = int(rng.choice([37, 20000])) if plant == "sigterm" else 37
             r = fuzz_cli.run_cli(cmd, plant, path, box, timeout, _name_of(m.data), samples, rng,
                                  special=m.special is not None or m.family == "special")
@@ -150,7 +152,24 @@ def table(title: str, counts: dict[str, collections.Counter]) -> str:
     return "\n".join(rows)
 
 
-def main(argv: list[str] | None = None) -> int:
+@dataclass
+class Report:
+    """A campaign's counts: by family and class for the library and the commands, by command
+    and class, and the distinct failures: signature → [count, first reproducer, detail]."""
+
+    seed: int
+    count: int
+    seconds: float
+    library: dict[str, collections.Counter]
+    commands: dict[str, collections.Counter]
+    by_command: dict[str, collections.Counter]
+    found: dict[str, list]
+
+    def failures(self, where: str = "") -> int:
+        return sum(n for sig, (n, _, _) in self.found.items() if sig.startswith(where))
+
+
+def parse(argv: list[str] | None = None) -> argparse.Namespace:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--count", type=int, default=1000, help="mutants (default 1000)")
     ap.add_argument("--seed", type=int, default=1)
@@ -161,90 +180,100 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--commands", default="", help="comma-separated subset of the commands (default all)")
     ap.add_argument("--cli-every", type=int, default=6, help="run a command on every N-th mutant (0: none)")
     ap.add_argument("--timeout", type=float, default=30.0, help="seconds before a run counts as a hang")
+    ap.add_argument("--max-seconds", type=float, default=0.0,
+                    help="stop drawing new mutants after this many seconds (0: no limit); the table counts those run")
     ap.add_argument("--keep", type=int, default=3, help="reproducers kept per failure signature")
     args = ap.parse_args(argv)
-    families = tuple(f for f in args.families.split(",") if f)
-    unknown = set(families) - set(fuzz_mutants.FAMILIES)
+    args.families = tuple(f for f in args.families.split(",") if f)
+    unknown = set(args.families) - set(fuzz_mutants.FAMILIES)
     if unknown:
         ap.error(f"unknown families {sorted(unknown)}; choose from {', '.join(fuzz_mutants.FAMILIES)}")
-    if args.commands:
-        chosen = set(args.commands.split(","))
-        if chosen - set(fuzz_cli.COMMANDS):
-            ap.error(f"unknown commands {sorted(chosen - set(fuzz_cli.COMMANDS))}")
-        for f in fuzz_cli.FOR_FAMILY:
-            fuzz_cli.FOR_FAMILY[f] = [c for c in fuzz_cli.FOR_FAMILY[f] if c in chosen] or sorted(chosen)
-        fuzz_cli.ALL = sorted(chosen)
+    args.commands = tuple(c for c in args.commands.split(",") if c) or None
+    if args.commands and set(args.commands) - set(fuzz_cli.COMMANDS):
+        ap.error(f"unknown commands {sorted(set(args.commands) - set(fuzz_cli.COMMANDS))}")
+    return args
+
+
+def campaign(args: argparse.Namespace) -> Report:
+    """Run the mutants of ``args`` (see ``parse``); progress on stderr."""
     args.out.mkdir(parents=True, exist_ok=True)
-    lib: dict[str, collections.Counter] = collections.defaultdict(collections.Counter)
-    cli: dict[str, collections.Counter] = collections.defaultdict(collections.Counter)
-    per_cmd: dict[str, collections.Counter] = collections.defaultdict(collections.Counter)
-    found: dict[str, list] = {}
-    kept: collections.Counter = collections.Counter()
+    rep = Report(args.seed, args.count, 0.0, collections.defaultdict(collections.Counter),
+                 collections.defaultdict(collections.Counter), collections.defaultdict(collections.Counter), {})
+    found, kept = rep.found, collections.Counter()
     t0 = time.perf_counter()
     scratch = tempfile.TemporaryDirectory(prefix="fuzz-home-")
     fuzz_cli.make_home(Path(scratch.name) / "home")  # inherited by the forked workers
     ctx = multiprocessing.get_context("fork")
     backstop = args.timeout * 3 + 60  # a worker stuck where SIGALRM cannot reach it
+    task = (args.families, args.timeout, args.cli_every, args.commands)
     pool = ctx.Pool(args.jobs, initializer=_limit_memory, maxtasksperchild=100)
     pending: collections.deque = collections.deque()
-    k_next, done = 0, 0
+    k_next, done, count = 0, 0, args.count
 
     def record(r: dict) -> None:
         cls, detail = r["lib"]
-        lib[r["family"]][cls] += 1
+        rep.library[r["family"]][cls] += 1
         if cls in FAILURES:
             sig = signature("library", cls, detail)
             path = save(args.out, r, "library", cls, detail, kept, sig, args.keep, args.seed)
             found.setdefault(sig, [0, path, detail])[0] += 1
         if "cli" in r:
             command, plant, ccls = r["cli"][:3]
-            cli[r["family"]][ccls] += 1
-            per_cmd[command][ccls] += 1
+            rep.commands[r["family"]][ccls] += 1
+            rep.by_command[command][ccls] += 1
             if ccls in FAILURES:
                 sig = signature("cli", ccls, r["cli"][3], command)
                 path = save(args.out, r, "cli", ccls, r["cli"][3], kept, sig, args.keep, args.seed)
                 found.setdefault(sig, [0, path, r["cli"][3]])[0] += 1
 
-    while done < args.count:
-        while k_next < args.count and len(pending) < 2 * args.jobs:
-            pending.append((k_next, pool.apply_async(run_one, (args.seed, k_next, families, args.timeout,
-                                                               args.cli_every))))
+    while done < k_next or k_next < count:
+        if args.max_seconds and time.perf_counter() - t0 > args.max_seconds and k_next < count:
+            print(f"fuzz: --max-seconds reached: {k_next} mutants drawn, finishing those", file=sys.stderr)
+            count = k_next
+            continue
+        while k_next < count and len(pending) < 2 * args.jobs:
+            pending.append((k_next, pool.apply_async(run_one, (args.seed, k_next, *task))))
             k_next += 1
         k, job = pending.popleft()
         try:
             r = job.get(timeout=backstop)
         except multiprocessing.TimeoutError:
             pool.terminate()
-            m = fuzz_mutants.mutant(args.seed, k, families)
+            m = fuzz_mutants.mutant(args.seed, k, args.families)
             r = {"k": k, "family": m.family, "origin": m.origin, "what": m.what, "data": m.data,
                  "special": m.special, "lib": ("hang", f"worker stuck past {backstop:g} s")}
             requeue = [kk for kk, _ in pending]
             pending.clear()
             pool = ctx.Pool(args.jobs, initializer=_limit_memory, maxtasksperchild=100)
             for kk in requeue:
-                pending.append((kk, pool.apply_async(run_one, (args.seed, kk, families, args.timeout,
-                                                                args.cli_every))))
+                pending.append((kk, pool.apply_async(run_one, (args.seed, kk, *task))))
         record(r)
         done += 1
-        if done % 50 == 0 or done == args.count:
-            bad = sum(v[0] for v in found.values())
-            print(f"fuzz: {done}/{args.count} mutants, {bad} failures, {time.perf_counter() - t0:.0f} s",
+        if done % 50 == 0 or done == count:
+            print(f"fuzz: {done}/{count} mutants, {rep.failures()} failures, {time.perf_counter() - t0:.0f} s",
                   file=sys.stderr, flush=True)
     pool.close()
     pool.join()
     scratch.cleanup()
-    print(f"seed {args.seed}: {args.count} mutants of {', '.join(families)}; a command on every "
-          f"{args.cli_every}-th; {time.perf_counter() - t0:.0f} s")
-    print(table("library", lib))
-    if cli:
+    rep.count, rep.seconds = done, time.perf_counter() - t0
+    return rep
+
+
+def main(argv: list[str] | None = None) -> int:
+    args = parse(argv)
+    rep = campaign(args)
+    print(f"seed {rep.seed}: {rep.count} mutants of {', '.join(args.families)}; a command on every "
+          f"{args.cli_every}-th; {rep.seconds:.0f} s")
+    print(table("library", rep.library))
+    if rep.commands:
         print()
-        print(table("commands", cli))
+        print(table("commands", rep.commands))
         print()
-        print(table("by command", per_cmd))
-    print(f"\n{len(found)} distinct failures (count, signature, first reproducer):")
-    for sig, (n, path, detail) in sorted(found.items(), key=lambda x: -x[1][0]):
+        print(table("by command", rep.by_command))
+    print(f"\n{len(rep.found)} distinct failures (count, signature, first reproducer):")
+    for sig, (n, path, detail) in sorted(rep.found.items(), key=lambda x: -x[1][0]):
         print(f"{n:5d}  {sig}\n       {path}")
-    return 1 if found else 0
+    return 1 if rep.found else 0
 
 
 if __name__ == "__main__":
