@@ -14,6 +14,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "validation"))
 import fuzz_cli  # noqa: E402
 import fuzz_commands  # noqa: E402
 import fuzz_mutants  # noqa: E402
+import fuzz_outputs  # noqa: E402
 
 from linkgen.cli.main import build_parser  # noqa: E402
 
@@ -59,16 +60,16 @@ def test_every_family_and_every_command_is_fuzzed():
 def test_non_finite_numbers_are_found_in_outputs(tmp_path):
     csv = tmp_path / "a.csv"
     csv.write_text("phi [rad],x [m],singular\n0,1.5,0\n1,nan,1\n")
-    assert fuzz_cli.output_non_finite(csv) is None  # a singular row is written marked
+    assert fuzz_outputs.output_non_finite(csv) is None  # a singular row is written marked
     csv.write_text("phi [rad],x [m],singular\n0,1.5,0\n1,-inf,0\n")
-    assert "inf" in fuzz_cli.output_non_finite(csv)
+    assert "inf" in fuzz_outputs.output_non_finite(csv)
     xml = tmp_path / "m.xml"
     xml.write_text('<mujoco><body name="inf" pos="0 0 0"/></mujoco>')
-    assert fuzz_cli.output_non_finite(xml) is None  # a name, not a number
+    assert fuzz_outputs.output_non_finite(xml) is None  # a name, not a number
     xml.write_text('<mujoco><body name="b" pos="0 nan 0"/></mujoco>')
-    assert "nan" in fuzz_cli.output_non_finite(xml)
-    assert fuzz_cli._text_non_finite("information, infinite, finance") is None
-    assert fuzz_cli._text_non_finite("stroke -inf m") is not None
+    assert "nan" in fuzz_outputs.output_non_finite(xml)
+    assert fuzz_outputs.text_non_finite("information, infinite, finance") is None
+    assert fuzz_outputs.text_non_finite("stroke -inf m") is not None
 
 def test_tree_differences_are_found(tmp_path):
     (tmp_path / "a").write_text("x")
