@@ -1,32 +1,43 @@
 """Fuzz every model family through the library and every command, and count what goes wrong.
 
     python validation/fuzz_commands.py --count 3000 --seed 1 --jobs 1 --out /tmp/fuzz-repro
-    python validation/fuzz_commands.py --count 200 --families cam,spatial --cli-every 2
+    python validation/fuzz_commands.py --count 200 --families cam,spatial --commands build,profile --cli-every 2 \
+        --out /tmp/fuzz-repro --max-seconds 600
 
 Mutant k of seed S (validation/fuzz_mutants.py) comes from a bundled model of family
-k mod 7 (planar, gears, cam_linkage, cam, machine, spatial, special): 1–3 mutations of its
-tables (numbers: 0, negative, tiny, huge, 1e308, nan/inf, strings with units; types: a list or
-table for a scalar and back; names: control characters, ``--``, unicode, duplicates; keys
-removed or added), or of its text; "special" stands for /dev/zero, a FIFO, a folder, an empty or
-a binary file. Each mutant runs
+k mod 7 (planar, gears, cam_linkage, cam, machine, spatial, special): 15 % of its text mutated
+(a number replaced, a span cut; comments kept), 40 % one or two numbers scaled (by 0, 1e-300 …
+1e300, negated: values the loader mostly accepts, which reach the solvers), 45 % 1–3 mutations
+of its tables (numbers: 0, negative, tiny, huge, 1e308, nan/inf, 10**400, strings with units;
+types: a list or table for a scalar and back; names: control characters, ``--``, unicode,
+duplicates; keys removed or added); "special" stands for /dev/zero, a FIFO, a folder, an empty
+or a binary file. Each mutant runs
 
 - through the library in-process (validation/fuzz_library.py): load → structure → kinematics →
   forces → summary, and for every third mutant of a family also the MJCF compiled by MuJoCo and
-  the machine run and flywheel; a time limit of ``--timeout`` s (SIGALRM) makes a hang;
+  the machine run and flywheel; past ``--timeout`` s (SIGALRM; 5 s for a special file) it is a hang;
 - and every ``--cli-every``-th mutant through one command as a subprocess in a sandbox
-  (validation/fuzz_cli.py): a command of its family (one in ten from all), possibly with a
-  symlink or a 0600 file planted at its output's name or SIGTERM sent mid-run.
+  (validation/fuzz_cli.py): a command of its family (one in ten drawn from all), with a
+  symlink or a 0600 file planted at its output's name, or SIGTERM sent mid-run, or neither; cwd,
+  HOME and TMPDIR are empty folders of the sandbox (HOME with Matplotlib's caches filled) and
+  the whole sandbox is compared before and after. Outputs are scanned by
+  validation/fuzz_outputs.py.
 
-Classes: ok, clean error (a LinkgenError / a one-line message and status 1-3), interrupted, and
-the failures: crash, hang, non-finite, unsafe write. Prints progress on stderr, then a table by
-class and family for each path and the distinct failures (signature, count, first reproducer).
-Each failure's mutant is saved under ``--out`` (required; not the cwd) as
-``<class>/<family>_<k>_<command>.toml`` with a ``.txt`` beside it (how to rerun it, the
-mutations, the message), at most ``--keep`` per signature. Exit status 1 if any failure.
+Classes: ok, clean error (a LinkgenError; for a command a message and status 1-3, no
+traceback), interrupted (SIGTERM, nothing left behind), and the failures: crash (any other
+exception, a traceback, death by a signal, an MJCF MuJoCo refuses), hang, non-finite (NaN/inf in
+a result, stdout or an output file), unsafe write (a file changed outside the requested outputs,
+a symlink's target written, a mode changed, a symlinked description replaced). Progress goes to
+stderr; stdout gets a table by class and family for each path, one by command, and the distinct
+failures (a signature without numbers and quoted names, its count, its first reproducer).
+Each failure's mutant is saved under ``--out`` (required, never the cwd) as
+``<class>/<family>_<k>_<command or library>.toml`` with a ``.txt`` beside it (seed, mutations,
+the command line, stderr), at most ``--keep`` per signature. Exit status 1 if any failure.
 
-Reproducible: the same --seed and --count give the same mutants, commands and plants whatever
---jobs (the SIGTERM's moment is drawn from the seed too, its effect depends on the machine's
-speed). Memory is capped (RLIMIT_AS, ``MEMORY_LIMIT``) in the workers and the commands they run.
+Reproducible: the same --seed gives the same mutants, commands and plants whatever --jobs and
+--count (the SIGTERM's moment is drawn from the seed too; what it interrupts depends on the
+machine's speed). --max-seconds stops drawing mutants after a time budget. Memory is capped
+(RLIMIT_AS, ``MEMORY_LIMIT``) in the workers and the commands they run; BLAS runs one thread.
 """
 
 from __future__ import annotations
