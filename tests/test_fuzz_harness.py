@@ -94,3 +94,17 @@ def test_short_campaign_has_no_failure(tmp_path):
     assert rep.count == CAMPAIGN_COUNT
     assert sum(sum(c.values()) for c in rep.commands.values()) == len(range(0, CAMPAIGN_COUNT, 4))
     assert rep.found == {}, "\n".join(f"{n} {sig}: {detail}" for sig, (n, _, detail) in rep.found.items())
+
+
+def test_runs_are_classified():
+    c = fuzz_cli.classify
+    fail = "cam_translating        FAIL cam in MuJoCo: displacement 2.57e+03 of the stroke (tolerance 0.0002)\n"
+    assert c(1, fail, "", False, [], None) == ("clean error", fail.strip())  # validate's honest FAIL
+    assert c(1, "", "", False, [], None)[0] == "crash"  # a failure that says nothing
+    assert c(2, "", "linkgen: error: m.toml: drive.omega: must be > 0\n", False, [], None)[0] == "clean error"
+    assert c(-15, "", "", True, [], None)[0] == "interrupted"
+    assert c(-11, "", "", False, [], None) == ("crash", "killed by signal 11")
+    assert c(0, "", "", True, ["changed outside the outputs: cwd/.out.csv.x"], None)[0] == "unsafe write"
+    assert c(0, "", "", False, [], "out.csv: 'nan'")[0] == "non-finite"
+    assert c(3, "", "linkgen: error: ... singular", False, [], None)[0] == "clean error"
+    assert c(0, "", "", False, [], None) == ("ok", "")

@@ -201,6 +201,30 @@ def env_for(box: Path) -> dict[str, str]:
     return env
 
 
+def classify(rc: int, stdout: str, stderr: str, sent: bool, unsafe: list[str], non_finite: str | None
+             ) -> tuple[str, str]:
+    """(class, detail) of a finished run: status ``rc`` (negative: the signal that ended it),
+    ``sent`` whether we sent SIGTERM, ``unsafe`` the writes found, ``non_finite`` the first
+    NaN/inf found in its outputs."""
+    tb = _traceback(stderr)
+    if tb:
+        return "crash", tb
+    if unsafe:
+        return "unsafe write", "; ".join(unsafe)
+    if rc < 0:
+        return ("interrupted", "SIGTERM, nothing left behind") if sent else ("crash", f"killed by signal {-rc}")
+    if rc in (0, 3):
+        if non_finite:
+            return "non-finite", non_finite[:200]
+        return ("ok", "") if rc == 0 else ("clean error", "singular samples marked (status 3)")
+    if sent and rc == 143:
+        return "interrupted", "SIGTERM handled, nothing left behind"
+    if rc in CLEAN:  # the message on stderr, or validate's failing result on stdout
+        text = stderr.strip() or stdout.strip()
+        return ("clean error", text.splitlines()[-1][:200]) if text else ("crash", f"status {rc} with no message")
+    return "crash", f"status {rc}: {stderr.strip()[-200:]}"
+
+
 def run_cli(command: str, plant: str, model: Path, box: Path, timeout: float, name: str, samples: int,
             rng: np.random.Generator, special: bool = False) -> CliResult:
     """Run ``command`` on ``model`` (inside ``box/in`` unless ``special``) in the sandbox ``box``."""
@@ -254,31 +278,12 @@ def run_cli(command: str, plant: str, model: Path, box: Path, timeout: float, na
         unsafe.append(f"{planted.name}: mode 0600 became {planted.stat().st_mode & 0o777:04o}")
     if planted is not None and target == "model" and plant == "symlink" and not planted.is_symlink():
         unsafe.append("the symlinked description was replaced by a copy")
-    tb = _traceback(stderr)
-    if tb:
-        res.cls, res.detail = "crash", tb
-    elif unsafe:
-        res.cls, res.detail = "unsafe write", "; ".join(unsafe)
-    elif sent and rc is not None and rc < 0:
-        res.cls, res.detail = "interrupted", "SIGTERM, nothing left behind"
-    elif rc is not None and rc < 0:
-        res.cls, res.detail = "crash", f"killed by signal {-rc}"
-    elif rc in (0, 3):
-        bad = text_non_finite(stdout)
+    found = []
+    if rc in (0, 3):  # what was printed or written, NaN/inf anywhere
+        found.append(text_non_finite(stdout))
         for o in outputs:
             p = box / "cwd" / o.rstrip("/")
-            files = sorted(p.rglob("*")) if p.is_dir() else [p]
-            for f in files:
-                bad = bad or (output_non_finite(f) if f.is_file() and not f.is_symlink() else None)
-        if bad:
-            res.cls, res.detail = "non-finite", bad[:200]
-        elif rc == 3:
-            res.cls, res.detail = "clean error", "singular samples marked (status 3)"
-    elif rc in CLEAN or (sent and rc == 143):
-        line = stderr.strip().splitlines()[-1] if stderr.strip() else ""
-        res.cls, res.detail = ("clean error", line[:200]) if line else ("crash", f"status {rc} with no message")
-    else:
-        res.cls, res.detail = "crash", f"status {rc}: {stderr.strip()[-200:]}"
-    if sent and res.cls == "clean error" and rc == 143:
-        res.cls = "interrupted"
+            for f in (sorted(p.rglob("*")) if p.is_dir() else [p]):
+                found.append(output_non_finite(f) if f.is_file() and not f.is_symlink() else None)
+    res.cls, res.detail = classify(rc, stdout, stderr, sent, unsafe, next((f for f in found if f), None))
     return res
