@@ -201,6 +201,16 @@ def env_for(box: Path) -> dict[str, str]:
     return env
 
 
+def _cpu_seconds(pid: int) -> str:
+    """The CPU time a running process has used, as text: a hang that computes and one that
+    waits (a FIFO) look alike on the wall clock of a loaded machine."""
+    try:
+        fields = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()
+        return f"{(int(fields[11]) + int(fields[12])) / os.sysconf('SC_CLK_TCK'):.1f} s"
+    except (OSError, IndexError, ValueError):
+        return "? s"
+
+
 def classify(rc: int, stdout: str, stderr: str, sent: bool, unsafe: list[str], non_finite: str | None
              ) -> tuple[str, str]:
     """(class, detail) of a finished run: status ``rc`` (negative: the signal that ended it),
@@ -254,9 +264,10 @@ def run_cli(command: str, plant: str, model: Path, box: Path, timeout: float, na
         else:
             out, err = proc.communicate(timeout=timeout)
     except subprocess.TimeoutExpired:
+        cpu = _cpu_seconds(proc.pid)
         os.killpg(proc.pid, signal.SIGKILL)
         proc.communicate()
-        return CliResult(command, argv, plant, "hang", f"no exit in {timeout:g} s", None,
+        return CliResult(command, argv, plant, "hang", f"no exit in {timeout:g} s ({cpu} of CPU)", None,
                          time.perf_counter() - t0)
     seconds = time.perf_counter() - t0
     stdout, stderr = out.decode(errors="replace"), err.decode(errors="replace")

@@ -12,6 +12,7 @@ from __future__ import annotations
 import dataclasses
 import math
 import signal
+import time
 import traceback
 from pathlib import Path
 
@@ -173,6 +174,7 @@ def run_library(path: Path, timeout: float, deep: bool = True) -> tuple[str, str
     from linkgen.errors import LinkgenError
 
     old = signal.signal(signal.SIGALRM, _alarm)
+    cpu = time.process_time()
     try:
         signal.setitimer(signal.ITIMER_REAL, timeout)
         try:
@@ -180,7 +182,7 @@ def run_library(path: Path, timeout: float, deep: bool = True) -> tuple[str, str
         finally:  # disarmed before any handling: a late alarm must not hit the handlers below
             signal.setitimer(signal.ITIMER_REAL, 0)
     except Hang:
-        return "hang", f"no result in {timeout:g} s"
+        return "hang", f"no result in {timeout:g} s ({time.process_time() - cpu:.1f} s of CPU)"
     except LinkgenError as exc:
         return "clean error", f"{type(exc).__name__}: {str(exc).splitlines()[0][:160] if str(exc) else ''}"
     except Exception as exc:  # noqa: BLE001 — the point of the run: any other exception is a finding
