@@ -1,0 +1,195 @@
+"""The library path of validation/fuzz_commands.py, in-process: one description through
+load → structure → kinematics → forces → summary, and with ``deep`` the MJCF string (compiled
+by MuJoCo) and the machine run and flywheel, by family, each result walked for NaN/inf.
+
+``run_library(path, timeout)`` returns (class, detail): "ok", "clean error" (a LinkgenError),
+"crash" (any other exception, or an MJCF MuJoCo refuses), "hang" (past ``timeout`` s, by
+SIGALRM) or "non-finite" (a NaN or inf in a result).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import signal
+import time
+import traceback
+from pathlib import Path
+
+import numpy as np
+
+# Machine time simulated by the library path [s]: enough for start-up and a few turns of every
+# bundled machine (their [machine] durations are 1-6 s) while keeping a mutant under a second or two.
+MACHINE_DURATION = 2.0
+# Crank angles sampled by the library path: a coarse turn, the cost of a mutant stays small.
+SAMPLES = 24
+
+
+class Hang(BaseException):
+    """Raised by SIGALRM when the library path runs past its time limit."""
+
+
+def _alarm(signum, frame):
+    raise Hang()
+
+
+def non_finite(obj, where: str = "result", depth: int = 0, seen=None) -> str | None:
+    """The first place in ``obj`` (arrays, numbers, dicts, lists, dataclasses) holding NaN or
+    inf, or None."""
+    seen = set() if seen is None else seen
+    if depth > 8 or id(obj) in seen:
+        return None
+    if isinstance(obj, (bool, str, bytes, type(None))):
+        return None
+    if isinstance(obj, (float, int, np.floating, np.integer)):
+        return None if math.isfinite(float(obj)) else f"{where} = {obj}"
+    if isinstance(obj, np.ndarray):
+        if obj.dtype.kind in "fc" and not np.all(np.isfinite(obj)):
+            return f"{where} has {int(np.count_nonzero(~np.isfinite(obj)))} non-finite of {obj.size}"
+        return None
+    seen.add(id(obj))
+    if isinstance(obj, dict):
+        items = obj.items()
+    elif isinstance(obj, (list, tuple)):
+        items = enumerate(obj)
+    elif dataclasses.is_dataclass(obj):
+        items = ((f.name, getattr(obj, f.name, None)) for f in dataclasses.fields(obj))
+    else:
+        return None
+    for k, v in items:
+        found = non_finite(v, f"{where}.{k}", depth + 1, seen)
+        if found:
+            return found
+    return None
+
+
+def _compile(xml: str) -> None:
+    import mujoco
+
+    from linkgen.mujoco.log import no_log_file
+
+    try:
+        with no_log_file():
+            mujoco.MjModel.from_xml_string(xml)
+    except ValueError as exc:  # MuJoCo refusing what linkgen wrote is linkgen's failure
+        raise RuntimeError(f"MuJoCo rejects the MJCF: {str(exc).strip()[:200]}") from None
+
+
+def _planar(path: Path, deep: bool) -> list:
+    import linkgen
+    from linkgen.planar.kinetostatics import forces
+    from linkgen.planar.summary import summarize
+    from linkgen.mujoco.mjcf import write_mjcf
+
+    mech = linkgen.load(path)
+    asm = linkgen.assemble(mech)
+    d = mech.drive
+    phi = np.linspace(d.start, d.stop, SAMPLES)
+    kin = linkgen.solve(asm, phi, on_singular="mark")  # singular rows: finite by contract, not an error
+    ok = ~np.asarray(kin.singular, bool)
+    out = [("structure", linkgen.analyze(mech).formula), ("points", kin.points), ("sliders", kin.sliders),
+           ("links", kin.links)]
+    if np.any(ok):
+        out.append(("forces", forces(asm, phi[ok], d.omega, d.epsilon)))
+    out.append(("summary", summarize(asm, d.omega, d.epsilon).to_dict()))
+    if deep:
+        _compile(write_mjcf(asm))
+    return out
+
+
+def _machine(path: Path, deep: bool) -> list:
+    from linkgen.dynamics.machine import run_machine
+    from linkgen.dynamics.reduced import reduce
+    from linkgen.dynamics.study import cycle_forces, flywheel_study, load_machine
+    from linkgen.mujoco.machine_mjcf import machine_mjcf
+
+    out = _planar(path, deep)
+    if not deep:
+        return out
+    asm, machine = load_machine(path)
+    run = run_machine(machine, reduce(asm, machine.process_load), samples=400,
+                      duration=min(machine.duration, MACHINE_DURATION))
+    f = cycle_forces(asm, run)
+    out += [("run.omega", run.omega), ("run.motor_torque", run.motor_torque),
+            ("steady", run.steady.to_json() if run.steady else None), ("cycle_forces", f.to_json() if f else None)]
+    fw, delta = flywheel_study(asm, machine, 0.02)
+    out += [("flywheel", fw), ("delta_integrated", delta)]
+    _compile(machine_mjcf(asm, machine))
+    return out
+
+
+def _cam(path: Path, deep: bool) -> list:
+    from linkgen.cams.description import load_cam
+    from linkgen.cams.kinetics import state
+    from linkgen.cli.cams import cam_summary
+    from linkgen.mujoco.cam import cam_mjcf
+
+    cm = load_cam(path)
+    theta = np.linspace(0.0, 2 * math.pi, 72, endpoint=False)
+    s = cam_summary(cm, cm.omega)
+    s.pop("leave_speed")  # inf means "never leaves": the CLI prints it as text, JSON as null
+    out = [("state", state(cm, theta, cm.omega)), ("summary", s), ("profile", cm.follower.profile(theta)),
+           ("pitch", cm.follower.pitch_curve(theta)[0])]
+    if deep:
+        _compile(cam_mjcf(cm))
+    return out
+
+
+def _spatial(path: Path, deep: bool) -> list:
+    from linkgen.model.reader import load
+    from linkgen.spatial.crosscheck import derived_settings
+    from linkgen.spatial.forces import forces
+    from linkgen.spatial.kinematics import assembled_chain, solve
+    from linkgen.spatial.mjcf import write_spatial_mjcf
+    from linkgen.spatial.summary import summarize
+
+    mech = load(path)
+    assembled_chain(mech)
+    phi = np.linspace(0.0, 2 * math.pi, SAMPLES, endpoint=False)
+    motion = solve(mech, phi)
+    f = forces(mech, phi, motion=motion)
+    out = [("balancing_torque", f.balancing_torque),
+           ("reactions", {n: (r.force, r.moment) for n, r in f.reactions.items()}),
+           ("summary", summarize(mech).to_dict())]
+    if deep:
+        _compile(write_spatial_mjcf(mech, derived_settings(mech)[0]))
+    return out
+
+
+def _dispatch(path: Path, deep: bool) -> list:
+    from linkgen.cams.description import is_cam_file
+    from linkgen.spatial.description import is_spatial_file
+
+    if is_spatial_file(path):
+        return _spatial(path, deep)
+    if is_cam_file(path):
+        return _cam(path, deep)
+    text = path.read_text(encoding="utf-8", errors="replace") if path.is_file() else ""
+    return _machine(path, deep) if "[machine" in text else _planar(path, deep)
+
+
+def run_library(path: Path, timeout: float, deep: bool = True) -> tuple[str, str]:
+    """The class of ``path``'s library run and a one-line detail; ``deep`` adds the MJCF
+    (compiled by MuJoCo) and the machine run and flywheel, the slow half of the path."""
+    from linkgen.errors import LinkgenError
+
+    old = signal.signal(signal.SIGALRM, _alarm)
+    cpu = time.process_time()
+    try:
+        signal.setitimer(signal.ITIMER_REAL, timeout)
+        try:
+            results = _dispatch(path, deep)
+        finally:  # disarmed before any handling: a late alarm must not hit the handlers below
+            signal.setitimer(signal.ITIMER_REAL, 0)
+    except Hang:
+        return "hang", f"no result in {timeout:g} s ({time.process_time() - cpu:.1f} s of CPU)"
+    except LinkgenError as exc:
+        return "clean error", f"{type(exc).__name__}: {str(exc).splitlines()[0][:160] if str(exc) else ''}"
+    except Exception as exc:  # noqa: BLE001 — the point of the run: any other exception is a finding
+        tb = traceback.extract_tb(exc.__traceback__)
+        where = next((f"{Path(f.filename).name}:{f.lineno}" for f in reversed(tb) if "/linkgen/" in f.filename), "?")
+        return "crash", f"{type(exc).__name__} at {where}: {str(exc).splitlines()[0][:160] if str(exc) else ''}"
+    finally:
+        signal.signal(signal.SIGALRM, old)
+    bad = non_finite(dict(results))
+    return ("non-finite", bad) if bad else ("ok", "")
