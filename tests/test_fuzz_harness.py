@@ -18,13 +18,13 @@ import fuzz_outputs  # noqa: E402
 
 from linkgen.cli.main import build_parser  # noqa: E402
 
-# The short campaign: families and commands without a known failure on the code of this
-# commit (the others are the findings of issue 21, listed in the fuzz report); widen both as
-# those are fixed.
-CAMPAIGN_FAMILIES = "planar,gears"
-CAMPAIGN_COMMANDS = "structure,analyze,analyze_json,analyze_summary,forces,forces_json"
+# The short campaign: every family (and special files), through the commands that write files
+# (a symlink or a 0600 file planted at the output, or SIGTERM mid-run) and the closed-form ones;
+# the long campaigns (validation/fuzz_commands.py) run every command.
+CAMPAIGN_FAMILIES = "planar,gears,cam_linkage,cam,machine,spatial,special"
+CAMPAIGN_COMMANDS = "structure,analyze,analyze_csv,analyze_summary,forces_csv,draw_svg,assemble_write,profile,build"
 CAMPAIGN_SEED = 21
-CAMPAIGN_COUNT = 20  # ten mutants per family; every fourth also through a command
+CAMPAIGN_COUNT = 28  # four mutants per family; every fourth also through a command (symlinks, modes, SIGTERM)
 
 def test_mutants_are_reproducible_and_differ_by_seed():
     a = [fuzz_mutants.mutant(4, k) for k in range(14)]

@@ -235,6 +235,53 @@ def classify(rc: int, stdout: str, stderr: str, sent: bool, unsafe: list[str], n
     return "crash", f"status {rc}: {stderr.strip()[-200:]}"
 
 
+# A run that has printed nothing (stdout or stderr, where linkgen reports progress) for the
+# command's timeout is a hang; so is one that, however talkative, has not exited after
+# HARD_CAP_FACTOR times the timeout. A long run that reports its progress is not a hang.
+HARD_CAP_FACTOR = 10
+
+
+class _Hang(Exception):
+    """A command that stopped talking (or never ended): the message says which."""
+
+
+def _watch(proc: subprocess.Popen, silence: float, min_wait: float | None = None) -> tuple[bytes, bytes]:
+    """Wait for ``proc`` and return its (stdout, stderr). With ``min_wait``: raise
+    subprocess.TimeoutExpired if it has not exited by then (the caller then interrupts it).
+    Otherwise raise _Hang after ``silence`` seconds without output or HARD_CAP_FACTOR·silence in all."""
+    import threading
+
+    bufs = {"out": bytearray(), "err": bytearray()}
+    last = [time.perf_counter()]
+
+    def pump(stream, key):
+        for chunk in iter(lambda: stream.read1(4096), b""):
+            bufs[key] += chunk
+            last[0] = time.perf_counter()
+
+    if not hasattr(proc, "_fuzz_pumps"):
+        proc._fuzz_bufs = bufs
+        proc._fuzz_last = last
+        proc._fuzz_pumps = [threading.Thread(target=pump, args=(proc.stdout, "out"), daemon=True),
+                            threading.Thread(target=pump, args=(proc.stderr, "err"), daemon=True)]
+        for t in proc._fuzz_pumps:
+            t.start()
+    bufs, last = proc._fuzz_bufs, proc._fuzz_last
+    t0 = time.perf_counter()
+    while proc.poll() is None:
+        now = time.perf_counter()
+        if min_wait is not None and now - t0 > min_wait:
+            raise subprocess.TimeoutExpired(proc.args, min_wait)
+        if now - last[0] > silence:
+            raise _Hang(f"no output and no exit for {silence:g} s")
+        if now - t0 > HARD_CAP_FACTOR * silence:
+            raise _Hang(f"no exit in {HARD_CAP_FACTOR * silence:g} s")
+        time.sleep(0.05)
+    for t in proc._fuzz_pumps:
+        t.join(timeout=5)
+    return bytes(bufs["out"]), bytes(bufs["err"])
+
+
 def run_cli(command: str, plant: str, model: Path, box: Path, timeout: float, name: str, samples: int,
             rng: np.random.Generator, special: bool = False) -> CliResult:
     """Run ``command`` on ``model`` (inside ``box/in`` unless ``special``) in the sandbox ``box``."""
@@ -256,19 +303,18 @@ def run_cli(command: str, plant: str, model: Path, box: Path, timeout: float, na
     try:
         if plant == "sigterm":
             try:
-                out, err = proc.communicate(timeout=float(rng.uniform(0.4, 2.5)))
+                out, err = _watch(proc, timeout, min_wait=float(rng.uniform(0.4, 2.5)))
             except subprocess.TimeoutExpired:
                 os.killpg(proc.pid, signal.SIGTERM)
                 sent = True
-                out, err = proc.communicate(timeout=timeout)
+                out, err = _watch(proc, timeout)
         else:
-            out, err = proc.communicate(timeout=timeout)
-    except subprocess.TimeoutExpired:
+            out, err = _watch(proc, timeout)
+    except _Hang as hang:
         cpu = _cpu_seconds(proc.pid)
         os.killpg(proc.pid, signal.SIGKILL)
-        proc.communicate()
-        return CliResult(command, argv, plant, "hang", f"no exit in {timeout:g} s ({cpu} of CPU)", None,
-                         time.perf_counter() - t0)
+        proc.wait()
+        return CliResult(command, argv, plant, "hang", f"{hang} ({cpu} of CPU)", None, time.perf_counter() - t0)
     seconds = time.perf_counter() - t0
     stdout, stderr = out.decode(errors="replace"), err.decode(errors="replace")
     rc = proc.returncode
