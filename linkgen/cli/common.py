@@ -159,9 +159,11 @@ def check_finite_columns(cols: list[str], data: list[np.ndarray]) -> None:
                                "overflowed or hit a singular position); nothing was written")
 
 
-def write_rows(cols: list[str], data: list[np.ndarray], path: Path | None, units: bool = False) -> None:
+def write_rows(cols: list[str], data: list[np.ndarray], path: Path | None, units: bool = False,
+               rows: str = "crank angles") -> None:
     """Columns (each (n,)) as CSV with a header, full precision, to ``path`` (written
-    atomically) or stdout; ``units``: each header with its unit (``with_unit``)."""
+    atomically) or stdout; ``units``: each header with its unit (``with_unit``); ``rows``: what
+    a row is, for the line that reports the write (a cam's rows are cam angles)."""
     if units:
         cols = [with_unit(c) for c in cols]
     check_finite_columns(cols, data)
@@ -170,7 +172,7 @@ def write_rows(cols: list[str], data: list[np.ndarray], path: Path | None, units
         return
     with atomic_open(path) as out:
         n = _write_csv(out, cols, data)
-    print(f"wrote {n} crank angles × {len(cols)} columns to {path}", file=sys.stderr)
+    print(f"wrote {n} {rows} × {len(cols)} columns to {path}", file=sys.stderr)
 
 
 class OptionError(LinkgenError):

@@ -69,7 +69,7 @@ def _build_checked(path: Path, out: Path, practical: bool = False) -> Path:
         with no_log_file():
             mujoco.MjModel.from_xml_string(xml)
         atomic_write_text(out, xml)
-        print(f"wrote {out}")
+        print(f"wrote {out}", file=sys.stderr)  # with the errors, in order, as for every family
         return out
     mech = load(path)
     settings = None
@@ -265,15 +265,19 @@ def _summary(r: dict) -> str:
                      + ("" if dyn["ok"] else " — over the tolerance"))
     shown = r.get("diagnosis", [])[:DIAGNOSIS_LINES]
     for d in shown:
+        if d["relative_error"] is None and not d["ranges_deg"]:  # no run compared anything: why, alone
+            lines.append(f"    {d['cause']}: {d['detail']}")
+            continue
         rng = ", ".join(f"{a:.1f}°..{b:.1f}°" for a, b in d["ranges_deg"][:3])
         lines.append(f"    {d['quantity']}: {_num(d['relative_error'], '.2e')} (tolerance {d['tolerance']:g}) at {rng}: "
                      f"{d['cause']} — {d['detail']}")
     if len(r.get("diagnosis", [])) > len(shown):
         lines.append(f"    … and {len(r['diagnosis']) - len(shown)} more quantities (see --json)")
     if r.get("diagnosis") and r.get("attempts"):
+        said = {d["detail"] for d in shown}
         tried = "; ".join((f"timestep {a['settings']['timestep']:.3g} s, loop τ {a['settings']['timeconst']:.3g} s"
                            if a["settings"] else "derived settings")
-                          + (f" → failed: {a['error']}" if a["error"] else
+                          + ((" → failed as above" if a["error"] in said else f" → failed: {a['error']}") if a["error"] else
                              f" → worst {a['worst']} at {_num(a['worst_error_over_tolerance'], '.2g')}× its tolerance")
                           for a in r.get("attempts", []))
         lines.append(f"    tried: {tried}")

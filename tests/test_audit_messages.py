@@ -1,0 +1,137 @@
+"""What a user reads when something is refused or fails, found by auditing issue 21 as a new and a
+hostile user would: every line names the file, the field, the value and what is allowed, in the
+same words for every family, and nothing crashes on a description the loader accepts."""
+
+import shutil
+from pathlib import Path
+
+import pytest
+
+from conftest import ROOT
+from linkgen.cli.cams import cam_line
+from linkgen.cli.main import main
+from linkgen.spatial.crosscheck import SpatialCheck
+
+MODELS = ROOT / "models"
+
+
+def _variant(tmp_path: Path, model: str, old: str, new: str, name: str | None = None) -> Path:
+    """A bundled model with one piece of its text replaced (``old`` must occur once)."""
+    text = (MODELS / model).read_text(encoding="utf-8")
+    assert text.count(old) == 1, old
+    path = tmp_path / (name or model)
+    path.write_text(text.replace(old, new), encoding="utf-8")
+    return path
+
+
+def test_validate_says_why_when_no_run_compared_anything(tmp_path, capsys):
+    # before: "run: – (tolerance 0) at : run failed — omega must be …", the same text again under
+    # "tried", and in the report a row saying "run failed" with no section giving the reason
+    path = _variant(tmp_path, "fourbar.toml", "omega = 10.0      # rad/s", "omega = -10.0")
+    report = tmp_path / "report"
+    assert main(["validate", str(path), "--no-practical", "--report", str(report)]) == 1
+    why = "drive.omega: must be > 0 rad/s for a MuJoCo run (it drives the crank forwards through its range), got -10.0"
+    assert capsys.readouterr().out.splitlines()[:3] == [
+        "fourbar                FAIL",
+        f"    run failed: {why}",
+        "    tried: derived settings → failed as above",
+    ]
+    text = (report / "README.md").read_text(encoding="utf-8")
+    assert "| fourbar | **NO** | run failed |" in text
+    assert f"## fourbar\n\n**Diagnosis**\n\n- run failed: {why}\n" in text
+
+
+@pytest.mark.parametrize("omega", ["0.0", "-10.0"])
+def test_a_spatial_run_names_drive_omega(tmp_path, capsys, omega):
+    # before: "rssr: omega must be > 0 rad/s to drive the crank" (the mechanism, not the field)
+    path = _variant(tmp_path, "rssr.toml", "omega = 10.0 ", f"omega = {omega} ")
+    assert main(["validate", str(path)]) == 2
+    assert capsys.readouterr().err == (f"linkgen: error: {path}: drive.omega: must be > 0 rad/s for a MuJoCo run (it "
+                                       f"drives the crank forwards through a turn), got {omega}\n")
+
+
+def test_build_of_a_folder_reports_every_family_in_order(tmp_path, capsys):
+    # before: a cam's and a spatial file's "wrote" went to stdout, a linkage's and the errors to
+    # stderr, so a mixed folder's log came out of order
+    for name, model in (("a.toml", "fourbar.toml"), ("b.toml", "cam_flat_face.toml"), ("c.toml", "rssr.toml")):
+        shutil.copy(MODELS / model, tmp_path / name)
+    (tmp_path / "d.toml").write_text("x = [", encoding="utf-8")
+    assert main(["build", str(tmp_path)]) == 2
+    out, err = capsys.readouterr()
+    assert out == ""
+    assert err.splitlines() == [f"wrote {tmp_path / 'a.xml'}", f"wrote {tmp_path / 'b.xml'}", f"wrote {tmp_path / 'c.xml'}",
+                                f"linkgen: error: {tmp_path / 'd.toml'}: not valid TOML: Invalid value (at end of document)",
+                                "linkgen: 1 of 4 descriptions failed"]
+
+
+def test_the_cam_line_gives_each_force_its_own_tolerance():
+    # before: "contact force … and cam torque … of their peaks as 5° means (tolerance 0.07)" with the
+    # contact force's tolerance for both, though the cam torque is held to its own
+    r = {"model": "cam", "ok": True, "total_wall_s": 1.0,
+         "cam": {"errors_relative": {"displacement": 1e-4, "contact_force": 0.05, "cam_torque": 0.075},
+                 "tolerances": {"displacement": 2e-4, "contact_force": 0.07, "cam_torque": 0.08},
+                 "profile_points": 4000, "windows": 72, "steps": 100}}
+    assert cam_line(r) == ("cam                    ok   cam in MuJoCo (contact with a 4000-vertex profile): displacement "
+                           "1.00e-04 of the stroke (tolerance 0.0002), contact force 5.00e-02 (tolerance 0.07) and cam "
+                           "torque 7.50e-02 (tolerance 0.08) of their peaks as 5° means, 100 steps, validated in 1.00 s")
+
+
+def test_a_cam_csv_counts_cam_angles(tmp_path, capsys):
+    # before: "wrote 36 crank angles × 5 columns" for a cam, whose rows are cam angles θ
+    cam = MODELS / "cam_translating.toml"
+    assert main(["profile", str(cam), "--points", "36", "-o", str(tmp_path / "p.csv")]) == 0
+    assert main(["analyze", str(cam), "--samples", "12", "--csv", str(tmp_path / "a.csv")]) == 0
+    assert capsys.readouterr().err.splitlines() == [f"wrote 36 cam angles × 5 columns to {tmp_path / 'p.csv'}",
+                                                    f"wrote 12 cam angles × 8 columns to {tmp_path / 'a.csv'}"]
+
+
+@pytest.mark.parametrize("teeth,shown", [("[60.0, 20]", "teeth[0]: must be a whole number written as an integer (60, "
+                                                         "not 60.0 or 6e1), got 60.0"),
+                                         ("[60, 1e18]", "teeth[1]: must be a whole number written as an integer (60, "
+                                                        "not 60.0 or 6e1), got 1e+18"),
+                                         ("[60.5, 20]", "teeth[0]: must be a whole number, got 60.5")])
+def test_teeth_written_as_floats_are_explained(tmp_path, capsys, teeth, shown):
+    # before: "must be a whole number, got 1e+18" — a whole number, which TOML reads as a float
+    path = _variant(tmp_path, "planetary_lever.toml", "teeth = [60, 20]", f"teeth = {teeth}")
+    assert main(["structure", str(path)]) == 2
+    assert capsys.readouterr().err == f"linkgen: error: {path}: gear.mesh.{shown}\n"
+
+
+@pytest.mark.parametrize("model,what", [
+    ("rssr.toml", "a spatial mechanism; `linkgen profile` is for cam files (docs/cams.md); spatial ones work with "
+                  "structure, analyze, forces, build, validate, draw, render, animate"),
+    ("cam_rocker_slider.toml", "a linkage whose crank carries a cam ([cam.NAME] pair tables beside [links]); "
+                               "`linkgen profile` takes a cam file: a [cam] table and no [links] (docs/cams.md)"),
+    ("fourbar.toml", "not a cam description; `linkgen profile` takes a cam file: a [cam] table and no [links] "
+                     "(docs/cams.md)")])
+def test_profile_says_what_it_takes(capsys, model, what):
+    # before: a spatial file was told `profile` "is for planar linkages"; a linkage with a [cam.disc]
+    # table was told it needs "a [cam] table"
+    assert main(["profile", str(MODELS / model)]) == 2
+    assert capsys.readouterr().err == f"linkgen profile: error: {MODELS / model}: {what}\n"
+
+
+@pytest.mark.parametrize("gap,line", [
+    (5e-9, "ok   RSSR: worst loop gap 5.00e-09 of the size (tolerance 1e-08), 100 steps, validated in 1.00 s"),
+    (2e-8, "FAIL RSSR: worst loop gap 2.00e-08 of the size (tolerance 1e-08), 100 steps, validated in 1.00 s"),
+    (1e-10, "ok   RSSR: worst balancing_torque 1.00e-07 (tolerance 1e-06), loop gap 1.0e-10 of the size (tolerance "
+            "1e-08), 100 steps, validated in 1.00 s")])
+def test_the_spatial_line_reads_like_the_planar_one(gap, line):
+    # before: "worst loop gap 5.00e-09 (tolerance 1e-08), loop gap 5.0e-09 of the size (tolerance
+    # 1e-08)" — the gap twice — and "FAILED" where every other family says "FAIL"
+    r = SpatialCheck("m", "RSSR", {"balancing_torque": (1e-7, 1e-6)}, gap, 100, 9.0, None, {})
+    assert r.summary("validated in 1.00 s") == line
+
+
+@pytest.mark.parametrize("key", ["link", "point"])
+def test_a_spatial_load_names_a_list_given_for_a_name(tmp_path, capsys, key):
+    # before: "force[0].link: unknown link ['rocker']" (the planar reader: "must be a string")
+    value = {"link": '"rocker"', "point": '"B"'}
+    value[key] = f"[{value[key]}]"
+    path = tmp_path / "m.toml"
+    path.write_text((MODELS / "rssr.toml").read_text(encoding="utf-8")
+                    + f'\n[[force]]\nlink = {value["link"]}\npoint = {value["point"]}\nforce = [1.0, 0.0, 0.0]\n',
+                    encoding="utf-8")
+    assert main(["forces", str(path)]) == 2
+    shown = "['rocker']" if key == "link" else "['B']"
+    assert capsys.readouterr().err == f"linkgen: error: {path}: force[0].{key}: must be a string, got {shown}\n"
