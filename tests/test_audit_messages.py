@@ -135,3 +135,20 @@ def test_a_spatial_load_names_a_list_given_for_a_name(tmp_path, capsys, key):
     assert main(["forces", str(path)]) == 2
     shown = "['rocker']" if key == "link" else "['B']"
     assert capsys.readouterr().err == f"linkgen: error: {path}: force[0].{key}: must be a string, got {shown}\n"
+
+
+def test_a_cam_linkage_standing_still_builds(tmp_path, capsys):
+    # before: ZeroDivisionError in the cam's timestep (2π/ω) for drive.omega = 0
+    path = _variant(tmp_path, "cam_rocker_slider.toml", "omega = 10.0", "omega = 0.0")
+    assert main(["build", str(path), "-o", str(tmp_path / "m.xml")]) == 0
+    assert (tmp_path / "m.xml").read_text(encoding="utf-8").startswith("<mujoco")
+
+
+@pytest.mark.parametrize("omega,ok", [("1e-30", True), ("1e-31", False), ("1e-300", False)])
+def test_a_slow_cam_builds_or_is_refused_at_load(tmp_path, capsys, omega, ok):
+    # before: ZeroDivisionError for ω = 1e-300 (ω² underflowed in the cam shaft's inertia)
+    path = _variant(tmp_path, "cam_oscillating.toml", "omega = 10.0 ", f"omega = {omega} ")
+    assert main(["build", str(path), "-o", str(tmp_path / "m.xml")]) == (0 if ok else 2)
+    if not ok:
+        assert capsys.readouterr().err == (f"linkgen: error: {path}: cam.omega: must be at least 1e-30 rad/s (the cam "
+                                           f"turns counter-clockwise; linkgen's limits, see the README), got {omega}\n")
