@@ -152,3 +152,37 @@ def test_a_slow_cam_builds_or_is_refused_at_load(tmp_path, capsys, omega, ok):
     if not ok:
         assert capsys.readouterr().err == (f"linkgen: error: {path}: cam.omega: must be at least 1e-30 rad/s (the cam "
                                            f"turns counter-clockwise; linkgen's limits, see the README), got {omega}\n")
+
+
+@pytest.mark.parametrize("model,args", [
+    ("fourbar.toml", ["build", "{m}", "-o", "{m}"]),
+    ("fourbar.toml", ["analyze", "{m}", "--samples", "5", "--csv", "{m}"]),
+    ("fourbar.toml", ["forces", "{m}", "--samples", "5", "--csv", "{m}"]),
+    ("fourbar.toml", ["build", "{m}", "-o", "{link}"]),
+    ("cam_translating.toml", ["profile", "{m}", "-o", "{m}"]),
+    ("cam_translating.toml", ["analyze", "{m}", "--samples", "5", "--csv", "{m}"]),
+    ("rssr.toml", ["analyze", "{m}", "--samples", "5", "--csv", "{m}"]),
+    ("rssr.toml", ["build", "{m}", "-o", "{m}"])], ids=lambda v: v if isinstance(v, str) else " ".join(v[:1]))
+def test_no_output_replaces_the_description(tmp_path, capsys, model, args):
+    # before: each of these replaced the user's description by the output (exit 0)
+    path = tmp_path / "m.toml"
+    shutil.copy(MODELS / model, path)
+    link = tmp_path / "hard.toml"  # the same file under another name
+    link.hardlink_to(path)
+    before = path.read_bytes()
+    out = link if "{link}" in args else path
+    assert main([a.format(m=path, link=link) for a in args]) == 2
+    assert capsys.readouterr().err.endswith(f"{out}: is the description being read; linkgen does not write over it: "
+                                            "give another output name\n")
+    assert path.read_bytes() == before
+
+
+def test_a_description_named_like_its_mjcf_is_not_overwritten(tmp_path, capsys):
+    # before: `build m.xml` wrote the MJCF beside the description under its own name: over it
+    path = tmp_path / "m.xml"
+    shutil.copy(MODELS / "fourbar.toml", path)
+    before = path.read_bytes()
+    assert main(["build", str(path)]) == 2
+    assert path.read_bytes() == before
+    assert main(["build", str(path), "-o", str(tmp_path / "out.xml")]) == 0  # the next command may write
+    assert (tmp_path / "out.xml").read_text(encoding="utf-8").startswith("<mujoco")

@@ -128,7 +128,9 @@ def main(argv: list[str] | None = None) -> int:
         return 2
     try:
         from linkgen.cli.spatial import route
+        from linkgen.outputs import forget_inputs
 
+        forget_inputs()  # the descriptions this command reads are the ones no output may replace
         status = (route(args) or args.func)(args)
         sys.stdout.flush()  # a closed pipe shows here, not in the interpreter's exit
         return status
