@@ -186,3 +186,13 @@ def test_a_description_named_like_its_mjcf_is_not_overwritten(tmp_path, capsys):
     assert path.read_bytes() == before
     assert main(["build", str(path), "-o", str(tmp_path / "out.xml")]) == 0  # the next command may write
     assert (tmp_path / "out.xml").read_text(encoding="utf-8").startswith("<mujoco")
+
+
+def test_build_leaves_no_mujoco_log_in_the_working_directory(tmp_path, monkeypatch):
+    # before: deriving the settings stepped MuJoCo outside no_log_file: for this cam linkage with a
+    # rod a million kilometres long, MuJoCo's warnings (a near-singular inertia matrix) were
+    # appended to MUJOCO_LOG.TXT in the user's working directory
+    path = _variant(tmp_path, "cam_rocker_slider.toml", "E = [0.6938143274617465, 0.45]", "E = [1e9, 0.45]")
+    monkeypatch.chdir(tmp_path)
+    assert main(["build", str(path), "-o", str(tmp_path / "m.xml")]) == 0
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["cam_rocker_slider.toml", "m.xml"]

@@ -17,6 +17,7 @@ DESCRIPTION = ("Mechanisms from their descriptions (models/*.toml): closed-form 
                "draw, animate, render, build, validate and profile (cams). docs/ has the formats.")
 
 import argparse
+import contextlib
 import os
 import signal
 import sys
@@ -131,7 +132,12 @@ def main(argv: list[str] | None = None) -> int:
         from linkgen.outputs import forget_inputs
 
         forget_inputs()  # the descriptions this command reads are the ones no output may replace
-        status = (route(args) or args.func)(args)
+        with contextlib.ExitStack() as stack:
+            if args.command not in CLOSED_FORM_COMMANDS:  # MuJoCo's warnings never become a file in the user's folder
+                from linkgen.mujoco.log import no_log_file
+
+                stack.enter_context(no_log_file())
+            status = (route(args) or args.func)(args)
         sys.stdout.flush()  # a closed pipe shows here, not in the interpreter's exit
         return status
     except BrokenPipeError:
