@@ -196,3 +196,13 @@ def test_build_leaves_no_mujoco_log_in_the_working_directory(tmp_path, monkeypat
     monkeypatch.chdir(tmp_path)
     assert main(["build", str(path), "-o", str(tmp_path / "m.xml")]) == 0
     assert sorted(p.name for p in tmp_path.iterdir()) == ["cam_rocker_slider.toml", "m.xml"]
+
+
+@pytest.mark.parametrize("command", [["analyze"], ["build"], ["profile"]])
+def test_a_file_name_with_control_characters_is_shown_by_their_codes(tmp_path, capsys, command):
+    # before: the name went to the terminal raw: the escape recoloured it, the line end split the message
+    path = tmp_path / "evil\x1b[31mred\nline.toml"
+    path.write_text("x = [", encoding="utf-8")
+    assert main(command + [str(path)]) == 2
+    assert capsys.readouterr().err == (f"linkgen: error: {tmp_path}/evil\\x1b[31mred\\x0aline.toml: not valid TOML: "
+                                       "Invalid value (at end of document)\n")

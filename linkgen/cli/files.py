@@ -14,7 +14,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Callable, TextIO
 
-from linkgen.errors import LinkgenError
+from linkgen.errors import LinkgenError, printable
 from linkgen.outputs import (OutputError, atomic_open, atomic_output, atomic_write_bytes, atomic_write_text,
                              output_folder, save_figure)
 
@@ -38,7 +38,7 @@ def message_for(path: str | Path, exc: BaseException) -> str:
     if isinstance(exc, OSError) and exc.strerror:
         text = f"{exc.strerror}" + (f": {exc.filename}" if exc.filename and str(exc.filename) != str(path) else "")
     prefix = f"{path}: "
-    return text if text.startswith(prefix) else prefix + text
+    return printable(text if text.startswith(prefix) else prefix + text)
 
 
 def run_each(paths: list[Path], fn: Callable[[Path], Any], stream: TextIO | None = None) -> list[Outcome]:
