@@ -206,3 +206,10 @@ def test_a_file_name_with_control_characters_is_shown_by_their_codes(tmp_path, c
     assert main(command + [str(path)]) == 2
     assert capsys.readouterr().err == (f"linkgen: error: {tmp_path}/evil\\x1b[31mred\\x0aline.toml: not valid TOML: "
                                        "Invalid value (at end of document)\n")
+
+
+def test_simulate_out_names_the_option_not_the_description(tmp_path, capsys):
+    # before: "linkgen: error: …/fourbar.toml: --out: …" — the description blamed for an option
+    assert main(["simulate", str(MODELS / "fourbar.toml"), "--out", str(tmp_path / "run.txt")]) == 2
+    assert capsys.readouterr().err == (f"linkgen simulate: error: --out: must end in .npz or .csv, got "
+                                       f"{str(tmp_path / 'run.txt')!r}\n")

@@ -125,9 +125,10 @@ def cmd_simulate(args) -> int:
     from linkgen.model.reader import load
     from linkgen.mujoco.posed import posed
     from linkgen.mujoco.simulate import simulate, steps_per_revolution
+    from linkgen.cli.common import OptionError
 
     if args.out is not None and args.out.suffix not in (".npz", ".csv"):
-        raise DescriptionError("--out", f"must end in .npz or .csv, got {str(args.out)!r}")
+        raise OptionError(f"--out: must end in .npz or .csv, got {str(args.out)!r}")  # about the option, not the file
     if args.out is not None:  # a symlink or a folder refused before the run, not after it
         from linkgen.outputs import check_output
 
