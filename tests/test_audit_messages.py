@@ -213,3 +213,18 @@ def test_simulate_out_names_the_option_not_the_description(tmp_path, capsys):
     assert main(["simulate", str(MODELS / "fourbar.toml"), "--out", str(tmp_path / "run.txt")]) == 2
     assert capsys.readouterr().err == (f"linkgen simulate: error: --out: must end in .npz or .csv, got "
                                        f"{str(tmp_path / 'run.txt')!r}\n")
+
+
+@pytest.mark.parametrize("args,message", [
+    (["render", "--width", "0"], "linkgen render: error: argument --width: expected a whole number from 16 to 1280, got '0'"),
+    (["render", "--height", "961"], "linkgen render: error: argument --height: expected a whole number from 16 to 960, "
+                                    "got '961'"),
+    (["animate", "--frames", "1"], "linkgen animate: error: argument --frames: expected a whole number from 2 to 2000, "
+                                   "got '1'")])
+def test_picture_sizes_are_refused_with_the_range_they_allow(tmp_path, capsys, args, message):
+    # before: the options took 1 to 1000000, then the run refused 0 px or 1 frame with another range,
+    # blaming the description ("…/fourbar.toml: frames must be 2..2000, got 1")
+    with pytest.raises(SystemExit) as exit_:
+        main([args[0], str(MODELS / "fourbar.toml"), "-o", str(tmp_path / "x.png")] + args[1:])
+    assert exit_.value.code == 2
+    assert capsys.readouterr().err.splitlines()[-1].startswith(message)
