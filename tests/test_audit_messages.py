@@ -228,3 +228,16 @@ def test_picture_sizes_are_refused_with_the_range_they_allow(tmp_path, capsys, a
         main([args[0], str(MODELS / "fourbar.toml"), "-o", str(tmp_path / "x.png")] + args[1:])
     assert exit_.value.code == 2
     assert capsys.readouterr().err.splitlines()[-1].startswith(message)
+
+
+def test_a_report_refuses_two_files_of_one_mechanism_name(tmp_path, capsys):
+    # before: both ran and wrote fourbar_*.png into the report, the second over the first, and the
+    # report showed one model's figures under both rows
+    shutil.copy(MODELS / "fourbar.toml", tmp_path / "a.toml")
+    _variant(tmp_path, "fourbar.toml", "omega = 10.0      # rad/s", "omega = 5.0", name="b.toml")
+    assert main(["validate", str(tmp_path), "--report", str(tmp_path / "report")]) == 2
+    assert capsys.readouterr().err == (
+        f"linkgen validate: error: {tmp_path / 'a.toml'} and {tmp_path / 'b.toml'} both name their mechanism "
+        "'fourbar': the report names its figures and sections after it, so one would overwrite the other's; give "
+        "them different [mechanism] names, or validate them into separate --report folders\n")
+    assert not (tmp_path / "report").exists()
