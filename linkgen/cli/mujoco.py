@@ -294,29 +294,6 @@ def headline_worst(r: dict) -> tuple[str, float, float]:
     return worst, *q[worst]
 
 
-def _one_file_per_name(paths: list[Path]) -> None:
-    """The report names its figures and sections after each mechanism's [mechanism] name: two
-    files of one name would overwrite each other's figures, so they are refused before the runs
-    (a file that cannot be read is left to its own run, which reports it)."""
-    from linkgen.cli.common import OptionError
-    from linkgen.model.toml_file import read_toml
-
-    seen: dict[str, Path] = {}
-    for path in paths:
-        try:
-            data = read_toml(path)
-        except (LinkgenError, OSError):
-            continue
-        name = data.get("mechanism", {}).get("name") if isinstance(data.get("mechanism"), dict) else None
-        if not isinstance(name, str):
-            continue
-        if name in seen:
-            raise OptionError(f"{seen[name]} and {path} both name their mechanism {name!r}: the report names its "
-                              "figures and sections after it, so one would overwrite the other's; give them different "
-                              "[mechanism] names, or validate them into separate --report folders")
-        seen[name] = path
-
-
 def cmd_validate(args) -> int:
     from linkgen.planar.blocks import default_threads
     from linkgen.crosscheck.report import write_index
@@ -326,7 +303,9 @@ def cmd_validate(args) -> int:
     if report is not None:  # refused before the runs (a symlink, a file), not after them
         from linkgen.outputs import output_folder
 
-        _one_file_per_name(paths)
+        from linkgen.cli.files import one_file_per_name
+
+        one_file_per_name(paths)
         output_folder(report)
     practical = not args.no_practical
     t0 = time.perf_counter()
