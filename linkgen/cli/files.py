@@ -62,11 +62,9 @@ def run_each(paths: list[Path], fn: Callable[[Path], Any], stream: TextIO | None
     return outcomes
 
 
-def one_file_per_name(paths: list[Path]) -> None:
-    """The report names its figures and sections after each mechanism's [mechanism] name: two
-    files of one name would overwrite each other's figures, so they are refused before the runs
-    (a file that cannot be read is left to its own run, which reports it)."""
-    from linkgen.cli.common import OptionError
+def same_name(paths: list[Path]) -> tuple[str, Path, Path] | None:
+    """The first two files naming their mechanism alike, as (name, first, second), or None. A
+    file that cannot be read is skipped: its own run reports it."""
     from linkgen.model.toml_file import read_toml
 
     seen: dict[str, Path] = {}
@@ -79,11 +77,10 @@ def one_file_per_name(paths: list[Path]) -> None:
         if not isinstance(name, str):
             continue
         if name in seen:
-            raise OptionError(f"{seen[name]} and {path} both name their mechanism {name!r}: the report names its "
-                              "figures and sections after it, so one would overwrite the other's; give them different "
-                              "[mechanism] names, or validate them into separate --report folders")
+            return name, seen[name], path
         seen[name] = path
+    return None
 
 
 __all__ = ["OutputError", "Outcome", "atomic_open", "atomic_output", "atomic_write_bytes", "atomic_write_text",
-           "message_for", "one_file_per_name", "output_folder", "run_each", "save_figure"]
+           "message_for", "output_folder", "run_each", "same_name", "save_figure"]

@@ -303,9 +303,14 @@ def cmd_validate(args) -> int:
     if report is not None:  # refused before the runs (a symlink, a file), not after them
         from linkgen.outputs import output_folder
 
-        from linkgen.cli.files import one_file_per_name
+        from linkgen.cli.common import OptionError
+        from linkgen.cli.files import same_name
 
-        one_file_per_name(paths)
+        twins = same_name(paths)  # the report names figures and sections after the mechanism: one would overwrite the other's
+        if twins:
+            raise OptionError(f"{twins[1]} and {twins[2]} both name their mechanism {twins[0]!r}: the report names its "
+                              "figures and sections after it, so one would overwrite the other's; give them different "
+                              "[mechanism] names, or validate them into separate --report folders")
         output_folder(report)
     practical = not args.no_practical
     t0 = time.perf_counter()
