@@ -2,9 +2,11 @@
 hostile user would: every line names the file, the field, the value and what is allowed, in the
 same words for every family, and nothing crashes on a description the loader accepts."""
 
+import math
 import shutil
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from conftest import ROOT
@@ -241,3 +243,28 @@ def test_a_report_refuses_two_files_of_one_mechanism_name(tmp_path, capsys):
         "'fourbar': the report names its figures and sections after it, so one would overwrite the other's; give "
         "them different [mechanism] names, or validate them into separate --report folders\n")
     assert not (tmp_path / "report").exists()
+
+
+@pytest.mark.parametrize("axis", ["[0.0, 1e9, 1.0]", "[0.0, 1e12, 1.0]", "[0.0, 1.0, 1e-9]"])
+def test_nearly_parallel_4r_axes_are_a_clear_refusal(tmp_path, capsys, axis):
+    # before: numpy's LinAlgError "Singular matrix" traceback in every command: the common normal of
+    # two axes 1e-9 rad apart solved a 2×2 system whose determinant 1 − cos² rounds to exactly 0
+    path = _variant(tmp_path, "bennett.toml", "axis = [0.0, 0.0, 1.0]", f"axis = {axis}")
+    assert main(["structure", str(path)]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith(f"linkgen: error: {path}: bennett: the four revolutes A0, A, B, B0 are neither parallel, nor "
+                          "meet at one point, nor make a Bennett linkage")
+    assert err.count("\n") == 1
+
+
+def test_the_common_normal_of_nearly_parallel_lines():
+    from linkgen.spatial.chain import common_normal
+
+    # two lines 1e-9 rad apart, 1 m from each other along y: the common normal runs along y
+    # (expected by hand: the lines x-axis and (0, 1, 0) + s·(1, 0, 1e-9)/|·| meet the normal where
+    # z = 0, i.e. at x = 0 on both)
+    u2 = np.array([1.0, 0.0, 1e-9]) / math.hypot(1.0, 1e-9)
+    a, alpha, f1, f2 = common_normal(np.zeros(3), np.array([1.0, 0.0, 0.0]), np.array([0.0, 1.0, 0.0]), u2)
+    np.testing.assert_allclose([a, abs(alpha)], [1.0, 1e-9], rtol=1e-9)  # rtol: float64 rounding of the 1e-9 twist
+    np.testing.assert_allclose(f1, [0.0, 0.0, 0.0], atol=1e-12)
+    np.testing.assert_allclose(f2, [0.0, 1.0, 0.0], atol=1e-12)
