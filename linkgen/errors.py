@@ -9,6 +9,12 @@ import numpy as np
 _CONTROL = re.compile("[\x00-\x1f\x7f-\x9f]")
 
 
+def printable(text: str) -> str:
+    """``text`` with every control character (a line end, a terminal escape) shown by its code:
+    a message names files and values a hostile user chose, and reaches a terminal."""
+    return _CONTROL.sub(lambda m: f"\\x{ord(m.group()):02x}", text)
+
+
 class LinkgenError(Exception):
     """Base class of every error linkgen raises on purpose."""
 
@@ -25,7 +31,7 @@ class DescriptionError(LinkgenError):
         self.problem = problem
         self.source = source
         # a hostile key may hold control characters (a terminal escape): the message shows their codes
-        shown = _CONTROL.sub(lambda m: f"\\x{ord(m.group()):02x}", field)
+        shown = printable(field)
         super().__init__(": ".join(part for part in (source, shown, problem) if part))
 
     def in_file(self, source: str) -> "DescriptionError":

@@ -23,7 +23,9 @@ over the target with ``os.replace`` once complete. So
 
 A description updated in place (``assemble --write``) is the one output that follows a symlink,
 on purpose: ``atomic_output(path, follow_symlink=True)`` writes the link's real target and
-leaves the link a link.
+leaves the link a link. Every other output refuses a file read as a description in this run
+(``note_input``, by device and inode: under any name or hard link), so that ``build M.toml -o
+M.toml`` or ``analyze M.toml --csv M.toml`` never destroys the description.
 """
 
 from __future__ import annotations
@@ -48,6 +50,20 @@ _FIGURE_METADATA = {"svg": {"Date": None, "Creator": None}, "pdf": {"CreationDat
                                                                    "Producer": None}}
 # SVG element ids are hashes salted with a random value unless svg.hashsalt is set.
 _SVG_HASHSALT = "linkgen"
+
+
+# The files read as descriptions in this run, by (device, inode): no output replaces them.
+_INPUTS: set[tuple[int, int]] = set()
+
+
+def note_input(info: os.stat_result) -> None:
+    """Record a description file just read (its ``os.fstat``): outputs will not replace it."""
+    _INPUTS.add((info.st_dev, info.st_ino))
+
+
+def forget_inputs() -> None:
+    """Forget the descriptions read so far (a new command starts)."""
+    _INPUTS.clear()
 
 
 class OutputError(LinkgenError, OSError):
@@ -78,11 +94,22 @@ def _target(path: str | Path, follow_symlink: bool) -> Path:
         raise OutputError(f"{path}: is a folder; give a file name to write")
     if path.exists() and not path.is_file():
         raise OutputError(f"{path}: is not a regular file (a device, a pipe or a socket); give a file name to write")
+    if not follow_symlink and path.exists() and _is_input(path):
+        raise OutputError(f"{path}: is the description being read; linkgen does not write over it: give another "
+                          "output name")
     folder = path.parent
     if not folder.is_dir():
         problem = "is not a folder" if folder.exists() else "does not exist"
         raise OutputError(f"{path}: the folder {str(folder)!r} {problem}")
     return path
+
+
+def _is_input(path: Path) -> bool:
+    try:
+        info = path.stat()
+    except OSError:
+        return False
+    return (info.st_dev, info.st_ino) in _INPUTS
 
 
 def check_output(path: str | Path) -> Path:

@@ -116,7 +116,7 @@ def test_cli_errors(tmp_path, capsys):
     assert main(["build", str(tmp_path / "none.toml")]) == 2
     assert "no such description file" in capsys.readouterr().err
     assert main(["simulate", str(ROOT / "models" / "fourbar.toml"), "--omega", "-1"]) == 2
-    assert "omega must be > 0 rad/s" in capsys.readouterr().err
+    assert "omega: must be > 0 rad/s for a MuJoCo run" in capsys.readouterr().err
 
 
 def test_simulate_writes_every_quantity(tmp_path):

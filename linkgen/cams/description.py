@@ -192,8 +192,9 @@ def cam_from_dict(data: dict) -> CamMechanism:
     osc = kind == "oscillating"
     program = _program(data, osc)
     omega = bounded(angular_speed(cam["omega"], "cam.omega"), "cam.omega", limits.MAX_OMEGA, "rad/s")
-    if not omega > 0:
-        raise DescriptionError("cam.omega", f"must be > 0 (the cam turns counter-clockwise), got {shown(cam['omega'])}")
+    if not omega >= limits.MIN_CAM_OMEGA:
+        raise DescriptionError("cam.omega", f"must be at least {limits.MIN_CAM_OMEGA:g} rad/s (the cam turns "
+                                            f"counter-clockwise; linkgen's limits, see the README), got {shown(cam['omega'])}")
     rr = non_negative(_length(f.get("roller_radius", 0.0), "follower.roller_radius"), "follower.roller_radius", "m")
     wrong = [k for k in (("pivot_distance", "arm_length", "inertia", "lowest_angle") if not osc
                          else ("offset", "mass")) if k in f]

@@ -48,7 +48,7 @@ def cmd_analyze_cam(args) -> int:
         cols = ["theta [rad]", f"displacement [{unit}]", f"velocity [{unit}/s]", f"acceleration [{unit}/s²]",
                 f"jerk [{unit}/s³]", "pressure_angle [rad]", "contact_force [N]", "cam_torque [N·m]"]
         write_rows(cols, [theta, st.displacement, st.velocity, st.acceleration, st.jerk, st.pressure_angle,
-                          st.contact_force, st.cam_torque], args.csv)
+                          st.contact_force, st.cam_torque], args.csv, rows="cam angles")
         return 0
     theta = 0.0 if args.angle is None else args.angle
     st = state(cm, [theta], omega)
@@ -100,7 +100,10 @@ def cmd_profile(args) -> int:
 
     data = read_toml(args.model)  # a file that is no description is refused as such
     if not is_cam_data(data):
-        raise OptionError(f"{args.model}: a cam profile needs a cam description (a [cam] table)")
+        what = ("a linkage whose crank carries a cam ([cam.NAME] pair tables beside [links])"
+                if isinstance(data, dict) and "links" in data and "cam" in data else "not a cam description")
+        raise OptionError(f"{args.model}: {what}; `linkgen profile` takes a cam file: a [cam] table and no [links] "
+                          "(docs/cams.md)")
     try:
         cm = cam_from_dict(data)
     except DescriptionError as exc:
@@ -108,7 +111,7 @@ def cmd_profile(args) -> int:
     theta = np.linspace(0.0, 2 * math.pi, args.points, endpoint=False)
     prof, pitch = cm.follower.profile(theta), cm.follower.pitch_curve(theta)[0]
     write_rows(["theta [rad]", "profile.x [m]", "profile.y [m]", "pitch.x [m]", "pitch.y [m]"],
-               [theta, prof[:, 0], prof[:, 1], pitch[:, 0], pitch[:, 1]], args.output)
+               [theta, prof[:, 0], prof[:, 1], pitch[:, 0], pitch[:, 1]], args.output, rows="cam angles")
     return 0
 
 
@@ -194,8 +197,9 @@ def cam_line(r: dict) -> str:
     e, tol = c["errors_relative"], c["tolerances"]
     return (f"{r['model']:<22} {'ok  ' if r['ok'] else 'FAIL'} cam in MuJoCo (contact with a {c['profile_points']}-"
             f"vertex profile): displacement {e['displacement']:.2e} of the stroke (tolerance "
-            f"{tol['displacement']:g}), contact force {e['contact_force']:.2e} and cam torque {e['cam_torque']:.2e} "
-            f"of their peaks as {360 / c['windows']:g}° means (tolerance {tol['contact_force']:g}), "
+            f"{tol['displacement']:g}), contact force {e['contact_force']:.2e} (tolerance {tol['contact_force']:g}) "
+            f"and cam torque {e['cam_torque']:.2e} (tolerance {tol['cam_torque']:g}) of their peaks as "
+            f"{360 / c['windows']:g}° means, "
             f"{c['steps']} steps, {wall_text(r['total_wall_s'])}")
 
 

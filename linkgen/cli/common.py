@@ -163,7 +163,7 @@ def write_rows(cols: list[str], data: list[np.ndarray], path: Path | None, units
                rows: str = "crank angles") -> None:
     """Columns (each (n,)) as CSV with a header, full precision, to ``path`` (written
     atomically) or stdout; ``units``: each header with its unit (``with_unit``); ``rows``: what
-    a row is, for the message."""
+    a row is, for the line that reports the write (a cam's rows are cam angles)."""
     if units:
         cols = [with_unit(c) for c in cols]
     check_finite_columns(cols, data)

@@ -10,6 +10,22 @@ from pathlib import Path
 import numpy as np
 
 from linkgen.cli.common import OptionError, _angle_arg, _positive_int
+from linkgen.draw.limits import MAX_FRAMES, MAX_HEIGHT, MAX_WIDTH, MIN_FRAMES, MIN_SIDE
+
+
+def _whole_in(lo: int, hi: int):
+    """An argparse type: a whole number from ``lo`` to ``hi``, refused with the range it allows."""
+
+    def parse(text: str) -> int:
+        try:
+            n = int(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"expected a whole number, got {text!r}") from None
+        if not lo <= n <= hi:
+            raise argparse.ArgumentTypeError(f"expected a whole number from {lo} to {hi}, got {text!r}")
+        return n
+
+    return parse
 
 FIGURE_FORMATS = ("png", "svg", "pdf")
 # A position plan of more positions than this is a smear, not a drawing.
@@ -242,7 +258,8 @@ def add_commands(sub) -> None:
     a.add_argument("model", type=Path, help="description file (.toml)")
     a.add_argument("-o", "--output", type=Path, required=True,
                    help="animation file: .gif, or .mp4 with the video extra (pip install 'linkgen[video]')")
-    a.add_argument("--frames", type=_positive_int, default=72, help="frames over the range (no unit; default 72)")
+    a.add_argument("--frames", type=_whole_in(MIN_FRAMES, MAX_FRAMES), default=72,
+                   help=f"frames over the range (no unit; default 72, {MIN_FRAMES} to {MAX_FRAMES})")
     a.add_argument("--fps", type=_positive_int, default=24, help="frames per second of the file (default 24)")
     a.add_argument("--mujoco", action="store_true",
                    help="also run the mechanism in MuJoCo and show its rendered frames beside the closed-form "
@@ -253,8 +270,10 @@ def add_commands(sub) -> None:
     r.add_argument("model", type=Path, help="description file (.toml)")
     r.add_argument("-o", "--output", type=Path, required=True, help="image file (.png)")
     r.add_argument("--angle", type=_angle_arg, help="crank angle with its unit, e.g. 30deg (default: the range's start)")
-    r.add_argument("--width", type=_positive_int, default=800, help="image width [px] (default 800, at most 1280)")
-    r.add_argument("--height", type=_positive_int, default=600, help="image height [px] (default 600, at most 960)")
+    r.add_argument("--width", type=_whole_in(MIN_SIDE, MAX_WIDTH), default=800,
+                   help=f"image width [px] (default 800, {MIN_SIDE} to {MAX_WIDTH})")
+    r.add_argument("--height", type=_whole_in(MIN_SIDE, MAX_HEIGHT), default=600,
+                   help=f"image height [px] (default 600, {MIN_SIDE} to {MAX_HEIGHT})")
     r.set_defaults(func=cmd_render)
 
 

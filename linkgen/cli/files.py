@@ -14,7 +14,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Callable, TextIO
 
-from linkgen.errors import LinkgenError
+from linkgen.errors import LinkgenError, printable
 from linkgen.outputs import (OutputError, atomic_open, atomic_output, atomic_write_bytes, atomic_write_text,
                              output_folder, save_figure)
 
@@ -38,7 +38,7 @@ def message_for(path: str | Path, exc: BaseException) -> str:
     if isinstance(exc, OSError) and exc.strerror:
         text = f"{exc.strerror}" + (f": {exc.filename}" if exc.filename and str(exc.filename) != str(path) else "")
     prefix = f"{path}: "
-    return text if text.startswith(prefix) else prefix + text
+    return printable(text if text.startswith(prefix) else prefix + text)
 
 
 def run_each(paths: list[Path], fn: Callable[[Path], Any], stream: TextIO | None = None) -> list[Outcome]:
@@ -62,5 +62,25 @@ def run_each(paths: list[Path], fn: Callable[[Path], Any], stream: TextIO | None
     return outcomes
 
 
+def same_name(paths: list[Path]) -> tuple[str, Path, Path] | None:
+    """The first two files naming their mechanism alike, as (name, first, second), or None. A
+    file that cannot be read is skipped: its own run reports it."""
+    from linkgen.model.toml_file import read_toml
+
+    seen: dict[str, Path] = {}
+    for path in paths:
+        try:
+            data = read_toml(path)
+        except (LinkgenError, OSError):
+            continue
+        name = data.get("mechanism", {}).get("name") if isinstance(data.get("mechanism"), dict) else None
+        if not isinstance(name, str):
+            continue
+        if name in seen:
+            return name, seen[name], path
+        seen[name] = path
+    return None
+
+
 __all__ = ["OutputError", "Outcome", "atomic_open", "atomic_output", "atomic_write_bytes", "atomic_write_text",
-           "message_for", "output_folder", "run_each", "save_figure"]
+           "message_for", "output_folder", "run_each", "same_name", "save_figure"]

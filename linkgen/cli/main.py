@@ -17,6 +17,7 @@ DESCRIPTION = ("Mechanisms from their descriptions (models/*.toml): closed-form 
                "draw, animate, render, build, validate and profile (cams). docs/ has the formats.")
 
 import argparse
+import contextlib
 import os
 import signal
 import sys
@@ -26,7 +27,7 @@ from linkgen.cli import cams, closed_form, draw, dynamics, forces, mujoco, sketc
 from linkgen.cli.common import OptionError, add_crank_arguments
 from linkgen.cli.files import message_for
 from linkgen.outputs import Interrupted, OutputError
-from linkgen.errors import LinkgenError
+from linkgen.errors import LinkgenError, printable
 
 
 def _version() -> str:
@@ -128,8 +129,15 @@ def main(argv: list[str] | None = None) -> int:
         return 2
     try:
         from linkgen.cli.spatial import route
+        from linkgen.outputs import forget_inputs
 
-        status = (route(args) or args.func)(args)
+        forget_inputs()  # the descriptions this command reads are the ones no output may replace
+        with contextlib.ExitStack() as stack:
+            if args.command not in CLOSED_FORM_COMMANDS:  # MuJoCo's warnings never become a file in the user's folder
+                from linkgen.mujoco.log import no_log_file
+
+                stack.enter_context(no_log_file())
+            status = (route(args) or args.func)(args)
         sys.stdout.flush()  # a closed pipe shows here, not in the interpreter's exit
         return status
     except BrokenPipeError:
@@ -140,12 +148,12 @@ def main(argv: list[str] | None = None) -> int:
         print(f"linkgen: interrupted by {signal.Signals(signum).name}; no output is left half-written", file=sys.stderr)
         return 128 + signum
     except OptionError as exc:
-        print(f"linkgen {args.command}: error: {exc}", file=sys.stderr)
+        print(f"linkgen {args.command}: error: {printable(str(exc))}", file=sys.stderr)
         return 2
     except (LinkgenError, OSError) as exc:
         model = getattr(args, "model", None)
         # an output's own error names the output, not the description
-        text = message_for(model, exc) if model is not None and not isinstance(exc, OutputError) else str(exc)
+        text = message_for(model, exc) if model is not None and not isinstance(exc, OutputError) else printable(str(exc))
         print(f"linkgen: error: {text}", file=sys.stderr)
         return 2
 

@@ -69,7 +69,7 @@ def _build_checked(path: Path, out: Path, practical: bool = False) -> Path:
         with no_log_file():
             mujoco.MjModel.from_xml_string(xml)
         atomic_write_text(out, xml)
-        print(f"wrote {out}")
+        print(f"wrote {out}", file=sys.stderr)  # with the errors, in order, as for every family
         return out
     mech = load(path)
     settings = None
@@ -125,9 +125,10 @@ def cmd_simulate(args) -> int:
     from linkgen.model.reader import load
     from linkgen.mujoco.posed import posed
     from linkgen.mujoco.simulate import simulate, steps_per_revolution
+    from linkgen.cli.common import OptionError
 
     if args.out is not None and args.out.suffix not in (".npz", ".csv"):
-        raise DescriptionError("--out", f"must end in .npz or .csv, got {str(args.out)!r}")
+        raise OptionError(f"--out: must end in .npz or .csv, got {str(args.out)!r}")  # about the option, not the file
     if args.out is not None:  # a symlink or a folder refused before the run, not after it
         from linkgen.outputs import check_output
 
@@ -267,15 +268,19 @@ def _summary(r: dict) -> str:
                      + ("" if dyn["ok"] else " — over the tolerance"))
     shown = r.get("diagnosis", [])[:DIAGNOSIS_LINES]
     for d in shown:
+        if d["relative_error"] is None and not d["ranges_deg"]:  # no run compared anything: why, alone
+            lines.append(f"    {d['cause']}: {d['detail']}")
+            continue
         rng = ", ".join(f"{a:.1f}°..{b:.1f}°" for a, b in d["ranges_deg"][:3])
         lines.append(f"    {d['quantity']}: {_num(d['relative_error'], '.2e')} (tolerance {d['tolerance']:g}) at {rng}: "
                      f"{d['cause']} — {d['detail']}")
     if len(r.get("diagnosis", [])) > len(shown):
         lines.append(f"    … and {len(r['diagnosis']) - len(shown)} more quantities (see --json)")
     if r.get("diagnosis") and r.get("attempts"):
+        said = {d["detail"] for d in shown}
         tried = "; ".join((f"timestep {a['settings']['timestep']:.3g} s, loop τ {a['settings']['timeconst']:.3g} s"
                            if a["settings"] else "derived settings")
-                          + (f" → failed: {a['error']}" if a["error"] else
+                          + ((" → failed as above" if a["error"] in said else f" → failed: {a['error']}") if a["error"] else
                              f" → worst {a['worst']} at {_num(a['worst_error_over_tolerance'], '.2g')}× its tolerance")
                           for a in r.get("attempts", []))
         lines.append(f"    tried: {tried}")
@@ -300,6 +305,14 @@ def cmd_validate(args) -> int:
     if report is not None:  # refused before the runs (a symlink, a file), not after them
         from linkgen.outputs import output_folder
 
+        from linkgen.cli.common import OptionError
+        from linkgen.cli.files import same_name
+
+        twins = same_name(paths)  # the report names figures and sections after the mechanism: one would overwrite the other's
+        if twins:
+            raise OptionError(f"{twins[1]} and {twins[2]} both name their mechanism {twins[0]!r}: the report names its "
+                              "figures and sections after it, so one would overwrite the other's; give them different "
+                              "[mechanism] names, or validate them into separate --report folders")
         output_folder(report)
     practical = not args.no_practical
     t0 = time.perf_counter()

@@ -5,6 +5,7 @@ linkages."""
 from __future__ import annotations
 
 import math
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -28,8 +29,9 @@ def route(args):
         return None  # they handle spatial files themselves
 
     def refuse(args):
-        raise OptionError(f"{model}: a spatial mechanism; `linkgen {args.command}` is for planar linkages "
-                          f"(spatial ones work with {', '.join(SUPPORTED)})")
+        takes = "cam files (docs/cams.md)" if args.command == "profile" else "planar linkages"
+        raise OptionError(f"{model}: a spatial mechanism; `linkgen {args.command}` is for {takes}; "
+                          f"spatial ones work with {', '.join(SUPPORTED)}")
 
     return refuse
 
@@ -302,7 +304,7 @@ def build_spatial(path: Path, out: Path, practical: bool = False) -> Path:
     with no_log_file():
         mujoco.MjModel.from_xml_string(xml)
     atomic_write_text(out, xml)
-    print(f"wrote {out}")
+    print(f"wrote {out}", file=sys.stderr)  # with the errors, in order, as for every family
     return out
 
 

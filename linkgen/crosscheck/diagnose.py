@@ -40,6 +40,8 @@ class Finding:
                 "cause": self.cause, "detail": self.detail}
 
     def text(self) -> str:
+        if not self.ranges and not math.isfinite(self.relative_error):  # no run compared anything
+            return f"{self.cause}: {self.detail}"
         return (f"{self.quantity}: {self.relative_error:.2e} of its scale (tolerance {self.tolerance:g}) at "
                 f"{format_ranges(self.ranges, 3)} — {self.cause}: {self.detail}")
 

@@ -123,7 +123,8 @@ def write_index(results: list[dict], out: Path, wall: float, cores: float) -> Pa
                          f"{r['total_wall_s']:.2f} |")
             continue
         if "quantities" not in r:
-            lines.append(f"| {r['model']} | **NO** | {r.get('error', 'run failed')} |  |  |  |  |  |  |  |  |  |  |")
+            why = r.get("error") or "; ".join(d["cause"] for d in r.get("diagnosis", [])) or "run failed"
+            lines.append(f"| {r['model']} | **NO** | {why} |  |  |  |  |  |  |  |  |  |  |")
             continue
         q, st = r["quantities"], r["settings"]
         cells = " | ".join(_worst(q, k) for k in ("kin", "fwd", "inv"))
@@ -142,7 +143,9 @@ def write_index(results: list[dict], out: Path, wall: float, cores: float) -> Pa
             lines += [f"| `{k}` | {e['error']:.2e} | {e['tolerance']:g} | {'yes' if e['error'] <= e['tolerance'] else '**NO**'} |"
                       for k, e in r["cam_linkage"]["errors"].items()]
             continue
-        if "quantities" not in r:
+        if "quantities" not in r:  # no run compared anything: the section says why
+            if r.get("diagnosis"):
+                lines += ["", f"## {r['model']}", ""] + _diagnosis_lines(r["diagnosis"])
             continue
         lines += ["", f"## {r['model']}", ""]
         for fig in r.get("figures", []):
@@ -182,6 +185,9 @@ def _diagnosis_lines(diagnosis: list[dict]) -> list[str]:
         return []
     lines = ["**Diagnosis**", ""]
     for d in diagnosis:
+        if d["relative_error"] is None and not d["ranges_deg"]:  # no run compared anything: why, alone
+            lines.append(f"- {d['cause']}: {d['detail']}")
+            continue
         rng = ", ".join(f"{a:.1f}°..{b:.1f}°" for a, b in d["ranges_deg"][:3])
         lines.append(f"- `{d['quantity']}` {number(d['relative_error'], '.2e')} (tolerance {d['tolerance']:g}) at {rng}: "
                      f"{d['cause']} — {d['detail']}")

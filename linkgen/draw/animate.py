@@ -12,12 +12,12 @@ import numpy as np
 
 from linkgen.draw.plan import draw_paths, plt_module, title_of
 from linkgen.draw.skeleton import draw_skeleton, frame_of, set_limits
+from linkgen.draw.limits import MAX_FRAMES, MIN_FRAMES
 from linkgen.errors import ArgumentError
 from linkgen.model.description import Mechanism
 from linkgen.planar.positions import Positions, drive_angles, positions
 
 FRAMES = 72  # default: one every 5° over a full revolution
-MAX_FRAMES = 2000
 FPS = 24
 PANEL = (6.0, 4.5)  # inches per panel
 DPI = 80
@@ -27,8 +27,8 @@ FORMATS = ("gif", "mp4")
 def frame_angles(mech: Mechanism, frames: int) -> np.ndarray:
     """``frames`` crank angles [rad] over the drive's range: a full turn without repeating its
     start, a partial range from end to end."""
-    if not (2 <= frames <= MAX_FRAMES):
-        raise ArgumentError(f"frames must be 2..{MAX_FRAMES}, got {frames}")
+    if not (MIN_FRAMES <= frames <= MAX_FRAMES):
+        raise ArgumentError(f"frames must be {MIN_FRAMES}..{MAX_FRAMES}, got {frames}")
     d = mech.drive
     if d.stop - d.start >= 2 * math.pi - 1e-12:
         return d.start + (d.stop - d.start) * np.arange(frames) / frames

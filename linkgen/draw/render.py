@@ -14,11 +14,10 @@ import sys
 import mujoco
 import numpy as np
 
+from linkgen.draw.limits import MAX_HEIGHT, MAX_WIDTH, MIN_SIDE  # MuJoCo's offscreen buffer
 from linkgen.errors import RenderError
 
 CAMERA = "overview"
-# MuJoCo's offscreen buffer (``<visual><global offwidth offheight>`` in the written MJCF).
-MAX_WIDTH, MAX_HEIGHT = 1280, 960
 
 
 def _backend_class(name: str):
@@ -57,8 +56,8 @@ def renderer(model: mujoco.MjModel, width: int, height: int) -> mujoco.Renderer:
     Raises:
         RenderError: the size exceeds the offscreen buffer, or no backend opened a context.
     """
-    if not (16 <= width <= MAX_WIDTH and 16 <= height <= MAX_HEIGHT):
-        raise RenderError(f"frame size {width}×{height} px: allowed 16..{MAX_WIDTH} × 16..{MAX_HEIGHT} px "
+    if not (MIN_SIDE <= width <= MAX_WIDTH and MIN_SIDE <= height <= MAX_HEIGHT):
+        raise RenderError(f"frame size {width}×{height} px: allowed {MIN_SIDE}..{MAX_WIDTH} × {MIN_SIDE}..{MAX_HEIGHT} px "
                           f"(MuJoCo's offscreen buffer in the written model)")
     from mujoco.rendering.classic import gl_context
 

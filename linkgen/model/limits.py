@@ -42,6 +42,10 @@ MAX_INERTIA = 1e54  # = MAX_MASS·MAX_LENGTH²
 # Largest |ω| [rad/s]: ω² enters every acceleration; ω² = 1e60.
 MAX_OMEGA = 1e30
 
+# Smallest ω of a stand-alone cam, which must turn [rad/s]: 1/MAX_OMEGA, so that ω² (1e-60) stays
+# in float64's normal range and a turn (2π/ω) and the cam shaft's inertia (∝ 1/ω²) stay finite.
+MIN_CAM_OMEGA = 1e-30  # = 1/MAX_OMEGA
+
 # Largest |ε| [rad/s²]: MAX_OMEGA², so that ε and ω² terms share one range.
 MAX_EPSILON = 1e60  # = MAX_OMEGA²
 
@@ -72,6 +76,6 @@ MAX_TEETH = 2**53
 MJCF_MIN_BAR = 2e-6
 
 __all__ = [
-    "MAX_LENGTH", "MIN_LENGTH", "MIN_MASS", "MAX_MASS", "MAX_INERTIA", "MAX_OMEGA", "MAX_EPSILON",
+    "MAX_LENGTH", "MIN_LENGTH", "MIN_MASS", "MAX_MASS", "MAX_INERTIA", "MAX_OMEGA", "MIN_CAM_OMEGA", "MAX_EPSILON",
     "MAX_GRAVITY", "MAX_FORCE", "MAX_TORQUE", "MAX_ANGLE", "MAX_TEETH", "MJCF_MIN_BAR",
 ]

@@ -54,7 +54,9 @@ def title(value: object, field: str) -> None:
 
 def whole(value: object, field: str) -> None:
     if isinstance(value, bool) or not isinstance(value, int):
-        raise DescriptionError(field, f"must be a whole number, got {shown(value)}")
+        # TOML reads 60.0 and 1e18 as floats: say how to write the number, not that it is not whole
+        how = " written as an integer (60, not 60.0 or 6e1)" if isinstance(value, float) and value.is_integer() else ""
+        raise DescriptionError(field, f"must be a whole number{how}, got {shown(value)}")
 
 
 def quantity(value: object, field: str) -> None:

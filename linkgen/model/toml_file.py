@@ -12,6 +12,7 @@ import tomllib
 from pathlib import Path
 
 from linkgen.errors import DescriptionError
+from linkgen.outputs import note_input
 
 _BOM = b"\xef\xbb\xbf"
 # Largest description file [bytes]: a 5000-group chain takes about 1 MB (some 200 bytes a group);
@@ -46,6 +47,7 @@ def read_bytes(path: str | Path) -> bytes:
                                    source)
         with os.fdopen(fd, "rb", closefd=False) as f:
             raw = f.read(MAX_FILE_BYTES + 1)  # a file growing while read stops here
+        note_input(info)  # no output of this run replaces it
     except OSError as exc:
         raise DescriptionError("", f"cannot be read: {exc.strerror or exc}", source) from None
     finally:

@@ -99,7 +99,10 @@ def _check_convex(cm: CamMechanism) -> None:
 def cam_timestep(omega: float, q2: np.ndarray, q3: np.ndarray) -> float:
     """The step [s] a cam turning at ``omega`` needs: at most one STEPS_PER_TURN-th of a turn and
     one STEPS_PER_SCALE-th of the follower's shortest time scale, from its coordinate's second
-    and third derivatives in the cam angle (``q2``, ``q3`` sampled over a turn)."""
+    and third derivatives in the cam angle (``q2``, ``q3`` sampled over a turn). A cam standing
+    still (ω = 0, a linkage's drive) bounds nothing: infinity."""
+    if omega == 0:
+        return math.inf
     dt = 2 * math.pi / omega / STEPS_PER_TURN
     j = float(np.abs(q3).max())
     if j > 0:
@@ -118,7 +121,7 @@ def rotor_inertia(cm: CamMechanism) -> float:
     th = np.linspace(0.0, 2 * math.pi, SAMPLES, endpoint=False)
     t = state(cm, th).cam_torque
     swing = float(np.ptp(np.concatenate([[0.0], np.cumsum(t) * (2 * math.pi / SAMPLES)])))
-    return max(swing / (SPEED_HOLD * cm.omega**2), 1.0)
+    return max(swing / SPEED_HOLD / cm.omega / cm.omega, 1.0)  # not ω²: it underflows for a slow cam
 
 
 def polygon_area(xy: np.ndarray) -> float:

@@ -40,6 +40,7 @@ from linkgen.mujoco.loops import acceleration_scale, closure_diag, closure_force
 from linkgen.mujoco.state import joint_states
 from linkgen.mujoco.scene import switch_off_servo
 from linkgen.mujoco.tree import spanning_tree
+from linkgen.mujoco.log import no_log_file
 
 # Aimed-for loop gap relative to the size: a third of the gap tolerance (compare.GAP_TOL = 1e-8);
 # the prediction below is itself an upper bound (measured gaps 0.5-0.9 of it).
@@ -125,6 +126,7 @@ def scan_angles(asm: Assembly, n: int = SCAN) -> np.ndarray:
     return np.linspace(d.start, d.stop, n, endpoint=not full)
 
 
+@no_log_file()  # it steps MuJoCo's forward dynamics at every scanned pose
 def derive(asm: Assembly, model: mujoco.MjModel, *, omega: float, epsilon: float = 0.0,
            duration: float | None = None, max_steps: int = MAX_STEPS) -> tuple[Settings, Scales]:
     """Settings for a run at crank speed ω [rad/s] (peak over the run) and ε [rad/s²].

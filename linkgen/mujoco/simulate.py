@@ -145,7 +145,8 @@ def simulate(asm: Assembly | Posed, *, revolutions: float = 1.0, omega: float | 
     w0 = mech.drive.omega if omega is None else float(omega)
     eps = mech.drive.epsilon if epsilon is None else float(epsilon)
     if not (math.isfinite(w0) and w0 > 0):
-        raise SimulationError(f"omega must be > 0 rad/s to drive the crank through its range, got {w0!r}")
+        raise SimulationError(f"{'drive.omega' if omega is None else 'omega'}: must be > 0 rad/s for a MuJoCo run "
+                              f"(it drives the crank forwards through its range), got {w0!r}")
     if not math.isfinite(eps):
         raise SimulationError(f"epsilon must be finite, got {eps!r}")
     span = mech.drive.stop - mech.drive.start

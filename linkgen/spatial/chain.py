@@ -219,9 +219,10 @@ def common_normal(p1, u1, p2, u2) -> tuple[float, float, np.ndarray, np.ndarray]
         foot1 = p1
         foot2 = p2 - u2 * float(u2 @ d)
         return float(np.linalg.norm(foot2 - foot1)), 0.0, foot1, foot2
-    # feet: p1 + t1·u1, p2 + t2·u2 with the joining vector square to both lines
-    a_ = np.array([[u1 @ u1, -(u1 @ u2)], [u1 @ u2, -(u2 @ u2)]])
-    t1, t2 = np.linalg.solve(a_, np.array([u1 @ d, u2 @ d]))
+    # feet: p1 + t1·u1, p2 + t2·u2 with the joining vector square to both lines, from n = u1 × u2
+    # itself (not a 2×2 system whose determinant 1 − (u1·u2)² rounds to 0 for nearly parallel axes)
+    nn = float(n @ n)
+    t1, t2 = float(np.cross(d, u2) @ n) / nn, float(np.cross(d, u1) @ n) / nn
     f1, f2 = p1 + t1 * u1, p2 + t2 * u2
     a = float(np.linalg.norm(f2 - f1))
     x = (f2 - f1) / a if a > 0 else n / np.linalg.norm(n)

@@ -76,10 +76,11 @@ class SpatialCheck:
     def summary(self, wall: str | None = None) -> str:
         """One line; ``wall``: the wall time as the caller measured it (default: this check's)."""
         name, err, tol = self.worst()
-        status = "ok" if self.ok else "FAILED"
-        return (f"{status}   {self.kind}: worst {name} {err:.2e} (tolerance {tol:g}), loop gap {self.gap:.1e} of the size "
-                f"(tolerance {GAP_TOL:g}), {self.steps} steps, {wall or f'{self.wall:.2f} s'}"
-                + (f"; {self.note}" if self.note else ""))
+        gap = name == "loop gap"  # worded as the planar line: the gap once, relative to the size
+        return (f"{'ok  ' if self.ok else 'FAIL'} {self.kind}: worst {name} {err:.2e} " + ("of the size " if gap else "")
+                + f"(tolerance {tol:g}), "
+                + ("" if gap else f"loop gap {self.gap:.1e} of the size (tolerance {GAP_TOL:g}), ")
+                + f"{self.steps} steps, {wall or f'{self.wall:.2f} s'}" + (f"; {self.note}" if self.note else ""))
 
     def to_json(self) -> dict:
         return {"model": self.model, "kind": self.kind, "ok": self.ok,
@@ -104,7 +105,8 @@ def check_spatial(mech: SpatialMechanism, samples: int = 360, omega: float | Non
     wall0 = time.perf_counter()
     w0 = mech.drive.omega if omega is None else float(omega)
     if not (math.isfinite(w0) and w0 > 0):
-        raise SimulationError(f"{mech.name}: omega must be > 0 rad/s to drive the crank, got {w0!r}")
+        raise SimulationError(f"{'drive.omega' if omega is None else 'omega'}: must be > 0 rad/s for a MuJoCo run "
+                              f"(it drives the crank forwards through a turn), got {w0!r}")
     chain = assembled_chain(mech)
     scan = solve(mech, np.linspace(0.0, 2 * np.pi, SCAN, endpoint=False), chain)
     settings, scales = derived_settings(mech, w0, chain)

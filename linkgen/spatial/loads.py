@@ -18,6 +18,7 @@ from typing import Any
 
 from linkgen.errors import DescriptionError
 from linkgen.model import limits
+from linkgen.model.schema import string
 from linkgen.model.units import bounded, finite, parse_angle, shown
 
 _FORCE = {"link", "point", "force", "stroke"}
@@ -62,7 +63,8 @@ def _link(spec: dict, where: str, links: dict) -> str:
     if "link" not in spec:
         raise DescriptionError(f"{where}.link", "is required")
     name = spec["link"]
-    if not isinstance(name, str) or name not in links:
+    string(name, f"{where}.link")
+    if name not in links:
         raise DescriptionError(f"{where}.link", f"unknown link {shown(name)}; known links: {', '.join(links)}")
     return name
 
@@ -97,6 +99,7 @@ def read_loads(data: dict, links: dict) -> tuple[tuple[PointForce3, ...], tuple[
         _keys(spec, _FORCE, {"link", "point", "force"}, where)
         link = _link(spec, where, links)
         point = spec["point"]
+        string(point, f"{where}.point")
         if point not in links[link]:
             raise DescriptionError(f"{where}.point", f"{shown(point)} is not a point of link {link!r} "
                                                      f"({', '.join(links[link])})")
