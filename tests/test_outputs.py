@@ -172,3 +172,21 @@ def test_library_animation_writer_refuses_a_symlink(tmp_path):
     save_animation([np.zeros((4, 4, 3), dtype=np.uint8)] * 2, out)
     assert out.read_bytes().startswith(b"GIF8")
     assert sorted(p.name for p in tmp_path.iterdir()) == ["a.gif", "b.gif", "victim.txt"]
+
+
+def test_the_library_keeps_mujocos_log_out_of_the_working_folder(tmp_path, monkeypatch):
+    """Writing the MJCF from Python (no CLI around it) steps MuJoCo to derive the settings; a
+    mechanism MuJoCo warns about (a follower rod of 7e11 m: a singular inertia matrix) must not
+    leave MUJOCO_LOG.TXT in the working folder (found by validation/fuzz_commands.py, seed 2027)."""
+    import re
+
+    import linkgen
+    from linkgen.mujoco.mjcf import write_mjcf
+
+    text = (ROOT / "models" / "cam_rocker_slider.toml").read_text()
+    text, n = re.subn(r"(?m)^E = \[[^,]+,", "E = [693814327461.7466,", text)
+    assert n == 1
+    (tmp_path / "m.toml").write_text(text)
+    monkeypatch.chdir(tmp_path)
+    write_mjcf(linkgen.assemble(linkgen.load(tmp_path / "m.toml")))
+    assert not (tmp_path / "MUJOCO_LOG.TXT").exists()

@@ -14,6 +14,7 @@ import mujoco
 import numpy as np
 
 from linkgen.draw.render import render_states
+from linkgen.mujoco.log import no_log_file
 
 
 def turn_angles(frames: int) -> np.ndarray:
@@ -67,6 +68,7 @@ def cam_frames(cm, theta: np.ndarray, progress: Callable[[int, int], None] | Non
     return _uniform(out)
 
 
+@no_log_file()  # MuJoCo's warnings stay out of the user's folder (linkgen.mujoco.log)
 def spatial_render(mech, phi, width: int = 640, height: int = 480) -> list[np.ndarray]:
     """MuJoCo frames of the spatial model at crank angles ``phi`` [rad], posed from the closed form."""
     from linkgen.spatial.kinematics import assembled_chain, solve
@@ -81,6 +83,7 @@ def spatial_render(mech, phi, width: int = 640, height: int = 480) -> list[np.nd
     return render_states(model, qpos, width, height)
 
 
+@no_log_file()  # MuJoCo's warnings stay out of the user's folder (linkgen.mujoco.log)
 def cam_render(cm, theta, width: int = 640, height: int = 480) -> list[np.ndarray]:
     """MuJoCo frames of the cam model at cam angles θ [rad], the follower where the closed form puts it."""
     from linkgen.cams.kinetics import state

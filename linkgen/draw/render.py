@@ -16,6 +16,7 @@ import numpy as np
 
 from linkgen.draw.limits import MAX_HEIGHT, MAX_WIDTH, MIN_SIDE  # MuJoCo's offscreen buffer
 from linkgen.errors import RenderError
+from linkgen.mujoco.log import no_log_file
 
 CAMERA = "overview"
 
@@ -98,6 +99,7 @@ def render_states(model: mujoco.MjModel, qpos: np.ndarray, width: int = 640, hei
     return frames
 
 
+@no_log_file()  # MuJoCo's warnings stay out of the user's folder (linkgen.mujoco.log)
 def render_mechanism(mech, phi, width: int = 640, height: int = 480) -> tuple[mujoco.MjModel, list[np.ndarray]]:
     """Frames of the mechanism's generated model at crank angles ``phi`` [rad] (scalar or (m,)),
     posed from the closed-form (or numeric) pose."""

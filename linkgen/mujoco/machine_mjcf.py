@@ -27,6 +27,7 @@ from linkgen.mujoco.scene import KEY, SERVO
 from linkgen.mujoco.settings import derive
 from linkgen.mujoco.tree import DRIVE_ACTUATOR
 from linkgen.planar.assembly import Assembly
+from linkgen.mujoco.log import no_log_file
 
 ROTOR, SHAFT, MOTOR = "machine:rotor", "machine:shaft", "machine:motor"
 START_KEY = "start"
@@ -36,6 +37,7 @@ def _f(x: float) -> str:
     return repr(float(x))
 
 
+@no_log_file()  # MuJoCo's warnings stay out of the user's folder (linkgen.mujoco.log)
 def machine_settings(asm: Assembly, machine: Machine):
     """The validation settings of the linkage at the machine's peak speed, with the crank's
     armature the machine's own inertia on the crank (rotor and flywheel, or the flywheel alone
@@ -115,6 +117,7 @@ def dc_scales(machine: Machine) -> tuple[float, float]:
     return math.sqrt(eta * m.torque_constant * m.emf_constant), math.sqrt(eta * m.torque_constant / m.emf_constant)
 
 
+@no_log_file()  # MuJoCo's warnings stay out of the user's folder (linkgen.mujoco.log)
 def _start_key(root, asm: Assembly, machine: Machine) -> None:
     from linkgen.mujoco.state import initial_state
 

@@ -45,6 +45,7 @@ from linkgen.planar.pose import mechanism_size, reference_pose
 from linkgen.mujoco.settings import crank_only, derive
 from linkgen.mujoco.scene import add_scene, add_scene_assets, add_servo, add_sketch_key, motion_extent, settings_comment
 from linkgen.mujoco.tree import DRIVE_ACTUATOR, body_name, sensor_name, site_name, spanning_tree
+from linkgen.mujoco.log import no_log_file
 
 # Integration and constraint settings come from the mechanism (linkgen.mujoco.settings): the loop
 # time constant from the predicted loop gap and the crank speed, the timestep from it, the
@@ -135,6 +136,7 @@ def _source(source: Mechanism | Assembly) -> _Source:
     return _Source(mech, source.shapes, source.guides, pose, mechanism_size(mech))
 
 
+@no_log_file()  # MuJoCo's warnings stay out of the user's folder (linkgen.mujoco.log)
 def settings_for(source: Mechanism | Assembly) -> Settings:
     """Settings derived for the description's own drive (ω at the range's end if ε ≠ 0).
     Without a closed form (groups of class III and higher) they come from the crank speed and

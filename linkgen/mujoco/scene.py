@@ -15,6 +15,8 @@ import mujoco
 import numpy as np
 from lxml import etree
 
+from linkgen.mujoco.log import no_log_file
+
 SERVO = "drive:servo"
 KEY = "sketch"
 # The servo brings the crank's rotor to ω with this time constant [s] (kv = armature / time).
@@ -115,6 +117,7 @@ def settings_comment(settings) -> str:
             f"For a robot scene, linkgen build with its practical option writes MuJoCo's usual settings instead. ")
 
 
+@no_log_file()  # MuJoCo's warnings stay out of the user's folder (linkgen.mujoco.log)
 def add_sketch_key(root, source, mech) -> None:
     """The keyframe ``sketch``: the assembled sketch pose, moving at the drive's ω."""
     from linkgen.model.geometry import link_shapes
