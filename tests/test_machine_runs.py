@@ -197,3 +197,37 @@ def test_a_gear_ratio_past_linkgens_limits_is_refused_at_load(tmp_path, ratio):
     with pytest.raises(DescriptionError) as exc:
         load_machine(path)
     assert exc.value.field == "machine.gear_ratio"
+
+
+def test_a_crank_jammed_by_its_load_is_reported_as_stalled(tmp_path, monkeypatch):
+    """A load spike of 5.6e8 N·m on two table points (a fuzzed machine, seed 2027): the crank
+    rocks against it and never completes a turn. The run stops with the stall named instead of
+    integrating the rocking for minutes (3 M evaluations, 188 s before)."""
+    from linkgen.dynamics import machine as machine_module
+
+    monkeypatch.setattr(machine_module, "STALL_EVALUATIONS", 20_000)  # the same rule, sooner
+    path = _variant(tmp_path, "machine_slider_crank.toml", ", 555.382221261,", ", 555382221.261,")
+    asm, machine = load_machine(path)
+    with pytest.raises(SimulationError, match="the machine stalls: the crank has completed no new turn"):
+        run_machine(machine, reduce(asm, machine.process_load), samples=11)
+    # the bundled machine itself completes its turns under the same rule
+    asm, machine = load_machine(MODELS / "machine_slider_crank.toml")
+    run = run_machine(machine, reduce(asm, machine.process_load), samples=11, duration=2.0)
+    assert run.phi[-1] - run.phi[0] > 2 * math.pi
+
+
+def test_a_load_that_drives_the_crank_past_ten_times_its_motors_speed_is_a_runaway(tmp_path):
+    """A process load that pushes the crank (negative resisting torque) far harder than the
+    motor: past RUNAWAY times the motor's top speed the run stops and says so."""
+    from linkgen.dynamics.machine import RUNAWAY
+
+    asm, machine = load_machine(MODELS / "machine_slider_crank.toml")
+    text = (MODELS / "machine_slider_crank.toml").read_text()
+    start = text.index("torque = [", text.index("[machine.process_load]"))
+    end = text.index("]", start)
+    n = text[start:end].count(",") + 1
+    path = tmp_path / "runaway.toml"
+    path.write_text(text[:start] + "torque = [" + ", ".join(["-1e6"] * n) + text[end:])
+    asm, machine = load_machine(path)
+    with pytest.raises(SimulationError, match=f"{RUNAWAY:g} times the motor's top speed"):
+        run_machine(machine, reduce(asm, machine.process_load), samples=11)

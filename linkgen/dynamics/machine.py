@@ -50,6 +50,21 @@ RESOLVABLE = 1e3 * np.finfo(float).eps
 STEPS_PER_TURN = 64
 # Right-hand sides evaluated at most (about 100 µs each on a 5-body linkage: some minutes).
 MAX_EVALUATIONS = 3_000_000
+# A motor-driven crank whose speed passes RUNAWAY times the motor's top speed (its no-load or
+# synchronous speed at the crank), either way round, is driven by its loads, not by its motor:
+# far outside what the motor laws describe, and each turn then costs the integration steps
+# without end (a fuzzed process load of 5.6e8 N·m on one table point ran past 150 s). Ten times
+# leaves room for a load that drives the motor as a generator (a few per cent over its no-load
+# speed) and for any start speed within it; a constant torque has no top speed and no such stop.
+RUNAWAY = 10.0
+# A crank that completes no new turn over STALL_EVALUATIONS evaluations of the right-hand side is
+# stalled, rocking against a load its motor cannot carry it past: the run stops there and says
+# where, rather than integrating the rocking for the rest of the duration (a fuzzed load spike of
+# 5.6e8 N·m on one table point: 3 M evaluations over 188 s, no result). A turn costs 64 steps
+# at most (STEPS_PER_TURN) of ~12 evaluations, ~800, once running; a slow first turn from rest
+# is bounded in steps by the same max_step in time: 300 000 leaves it a factor of ~50 beyond
+# a crank reaching only a hundredth of its speed scale.
+STALL_EVALUATIONS = 300_000
 # Progress is reported after this much wall time [s], then every PROGRESS_EVERY s.
 PROGRESS_AFTER, PROGRESS_EVERY = 2.0, 2.0
 
@@ -226,13 +241,22 @@ class _Budget:
     """The right-hand side counted: SimulationError past MAX_EVALUATIONS, and progress(fraction,
     elapsed) every PROGRESS_EVERY s once the run has lasted PROGRESS_AFTER s."""
 
-    def __init__(self, rhs, duration: float, progress):
+    def __init__(self, rhs, duration: float, progress, phi0: float = 0.0):
         self.rhs, self.duration, self.progress = rhs, duration, progress
         self.calls, self.t0, self.next, self.t = 0, time.perf_counter(), PROGRESS_AFTER, 0.0
+        self.phi0, self.turns, self.turned_at = phi0, 0, 0  # the crank's turns done, and when
 
     def __call__(self, t, y):
         self.calls += 1
         self.t = t
+        turns = (y[0] - self.phi0) / (2 * math.pi)
+        if turns >= self.turns + 1:
+            self.turns, self.turned_at = int(turns), self.calls
+        elif self.calls - self.turned_at > STALL_EVALUATIONS:
+            raise SimulationError(f"the machine stalls: the crank has completed no new turn over {STALL_EVALUATIONS:,} "
+                                  f"evaluations, rocking near φ = {math.degrees(y[0]):.2f}° at t = {t:.6g} s; its motor "
+                                  "(and the flywheel's energy) cannot carry it past the load there; check "
+                                  "[machine.process_load], the mechanism's loads and the motor")
         if self.calls % 200 == 0:
             if self.calls > MAX_EVALUATIONS:
                 raise SimulationError(f"the machine's integration took more than {MAX_EVALUATIONS:,} evaluations "
@@ -258,14 +282,27 @@ def run_machine(machine: Machine, red: Reduced, *, samples: int = 2000, duration
     top = _speed_scale(machine, red)
     max_step = 2 * math.pi / top / STEPS_PER_TURN if top > 0 else math.inf
     scale = np.ones(model.n)
-    budget = _Budget(model.rhs, T, progress)
+    budget = _Budget(model.rhs, T, progress, phi0)
+    motor_top = machine.top_speed(0.0)
+    limit = RUNAWAY * motor_top if motor_top > 0 and math.isfinite(motor_top) else math.inf
+
+    def runaway(t, y):
+        return limit - abs(y[1])
+
+    runaway.terminal = True
     try:
         with np.errstate(over="ignore", invalid="ignore"):
             sol = solve_ivp(budget, (0.0, T), model.y0(phi0), method=method, rtol=RTOL, atol=RTOL * scale * 1e-3,
-                            dense_output=True, max_step=max_step)
+                            dense_output=True, max_step=max_step, events=runaway if math.isfinite(limit) else None)
     except (ValueError, np.linalg.LinAlgError) as exc:  # the solver's own check of its Jacobian or states
         raise SimulationError(f"the machine's state left float64's range near t = {budget.t:.6g} s ({exc}); check "
                               "the [machine.motor] parameters and the inertias") from None
+    if sol.status == 1:  # the runaway event
+        t_run, w_run = float(sol.t_events[0][0]), float(sol.y_events[0][0][1])
+        raise SimulationError(f"the crank's speed reached {w_run:.4g} rad/s at t = {t_run:.6g} s, {RUNAWAY:g} times the "
+                              f"motor's top speed ({motor_top:.4g} rad/s at the crank){' turning backwards' if w_run < 0 else ''}: "
+                              "the loads drive the machine, not its motor; check [machine.process_load] and the "
+                              "mechanism's loads against the motor")
     if not sol.success or not np.isfinite(sol.y).all():
         raise SimulationError(f"the machine's integration stopped at t = {sol.t[-1]:.6g} s: {sol.message}")
     t = np.linspace(0.0, T, samples)
