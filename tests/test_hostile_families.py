@@ -375,3 +375,26 @@ def test_a_non_finite_vector_column_is_named_by_its_row():
     xy[2, 1] = math.inf
     with pytest.raises(LinkgenError, match=r"^the result is not finite in column 'B\.position' at row 3 "):
         check_finite_columns(["time", "B.position"], [np.arange(4.0), xy])
+
+
+def test_a_cam_that_cannot_drive_its_follower_is_refused_not_infinite():
+    """An oscillating follower pivoted on the cam's axis (pivot_distance 2.5e-101 m, fuzz
+    campaign seed 2027): the profile's normal is square to the follower's motion, so the
+    contact force would be infinite; the closed form says so instead of returning inf."""
+    import tempfile
+    from pathlib import Path
+
+    import numpy as np
+
+    from linkgen.cams.description import load_cam
+    from linkgen.cams.kinetics import state
+    from linkgen.errors import SingularityError
+
+    text = (MODELS / "cam_oscillating.toml").read_text()
+    assert "pivot_distance = 0.25" in text
+    with tempfile.TemporaryDirectory() as d:
+        path = Path(d) / "c.toml"
+        path.write_text(text.replace("pivot_distance = 0.25", "pivot_distance = 2.5e-101"))
+        cm = load_cam(path)
+        with pytest.raises(SingularityError, match="square to the follower's motion"):
+            state(cm, np.linspace(0.0, 2 * np.pi, 72, endpoint=False))

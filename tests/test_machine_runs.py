@@ -231,3 +231,13 @@ def test_a_load_that_drives_the_crank_past_ten_times_its_motors_speed_is_a_runaw
     asm, machine = load_machine(path)
     with pytest.raises(SimulationError, match=f"{RUNAWAY:g} times the motor's top speed"):
         run_machine(machine, reduce(asm, machine.process_load), samples=11)
+
+
+def test_a_motor_whose_top_speed_is_past_linkgens_limits_is_refused_at_load(tmp_path):
+    """A DC motor at 1e100 V (fuzz campaign seed 2027): its no-load speed U/k_e is 1e101 rad/s,
+    beyond linkgen's speeds; refused naming the motor instead of integrating time constants of
+    7e-98 s for 30 s."""
+    path = _variant(tmp_path, "dc_motor_startup.toml", "voltage = ", "voltage = 1e100 #")
+    with pytest.raises(DescriptionError) as exc:
+        load_machine(path)
+    assert exc.value.field == "machine.motor" and "top speed at the crank" in str(exc.value)

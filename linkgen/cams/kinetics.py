@@ -18,6 +18,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from linkgen.cams.description import CamMechanism
+from linkgen.errors import SingularityError, angle_ranges
 
 # Cam angles over a turn at which the leave speed and peaks are taken: one every 0.1°.
 SAMPLES = 3600
@@ -62,7 +63,14 @@ def state(cm: CamMechanism, theta, omega: float | None = None) -> CamState:
     dcdq = u * (f.arm_length if f.kind == "oscillating" else 1.0)
     spring = cm.spring_preload + cm.spring_rate * q
     big_q = _inertia(cm) * q2 * w * w + spring - _weight_along(cm)
-    contact = big_q / np.sum(n * dcdq, axis=1)
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        contact = big_q / np.sum(n * dcdq, axis=1)
+    bad = ~np.isfinite(contact)
+    if np.any(bad):  # never a silent inf: the follower's pivot on the cam's axis, say
+        raise SingularityError("cam follower", angle_ranges(th, bad),
+                               "the profile's normal is square to the follower's motion (pressure angle 90°), "
+                               "so no finite contact force drives it; move the follower's pivot or guide off "
+                               "the cam's axis")
     return CamState(th, w, q, q1 * w, q2 * w * w, q3 * w**3, f.pressure_angle(th), contact, big_q * q1, spring)
 
 

@@ -213,7 +213,7 @@ def machine_from_dict(data: dict) -> Machine | None:
     eff = _number(t, "gear_efficiency", "machine", low=0.0, strict=True, default=1.0)
     if eff > 1.0:
         raise DescriptionError("machine.gear_efficiency", f"must be in (0, 1], got {eff!r}")
-    return Machine(
+    machine = Machine(
         motor=_motor(_table(t["motor"], "machine.motor")),
         rotor_inertia=_number(t, "rotor_inertia", "machine", low=0.0, default=0.0),
         gear_ratio=_number(t, "gear_ratio", "machine", low=MIN_GEAR_RATIO, default=1.0),
@@ -224,6 +224,15 @@ def machine_from_dict(data: dict) -> Machine | None:
         shaft=shaft,
         process_load=load,
     )
+    # The motor's own top speed at the crank (a DC motor's U/(k_e·u), say) within linkgen's
+    # speeds, like every other speed of the description: past it the machine's time constants
+    # leave what a step can resolve (a voltage of 1e100 V: 7e-98 s).
+    top = machine.top_speed(0.0)
+    if not top <= limits.MAX_OMEGA:
+        raise DescriptionError("machine.motor", f"gives a top speed at the crank of {top:.3g} rad/s (its no-load or "
+                               f"synchronous speed through the gear ratio), beyond linkgen's limit of "
+                               f"{limits.MAX_OMEGA:g} rad/s (see the README); check the motor's parameters")
+    return machine
 
 
 __all__ = ["MOTOR_KEYS", "Machine", "Motor", "ProcessLoad", "Shaft", "machine_from_dict"]
