@@ -217,3 +217,22 @@ def test_build_folder_goes_on_past_a_crash(tmp_path, capsys, monkeypatch):
                    f"wrote {tmp_path / 'c.xml'}",
                    "linkgen: 1 of 3 descriptions failed"]
     assert (tmp_path / "c.xml").exists() and not (tmp_path / "b.xml").exists()
+
+
+def test_a_short_link_in_a_large_spatial_chain_has_a_valid_inertia(tmp_path):
+    """rssp with its crank pin moved 150 km out (fuzz campaign seed 2028): the 0.2 m rocker's
+    inertia along its line, from a rod as thick as the 150 km chain, broke the triangle
+    inequality of principal moments that MuJoCo's compiler checks (A + B >= C)."""
+    import re
+
+    import mujoco
+
+    import linkgen
+    from linkgen.spatial.mjcf import write_spatial_mjcf
+
+    text = (MODELS / "rssp.toml").read_text()
+    text, n = re.subn(r"(?m)^A = \[0\.15,", "A = [150000.0,", text)
+    assert n == 1
+    (tmp_path / "big.toml").write_text(text)
+    mech = linkgen.load(tmp_path / "big.toml")
+    mujoco.MjModel.from_xml_string(write_spatial_mjcf(mech))  # raised ValueError before

@@ -17,6 +17,8 @@ POINT_RADIUS = 0.02
 # eigen-decomposition's rounding stays above it. Part of the mass model on both sides (closed
 # form and MJCF), so the two still describe the same bodies.
 MIN_PRINCIPAL_INERTIA = 2e-14
+# Largest rod radius as a fraction of the rod's length (see rod_inertia).
+ROD_SLENDERNESS = 0.5
 
 
 def rod_inertia(mass: float, x: np.ndarray, span2: np.ndarray, size: float) -> np.ndarray:
@@ -26,7 +28,11 @@ def rod_inertia(mass: float, x: np.ndarray, span2: np.ndarray, size: float) -> n
     x = np.asarray(x, dtype=float)
     span2 = np.asarray(span2, dtype=float).reshape(-1)
     across = np.maximum(mass * span2 / 12.0, MIN_PRINCIPAL_INERTIA)
-    along = np.maximum(np.where(span2 > 0, 0.5 * mass * (ROD_RADIUS * size) ** 2, 0.4 * mass * (POINT_RADIUS * size) ** 2),
+    # A rod's radius is at most half its length (ROD_SLENDERNESS): then ½·m·r² ≤ 2·m·ℓ²/12 and its
+    # principal moments satisfy the triangle inequality MuJoCo checks (A + B ≥ C), which a short
+    # link of a large chain broke with the chain-sized radius (a 0.2 m rocker in a 150 km RSSP).
+    radius = np.minimum(ROD_RADIUS * size, ROD_SLENDERNESS * np.sqrt(span2))
+    along = np.maximum(np.where(span2 > 0, 0.5 * mass * radius**2, 0.4 * mass * (POINT_RADIUS * size) ** 2),
                        MIN_PRINCIPAL_INERTIA)
     xx = np.einsum("ni,nj->nij", x, x)
     eye = np.eye(3)[None]
