@@ -263,3 +263,15 @@ def test_a_cam_run_reports_progress(monkeypatch):
     calls = []
     run_cam(_user_cam(), revolutions=0.25, progress=lambda f, t: calls.append(f))
     assert calls and all(0 < f < 1 for f in calls) and calls == sorted(calls)
+
+
+def test_a_run_that_cannot_advance_is_diagnosed_without_a_crash():
+    """A trace whose steps turned the cam by no measurable angle (a spring of 2e15 N/m, fuzz
+    campaign seed 2029) is diagnosed, not divided by zero."""
+    import numpy as np
+
+    from linkgen.crosscheck import diagnose_cam
+
+    assert diagnose_cam._steps(0.1, type("T", (), {"step_angle": 0.0})()) == 0
+    assert diagnose_cam._steps(0.1, type("T", (), {"step_angle": 0.01})()) == 10
+    assert np.isfinite(diagnose_cam.LOOK_BACK)

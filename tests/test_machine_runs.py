@@ -243,3 +243,14 @@ def test_a_motor_whose_top_speed_is_past_linkgens_limits_is_refused_at_load(tmp_
     with pytest.raises(DescriptionError) as exc:
         load_machine(path)
     assert exc.value.field == "machine.motor" and "top speed at the crank" in str(exc.value)
+
+
+def test_a_dc_motor_at_twice_the_voltage_settles_at_its_no_load_speed(tmp_path):
+    """dc_motor_startup at 2 V (fuzz campaign seed 2029): Radau's iteration matrix turned
+    non-finite on the exactly settled state and the run ended in an error; the machine turns
+    no load, so it must settle at the motor's no-load speed U/k_e = 2/(1/6) = 12 rad/s."""
+    path = _variant(tmp_path, "dc_motor_startup.toml", "voltage = 1.0", "voltage = 2.0")
+    asm, machine = load_machine(path)
+    run = run_machine(machine, reduce(asm, machine.process_load), samples=101)
+    assert run.steady is not None
+    assert run.steady.omega_mean == pytest.approx(2.0 / machine.motor.emf_constant, rel=1e-6)

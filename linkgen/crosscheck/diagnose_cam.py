@@ -47,10 +47,16 @@ class ContactTrace:
     travel: float
 
 
+def _steps(angle: float, t: ContactTrace) -> int:
+    """Whole steps of the run within the cam angle ``angle`` [rad] (none if a step turned the cam
+    by no measurable angle: a run that could not advance)."""
+    return int(angle / t.step_angle) if t.step_angle > 0 else 0
+
+
 def _cause(t: ContactTrace, lo: int, hi: int) -> tuple[str, str]:
     """The cause of a miss over the steps lo..hi (and LOOK_BACK before them)."""
     deg = math.degrees
-    lo = max(0, lo - int(LOOK_BACK / t.step_angle))
+    lo = max(0, lo - _steps(LOOK_BACK, t))
     th = t.theta % (2 * math.pi)
     cf = t.force_closed
     peak = float(np.abs(cf).max()) or 1.0
@@ -63,7 +69,7 @@ def _cause(t: ContactTrace, lo: int, hi: int) -> tuple[str, str]:
     if off:
         a, b = max(off, key=lambda r: r[1] - r[0])
         a, b = a + lo, b + lo
-        land = slice(b + 1, min(b + 1 + int(LEFT_FOR / t.step_angle), th.shape[0]))
+        land = slice(b + 1, min(b + 1 + _steps(LEFT_FOR, t), th.shape[0]))
         hit = float(t.force[land].max()) if land.start < land.stop else 0.0
         return ("contact lost", f"the roller left the cam at {deg(th[a]):.2f}° and stayed off for "
                 f"{deg((b - a + 1) * t.step_angle):.2f}° ({b - a + 1} steps) though the closed form's contact force "

@@ -250,7 +250,9 @@ class _Budget:
         self.calls += 1
         self.t = t
         turns = (y[0] - self.phi0) / (2 * math.pi)
-        if turns >= self.turns + 1:
+        if not math.isfinite(turns):  # a trial state of the solver's own (a Jacobian's probe)
+            pass
+        elif turns >= self.turns + 1:
             self.turns, self.turned_at = int(turns), self.calls
         elif self.calls - self.turned_at > STALL_EVALUATIONS:
             raise SimulationError(f"the machine stalls: the crank has completed no new turn over {STALL_EVALUATIONS:,} "
@@ -290,10 +292,23 @@ def run_machine(machine: Machine, red: Reduced, *, samples: int = 2000, duration
         return limit - abs(y[1])
 
     runaway.terminal = True
-    try:
+    def solve(how: str):
         with np.errstate(over="ignore", invalid="ignore"):
-            sol = solve_ivp(budget, (0.0, T), model.y0(phi0), method=method, rtol=RTOL, atol=RTOL * scale * 1e-3,
-                            dense_output=True, max_step=max_step, events=runaway if math.isfinite(limit) else None)
+            return solve_ivp(budget, (0.0, T), model.y0(phi0), method=how, rtol=RTOL, atol=RTOL * scale * 1e-3,
+                             dense_output=True, max_step=max_step, events=runaway if math.isfinite(limit) else None)
+
+    try:
+        try:
+            sol = solve(method)
+        except (ValueError, np.linalg.LinAlgError):
+            # Radau's Newton matrix can turn non-finite on a state that has settled exactly (a DC
+            # motor at twice the bundled voltage: a finite, steady ω = 12 rad/s, and scipy's
+            # lu_factor refused the iteration matrix at t = 4.8 s): LSODA, which switches between
+            # stiff and non-stiff steps itself, takes the run over from the start.
+            if method != "Radau":
+                raise
+            budget = _Budget(model.rhs, T, progress, phi0)
+            sol, method = solve("LSODA"), "LSODA"
     except (ValueError, np.linalg.LinAlgError) as exc:  # the solver's own check of its Jacobian or states
         raise SimulationError(f"the machine's state left float64's range near t = {budget.t:.6g} s ({exc}); check "
                               "the [machine.motor] parameters and the inertias") from None
