@@ -174,3 +174,17 @@ def test_structure_names_where_a_chain_cannot_assemble(tmp_path):
     lo, hi = (float(x) for x in re.search(r"at crank angles ([\d.]+)°\.\.([\d.]+)°", line).groups())
     assert 130.0 < lo < 180.0 < hi < 230.0 and abs((lo + hi) / 2 - 180.0) < 0.2  # the chain is symmetric in y
     assert "whole turn" in _cli("structure", RSSR).stdout.strip().splitlines()[-1]
+
+
+def test_a_long_spatial_run_reports_progress(monkeypatch):
+    """rssr under 1000 g took 3e5 steps and a minute in silence (fuzz campaign seed 2030): the
+    spatial MuJoCo run reports its progress like the planar and cam runs."""
+    from linkgen.mujoco import options
+    from linkgen.spatial import crosscheck
+
+    monkeypatch.setattr(options, "PROGRESS_AFTER", 0.0)
+    monkeypatch.setattr(crosscheck, "PROGRESS_STEPS", 500)
+    calls = []
+    crosscheck.check_spatial(linkgen.load(ROOT / "models" / "rssr.toml"), samples=36,
+                             progress=lambda f, t: calls.append(f))
+    assert calls and all(0 < f <= 1 for f in calls) and calls == sorted(calls)

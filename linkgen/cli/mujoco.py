@@ -206,7 +206,7 @@ def _check_one(path: Path, report: Path | None, practical: bool, nthread: int | 
     from linkgen.cli.spatial import check_spatial_file, is_spatial_file
 
     if is_spatial_file(path):
-        return check_spatial_file(path, t0, report)
+        return check_spatial_file(path, t0, report, _progress(path.stem) if progress else None)
     try:
         asm = assemble(load(path))
     except StructureError as exc:

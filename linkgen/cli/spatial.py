@@ -308,7 +308,7 @@ def build_spatial(path: Path, out: Path, practical: bool = False) -> Path:
     return out
 
 
-def check_spatial_file(path: Path, t0: float, report: Path | None = None) -> dict:
+def check_spatial_file(path: Path, t0: float, report: Path | None = None, progress=None) -> dict:
     """A spatial model in MuJoCo against its closed form; with ``report``, its figures there."""
     import time
 
@@ -318,7 +318,7 @@ def check_spatial_file(path: Path, t0: float, report: Path | None = None) -> dic
 
     try:
         mech = _load(path)
-        r = check_spatial(mech)
+        r = check_spatial(mech, progress=progress)
     except LinkgenError as exc:
         return {"model": path.stem, "file": str(path), "ok": False, "error": message_for(path, exc)}
     out = {"file": str(path), "spatial": r.to_json(), "model": r.model, "ok": r.ok, "line": r.summary()}

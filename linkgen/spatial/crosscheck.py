@@ -89,6 +89,10 @@ class SpatialCheck:
                 "settings": self.settings.to_json(), "scales": self.scales, "note": self.note}
 
 
+# Steps between progress reports (a few thousand steps take about a second here).
+PROGRESS_STEPS = 5000
+
+
 @no_log_file()
 def derived_settings(mech: SpatialMechanism, omega: float | None = None, chain=None):
     """The MuJoCo settings derived for the mechanism at crank speed ω (default the drive's)."""
@@ -100,8 +104,13 @@ def derived_settings(mech: SpatialMechanism, omega: float | None = None, chain=N
 
 
 @no_log_file()
-def check_spatial(mech: SpatialMechanism, samples: int = 360, omega: float | None = None) -> SpatialCheck:
-    """Run the mechanism over one revolution in MuJoCo and compare it with the closed form."""
+def check_spatial(mech: SpatialMechanism, samples: int = 360, omega: float | None = None,
+                  progress=None) -> SpatialCheck:
+    """Run the mechanism over one revolution in MuJoCo and compare it with the closed form.
+    ``progress(fraction, elapsed seconds)`` is called about every second once the run has lasted
+    PROGRESS_AFTER seconds (a heavy chain under strong gravity needs 3e5 steps: a minute)."""
+    from linkgen.mujoco.options import PROGRESS_AFTER
+
     wall0 = time.perf_counter()
     w0 = mech.drive.omega if omega is None else float(omega)
     if not (math.isfinite(w0) and w0 > 0):
@@ -128,6 +137,10 @@ def check_spatial(mech: SpatialMechanism, samples: int = 360, omega: float | Non
             while step < target:
                 mujoco.mj_step(model, data)
                 step += 1
+                if progress is not None and step % PROGRESS_STEPS == 0:
+                    elapsed = time.perf_counter() - wall0
+                    if elapsed > PROGRESS_AFTER:
+                        progress(step / steps_at[-1], elapsed)
                 if not np.all(np.isfinite(data.qacc)):
                     raise SimulationError(f"{mech.name}: MuJoCo diverged at t = {data.time:.6g} s (step {step})")
             states.append((data.time, data.qpos.copy(), data.qvel.copy()))
