@@ -125,13 +125,14 @@ def add_command(sub) -> None:
     p.set_defaults(func=cmd_profile)
 
 
-def check_cam_linkage_file(path: Path, asm, report: Path | None, t0: float, progress=None) -> dict:
+def check_cam_linkage_file(path: Path, asm, report: Path | None, t0: float, progress=None,
+                           max_steps: int | None = None) -> dict:
     """A linkage whose crank carries a cam (``mujoco.cam_linkage``): contact in MuJoCo, the cam's tolerances."""
     from linkgen.cli.files import message_for
     from linkgen.mujoco.cam_linkage import check_cam_linkage
 
     try:
-        r = check_cam_linkage(asm, progress)
+        r = check_cam_linkage(asm, progress, **({} if max_steps is None else {"max_steps": max_steps}))
     except LinkgenError as exc:
         return {"model": path.stem, "file": str(path), "ok": False, "error": message_for(path, exc)}
     out = {"file": str(path), "ok": r.ok, "model": r.model, "cam_linkage": r.to_json(),
@@ -163,7 +164,8 @@ def cam_linkage_findings(r) -> list:
     return sorted(out, key=lambda f: -f.relative_error / f.tolerance)
 
 
-def check_cam_file(path: Path, t0: float, report: Path | None = None, progress=None) -> dict:
+def check_cam_file(path: Path, t0: float, report: Path | None = None, progress=None,
+                   max_steps: int | None = None) -> dict:
     """A cam mechanism in MuJoCo against its closed form (``mujoco.cam.compare_cam``), with the
     diagnosis of what missed (``crosscheck.diagnose_cam``) and, for a ``report``, its figures;
     ``progress``: the MuJoCo run's (``mujoco.cam.run_cam``)."""
@@ -174,7 +176,7 @@ def check_cam_file(path: Path, t0: float, report: Path | None = None, progress=N
 
     try:
         cm = load_cam(path)
-        run = run_cam(cm, progress=progress)
+        run = run_cam(cm, progress=progress, max_steps=max_steps)
         r = compare_cam(cm, run=run)
     except LinkgenError as exc:
         return {"model": path.stem, "file": str(path), "ok": False, "error": message_for(path, exc)}

@@ -202,11 +202,11 @@ def _check_one(path: Path, report: Path | None, practical: bool, nthread: int | 
     from linkgen.cams.description import is_cam_file
 
     if is_cam_file(path):
-        return check_cam_file(path, t0, report, _progress(path.stem) if progress else None)
+        return check_cam_file(path, t0, report, _progress(path.stem) if progress else None, max_steps)
     from linkgen.cli.spatial import check_spatial_file, is_spatial_file
 
     if is_spatial_file(path):
-        return check_spatial_file(path, t0, report, _progress(path.stem) if progress else None)
+        return check_spatial_file(path, t0, report, _progress(path.stem) if progress else None, max_steps)
     try:
         asm = assemble(load(path))
     except StructureError as exc:
@@ -216,7 +216,8 @@ def _check_one(path: Path, report: Path | None, practical: bool, nthread: int | 
     except LinkgenError as exc:
         return {"model": path.stem, "file": str(path), "ok": False, "error": message_for(path, exc)}
     if asm.mechanism.cams:
-        return check_cam_linkage_file(path, asm, report, t0, _progress(asm.mechanism.name) if progress else None)
+        return check_cam_linkage_file(path, asm, report, t0, _progress(asm.mechanism.name) if progress else None,
+                                      max_steps)
     cc = crosscheck(asm, practical=practical, nthread=nthread, max_steps=max_steps,
                     progress=_progress(asm.mechanism.name) if progress else None)
     out = {"file": str(path)} | cc.to_json()

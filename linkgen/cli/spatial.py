@@ -308,7 +308,8 @@ def build_spatial(path: Path, out: Path, practical: bool = False) -> Path:
     return out
 
 
-def check_spatial_file(path: Path, t0: float, report: Path | None = None, progress=None) -> dict:
+def check_spatial_file(path: Path, t0: float, report: Path | None = None, progress=None,
+                       max_steps: int | None = None) -> dict:
     """A spatial model in MuJoCo against its closed form; with ``report``, its figures there."""
     import time
 
@@ -318,7 +319,7 @@ def check_spatial_file(path: Path, t0: float, report: Path | None = None, progre
 
     try:
         mech = _load(path)
-        r = check_spatial(mech, progress=progress)
+        r = check_spatial(mech, progress=progress, max_steps=max_steps)
     except LinkgenError as exc:
         return {"model": path.stem, "file": str(path), "ok": False, "error": message_for(path, exc)}
     out = {"file": str(path), "spatial": r.to_json(), "model": r.model, "ok": r.ok, "line": r.summary()}

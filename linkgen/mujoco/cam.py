@@ -239,15 +239,16 @@ class CamRun:
     touching: np.ndarray | None = None
 
 
-def run_cam(cm: CamMechanism, revolutions: float = 1.0, progress=None) -> CamRun:
+def run_cam(cm: CamMechanism, revolutions: float = 1.0, progress=None, max_steps: int | None = None) -> CamRun:
     """Turn the cam from θ = 0 at ω, the follower starting on the cam at its closed-form state;
     record every step over ``revolutions`` turns after a settling eighth of a turn.
     ``progress(fraction done, seconds elapsed)`` is called every PROGRESS_STEPS steps once the
-    run has lasted PROGRESS_AFTER seconds."""
+    run has lasted PROGRESS_AFTER seconds. A run past ``max_steps`` steps (default
+    ``mujoco.options.MAX_STEPS``) is refused before it starts."""
     import time
 
     from linkgen.mujoco.log import no_log_file
-    from linkgen.mujoco.options import PROGRESS_AFTER  # read at call time (tests lower it)
+    from linkgen.mujoco.options import MAX_STEPS, PROGRESS_AFTER, within_budget  # read at call time (tests lower it)
 
     wall0 = time.perf_counter()
 
@@ -265,6 +266,7 @@ def run_cam(cm: CamMechanism, revolutions: float = 1.0, progress=None) -> CamRun
         per_turn = round(2 * math.pi / cm.omega / dt)
         lead = per_turn // 8
         total = lead + int(round(revolutions * per_turn))
+        within_budget(cm.name, total, dt, MAX_STEPS if max_steps is None else max_steps)
         out = np.zeros((total - lead, 9))
         roller, profile = model.geom(CONTACT).id, model.geom("cam:profile").id
         force6 = np.zeros(6)

@@ -23,6 +23,7 @@ from linkgen.mujoco.cam import CAM_TOLERANCES, PROFILE_POINTS, WINDOWS, _window_
 from linkgen.mujoco.cam_pair import roller_name
 from linkgen.mujoco.log import no_log_file
 from linkgen.mujoco.mjcf import settings_for, write_mjcf
+from linkgen.mujoco.options import MAX_STEPS, within_budget
 from linkgen.mujoco.sample import moving_points
 from linkgen.mujoco.simulate import PROGRESS_AFTER
 from linkgen.mujoco.scene import switch_off_servo
@@ -87,10 +88,10 @@ def _check_contact(asm: Assembly) -> None:
 
 
 @no_log_file()
-def check_cam_linkage(asm: Assembly, progress=None) -> CamLinkageCheck:
+def check_cam_linkage(asm: Assembly, progress=None, max_steps: int = MAX_STEPS) -> CamLinkageCheck:
     """Run one turn in MuJoCo and compare it with the closed form (module docstring);
     ``progress(fraction done, seconds elapsed)`` is called every PROGRESS_STEPS steps once the
-    run has lasted PROGRESS_AFTER seconds."""
+    run has lasted PROGRESS_AFTER seconds. A run past ``max_steps`` steps is refused before it starts."""
     wall0 = time.perf_counter()
     mech = asm.mechanism
     _check_contact(asm)
@@ -104,6 +105,7 @@ def check_cam_linkage(asm: Assembly, progress=None) -> CamLinkageCheck:
     dt = model.opt.timestep
     per_turn = int(round(2 * math.pi / w0 / dt))
     lead = per_turn // 8
+    within_budget(mech.name, lead + per_turn, dt, max_steps)
     names = moving_points(mech)
     sites = [model.site(site_name(mech, next(l.name for l in mech.links if p in l.points), p)).id for p in names]
     rollers = {cam.name: model.geom(roller_name(cam)).id for cam in mech.cams}

@@ -15,6 +15,17 @@ SOLVER_ITERATIONS = 50
 MAX_STEPS = 1_000_000
 
 
+def within_budget(name: str, steps: int, timestep: float, max_steps: int) -> None:
+    """Refuse, before any step, a run of ``steps`` steps past the budget ``max_steps``: for the
+    families whose timestep cannot be coarsened without losing the contact or the loop (cams,
+    spatial chains), a run over budget is not made at all rather than made worse."""
+    if steps > max_steps:
+        from linkgen.errors import SimulationError
+
+        raise SimulationError(f"{name}: not run: one turn needs {steps:d} MuJoCo steps of {timestep:.3g} s, past the "
+                              f"step budget of {max_steps:d} (max_steps); a budget of {steps:d} would run it")
+
+
 def _fmt(x: float) -> str:
     return repr(float(x))
 
@@ -66,4 +77,4 @@ MESH_VOLUME_MARGIN = 10.0
 PROGRESS_AFTER = 2.0
 
 __all__ = ["IMPEDANCE", "MESH_VOLUME_MARGIN", "MUJOCO_MIN_BAR", "MUJOCO_MIN_MESH_VOLUME", "PLACEHOLDER", "PROGRESS_AFTER",
-           "SOLVER_ITERATIONS", "Settings"]
+           "SOLVER_ITERATIONS", "Settings", "within_budget"]

@@ -105,11 +105,12 @@ def derived_settings(mech: SpatialMechanism, omega: float | None = None, chain=N
 
 @no_log_file()
 def check_spatial(mech: SpatialMechanism, samples: int = 360, omega: float | None = None,
-                  progress=None) -> SpatialCheck:
+                  progress=None, max_steps: int | None = None) -> SpatialCheck:
     """Run the mechanism over one revolution in MuJoCo and compare it with the closed form.
     ``progress(fraction, elapsed seconds)`` is called about every second once the run has lasted
-    PROGRESS_AFTER seconds (a heavy chain under strong gravity needs 3e5 steps: a minute)."""
-    from linkgen.mujoco.options import PROGRESS_AFTER
+    PROGRESS_AFTER seconds (a heavy chain under strong gravity needs 3e5 steps: a minute). A run
+    past ``max_steps`` steps (default ``mujoco.options.MAX_STEPS``) is refused before it starts."""
+    from linkgen.mujoco.options import MAX_STEPS, PROGRESS_AFTER, within_budget
 
     wall0 = time.perf_counter()
     w0 = mech.drive.omega if omega is None else float(omega)
@@ -130,6 +131,7 @@ def check_spatial(mech: SpatialMechanism, samples: int = 360, omega: float | Non
     dt = settings.timestep
     t_samples = (LEAD + np.arange(samples) * (2 * np.pi / samples)) / w0
     steps_at = np.rint(t_samples / dt).astype(int)
+    within_budget(mech.name, int(steps_at[-1]), dt, MAX_STEPS if max_steps is None else max_steps)
     states = []
     step = 0
     with loads_while_stepping(mech, model, data, model.joint(chain.drive).qposadr[0], chain.phi_s):
