@@ -7,8 +7,8 @@
     linkgen.validate(mech).ok                               # MuJoCo against the closed form
 """
 
-from linkgen.planar.assembly import Assembly, assemble
-from linkgen.model.description import (
+from linkgen.families.planar.assembly import Assembly, assemble
+from linkgen.families.planar.description import (
     Drive,
     Link,
     LinkTorque,
@@ -30,10 +30,10 @@ from linkgen.errors import (
     StructureError,
     ValidationError,
 )
-from linkgen.planar.kinematics import Kinematics, solve, solve_motion
-from linkgen.model.reader import from_dict, load
-from linkgen.planar.motion import Motion
-from linkgen.planar.structure import Group, GroupKind, Structure, analyze
+from linkgen.families.planar.kinematics import Kinematics, solve, solve_motion
+from linkgen.families.planar.reader import from_dict, load
+from linkgen.families.planar.motion import Motion
+from linkgen.families.planar.structure import Group, GroupKind, Structure, analyze
 from linkgen.api import (ForcesResult, KinematicsResult, Quantity, forces, kinematics, simulate, structure, validate,
                          write_mjcf)
 

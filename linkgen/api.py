@@ -19,11 +19,11 @@ from typing import Mapping
 
 import numpy as np
 
-from linkgen.model.description import Mechanism
-from linkgen.planar.assembly import Assembly, assemble
-from linkgen.planar.kinematics import solve
-from linkgen.planar.kinetostatics import forces as _forces
-from linkgen.planar.structure import Structure, analyze
+from linkgen.families.planar.description import Mechanism
+from linkgen.families.planar.assembly import Assembly, assemble
+from linkgen.families.planar.kinematics import solve
+from linkgen.families.planar.kinetostatics import forces as _forces
+from linkgen.families.planar.structure import Structure, analyze
 
 UNITS = {"phi": "rad", "omega": "rad/s", "epsilon": "rad/s²", "position": "m", "velocity": "m/s",
          "acceleration": "m/s²", "angle": "rad", "angular_velocity": "rad/s", "angular_acceleration": "rad/s²",
@@ -49,7 +49,7 @@ def _plain(x):
 
 
 def _spatial(source) -> bool:
-    from linkgen.spatial.description import SpatialMechanism
+    from linkgen.families.spatial.description import SpatialMechanism
 
     return isinstance(source, SpatialMechanism)
 
@@ -171,8 +171,8 @@ def kinematics(source: Mechanism | Assembly, phi, omega=None, epsilon=None) -> K
 def _spatial_kinematics(mech, phi, omega, epsilon) -> KinematicsResult:
     """``kinematics`` of a spatial four-bar: every point, and the output (a rocker's turn from its
     sketch under ``links``, a slider's travel under ``sliders``, named by its pair)."""
-    from linkgen.spatial.jets import motion as jet_motion
-    from linkgen.spatial.kinematics import solve as solve3
+    from linkgen.families.spatial.jets import motion as jet_motion
+    from linkgen.families.spatial.kinematics import solve as solve3
 
     scalar = np.ndim(phi) == 0
     phis = np.atleast_1d(np.asarray(phi, dtype=float))
@@ -232,7 +232,7 @@ class ForcesResult:
 def forces(source: Mechanism | Assembly, phi, omega=None, epsilon=None) -> ForcesResult:
     """Kinetostatics (``linkgen forces``) at crank angles φ [rad], speed ω, acceleration ε."""
     if _spatial(source):  # a spatial four-bar: SpatialForces (3-D reactions, balancing torque)
-        from linkgen.spatial.forces import forces as _forces3
+        from linkgen.families.spatial.forces import forces as _forces3
 
         return _forces3(source, np.atleast_1d(np.asarray(phi, dtype=float)), omega, epsilon)
     asm = _assembly(source)
@@ -249,7 +249,7 @@ def forces(source: Mechanism | Assembly, phi, omega=None, epsilon=None) -> Force
 def write_mjcf(source: Mechanism | Assembly, settings=None) -> str:
     """The MJCF text (``linkgen build``); any structure class."""
     if _spatial(source):
-        from linkgen.spatial.mjcf import write_spatial_mjcf
+        from linkgen.mujoco.spatial_mjcf import write_spatial_mjcf
 
         return write_spatial_mjcf(source, settings)
     from linkgen.errors import StructureError
@@ -266,23 +266,18 @@ def write_mjcf(source: Mechanism | Assembly, settings=None) -> str:
 def simulate(source: Mechanism | Assembly, **options):
     """A MuJoCo run over the drive range (``linkgen simulate``); options as
     ``linkgen.mujoco.simulate.simulate``."""
-    from linkgen.errors import StructureError
-    from linkgen.mujoco.posed import posed
-    from linkgen.mujoco.simulate import simulate as _simulate
+    from linkgen.mujoco.simulate import simulate as _simulate, simulate_mechanism
 
     if isinstance(source, Mechanism):
-        try:
-            source = assemble(source)
-        except StructureError:
-            source = posed(source)
+        return simulate_mechanism(source, **options)
     return _simulate(source, **options)
 
 
 def validate(source: Mechanism | Assembly, **options):
     """MuJoCo against the closed form (``linkgen validate``): a ``CrossCheck`` with ``.ok``,
     ``.to_json()`` and the diagnosis; options as ``linkgen.crosscheck.run.crosscheck``."""
-    if _spatial(source):  # a SpatialCheck (linkgen.spatial.crosscheck)
-        from linkgen.spatial.crosscheck import check_spatial
+    if _spatial(source):  # a SpatialCheck (linkgen.crosscheck.spatial)
+        from linkgen.crosscheck.spatial import check_spatial
 
         return check_spatial(source, **options)
     asm = _assembly(source)

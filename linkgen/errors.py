@@ -136,7 +136,7 @@ def _assembly_error(group, ranges, reason, assembles, suggestion) -> AssemblyErr
 
 class SingularityError(LinkgenError):
     """An Assur group is at or too near a dead centre (its normalised transfer-function
-    denominator is below ``linkgen.planar.kinematics.SINGULAR_TOL``), or its guides are parallel.
+    denominator is below ``linkgen.families.planar.kinematics.SINGULAR_TOL``), or its guides are parallel.
 
     Attributes:
         group: the group's label; ranges: (first, last) crank angles [rad]; reason: in words.

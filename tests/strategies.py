@@ -1,6 +1,6 @@
 """Hypothesis strategies and description transforms for the property tests.
 
-Mechanisms come from ``linkgen.planar.corpus.random_description`` seeded by hypothesis; the
+Mechanisms come from ``linkgen.families.planar.corpus.random_description`` seeded by hypothesis; the
 transforms below rewrite a description into an equivalent one (the same physical mechanism
 said differently) or into a hostile file. They work on the TOML-shaped dict with their own
 geometry (the sketch), not with linkgen's.
@@ -15,7 +15,7 @@ import numpy as np
 from hypothesis import strategies as st
 
 from independent_checks import GROUND, angle_value, crank_name, sketch, sketch_frame_angle
-from linkgen.planar.corpus import random_description, to_toml
+from linkgen.families.planar.corpus import random_description, to_toml
 
 seeds = st.integers(min_value=0, max_value=2**63 - 1)
 

@@ -12,7 +12,7 @@ import pytest
 from conftest import ROOT
 from linkgen.cli.cams import cam_line
 from linkgen.cli.main import main
-from linkgen.spatial.crosscheck import SpatialCheck
+from linkgen.crosscheck.spatial import SpatialCheck
 
 MODELS = ROOT / "models"
 
@@ -258,7 +258,7 @@ def test_nearly_parallel_4r_axes_are_a_clear_refusal(tmp_path, capsys, axis):
 
 
 def test_the_common_normal_of_nearly_parallel_lines():
-    from linkgen.spatial.chain import common_normal
+    from linkgen.families.spatial.chain import common_normal
 
     # two lines 1e-9 rad apart, 1 m from each other along y: the common normal runs along y
     # (expected by hand: the lines x-axis and (0, 1, 0) + s·(1, 0, 1e-9)/|·| meet the normal where

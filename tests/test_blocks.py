@@ -7,7 +7,7 @@ import pytest
 
 from conftest import MODELS
 from linkgen import ArgumentError, AssemblyError, LinkgenError, assemble, load, solve, solve_motion
-from linkgen.planar import blocks
+from linkgen.families.planar import blocks
 from linkgen.cli.common import crank_grid
 
 # A block size that divides nothing in sight, so the last block is short.

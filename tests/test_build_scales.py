@@ -171,7 +171,7 @@ def test_a_cam_too_small_for_any_mesh_is_a_clear_error(tmp_path, capsys, quick_c
 
 
 # Loop gap allowed after the short run, as a fraction of the size: the validation's own bound
-# (linkgen.spatial.crosscheck.GAP_TOL is 1e-6), not reached in 200 steps from the sketch.
+# (linkgen.crosscheck.spatial.GAP_TOL is 1e-6), not reached in 200 steps from the sketch.
 GAP_FRACTION = 1e-6
 
 
@@ -228,7 +228,7 @@ def test_a_short_link_in_a_large_spatial_chain_has_a_valid_inertia(tmp_path):
     import mujoco
 
     import linkgen
-    from linkgen.spatial.mjcf import write_spatial_mjcf
+    from linkgen.mujoco.spatial_mjcf import write_spatial_mjcf
 
     text = (MODELS / "rssp.toml").read_text()
     text, n = re.subn(r"(?m)^A = \[0\.15,", "A = [150000.0,", text)

@@ -13,13 +13,13 @@ import numpy as np
 import pytest
 
 import linkgen
-from linkgen.cams.description import load_cam
-from linkgen.cams.kinetics import state
+from linkgen.families.cam.description import load_cam
+from linkgen.families.cam.kinetics import state
 from linkgen.errors import DescriptionError, SimulationError
-from linkgen.planar.assembly import assemble
-from linkgen.planar.cam_pair import contact, lift
-from linkgen.planar.kinematics import solve
-from linkgen.planar.kinetostatics import forces
+from linkgen.families.planar.assembly import assemble
+from linkgen.families.planar.cam_pair import contact, lift
+from linkgen.families.planar.kinematics import solve
+from linkgen.families.planar.kinetostatics import forces
 
 from conftest import ROOT
 
@@ -192,7 +192,7 @@ def test_the_bundled_cam_linkage_balances_by_virtual_work():
 def test_the_roller_centre_keeps_off_the_profile_by_its_radius():
     """Every roller position over a turn, seen from the cam, is the roller's radius from the
     profile polygon (the profile is the pitch curve's inner offset)."""
-    from linkgen.planar.cam_profile import profile
+    from linkgen.families.planar.cam_profile import profile
 
     asm = assemble(linkgen.load(ROOT / "models" / "cam_rocker_slider.toml"))
     cam = asm.mechanism.cams[0]
@@ -301,9 +301,9 @@ def test_cli_structure_analyze_forces_for_a_cam_linkage():
 from hypothesis import HealthCheck, Phase, assume, given, settings  # noqa: E402
 from hypothesis import strategies as st  # noqa: E402
 
-from linkgen.cams.description import cam_from_dict  # noqa: E402
-from linkgen.cams.laws import LAWS  # noqa: E402
-from linkgen.model.reader import from_dict  # noqa: E402
+from linkgen.families.cam.description import cam_from_dict  # noqa: E402
+from linkgen.families.cam.laws import LAWS  # noqa: E402
+from linkgen.families.planar.reader import from_dict  # noqa: E402
 
 GENERATED = dict(max_examples=40, deadline=None, derandomize=True, phases=[Phase.explicit, Phase.generate],
                  suppress_health_check=[HealthCheck.too_slow])

@@ -14,8 +14,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from linkgen.cams.description import cam_from_dict, load_cam
-from linkgen.cams.kinetics import leave_speed, state
+from linkgen.families.cam.description import cam_from_dict, load_cam
+from linkgen.families.cam.kinetics import leave_speed, state
 from linkgen.errors import DescriptionError
 from independent_checks import zoomed_peak
 
@@ -143,7 +143,7 @@ def test_a_flat_face_touches_its_profile_at_ds_dtheta():
 
 def test_modified_trapezoid_meets_its_textbook_figures():
     """Peak acceleration 4.888·h/β², peak velocity 2·h/β, the rise ends at h with zero speed."""
-    from linkgen.cams.laws import rise
+    from linkgen.families.cam.laws import rise
 
     x = np.linspace(0, 1, 8001)
     s, v, a, _ = rise("modtrap", x)
@@ -168,8 +168,8 @@ def test_smallest_base_circle_meets_the_pressure_angle():
     the same radius, and at it the largest pressure angle is the limit."""
     from dataclasses import replace
 
-    from linkgen.cams.follower import smallest_base_radius
-    from linkgen.cams.profile import min_base_radius
+    from linkgen.families.cam.follower import smallest_base_radius
+    from linkgen.families.cam.profile import min_base_radius
 
     f = load_cam(MODELS / "cam_translating.toml").follower
     limit = math.radians(30.0)

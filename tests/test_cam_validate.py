@@ -12,8 +12,8 @@ import mujoco
 import numpy as np
 import pytest
 
-from linkgen.cams.description import cam_from_dict
-from linkgen.cams.kinetics import state
+from linkgen.families.cam.description import cam_from_dict
+from linkgen.families.cam.kinetics import state
 
 ROOT = Path(__file__).resolve().parents[1]
 MODELS = ROOT / "models"
@@ -86,7 +86,7 @@ def test_the_step_comes_from_the_cams_fastest_motion():
 def test_a_cam_whose_spring_cannot_hold_the_follower_is_diagnosed():
     """Twice the leave speed: the run misses, and the diagnosis says where and that the closed
     form's follower leaves the cam (a quarter of a turn covers the rise's deceleration)."""
-    from linkgen.cams.kinetics import leave_speed
+    from linkgen.families.cam.kinetics import leave_speed
     from linkgen.crosscheck.diagnose_cam import diagnose_cam
     from linkgen.mujoco.cam import compare_cam, run_cam
 
@@ -145,8 +145,8 @@ def test_the_report_has_a_section_for_a_stand_alone_cam(tmp_path):
     from linkgen.cli.cams import wall_text
     from linkgen.cli.mujoco import _summary
     from linkgen.crosscheck.diagnose_cam import diagnose_cam
-    from linkgen.crosscheck.figures_cam import plot_cam
-    from linkgen.crosscheck.report import write_index
+    from linkgen.report.figures_cam import plot_cam
+    from linkgen.report.report import write_index
     from linkgen.mujoco.cam import CAM_TOLERANCES, compare_cam
 
     cm = _user_cam()
@@ -182,7 +182,7 @@ def test_the_validate_line_and_the_report_give_one_wall_time(tmp_path):
     table both give the whole validation's wall time."""
     from linkgen.cli.mujoco import _summary
     from linkgen.cli.spatial import check_spatial_file
-    from linkgen.crosscheck.report import write_index
+    from linkgen.report.report import write_index
 
     r = check_spatial_file(MODELS / "bennett.toml", time.perf_counter() - 5.0)
     shown = f"{r['total_wall_s']:.2f}"

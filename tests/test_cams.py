@@ -6,8 +6,8 @@ import math
 import numpy as np
 import pytest
 
-from linkgen.cams.laws import LAWS, Program, Segment, motion, rise
-from linkgen.cams.profile import TranslatingCam, min_base_radius
+from linkgen.families.cam.laws import LAWS, Program, Segment, motion, rise
+from linkgen.families.cam.profile import TranslatingCam, min_base_radius
 
 # Central differences with step H on functions of order one: truncation ~H², rounding ~1e-16/H.
 H = 1e-5

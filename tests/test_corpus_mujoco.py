@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from linkgen import assemble, from_dict
-from linkgen.planar.corpus import random_description
+from linkgen.families.planar.corpus import random_description
 from linkgen.crosscheck.run import crosscheck
 
 # A small step budget keeps each run under a few seconds; what needs more is reported as a
@@ -48,7 +48,7 @@ def test_a_run_its_budget_cannot_hold_is_refused_before_it_starts_and_would_have
     measured gap, not the prediction)."""
     from dataclasses import replace
 
-    from linkgen.crosscheck.tolerances import GAP_TOL
+    from linkgen.mujoco.tolerances import GAP_TOL
     from linkgen.mujoco.loops import mechanism_size
     from linkgen.mujoco.simulate import simulate
 

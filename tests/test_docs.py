@@ -8,8 +8,8 @@ from pathlib import Path
 import pytest
 
 from linkgen import from_dict
-from linkgen.cams import description as cam_description
-from linkgen.model import reader
+from linkgen.families.cam import description as cam_description
+from linkgen.families.planar import reader
 from linkgen.model.machine import MOTOR_KEYS, _MACHINE, machine_from_dict
 
 DOCS = Path(__file__).resolve().parents[1] / "docs"

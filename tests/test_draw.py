@@ -21,7 +21,7 @@ from linkgen.draw.animate import drawn_frames, frame_angles, save_animation
 from linkgen.draw.plan import DPI, FIGSIZE, plan_figure, skeleton_figure
 from linkgen.draw.render import render_mechanism
 from linkgen.mujoco.scene import CAMERA_ASPECT
-from linkgen.planar.positions import drive_angles, positions
+from linkgen.families.planar.positions import drive_angles, positions
 
 ROOT = Path(__file__).resolve().parents[1]
 from conftest import MODELS  # linkages (cam files have tests of their own)
@@ -178,7 +178,7 @@ def test_render_cli_and_no_opengl(tmp_path):
 
 
 def test_plates_in_the_mjcf_are_their_points_hull():
-    from linkgen.model.plate import convex_hull
+    from linkgen.families.planar.plate import convex_hull
 
     mech = load(ROOT / "models" / "g123.toml")
     model = mujoco.MjModel.from_xml_path(str(ROOT / "models" / "g123.xml"))

@@ -11,14 +11,14 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from linkgen.dynamics import motors
-from linkgen.dynamics.machine import RTOL, run_machine
-from linkgen.dynamics.reduced import reduce
-from linkgen.dynamics.study import cycle_forces, flywheel_study, load_machine
+from linkgen.machine import motors
+from linkgen.machine.machine import RTOL, run_machine
+from linkgen.machine.reduced import reduce
+from linkgen.machine.study import cycle_forces, flywheel_study, load_machine
 from linkgen.errors import DescriptionError
 from linkgen.model.machine import Motor
 from linkgen.mujoco.machine import run_machine_mujoco
-from linkgen.planar.kinetostatics import forces
+from linkgen.families.planar.kinetostatics import forces
 
 ROOT = Path(__file__).resolve().parents[1]
 MODELS = ROOT / "models"
@@ -115,7 +115,7 @@ def test_forces_along_the_real_motion_use_the_ode_acceleration():
     eps = (run.solution(t + h)[1] - run.solution(t - h)[1]) / (2 * h)
     f = forces(asm, y[0], y[1], eps)
     drive = motors.torque(machine.motor, y[1], y[2])
-    from linkgen.dynamics.reduced import process_torque
+    from linkgen.machine.reduced import process_torque
 
     expect = drive - 250.0 * eps - process_torque(machine.process_load, y[0])
     assert f.balancing_torque[0] == pytest.approx(expect[0], rel=1e-6)

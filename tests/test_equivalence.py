@@ -10,13 +10,13 @@ import pytest
 
 from conftest import ROOT
 from linkgen import analyze, assemble, from_dict, solve
-from linkgen.planar.kinetostatics import forces
+from linkgen.families.planar.kinetostatics import forces
 
 G = 9.81
 # Equivalent descriptions go through different arithmetic (other local frames, guide lines through
 # other points, other pair orientations): rounding of ~1e2 operations on values of order one,
 # ~1e-14 of each quantity's peak, amplified at most 1e4-fold near a dead centre (denominators stay
-# above linkgen.planar.kinematics.SINGULAR_TOL = 1e-4). A wrong branch differs by order one.
+# above linkgen.families.planar.kinematics.SINGULAR_TOL = 1e-4). A wrong branch differs by order one.
 EQUIV_TOL = 1e-10
 # The hand solution against linkgen: positions by the formula below to rounding (~1e-16 m);
 # the static torque as a central difference of the potential energy with step H: truncation
@@ -240,7 +240,7 @@ def test_compound_hinge_at_the_drive_pivot_keeps_its_name():
 def test_reversed_slot_coulisse_agrees_with_mujoco():
     # MuJoCo integrates the model built from the same assembly, so it cannot tell the mode (the hand
     # solution above does); it checks the reversed slot's kinematics and forces in that mode by an
-    # independent route (tolerances of linkgen.crosscheck.tolerances)
+    # independent route (tolerances of linkgen.mujoco.tolerances)
     from linkgen.crosscheck.compare import compare
     from linkgen.mujoco.simulate import simulate
 

@@ -16,11 +16,11 @@ from conftest import ROOT
 from linkgen import SimulationError, assemble, from_dict, load
 from linkgen.cli.main import main
 from linkgen.crosscheck.compare import GAP_TOL, REL_TOL, compare
-from linkgen.model.geometry import link_shapes
+from linkgen.families.planar.geometry import link_shapes
 from linkgen.mujoco.posed import posed
-from linkgen.planar.pose import mechanism_size as compare_size
-from linkgen.planar.pose import state
-from linkgen.planar.corpus import scaled
+from linkgen.families.planar.pose import mechanism_size as compare_size
+from linkgen.families.planar.pose import state
+from linkgen.families.planar.corpus import scaled
 from linkgen.crosscheck.run import crosscheck
 from linkgen.mujoco.mjcf import write_mjcf
 from linkgen.mujoco.options import PLACEHOLDER

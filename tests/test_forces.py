@@ -12,7 +12,7 @@ from linkgen import assemble, from_dict, load
 from linkgen.cli.common import crank_grid
 from linkgen.cli.main import main
 from linkgen.crosscheck.compare import compare
-from linkgen.planar.kinetostatics import forces
+from linkgen.families.planar.kinetostatics import forces
 from linkgen.mujoco.forces import inverse_forces
 from linkgen.mujoco.simulate import build_model, joint_state, simulate
 
@@ -202,13 +202,13 @@ def test_wrongly_shaped_rates_are_argument_errors():
 
 def test_forces_in_blocks_equal_one_piece(monkeypatch):
     # the same numbers whatever the block size (blocks of 64 angles over 1000, on two threads)
-    import linkgen.planar.blocks
+    import linkgen.families.planar.blocks
 
     mech = load(ROOT / "models" / "seven_link.toml")
     phi = np.linspace(mech.drive.start, mech.drive.start + 1.0, 1000)
     omega, eps = np.linspace(1.0, 3.0, 1000), -2.0
     whole = forces(mech, phi, omega, eps)
-    monkeypatch.setattr(linkgen.planar.blocks, "BLOCK", 64)
+    monkeypatch.setattr(linkgen.families.planar.blocks, "BLOCK", 64)
     parts = forces(mech, phi, omega, eps, threads=2)
     assert np.array_equal(whole.balancing_torque, parts.balancing_torque)
     assert np.array_equal(whole.power_balance_torque, parts.power_balance_torque)
@@ -223,7 +223,7 @@ def test_forces_in_blocks_equal_one_piece(monkeypatch):
 
 def test_power_balance_disagreement_is_found_and_named():
     from linkgen import BalanceError
-    from linkgen.planar.kinetostatics import BALANCE_TOL, balance_failures
+    from linkgen.families.planar.kinetostatics import BALANCE_TOL, balance_failures
 
     mech = load(ROOT / "models" / "ga2.toml")
     phi = crank_grid(mech, 36)
@@ -265,7 +265,7 @@ def test_forces_raise_when_the_two_torques_disagree(monkeypatch):
     # Inject a wrong crank equilibrium (the drive torque off by 1e-6 of its size): every call
     # compares it with the power balance and must refuse the result, naming the angles.
     from linkgen import BalanceError
-    import linkgen.planar.kinetostatics as ks
+    import linkgen.families.planar.kinetostatics as ks
 
     solve_systems = ks._solve
 
@@ -307,9 +307,9 @@ def _result_bytes(obj) -> int:
 def test_forces_memory_does_not_grow_with_the_angles(monkeypatch):
     import tracemalloc
 
-    import linkgen.planar.blocks
+    import linkgen.families.planar.blocks
 
-    monkeypatch.setattr(linkgen.planar.blocks, "BLOCK", 4096)  # small blocks: a fast test of many blocks
+    monkeypatch.setattr(linkgen.families.planar.blocks, "BLOCK", 4096)  # small blocks: a fast test of many blocks
     asm = assemble(load(ROOT / "models" / "ga2.toml"))
     forces(asm, np.linspace(0.0, 6.0, 3 * 4096), 2.0)  # the allocator's one-off warm-up
     extra = {}

@@ -10,9 +10,9 @@ import pytest
 
 from linkgen import load
 from linkgen.errors import DescriptionError
-from linkgen.model.reader import loads
-from linkgen.planar.kinematics import solve
-from linkgen.planar.kinetostatics import forces
+from linkgen.families.planar.reader import loads
+from linkgen.families.planar.kinematics import solve
+from linkgen.families.planar.kinetostatics import forces
 
 ROOT = Path(__file__).resolve().parents[1]
 MODELS = ROOT / "models"
@@ -89,7 +89,7 @@ def test_tooth_force_and_torque_by_hand(kind, z_fixed):
 
 def test_mobility_counts_the_gear_pair():
     mech = load(MODELS / "planetary_lever_rrr.toml")
-    from linkgen.planar.structure import analyze
+    from linkgen.families.planar.structure import analyze
 
     s = analyze(mech)
     assert s.mobility == 1 and s.moving_links == 4 and s.lower_pairs == 5 and len(s.groups) == 1
@@ -116,7 +116,7 @@ def test_bad_gear_tables(change, words):
 @pytest.mark.parametrize("name", ["planetary_lever", "planetary_lever_2", "planetary_lever_rrr"])
 def test_gear_models_validate_against_mujoco(name):
     from linkgen.crosscheck.run import crosscheck
-    from linkgen.planar.assembly import assemble
+    from linkgen.families.planar.assembly import assemble
 
     cc = crosscheck(assemble(load(MODELS / f"{name}.toml")), practical=False)
     assert cc.ok, cc.to_json()["diagnosis"]

@@ -74,7 +74,7 @@ def test_not_a_regular_file_is_refused_by_every_command(tmp_path, capsys, kind, 
 
 def _load_error(path) -> str:
     from linkgen import load
-    from linkgen.cams.description import is_cam_file, load_cam
+    from linkgen.families.cam.description import is_cam_file, load_cam
 
     with pytest.raises(DescriptionError) as info:
         (load_cam if is_cam_file(path) else load)(path)
@@ -133,7 +133,7 @@ def test_any_title_makes_a_valid_cam_mjcf(tmp_path, title):
     import mujoco
     from lxml import etree
 
-    from linkgen.cams.description import load_cam
+    from linkgen.families.cam.description import load_cam
     from linkgen.mujoco.cam import cam_mjcf
 
     path = _mutant(tmp_path, "cam_translating.toml", 'title = "Disc cam', f'title = "{title}" # "Disc cam')
@@ -148,7 +148,7 @@ def test_a_title_given_in_python_is_written_safely():
     character codes."""
     from dataclasses import replace
 
-    from linkgen.cams.description import load_cam
+    from linkgen.families.cam.description import load_cam
     from linkgen.mujoco.cam import cam_mjcf
 
     cm = replace(load_cam(MODELS / "cam_translating.toml"), title="bell\x07 -- end-")
@@ -274,7 +274,7 @@ def test_the_numeric_pose_reports_a_singular_position_with_its_reason(monkeypatc
     MAX_CONDITION set to 1 makes every pose count as singular."""
     from linkgen import load
     from linkgen.errors import SingularityError
-    from linkgen.planar import pose
+    from linkgen.families.planar import pose
 
     monkeypatch.setattr(pose, "MAX_CONDITION", 1.0)
     with pytest.raises(SingularityError) as info:
@@ -313,7 +313,7 @@ _REQUIRED = {"flywheel": ["--delta", "0.02"], "draw": ["-o", "{tmp}/x.svg"], "an
 
 
 def test_every_command_that_refuses_a_cam_file_names_exactly_those_that_take_it(tmp_path, capsys):
-    from linkgen.cams.description import CAM_COMMANDS
+    from linkgen.families.cam.description import CAM_COMMANDS
 
     cam = MODELS / "cam_translating.toml"
     listed = "analyze, profile, draw, animate, render, build and validate"
@@ -357,7 +357,7 @@ def test_a_title_with_dollar_signs_is_drawn_as_written(tmp_path, capsys, model):
     assert main(["draw", str(path), "-o", str(tmp_path / "m.svg")]) == 0
     assert (tmp_path / "m.svg").stat().st_size > 0
     from linkgen import load
-    from linkgen.cams.description import is_cam_file, load_cam
+    from linkgen.families.cam.description import is_cam_file, load_cam
     from linkgen.draw.plan import title_of
 
     # what matplotlib is given: every '$' escaped, so it draws the text as written
@@ -386,8 +386,8 @@ def test_a_cam_that_cannot_drive_its_follower_is_refused_not_infinite():
 
     import numpy as np
 
-    from linkgen.cams.description import load_cam
-    from linkgen.cams.kinetics import state
+    from linkgen.families.cam.description import load_cam
+    from linkgen.families.cam.kinetics import state
     from linkgen.errors import SingularityError
 
     text = (MODELS / "cam_oscillating.toml").read_text()

@@ -11,7 +11,7 @@ import pytest
 from conftest import ROOT
 from linkgen import DescriptionError, from_dict, load
 from linkgen.cli.main import main
-from linkgen.planar.kinetostatics import forces
+from linkgen.families.planar.kinetostatics import forces
 
 FOURBAR = ROOT / "models" / "fourbar.toml"
 # Scaling laws hold to the measured 7e-13 of each quantity's peak (validation/limits_scan.py);
@@ -94,7 +94,7 @@ def test_device_instead_of_a_file():
 
 
 def test_file_too_large(tmp_path):
-    from linkgen.model.reader import MAX_FILE_BYTES
+    from linkgen.families.planar.reader import MAX_FILE_BYTES
 
     path = tmp_path / "big.toml"
     with open(path, "wb") as f:

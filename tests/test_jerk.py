@@ -1,7 +1,7 @@
 """Third transfer functions d³x/dφ³ and jerk: the closed form against finite differences.
 
 The third transfer functions come from differentiating each group's constraints a third time
-(linkgen/planar/primitives.py); here they are checked against fourth-order central
+(linkgen/families/planar/primitives.py); here they are checked against fourth-order central
 differences of the second ones, on every bundled linkage (all five dyad kinds, the gear
 planet) and on generated mechanisms, and the jerk x‴ω³ + 3x″ωε against a difference in time
 of the accelerations for a crank with constant ε ≠ 0. The CLI and the API report it.
@@ -21,9 +21,9 @@ from conftest import MODELS, ROOT
 from linkgen import GroupKind, assemble, load, solve, solve_motion
 from linkgen.cli.common import crank_grid
 from linkgen.cli.main import main
-from linkgen.planar import blocks
-from linkgen.planar.corpus import to_toml
-from linkgen.planar.groups import input_poses, solve_group
+from linkgen.families.planar import blocks
+from linkgen.families.planar.corpus import to_toml
+from linkgen.families.planar.groups import input_poses, solve_group
 from strategies import mechanisms
 
 # Step of the differences [rad] (in time: the step that turns the crank by about H).
@@ -33,7 +33,7 @@ H = 1e-4
 #   truncation: H⁴/30·|x⁽⁷⁾| = 3.3e-18·|x⁽⁷⁾|, below 1e-10 of the scale S unless x⁽⁷⁾ exceeds
 #     3e7·S (a derivative of x that high is only met a hair from a dead centre): TRUNCATION_TOL.
 #   rounding: the second transfer functions carry a relative error of ~3ε/D² (the rule of
-#     SINGULAR_TOL, linkgen/planar/groups.py; D the smallest normalised denominator of the
+#     SINGULAR_TOL, linkgen/families/planar/groups.py; D the smallest normalised denominator of the
 #     groups at that angle) of their scale, and the stencil's weights sum to 18/12 over H:
 #     4.5·ε/(D²·H) of S = L + peak |x″| + peak |x‴|, L the mechanism's size for points and
 #     sliders and 1 rad for angles (a link that only translates has x″ = x‴ = 0 up to rounding

@@ -141,7 +141,7 @@ def test_near_singular_positions_follow_one_rule():
     # The tangent mechanism's slot turns parallel to the guide at φ → 0: the denominator is the sine
     # of the angle between the two guides, sin φ (by hand). SINGULAR_TOL = 1e-4 separates the angles.
     from linkgen import SingularityError
-    from linkgen.planar.kinematics import SINGULAR_TOL
+    from linkgen.families.planar.kinematics import SINGULAR_TOL
 
     mech = load(MODELS[0].parent / "tangent_prp.toml")
     phi = np.array([0.5, 0.5 * SINGULAR_TOL, 2.0 * SINGULAR_TOL, 0.0])
@@ -180,7 +180,7 @@ def test_overflow_is_named_as_overflow():
         linkgen.solve_motion(mech, phi, 1e160)
     with pytest.raises(linkgen.MagnitudeError, match="overflows float64"):
         solve(mech, phi).motion(1e160)
-    from linkgen.planar.kinetostatics import forces
+    from linkgen.families.planar.kinetostatics import forces
 
     with pytest.raises(linkgen.MagnitudeError, match=r"^the solution of .* overflows float64"):
         forces(mech, phi, 1e160)
@@ -238,7 +238,7 @@ def test_seven_digits_down_to_the_singular_tolerance():
     from decimal import Decimal, getcontext
 
     from linkgen import SingularityError
-    from linkgen.planar.kinematics import SINGULAR_TOL
+    from linkgen.families.planar.kinematics import SINGULAR_TOL
 
     getcontext().prec = 40
     l1, l2, phi0 = 0.1, 0.05, math.radians(10.0)

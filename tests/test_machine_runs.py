@@ -10,11 +10,11 @@ import pytest
 from scipy.linalg import expm
 from scipy.optimize import minimize_scalar
 
-from linkgen.dynamics.machine import RTOL, run_machine
-from linkgen.dynamics.reduced import reduce
-from linkgen.dynamics.study import flywheel_study, load_machine
+from linkgen.machine.machine import RTOL, run_machine
+from linkgen.machine.reduced import reduce
+from linkgen.machine.study import flywheel_study, load_machine
 from linkgen.errors import DescriptionError, LinkgenError, SimulationError
-from linkgen.planar.kinetostatics import forces
+from linkgen.families.planar.kinetostatics import forces
 
 ROOT = Path(__file__).resolve().parents[1]
 MODELS = ROOT / "models"
@@ -72,7 +72,7 @@ def test_a_huge_motor_parameter_gives_a_clear_error(tmp_path, model, old, new):
 def test_a_stiff_dc_motor_is_integrated_implicitly_and_exactly(tmp_path):
     """Without inductance the DC motor is a linear characteristic, M0 = k_t·U/R, ω0 = U/k_e:
     ω(t) = ω0·(1 − exp(−t/τ)), τ = J·R/(k_t·k_e) = 9.1 µs, 5e5 of them in the 5 s."""
-    from linkgen.dynamics.machine import choose_method
+    from linkgen.machine.machine import choose_method
 
     path = _variant(tmp_path, "dc_motor_startup.toml", "inductance = 0.06", "inductance = 0.0")
     path.write_text(path.read_text().replace("torque_constant = 2000.0", "torque_constant = 2e7"))
@@ -88,7 +88,7 @@ def test_a_stiff_dc_motor_is_integrated_implicitly_and_exactly(tmp_path):
 
 
 def test_a_long_integration_reports_progress_and_its_work_is_bounded(monkeypatch):
-    from linkgen.dynamics import machine as m
+    from linkgen.machine import machine as m
 
     asm, machine = load_machine(MODELS / "motor_startup.toml")
     red = reduce(asm)
@@ -117,7 +117,7 @@ def test_the_peak_balancing_torque_is_the_one_of_the_state_it_names():
     """The press's peak falls just past the stroke force's switch: ε there is the ODE's own
     (a forward difference of the dense output, on the switch's far side), not an average across
     the jump."""
-    from linkgen.dynamics.study import cycle_forces
+    from linkgen.machine.study import cycle_forces
 
     asm, machine = load_machine(MODELS / "machine_press.toml")
     run = run_machine(machine, reduce(asm, machine.process_load), samples=11, duration=2.0)
@@ -157,7 +157,7 @@ def test_the_peak_motor_torque_is_refined_between_samples():
 
 
 def test_a_machine_that_never_settles_is_compared_over_its_duration_at_the_speeds_it_reaches():
-    from linkgen.dynamics.study import MACHINE_TOL, compare_machine_run
+    from linkgen.crosscheck.machine import MACHINE_TOL, compare_machine_run
     from linkgen.mujoco.settings import derive  # noqa: F401  (what the settings come from)
 
     asm, machine = load_machine(DATA / "machine_constant_torque.toml")
@@ -205,7 +205,7 @@ def test_a_crank_jammed_by_its_load_is_reported_as_stalled(tmp_path, monkeypatch
     """A load spike of 5.6e8 N·m on two table points (a fuzzed machine, seed 2027): the crank
     rocks against it and never completes a turn. The run stops with the stall named instead of
     integrating the rocking for minutes (3 M evaluations, 188 s before)."""
-    from linkgen.dynamics import machine as machine_module
+    from linkgen.machine import machine as machine_module
 
     monkeypatch.setattr(machine_module, "STALL_EVALUATIONS", 20_000)  # the same rule, sooner
     path = _variant(tmp_path, "machine_slider_crank.toml", ", 555.382221261,", ", 555382221.261,")
@@ -221,7 +221,7 @@ def test_a_crank_jammed_by_its_load_is_reported_as_stalled(tmp_path, monkeypatch
 def test_a_load_that_drives_the_crank_past_ten_times_its_motors_speed_is_a_runaway(tmp_path):
     """A process load that pushes the crank (negative resisting torque) far harder than the
     motor: past RUNAWAY times the motor's top speed the run stops and says so."""
-    from linkgen.dynamics.machine import RUNAWAY
+    from linkgen.machine.machine import RUNAWAY
 
     asm, machine = load_machine(MODELS / "machine_slider_crank.toml")
     text = (MODELS / "machine_slider_crank.toml").read_text()

@@ -12,11 +12,12 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from linkgen.dynamics.machine import run_machine
-from linkgen.dynamics.reduced import reduce
-from linkgen.dynamics.study import MACHINE_TOL, compare_machine_run, load_machine
-from linkgen.dynamics.tables import PeriodicTable, jump_grid, switch_angles
-from linkgen.planar.kinematics import solve
+from linkgen.machine.machine import run_machine
+from linkgen.machine.reduced import reduce
+from linkgen.machine.study import load_machine
+from linkgen.crosscheck.machine import MACHINE_TOL, compare_machine_run
+from linkgen.machine.tables import PeriodicTable, jump_grid, switch_angles
+from linkgen.families.planar.kinematics import solve
 
 ROOT = Path(__file__).resolve().parents[1]
 MODELS = ROOT / "models"
@@ -38,7 +39,7 @@ def test_a_table_keeps_its_jump_and_integrates_exactly():
 
 
 def test_switch_angles_wrap_into_the_turn():
-    from linkgen.model.reader import load
+    from linkgen.families.planar.reader import load
 
     mech = load(MODELS / "machine_press.toml")
     assert switch_angles(mech, 0.0) == pytest.approx([math.radians(100), math.radians(170)])

@@ -10,7 +10,7 @@ import pytest
 from conftest import MODELS, ROOT
 from linkgen import AssemblyError, DescriptionError, SimulationError, StructureError, assemble, from_dict, load, solve
 from linkgen.crosscheck.compare import compare
-from linkgen.model.geometry import link_shapes
+from linkgen.families.planar.geometry import link_shapes
 from linkgen.mujoco.mjcf import (
     MUJOCO_MIN_INERTIA,
     MUJOCO_MIN_MASS,
@@ -20,7 +20,7 @@ from linkgen.mujoco.mjcf import (
 )
 from linkgen.mujoco.log import no_log_file
 from linkgen.mujoco.state import tree_state
-from linkgen.planar.pose import mechanism_size, state
+from linkgen.families.planar.pose import mechanism_size, state
 from linkgen.mujoco.options import Settings
 from linkgen.mujoco.simulate import joint_states, simulate
 

@@ -79,9 +79,9 @@ def test_validate_report_folder_that_is_a_symlink_is_refused_before_the_run(tmp_
 
 
 def test_report_files_inside_the_folder_refuse_symlinks(tmp_path):
-    from linkgen.crosscheck.report import plot_mechanism, write_index
-    from linkgen.model.reader import load
-    from linkgen.planar.assembly import assemble
+    from linkgen.report.report import plot_mechanism, write_index
+    from linkgen.families.planar.reader import load
+    from linkgen.families.planar.assembly import assemble
 
     link, victim = _plant(tmp_path, "fourbar_plan.png")
     with pytest.raises(OutputError, match="is a symbolic link"):

@@ -1,6 +1,6 @@
 """Property tests over generated mechanisms, checked by independent code (tests/independent_checks.py).
 
-Random valid mechanisms of every group kind (linkgen.planar.corpus) must keep their link lengths,
+Random valid mechanisms of every group kind (linkgen.families.planar.corpus) must keep their link lengths,
 shapes, guides and relative angles, reproduce their sketch at the sketch angle, have
 transfer functions that match finite differences, reactions that balance every link with
 its given and d'Alembert loads, a balancing torque that closes virtual work, and the same
@@ -22,9 +22,9 @@ from hypothesis import strategies as st
 import independent_checks as ic
 import linkgen
 from linkgen import DescriptionError, LinkgenError
-from linkgen.planar.corpus import KINDS, SCAN_STEP_DEG, denominator_crossings, random_description, to_toml
+from linkgen.families.planar.corpus import KINDS, SCAN_STEP_DEG, denominator_crossings, random_description, to_toml
 from linkgen.cli.main import main
-from linkgen.planar.kinetostatics import forces
+from linkgen.families.planar.kinetostatics import forces
 from strategies import (
     mechanisms,
     mutate,

@@ -11,8 +11,8 @@ import numpy as np
 import pytest
 
 from linkgen import load
-from linkgen.model.description import GROUND
-from linkgen.planar.sketch import exact_sketch
+from linkgen.families.planar.description import GROUND
+from linkgen.families.planar.sketch import exact_sketch
 
 ROOT = Path(__file__).resolve().parents[1]
 from conftest import MODELS  # linkages (cam files have tests of their own)

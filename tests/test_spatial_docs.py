@@ -5,9 +5,9 @@ import re
 import tomllib
 from pathlib import Path
 
-from linkgen.spatial import description as d
-from linkgen.spatial import loads
-from linkgen.spatial.description import spatial_from_dict
+from linkgen.families.spatial import description as d
+from linkgen.families.spatial import loads
+from linkgen.families.spatial.description import spatial_from_dict
 
 PAGE = (Path(__file__).resolve().parents[1] / "docs" / "spatial.md").read_text()
 BLOCKS = re.findall(r"```toml\n(.*?)```", PAGE, flags=re.S)

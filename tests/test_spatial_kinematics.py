@@ -15,10 +15,10 @@ import pytest
 
 import linkgen
 from linkgen.errors import AssemblyError, DescriptionError, StructureError, angle_ranges
-from linkgen.planar.kinematics import solve as planar_solve
-from linkgen.spatial.chain import bennett_defects, build_chain, common_normal
-from linkgen.spatial.description import spatial_from_dict
-from linkgen.spatial.kinematics import solve
+from linkgen.families.planar.kinematics import solve as planar_solve
+from linkgen.families.spatial.chain import bennett_defects, build_chain, common_normal
+from linkgen.families.spatial.description import spatial_from_dict
+from linkgen.families.spatial.kinematics import solve
 
 from conftest import ROOT
 
@@ -305,7 +305,7 @@ def test_summary_limits_where_the_output_stops(model):
     """analyze --summary's limit positions: the output's extremes of a 0.001°-dense scan, and for
     RSSR/RSSP the crank pin's velocity square to the coupler there (B stands still, so A's velocity
     has no component along AB) — a geometric fact, not the transfer function the summary used."""
-    from linkgen.spatial.summary import summarize
+    from linkgen.families.spatial.summary import summarize
 
     mech = linkgen.load(ROOT / "models" / f"{model}.toml")
     sm = summarize(mech)

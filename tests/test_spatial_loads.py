@@ -15,15 +15,15 @@ import numpy as np
 import pytest
 
 import linkgen
-from linkgen.crosscheck.tolerances import FORCE_TOL, INVERSE_TOL
+from linkgen.mujoco.tolerances import FORCE_TOL, INVERSE_TOL
 from linkgen.errors import DescriptionError
-from linkgen.spatial.crosscheck import check_spatial, derived_settings
-from linkgen.spatial.description import spatial_from_dict
-from linkgen.spatial.forces import forces
-from linkgen.spatial.inverse import inverse_torque
-from linkgen.spatial.kinematics import solve
-from linkgen.spatial.mjcf import write_spatial_mjcf
-from linkgen.spatial.summary import summarize
+from linkgen.crosscheck.spatial import check_spatial, derived_settings
+from linkgen.families.spatial.description import spatial_from_dict
+from linkgen.families.spatial.forces import forces
+from linkgen.mujoco.spatial_inverse import inverse_torque
+from linkgen.families.spatial.kinematics import solve
+from linkgen.mujoco.spatial_mjcf import write_spatial_mjcf
+from linkgen.families.spatial.summary import summarize
 
 from conftest import ROOT, SPATIAL_MODELS
 

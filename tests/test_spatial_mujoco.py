@@ -13,11 +13,11 @@ import numpy as np
 import pytest
 
 import linkgen
-from linkgen.crosscheck.tolerances import GAP_TOL
-from linkgen.spatial.forces import forces
-from linkgen.spatial.kinematics import solve
-from linkgen.spatial.mjcf import write_spatial_mjcf
-from linkgen.spatial.state import reduced_inertia
+from linkgen.mujoco.tolerances import GAP_TOL
+from linkgen.families.spatial.forces import forces
+from linkgen.families.spatial.kinematics import solve
+from linkgen.mujoco.spatial_mjcf import write_spatial_mjcf
+from linkgen.mujoco.spatial_state import reduced_inertia
 
 from conftest import ROOT, SPATIAL_MODELS
 
@@ -122,11 +122,11 @@ def test_the_idle_spin_keeps_its_rate_and_leaves_the_output_alone(model):
     """The RSSR/RSSP coupler's idle freedom: started spinning about its line at 0.5·ω, MuJoCo keeps
     that spin (nothing on two ball joints turns an axisymmetric rod about its line) while the
     output follows the closed form at MuJoCo's crank angle as closely as without spin."""
-    from linkgen.crosscheck.tolerances import REL_TOL
+    from linkgen.mujoco.tolerances import REL_TOL
     from linkgen.mujoco.scene import SERVO
-    from linkgen.spatial.crosscheck import derived_settings
-    from linkgen.spatial.kinematics import assembled_chain
-    from linkgen.spatial.state import joint_state
+    from linkgen.crosscheck.spatial import derived_settings
+    from linkgen.families.spatial.kinematics import assembled_chain
+    from linkgen.mujoco.spatial_state import joint_state
 
     mech = linkgen.load(ROOT / "models" / f"{model}.toml")
     chain = assembled_chain(mech)
@@ -180,7 +180,7 @@ def test_a_long_spatial_run_reports_progress(monkeypatch):
     """rssr under 1000 g took 3e5 steps and a minute in silence (fuzz campaign seed 2030): the
     spatial MuJoCo run reports its progress like the planar and cam runs."""
     from linkgen.mujoco import options
-    from linkgen.spatial import crosscheck
+    from linkgen.crosscheck import spatial as crosscheck
 
     monkeypatch.setattr(options, "PROGRESS_AFTER", 0.0)
     monkeypatch.setattr(crosscheck, "PROGRESS_STEPS", 500)

@@ -14,9 +14,9 @@ import numpy as np
 import pytest
 
 from linkgen.errors import AssemblyError
-from linkgen.model.reader import load
+from linkgen.families.planar.reader import load
 from linkgen.model.turn import turn_assembly
-from linkgen.planar.kinematics import solve
+from linkgen.families.planar.kinematics import solve
 
 from conftest import ROOT
 

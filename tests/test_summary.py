@@ -14,8 +14,8 @@ import numpy as np
 import pytest
 
 from linkgen import assemble, load
-from linkgen.model.reader import loads
-from linkgen.planar.summary import SAMPLES, summarize
+from linkgen.families.planar.reader import loads
+from linkgen.families.planar.summary import SAMPLES, summarize
 from linkgen.api import forces
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -204,9 +204,9 @@ def test_summary_cli():
 
 from conftest import MODELS  # noqa: E402  (the planar linkages)
 
-from linkgen.model.description import GROUND  # noqa: E402
-from linkgen.planar.kinematics import solve  # noqa: E402
-from linkgen.planar.summary import transmission_angles  # noqa: E402
+from linkgen.families.planar.description import GROUND  # noqa: E402
+from linkgen.families.planar.kinematics import solve  # noqa: E402
+from linkgen.families.planar.summary import transmission_angles  # noqa: E402
 from independent_checks import zoomed_peak as _dense_peak  # noqa: E402
 
 DENSE = 200_000
@@ -312,7 +312,7 @@ def test_summary_extrema_agree_with_a_dense_independent_scan(path):
     if s.torque is None:
         return
     w, e = s.omega, s.epsilon
-    from linkgen.planar.kinetostatics import forces as closed_forces
+    from linkgen.families.planar.kinetostatics import forces as closed_forces
 
     f = closed_forces(asm, phi, w, e)
     ref = _dense_peak(lambda p: np.abs(closed_forces(asm, p, w, e).balancing_torque), phi, np.abs(f.balancing_torque))
@@ -486,9 +486,9 @@ angle = 0.0
 
 from conftest import CAM_MODELS  # noqa: E402
 
-from linkgen.cams.description import load_cam  # noqa: E402
-from linkgen.cams.kinetics import state as cam_state  # noqa: E402
-from linkgen.cams.summary import cam_summary  # noqa: E402
+from linkgen.families.cam.description import load_cam  # noqa: E402
+from linkgen.families.cam.kinetics import state as cam_state  # noqa: E402
+from linkgen.families.cam.summary import cam_summary  # noqa: E402
 
 
 @pytest.mark.parametrize("path", CAM_MODELS, ids=[p.stem for p in CAM_MODELS])
@@ -549,10 +549,10 @@ MACHINE_PEAK_REL_TOL = 1e-9
 
 @pytest.mark.parametrize("name,duration", [("machine_press", 2.5), ("motor_startup", 5.0), ("dc_motor_startup", 5.0)])
 def test_machine_cycle_peaks_agree_with_a_dense_scan(name, duration):
-    from linkgen.dynamics.machine import run_machine
-    from linkgen.dynamics.reduced import reduce
-    from linkgen.dynamics.study import cycle_forces, load_machine
-    from linkgen.planar.kinetostatics import forces as closed_forces
+    from linkgen.machine.machine import run_machine
+    from linkgen.machine.reduced import reduce
+    from linkgen.machine.study import cycle_forces, load_machine
+    from linkgen.families.planar.kinetostatics import forces as closed_forces
 
     asm, machine = load_machine(ROOT / "models" / f"{name}.toml")
     run = run_machine(machine, reduce(asm, machine.process_load), samples=50, duration=duration)
@@ -590,9 +590,9 @@ SPATIAL_DENSE = 5_000
 
 @pytest.mark.parametrize("path", SPATIAL_MODELS, ids=[p.stem for p in SPATIAL_MODELS])
 def test_spatial_summary_extrema_agree_with_a_dense_independent_scan(path):
-    from linkgen.spatial.forces import forces as spatial_forces
-    from linkgen.spatial.kinematics import solve as spatial_solve
-    from linkgen.spatial.summary import summarize as spatial_summarize
+    from linkgen.families.spatial.forces import forces as spatial_forces
+    from linkgen.families.spatial.kinematics import solve as spatial_solve
+    from linkgen.families.spatial.summary import summarize as spatial_summarize
 
     mech = load(path)
     s = spatial_summarize(mech)

@@ -1,4 +1,4 @@
-"""Peak memory of ``linkgen.planar.kinetostatics.forces`` on the four-bar, each size in a fresh process.
+"""Peak memory of ``linkgen.families.planar.kinetostatics.forces`` on the four-bar, each size in a fresh process.
 
 Prints, per number of crank angles, the process's peak resident memory (VmHWM) after imports
 and after the call, the bytes of the returned arrays, and the peak beyond imports and results
@@ -20,7 +20,7 @@ CHILD = r"""
 import json, sys, time
 import numpy as np
 from linkgen import assemble, load
-from linkgen.planar.kinetostatics import forces
+from linkgen.families.planar.kinetostatics import forces
 
 def hwm():
     for line in open("/proc/self/status"):

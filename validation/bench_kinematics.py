@@ -108,7 +108,7 @@ def ours_warm(threads: int | None) -> tuple[Timing, Timing]:
 
 def forces_warm(threads: int | None) -> Timing:
     from linkgen import assemble, load
-    from linkgen.planar.kinetostatics import forces
+    from linkgen.families.planar.kinetostatics import forces
 
     asm = assemble(load(MODEL))
     phi = np.linspace(0.0, 2 * np.pi, N, endpoint=False)
@@ -119,8 +119,8 @@ def result_bytes() -> int:
     """Bytes of the per-angle arrays ``solve_motion`` returns for the benchmark's job (arrays
     constant along φ are views and take none)."""
     from linkgen import load, solve_motion
-    from linkgen.planar.blocks import leaves
-    from linkgen.planar.primitives import constant_along
+    from linkgen.families.planar.blocks import leaves
+    from linkgen.families.planar.primitives import constant_along
 
     mo = solve_motion(load(MODEL), np.linspace(0.0, 2 * np.pi, N, endpoint=False), 10.0, 0.0)
     arrays = leaves((mo.points, mo.links, mo.sliders, mo.jerk))

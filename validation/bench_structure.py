@@ -13,7 +13,7 @@ import sys
 import time
 
 from linkgen import analyze, assemble
-from linkgen.model.description import Drive, Link, Mechanism
+from linkgen.families.planar.description import Drive, Link, Mechanism
 
 
 def chain(groups: int) -> Mechanism:

@@ -2,7 +2,7 @@
 
     python validation/fuzz_closed_form.py [--n 1000] [--hostile 500] [--seed 0] [--out DIR]
 
-Generates ``--n`` mechanisms with ``linkgen.planar.corpus.random_description`` and checks each by
+Generates ``--n`` mechanisms with ``linkgen.families.planar.corpus.random_description`` and checks each by
 the independent code of tests/independent_checks.py: geometry held, the sketch's link angles
 reproduced (assembly mode), transfer functions against finite differences, force and moment
 balance of every link and virtual work, and four equivalent rewrites of the description.
@@ -29,8 +29,8 @@ sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "tests"))
 
 import independent_checks as ic  # noqa: E402
 import linkgen  # noqa: E402
-from linkgen.planar.corpus import random_description, to_toml  # noqa: E402
-from linkgen.planar.kinetostatics import forces  # noqa: E402
+from linkgen.families.planar.corpus import random_description, to_toml  # noqa: E402
+from linkgen.families.planar.kinetostatics import forces  # noqa: E402
 from strategies import mutate, reorder_link_points, reorder_tables, reverse_slot, through_other  # noqa: E402
 from test_properties import (  # noqa: E402
     BALANCE_TOL,

@@ -17,10 +17,10 @@ from pathlib import Path
 import numpy as np
 
 from linkgen import DescriptionError, LinkgenError, load, solve
-from linkgen.planar.kinetostatics import forces
-from linkgen.spatial.description import SpatialMechanism
-from linkgen.spatial.forces import forces as spatial_forces
-from linkgen.spatial.kinematics import solve as spatial_solve
+from linkgen.families.planar.kinetostatics import forces
+from linkgen.families.spatial.description import SpatialMechanism
+from linkgen.families.spatial.forces import forces as spatial_forces
+from linkgen.families.spatial.kinematics import solve as spatial_solve
 
 MODELS = sorted((Path(__file__).resolve().parent.parent / "models").glob("*.toml"))
 _NUMBER = re.compile(rb"-?\d+\.?\d*(?:e-?\d+)?")

@@ -77,8 +77,8 @@ def _compile(xml: str) -> None:
 
 def _planar(path: Path, deep: bool) -> list:
     import linkgen
-    from linkgen.planar.kinetostatics import forces
-    from linkgen.planar.summary import summarize
+    from linkgen.families.planar.kinetostatics import forces
+    from linkgen.families.planar.summary import summarize
     from linkgen.mujoco.mjcf import write_mjcf
 
     mech = linkgen.load(path)
@@ -98,9 +98,9 @@ def _planar(path: Path, deep: bool) -> list:
 
 
 def _machine(path: Path, deep: bool) -> list:
-    from linkgen.dynamics.machine import run_machine
-    from linkgen.dynamics.reduced import reduce
-    from linkgen.dynamics.study import cycle_forces, flywheel_study, load_machine
+    from linkgen.machine.machine import run_machine
+    from linkgen.machine.reduced import reduce
+    from linkgen.machine.study import cycle_forces, flywheel_study, load_machine
     from linkgen.mujoco.machine_mjcf import machine_mjcf
 
     out = _planar(path, deep)
@@ -119,8 +119,8 @@ def _machine(path: Path, deep: bool) -> list:
 
 
 def _cam(path: Path, deep: bool) -> list:
-    from linkgen.cams.description import load_cam
-    from linkgen.cams.kinetics import state
+    from linkgen.families.cam.description import load_cam
+    from linkgen.families.cam.kinetics import state
     from linkgen.cli.cams import cam_summary
     from linkgen.mujoco.cam import cam_mjcf
 
@@ -136,12 +136,12 @@ def _cam(path: Path, deep: bool) -> list:
 
 
 def _spatial(path: Path, deep: bool) -> list:
-    from linkgen.model.reader import load
-    from linkgen.spatial.crosscheck import derived_settings
-    from linkgen.spatial.forces import forces
-    from linkgen.spatial.kinematics import assembled_chain, solve
-    from linkgen.spatial.mjcf import write_spatial_mjcf
-    from linkgen.spatial.summary import summarize
+    from linkgen.families.planar.reader import load
+    from linkgen.crosscheck.spatial import derived_settings
+    from linkgen.families.spatial.forces import forces
+    from linkgen.families.spatial.kinematics import assembled_chain, solve
+    from linkgen.mujoco.spatial_mjcf import write_spatial_mjcf
+    from linkgen.families.spatial.summary import summarize
 
     mech = load(path)
     assembled_chain(mech)
@@ -157,8 +157,8 @@ def _spatial(path: Path, deep: bool) -> list:
 
 
 def _dispatch(path: Path, deep: bool) -> list:
-    from linkgen.cams.description import is_cam_file
-    from linkgen.spatial.description import is_spatial_file
+    from linkgen.families.cam.description import is_cam_file
+    from linkgen.families.spatial.description import is_spatial_file
 
     if is_spatial_file(path):
         return _spatial(path, deep)

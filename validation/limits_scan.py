@@ -18,7 +18,7 @@ from pathlib import Path
 import numpy as np
 
 from linkgen import LinkgenError, from_dict, solve
-from linkgen.planar.kinetostatics import forces
+from linkgen.families.planar.kinetostatics import forces
 from linkgen.cli.common import crank_grid
 
 MODELS = Path(__file__).resolve().parent.parent / "models"

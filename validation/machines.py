@@ -26,7 +26,7 @@ ROOT = Path(__file__).resolve().parents[1]
 
 
 def run_one(path: str, cycles: int) -> dict:
-    from linkgen.dynamics.study import compare_machine
+    from linkgen.crosscheck.machine import compare_machine
 
     t0 = time.perf_counter()
     out = compare_machine(path, cycles=cycles) or {"skipped": "no [machine] table"}

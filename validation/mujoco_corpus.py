@@ -4,7 +4,7 @@ error per quantity kind, and every failure written out as TOML for replay.
     python validation/mujoco_corpus.py            # 240 mechanisms, seeds 0..239
     python validation/mujoco_corpus.py --n 40 --seed 1000 --out failures/
 
-Each mechanism comes from ``linkgen.planar.corpus.random_description`` (ranges 5° clear of assembly
+Each mechanism comes from ``linkgen.families.planar.corpus.random_description`` (ranges 5° clear of assembly
 limits, sizes 1 cm..30 m, ω 0.1..300 rad/s) and runs ``linkgen.crosscheck.run.crosscheck`` at its own
 ω, in worker processes (one per core, one MuJoCo thread each). Progress on stderr.
 """
@@ -29,7 +29,7 @@ def run_one(seed: int, margin: float, max_steps: int) -> dict:
     import traceback
 
     from linkgen import LinkgenError, assemble, from_dict
-    from linkgen.planar.corpus import random_description, to_toml
+    from linkgen.families.planar.corpus import random_description, to_toml
     from linkgen.crosscheck.run import crosscheck
 
     desc = random_description(np.random.default_rng(seed), margin_deg=margin)

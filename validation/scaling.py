@@ -23,7 +23,7 @@ SIZES = (0.01, 1.0, 30.0)  # scale factor on the four-bar's lengths (its size is
 
 def one(path: str, omega: float, factor: float) -> dict:
     from linkgen import assemble, from_dict
-    from linkgen.planar.corpus import scaled
+    from linkgen.families.planar.corpus import scaled
     from linkgen.crosscheck.run import crosscheck
 
     t0 = time.perf_counter()

@@ -10,7 +10,7 @@ from pathlib import Path
 
 import numpy as np
 
-from linkgen.cams.summary import cam_summary
+from linkgen.families.cam.summary import cam_summary
 from linkgen.errors import DescriptionError, LinkgenError
 from linkgen.cli.common import OptionError, check_finite, print_json, write_rows
 
@@ -26,8 +26,8 @@ def _follower_json(st, i: int) -> dict:
 
 
 def cmd_analyze_cam(args) -> int:
-    from linkgen.cams.description import load_cam
-    from linkgen.cams.kinetics import state
+    from linkgen.families.cam.description import load_cam
+    from linkgen.families.cam.kinetics import state
 
     if args.transfer or args.keep_singular:
         raise OptionError("--transfer and --keep-singular are for linkages; a cam's derivatives come with --json")
@@ -95,7 +95,7 @@ def _summary(cm, omega: float, as_json: bool) -> int:
 
 
 def cmd_profile(args) -> int:
-    from linkgen.cams.description import cam_from_dict, is_cam_data
+    from linkgen.families.cam.description import cam_from_dict, is_cam_data
     from linkgen.model.toml_file import read_toml
 
     data = read_toml(args.model)  # a file that is no description is refused as such
@@ -138,7 +138,7 @@ def check_cam_linkage_file(path: Path, asm, report: Path | None, t0: float, prog
     out = {"file": str(path), "ok": r.ok, "model": r.model, "cam_linkage": r.to_json(),
            "diagnosis": [f.to_json() for f in cam_linkage_findings(r)]}
     if report is not None:
-        from linkgen.crosscheck.report import plot_mechanism
+        from linkgen.report.report import plot_mechanism
 
         from linkgen.outputs import output_folder
 
@@ -169,7 +169,7 @@ def check_cam_file(path: Path, t0: float, report: Path | None = None, progress=N
     """A cam mechanism in MuJoCo against its closed form (``mujoco.cam.compare_cam``), with the
     diagnosis of what missed (``crosscheck.diagnose_cam``) and, for a ``report``, its figures;
     ``progress``: the MuJoCo run's (``mujoco.cam.run_cam``)."""
-    from linkgen.cams.description import load_cam
+    from linkgen.families.cam.description import load_cam
     from linkgen.cli.files import message_for
     from linkgen.crosscheck.diagnose_cam import diagnose_cam
     from linkgen.mujoco.cam import CAM_TOLERANCES, compare_cam, run_cam
@@ -185,7 +185,7 @@ def check_cam_file(path: Path, t0: float, report: Path | None = None, progress=N
     out = {"file": str(path), "ok": ok, "cam": r | {"tolerances": CAM_TOLERANCES}, "model": r["model"],
            "diagnosis": [f.to_json() for f in diagnose_cam(cm, run, e, r["windows"])]}
     if report is not None:
-        from linkgen.crosscheck.figures_cam import plot_cam
+        from linkgen.report.figures_cam import plot_cam
 
         report.mkdir(parents=True, exist_ok=True)
         out["figures"] = plot_cam(cm, run, report)

@@ -9,11 +9,11 @@ import numpy as np
 from linkgen.cli.common import (check_crank_options, check_finite, crank_grid, drive_rates, print_json,
                                 write_rows)
 from linkgen.cli.singular import report_singular
-from linkgen.model.checks import mobility_formula
-from linkgen.model.reader import load
-from linkgen.planar.assembly import assemble
-from linkgen.planar.cam_pair import above_lowest, contact, lift, oscillating
-from linkgen.planar.kinematics import Kinematics, solve
+from linkgen.families.planar.checks import mobility_formula
+from linkgen.families.planar.reader import load
+from linkgen.families.planar.assembly import assemble
+from linkgen.families.planar.cam_pair import above_lowest, contact, lift, oscillating
+from linkgen.families.planar.kinematics import Kinematics, solve
 
 
 UNITS = {"phi": "rad", "omega": "rad/s", "epsilon": "rad/s²", "position": "m", "velocity": "m/s",
@@ -82,7 +82,7 @@ def cmd_structure(args) -> int:
 def turn_lines(asm) -> list[str]:
     """Whether the crank turns fully and where the chain assembles (``linkgen.model.turn``)."""
     from linkgen.model.turn import EDGE_TOL, degrees_text, drive_range_text
-    from linkgen.planar.kinematics import planar_turn
+    from linkgen.families.planar.kinematics import planar_turn
 
     t = planar_turn(asm)
     how = f"scanned every 0.1°, edges bisected to {EDGE_TOL:g} rad"
@@ -111,7 +111,7 @@ def _turns(ranges):
 
 
 def cmd_analyze(args) -> int:
-    from linkgen.cams.description import is_cam_file
+    from linkgen.families.cam.description import is_cam_file
 
     if is_cam_file(args.model):
         from linkgen.cli.cams import cmd_analyze_cam

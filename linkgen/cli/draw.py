@@ -95,12 +95,12 @@ def _progress(label: str):
 def cmd_draw(args) -> int:
     from linkgen.cli.files import atomic_output
     from linkgen.draw.plan import plan_figure, skeleton_figure
-    from linkgen.model.reader import load
+    from linkgen.families.planar.reader import load
 
     _suffix(args.output, FIGURE_FORMATS, "a drawing")
     if args.angle is not None and args.angles is not None:
         raise OptionError("--angle cannot be combined with --angles: --angle draws one position, --angles a plan")
-    from linkgen.cams.description import is_cam_file
+    from linkgen.families.cam.description import is_cam_file
 
     if is_cam_file(args.model):
         return _draw_cam(args)
@@ -121,7 +121,7 @@ def cmd_draw(args) -> int:
 
 
 def _draw_cam(args) -> int:
-    from linkgen.cams.description import load_cam
+    from linkgen.families.cam.description import load_cam
     from linkgen.cli.files import atomic_output
     from linkgen.draw.cam import cam_figure, cam_plan_figure
 
@@ -140,8 +140,8 @@ def _draw_cam(args) -> int:
 
 def _other_kind(path) -> str | None:
     """"cam" for a cam file, "spatial" for a spatial four-bar, None for a planar linkage."""
-    from linkgen.cams.description import is_cam_file
-    from linkgen.spatial.description import is_spatial_file
+    from linkgen.families.cam.description import is_cam_file
+    from linkgen.families.spatial.description import is_spatial_file
 
     return "cam" if is_cam_file(path) else "spatial" if is_spatial_file(path) else None
 
@@ -158,12 +158,12 @@ def _animate_other(args, kind: str) -> int:
     angles = turn_angles(args.frames)
     progress = _progress(f"drawing {args.output.name}")
     if kind == "cam":
-        from linkgen.cams.description import load_cam
+        from linkgen.families.cam.description import load_cam
 
         model = load_cam(args.model)
         frames = cam_frames(model, angles, progress)
     else:
-        from linkgen.model.reader import load
+        from linkgen.families.planar.reader import load
 
         model = load(args.model)
         frames = spatial_frames(model, angles, progress)
@@ -182,12 +182,12 @@ def _render_other(args, kind: str) -> int:
 
     angle = 0.0 if args.angle is None else args.angle
     if kind == "cam":
-        from linkgen.cams.description import load_cam
+        from linkgen.families.cam.description import load_cam
 
         model = load_cam(args.model)
         frames = cam_render(model, angle, args.width, args.height)
     else:
-        from linkgen.model.reader import load
+        from linkgen.families.planar.reader import load
 
         model = load(args.model)
         frames = spatial_render(model, angle, args.width, args.height)
@@ -201,7 +201,7 @@ def _render_other(args, kind: str) -> int:
 def cmd_animate(args) -> int:
     from linkgen.cli.files import atomic_output
     from linkgen.draw.animate import drawn_frames, frame_angles, mujoco_run_frames, save_animation
-    from linkgen.model.reader import load
+    from linkgen.families.planar.reader import load
 
     _suffix(args.output, ("gif", "mp4"), "an animation")
     kind = _other_kind(args.model)
@@ -227,7 +227,7 @@ def cmd_render(args) -> int:
 
     from linkgen.cli.files import atomic_output
     from linkgen.draw.render import render_mechanism
-    from linkgen.model.reader import load
+    from linkgen.families.planar.reader import load
 
     _suffix(args.output, ("png",), "a MuJoCo frame")
     kind = _other_kind(args.model)

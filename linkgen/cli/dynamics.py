@@ -40,10 +40,10 @@ def integration_progress(name: str):
 
 
 def cmd_dynamics(args) -> int:
-    from linkgen.dynamics.machine import run_machine
-    from linkgen.dynamics.plots import plot_run
-    from linkgen.dynamics.reduced import reduce
-    from linkgen.dynamics.study import cycle_forces, load_machine
+    from linkgen.machine.machine import run_machine
+    from linkgen.machine.plots import plot_run
+    from linkgen.machine.reduced import reduce
+    from linkgen.machine.study import cycle_forces, load_machine
 
     asm, machine = load_machine(args.model)
     name = asm.mechanism.name
@@ -53,7 +53,7 @@ def cmd_dynamics(args) -> int:
     forces = cycle_forces(asm, run)
     mj = compared = mj_run = None
     if args.mujoco:
-        from linkgen.dynamics.study import compare_machine_run
+        from linkgen.crosscheck.machine import compare_machine_run
 
         what = (f"the start-up and {args.cycles} steady cycles" if run.steady is not None else
                 f"its duration of {machine.duration:g} s (no steady cycle)")
@@ -133,10 +133,10 @@ def cmd_dynamics(args) -> int:
 
 
 def cmd_flywheel(args) -> int:
-    from linkgen.dynamics.flywheel import fluctuation
-    from linkgen.dynamics.plots import plot_flywheel
-    from linkgen.dynamics.reduced import reduce
-    from linkgen.dynamics.study import flywheel_study, load_machine
+    from linkgen.machine.flywheel import fluctuation
+    from linkgen.machine.plots import plot_flywheel
+    from linkgen.machine.reduced import reduce
+    from linkgen.machine.study import flywheel_study, load_machine
 
     asm, machine = load_machine(args.model)
     fw, delta_check = flywheel_study(asm, machine, args.delta, args.omega)

@@ -20,8 +20,8 @@ import math
 
 import numpy as np
 
-from linkgen.planar.kinetostatics import Forces, forces
-from linkgen.model.reader import load
+from linkgen.families.planar.kinetostatics import Forces, forces
+from linkgen.families.planar.reader import load
 
 
 def forces_json(f: Forces, mech, i: int = 0) -> dict:
@@ -65,7 +65,7 @@ def _columns(f: Forces) -> tuple[list[str], list[np.ndarray]]:
 def cmd_forces(args) -> int:
     from linkgen.cli.common import check_crank_options, check_finite, crank_grid, drive_rates, print_json, write_rows
     from linkgen.cli.singular import report_singular
-    from linkgen.planar.kinematics import solve
+    from linkgen.families.planar.kinematics import solve
 
     check_crank_options(args)
     mech = load(args.model)

@@ -49,17 +49,17 @@ def _build_checked(path: Path, out: Path, practical: bool = False) -> Path:
     import mujoco
 
     from linkgen.cli.files import atomic_write_text
-    from linkgen.model.reader import load
+    from linkgen.families.planar.reader import load
     from linkgen.mujoco.mjcf import write_mjcf
     from linkgen.mujoco.log import no_log_file
 
-    from linkgen.cams.description import is_cam_file
+    from linkgen.families.cam.description import is_cam_file
     from linkgen.cli.spatial import build_spatial, is_spatial_file
 
     if is_spatial_file(path):
         return build_spatial(path, out, practical)
     if is_cam_file(path):
-        from linkgen.cams.description import load_cam
+        from linkgen.families.cam.description import load_cam
         from linkgen.mujoco.cam import cam_mjcf
 
         if practical:
@@ -120,9 +120,9 @@ def _progress(name: str):
 
 def cmd_simulate(args) -> int:
     from linkgen.cli.common import check_finite_columns
-    from linkgen.planar.assembly import assemble
+    from linkgen.families.planar.assembly import assemble
     from linkgen.errors import StructureError
-    from linkgen.model.reader import load
+    from linkgen.families.planar.reader import load
     from linkgen.mujoco.posed import posed
     from linkgen.mujoco.simulate import simulate, steps_per_revolution
     from linkgen.cli.common import OptionError
@@ -192,14 +192,14 @@ def _write_samples(out: Path, arrays: dict[str, np.ndarray]) -> None:
 def _check_one(path: Path, report: Path | None, practical: bool, nthread: int | None, progress: bool,
                max_steps: int = 1_000_000) -> dict:
     """Validate one file (in a worker process for folders); draws its figures if ``report``."""
-    from linkgen.planar.assembly import assemble
+    from linkgen.families.planar.assembly import assemble
     from linkgen.crosscheck.run import crosscheck
     from linkgen.errors import StructureError
     from linkgen.cli.files import message_for
-    from linkgen.model.reader import load
+    from linkgen.families.planar.reader import load
 
     t0 = time.perf_counter()
-    from linkgen.cams.description import is_cam_file
+    from linkgen.families.cam.description import is_cam_file
 
     if is_cam_file(path):
         return check_cam_file(path, t0, report, _progress(path.stem) if progress else None, max_steps)
@@ -221,7 +221,7 @@ def _check_one(path: Path, report: Path | None, practical: bool, nthread: int | 
     cc = crosscheck(asm, practical=practical, nthread=nthread, max_steps=max_steps,
                     progress=_progress(asm.mechanism.name) if progress else None)
     out = {"file": str(path)} | cc.to_json()
-    from linkgen.dynamics.study import compare_machine
+    from linkgen.crosscheck.machine import compare_machine
 
     from linkgen.cli.dynamics import integration_progress
 
@@ -230,8 +230,8 @@ def _check_one(path: Path, report: Path | None, practical: bool, nthread: int | 
         out["dynamics"] = dyn
         out["ok"] = bool(out["ok"] and dyn["ok"])
     if report is not None and cc.comparison is not None:
-        from linkgen.crosscheck.report import plot_mechanism, plot_model
-        from linkgen.planar.summary import summarize
+        from linkgen.report.report import plot_mechanism, plot_model
+        from linkgen.families.planar.summary import summarize
 
         from linkgen.outputs import output_folder
 
@@ -243,7 +243,7 @@ def _check_one(path: Path, report: Path | None, practical: bool, nthread: int | 
 
 
 def _summary(r: dict) -> str:
-    from linkgen.crosscheck.report import number as _num
+    from linkgen.report.report import number as _num
 
     if "error" in r:
         return f"{r['model']:<22} FAIL {r['error']}"
@@ -298,8 +298,8 @@ def headline_worst(r: dict) -> tuple[str, float, float]:
 
 
 def cmd_validate(args) -> int:
-    from linkgen.planar.blocks import default_threads
-    from linkgen.crosscheck.report import write_index
+    from linkgen.families.planar.blocks import default_threads
+    from linkgen.report.report import write_index
 
     paths = _models(args.model)
     report = args.report if args.report is not None else (REPORT_DIR if args.model.is_dir() else None)

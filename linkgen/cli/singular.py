@@ -9,7 +9,7 @@ from pathlib import Path
 import numpy as np
 
 from linkgen.errors import angle_ranges, format_ranges
-from linkgen.planar.kinematics import Kinematics, singular_cause
+from linkgen.families.planar.kinematics import Kinematics, singular_cause
 
 # Exit status of a sampled run (--samples, --csv) in which some samples are singular and
 # --keep-singular was not given: the output is written, those rows marked (singular = 1), and

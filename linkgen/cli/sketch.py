@@ -8,8 +8,8 @@ from pathlib import Path
 
 def cmd_assemble(args) -> int:
     from linkgen.cli.files import atomic_write_text
-    from linkgen.model.reader import load
-    from linkgen.planar.sketch import exact_sketch
+    from linkgen.families.planar.reader import load
+    from linkgen.families.planar.sketch import exact_sketch
 
     mech = load(args.model)
     sk = exact_sketch(mech, args.angle)

@@ -10,9 +10,9 @@ from pathlib import Path
 
 import numpy as np
 
-from linkgen.spatial.description import is_spatial_file
+from linkgen.families.spatial.description import is_spatial_file
 from linkgen.cli.common import OptionError, check_crank_options, check_finite, drive_rates, print_json, write_rows
-from linkgen.spatial.jets import motion as jet_motion
+from linkgen.families.spatial.jets import motion as jet_motion
 
 SUPPORTED = ("structure", "analyze", "forces", "build", "validate", "draw", "render", "animate")
 
@@ -37,13 +37,13 @@ def route(args):
 
 
 def _load(path):
-    from linkgen.model.reader import load
+    from linkgen.families.planar.reader import load
 
     return load(path)
 
 
 def cmd_structure(args) -> int:
-    from linkgen.spatial.kinematics import assembled_chain
+    from linkgen.families.spatial.kinematics import assembled_chain
 
     mech = _load(args.model)
     c = assembled_chain(mech)
@@ -70,7 +70,7 @@ def _status(mech, chain):
     """Crank angles (n,) [rad] → (fails, singular) masks of the spatial chain, for
     ``linkgen.model.turn`` (the scan and bisection planar linkages use as well)."""
     from linkgen.errors import AssemblyError, SingularityError
-    from linkgen.spatial.kinematics import solve
+    from linkgen.families.spatial.kinematics import solve
 
     def within(phi, ranges):
         return np.any([(phi >= lo) & (phi <= hi) for lo, hi in ranges], axis=0)
@@ -114,7 +114,7 @@ def _output_name(chain) -> str:
 
 def state_json(mech, phi: float, omega: float, epsilon: float, transfer: bool = False) -> dict:
     """Points (position, velocity, acceleration, jerk) and joint variables at one crank state."""
-    from linkgen.spatial.kinematics import solve
+    from linkgen.families.spatial.kinematics import solve
 
     k = solve(mech, np.array([phi]))
     c = k.chain
@@ -146,8 +146,8 @@ def state_json(mech, phi: float, omega: float, epsilon: float, transfer: bool = 
 
 
 def _summary(args) -> int:
-    """`analyze --summary` of a spatial four-bar (linkgen.spatial.summary)."""
-    from linkgen.spatial.summary import summarize
+    """`analyze --summary` of a spatial four-bar (linkgen.families.spatial.summary)."""
+    from linkgen.families.spatial.summary import summarize
 
     sm = summarize(_load(args.model))
     if args.json:
@@ -176,7 +176,7 @@ def _summary(args) -> int:
 
 
 def cmd_analyze(args) -> int:
-    from linkgen.spatial.kinematics import solve
+    from linkgen.families.spatial.kinematics import solve
 
     if getattr(args, "summary", False):
         return _summary(args)
@@ -226,7 +226,7 @@ def cmd_analyze(args) -> int:
 
 
 def cmd_forces(args) -> int:
-    from linkgen.spatial.forces import forces
+    from linkgen.families.spatial.forces import forces
 
     check_crank_options(args)
     mech = _load(args.model)
@@ -275,7 +275,7 @@ def cmd_draw(args) -> int:
         raise OptionError("--angle cannot be combined with --angles: --angle draws one position, --angles a plan")
     mech = _load(args.model)
     if args.angles is None and args.angle is None:  # the sketch's own pose
-        from linkgen.spatial.kinematics import assembled_chain
+        from linkgen.families.spatial.kinematics import assembled_chain
 
         angles = np.array([assembled_chain(mech).phi_s])
     else:
@@ -294,8 +294,8 @@ def build_spatial(path: Path, out: Path, practical: bool = False) -> Path:
     from linkgen.cli.files import atomic_write_text
     from linkgen.errors import DescriptionError
     from linkgen.mujoco.log import no_log_file
-    from linkgen.spatial.crosscheck import derived_settings
-    from linkgen.spatial.mjcf import write_spatial_mjcf
+    from linkgen.crosscheck.spatial import derived_settings
+    from linkgen.mujoco.spatial_mjcf import write_spatial_mjcf
 
     if practical:
         raise DescriptionError("--practical", "is for planar linkages", str(path))
@@ -315,7 +315,7 @@ def check_spatial_file(path: Path, t0: float, report: Path | None = None, progre
 
     from linkgen.cli.files import message_for
     from linkgen.errors import LinkgenError
-    from linkgen.spatial.crosscheck import check_spatial
+    from linkgen.crosscheck.spatial import check_spatial
 
     try:
         mech = _load(path)

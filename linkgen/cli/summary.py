@@ -12,9 +12,9 @@ def _deg(x: float) -> str:
 
 
 def cmd_summary(args) -> int:
-    from linkgen.model.reader import load
-    from linkgen.planar.assembly import assemble
-    from linkgen.planar.summary import summarize
+    from linkgen.families.planar.reader import load
+    from linkgen.families.planar.assembly import assemble
+    from linkgen.families.planar.summary import summarize
 
     used = [o for o, v in (("--angle", args.angle), ("--samples", args.samples), ("--csv", args.csv),
                            ("--transfer", args.transfer or None), ("--keep-singular", args.keep_singular or None))

@@ -13,17 +13,17 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from linkgen.planar.assembly import Assembly
-from linkgen.planar.kinematics import solve
-from linkgen.planar.kinetostatics import Forces, forces
-from linkgen.planar.loads import mass_table
+from linkgen.families.planar.assembly import Assembly
+from linkgen.families.planar.kinematics import solve
+from linkgen.families.planar.kinetostatics import Forces, forces
+from linkgen.families.planar.loads import mass_table
 from linkgen.mujoco.forces import ForceSamples, inverse_forces
 from linkgen.mujoco.loops import acceleration_scale, mechanism_size
 from linkgen.mujoco.state import joint_states
-from linkgen.planar.motion import Motion
+from linkgen.families.planar.motion import Motion
 from linkgen.mujoco.simulate import Run
 
-from linkgen.crosscheck.tolerances import FORCE_TOL, GAP_TOL, INVERSE_TOL, REL_TOL  # noqa: F401 (re-exported)
+from linkgen.mujoco.tolerances import FORCE_TOL, GAP_TOL, INVERSE_TOL, REL_TOL  # noqa: F401 (re-exported)
 
 
 @dataclass(frozen=True)

@@ -11,7 +11,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from linkgen.crosscheck.diagnose import Finding
-from linkgen.cams.kinetics import state
+from linkgen.families.cam.kinetics import state
 from linkgen.errors import angle_ranges
 from linkgen.mujoco.cam import CAM_TOLERANCES, WINDOWS, _window_means
 

@@ -13,7 +13,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from linkgen.planar.assembly import Assembly
+from linkgen.families.planar.assembly import Assembly
 from linkgen.crosscheck.compare import compare, force_scale, kinematic_scales
 from linkgen.errors import SimulationError
 from linkgen.mujoco.options import Settings

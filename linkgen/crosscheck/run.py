@@ -7,7 +7,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, replace
 
-from linkgen.planar.assembly import Assembly
+from linkgen.families.planar.assembly import Assembly
 from linkgen.crosscheck.compare import Comparison, compare
 from linkgen.crosscheck.diagnose import Finding, diagnose
 from linkgen.errors import SimulationError

@@ -14,8 +14,8 @@ from linkgen.draw.plan import draw_paths, plt_module, title_of
 from linkgen.draw.skeleton import draw_skeleton, frame_of, set_limits
 from linkgen.draw.limits import MAX_FRAMES, MIN_FRAMES
 from linkgen.errors import ArgumentError
-from linkgen.model.description import Mechanism
-from linkgen.planar.positions import Positions, drive_angles, positions
+from linkgen.families.planar.description import Mechanism
+from linkgen.families.planar.positions import Positions, drive_angles, positions
 
 FRAMES = 72  # default: one every 5° over a full revolution
 FPS = 24
@@ -79,10 +79,10 @@ def mujoco_run_frames(mech: Mechanism, frames: int, width: int = 480, height: in
                       ) -> tuple[np.ndarray, list[np.ndarray]]:
     """A MuJoCo run of the mechanism over its drive range (its validation settings), sampled at
     ``frames`` states: the crank angles MuJoCo reached [rad] (frames,) and its rendered frames."""
-    from linkgen.api import simulate
     from linkgen.draw.render import render_states
+    from linkgen.mujoco.simulate import simulate_mechanism
 
-    run = simulate(mech, samples=frames, settle=False)
+    run = simulate_mechanism(mech, samples=frames, settle=False)
     phi = np.asarray(run.samples.crank[0], dtype=float)
     return phi, render_states(run.model, run.samples.qpos, width, height)
 

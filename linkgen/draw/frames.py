@@ -71,9 +71,9 @@ def cam_frames(cm, theta: np.ndarray, progress: Callable[[int, int], None] | Non
 @no_log_file()  # MuJoCo's warnings stay out of the user's folder (linkgen.mujoco.log)
 def spatial_render(mech, phi, width: int = 640, height: int = 480) -> list[np.ndarray]:
     """MuJoCo frames of the spatial model at crank angles ``phi`` [rad], posed from the closed form."""
-    from linkgen.spatial.kinematics import assembled_chain, solve
-    from linkgen.spatial.mjcf import write_spatial_mjcf
-    from linkgen.spatial.state import joint_state
+    from linkgen.families.spatial.kinematics import assembled_chain, solve
+    from linkgen.mujoco.spatial_mjcf import write_spatial_mjcf
+    from linkgen.mujoco.spatial_state import joint_state
 
     chain = assembled_chain(mech)
     model = mujoco.MjModel.from_xml_string(write_spatial_mjcf(mech, chain=chain))
@@ -86,7 +86,7 @@ def spatial_render(mech, phi, width: int = 640, height: int = 480) -> list[np.nd
 @no_log_file()  # MuJoCo's warnings stay out of the user's folder (linkgen.mujoco.log)
 def cam_render(cm, theta, width: int = 640, height: int = 480) -> list[np.ndarray]:
     """MuJoCo frames of the cam model at cam angles θ [rad], the follower where the closed form puts it."""
-    from linkgen.cams.kinetics import state
+    from linkgen.families.cam.kinetics import state
     from linkgen.mujoco.cam import CAM, FOLLOWER, cam_mjcf
 
     model = mujoco.MjModel.from_xml_string(cam_mjcf(cm))

@@ -7,9 +7,9 @@ from pathlib import Path
 
 import numpy as np
 
-from linkgen.planar.positions import Positions, drive_angles, positions
+from linkgen.families.planar.positions import Positions, drive_angles, positions
 from linkgen.draw.skeleton import CRANK, Frame, draw_skeleton, frame_of, set_limits
-from linkgen.model.description import GROUND, Mechanism
+from linkgen.families.planar.description import GROUND, Mechanism
 
 FIGSIZE = (8.0, 6.0)  # inches
 DPI = 110

@@ -13,9 +13,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from linkgen.planar.positions import Positions
-from linkgen.model.description import GROUND
-from linkgen.model.plate import convex_hull
+from linkgen.families.planar.positions import Positions
+from linkgen.families.planar.description import GROUND
+from linkgen.families.planar.plate import convex_hull
 
 # Sizes as fractions of the mechanism's extent (the diagonal of its points' bounding box).
 JOINT_RADIUS = 0.011
@@ -208,7 +208,7 @@ def _cams(ax, pos: Positions, frame: Frame, i: int, alpha: float) -> None:
     mech = pos.mechanism
     if not mech.cams:
         return
-    from linkgen.planar.cam_profile import drawn_profiles
+    from linkgen.families.planar.cam_profile import drawn_profiles
 
     profiles = drawn_profiles(mech)
     o = pos.points[mech.revolute(mech.drive.joint).point][i]
@@ -234,7 +234,7 @@ def set_limits(ax, paths: Positions, frame: Frame, margin: float = 0.12) -> None
         r = g.fixed_radius
         x0, x1, y0, y1 = min(x0, px - r), max(x1, px + r), min(y0, py - r), max(y1, py + r)
     if mech.cams:  # a cam's profile turns within the circle of its largest radius
-        from linkgen.planar.cam_profile import cam_reach
+        from linkgen.families.planar.cam_profile import cam_reach
 
         px, py = paths.points[mech.revolute(mech.drive.joint).point][0]
         r = cam_reach(mech)

@@ -14,13 +14,13 @@ from matplotlib.patches import Polygon
 from mpl_toolkits.mplot3d.art3d import Poly3DCollection
 from scipy.spatial import ConvexHull
 
-from linkgen.crosscheck.tolerances import GAP_TOL
+from linkgen.mujoco.tolerances import GAP_TOL
 from linkgen.draw.plan import DPI, plt_module, save, title_of
 from linkgen.draw.skeleton import CRANK, GROUND_GREY, INK, LINK
 from linkgen.errors import LinkgenError
 from linkgen.model.names import GROUND
-from linkgen.spatial.chain import angle_about
-from linkgen.spatial.kinematics import assembled_chain, solve
+from linkgen.families.spatial.chain import angle_about
+from linkgen.families.spatial.kinematics import assembled_chain, solve
 
 FIGSIZE, CHECK_DPI = (11.0, 10.0), 90  # the drawing [in] at plan.DPI; the check figures' dpi
 OTHERS, PATHS = ((0.2, 0.6, 0.35), (0.55, 0.35, 0.75), (0.75, 0.55, 0.1)), ("tab:purple", "tab:olive", "tab:cyan", "tab:pink")

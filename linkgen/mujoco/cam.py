@@ -24,8 +24,8 @@ import mujoco
 import numpy as np
 from lxml import etree
 
-from linkgen.cams.description import CamMechanism
-from linkgen.cams.kinetics import SAMPLES, state
+from linkgen.families.cam.description import CamMechanism
+from linkgen.families.cam.kinetics import SAMPLES, state
 from linkgen.errors import SimulationError
 from linkgen.mujoco.options import MESH_VOLUME_MARGIN, MUJOCO_MIN_BAR, MUJOCO_MIN_MESH_VOLUME
 from linkgen.mujoco.scene import add_scene, add_scene_assets

@@ -29,10 +29,10 @@ from linkgen.mujoco.simulate import PROGRESS_AFTER
 from linkgen.mujoco.scene import switch_off_servo
 from linkgen.mujoco.state import joint_state
 from linkgen.mujoco.tree import site_name
-from linkgen.planar.assembly import Assembly
-from linkgen.planar.cam_pair import ground_pair, lift, sense
-from linkgen.planar.kinematics import solve
-from linkgen.planar.kinetostatics import forces
+from linkgen.families.planar.assembly import Assembly
+from linkgen.families.planar.cam_pair import ground_pair, lift, sense
+from linkgen.families.planar.kinematics import solve
+from linkgen.families.planar.kinetostatics import forces
 
 # Crank angles over a turn at which the closed form's contact force is checked for leaving the cam.
 SCAN = 3600

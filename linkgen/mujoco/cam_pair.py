@@ -7,7 +7,7 @@ forces as means over a few degrees of cam turn.
 
 The profile is computed in the crank's frame from the closed form: the roller centre C over a
 turn seen from the cam, R(−φ)·(C − O), moved inwards by the roller's radius along the pitch
-curve's normal (``linkgen.planar.cam_pair``).
+curve's normal (``linkgen.families.planar.cam_pair``).
 """
 
 from __future__ import annotations
@@ -19,14 +19,14 @@ import numpy as np
 from lxml import etree
 
 from linkgen.errors import SimulationError
-from linkgen.model.description import CamPair
+from linkgen.families.planar.description import CamPair
 from linkgen.mujoco.cam import (CCD_ITERATIONS, CCD_TOLERANCE, CONTACT_TIME, INTEGRATOR, KNIFE_RADIUS, PROFILE_POINTS,
                                 cam_timestep, extrusion_half)
 from linkgen.mujoco.options import Settings
 from linkgen.mujoco.tree import body_name
-from linkgen.planar.assembly import Assembly
-from linkgen.planar.cam_pair import above_lowest, ground_pair, sense
-from linkgen.planar.cam_profile import profile
+from linkgen.families.planar.assembly import Assembly
+from linkgen.families.planar.cam_pair import above_lowest, ground_pair, sense
+from linkgen.families.planar.cam_profile import profile
 
 # A profile polygon turning the wrong way at a vertex by more than this angle [rad] is concave
 # there (a convex polygon of PROFILE_POINTS vertices turns by 2π/PROFILE_POINTS per vertex on a

@@ -29,10 +29,10 @@ from dataclasses import dataclass
 import mujoco
 import numpy as np
 
-from linkgen.planar.assembly import Assembly
-from linkgen.model.description import GROUND
-from linkgen.planar.kinematics import solve
-from linkgen.planar.loads import applied_loads, stroke_active
+from linkgen.families.planar.assembly import Assembly
+from linkgen.families.planar.description import GROUND
+from linkgen.families.planar.kinematics import solve
+from linkgen.families.planar.loads import applied_loads, stroke_active
 from linkgen.mujoco.tree import DRIVE_ACTUATOR, TreeInfo, body_name, link_name, site_name, spanning_tree
 from linkgen.mujoco.log import no_log_file
 from linkgen.mujoco.loops import closure_jacobian

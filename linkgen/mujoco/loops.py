@@ -6,7 +6,7 @@ from __future__ import annotations
 import mujoco
 import numpy as np
 
-from linkgen.planar.assembly import Assembly
+from linkgen.families.planar.assembly import Assembly
 from linkgen.mujoco.tree import link_name, site_name, spanning_tree
 
 

@@ -26,8 +26,8 @@ from dataclasses import dataclass
 import mujoco
 import numpy as np
 
-from linkgen.dynamics import motors
-from linkgen.dynamics.reduced import process_torque_function
+from linkgen.machine import motors
+from linkgen.machine.reduced import process_torque_function
 from linkgen.errors import SimulationError
 from linkgen.model.machine import Machine
 from linkgen.mujoco.log import no_log_file
@@ -37,7 +37,7 @@ from linkgen.mujoco.settings import apply, derive, set_armature
 from linkgen.mujoco.state import initial_state
 from linkgen.mujoco.timing import settle_window
 from linkgen.mujoco.tree import DRIVE_ACTUATOR
-from linkgen.planar.assembly import Assembly
+from linkgen.families.planar.assembly import Assembly
 
 ROTOR, SHAFT, MOTOR = "machine:rotor", "machine:shaft", "machine:motor"
 # Cells of the load table over one turn: linear interpolation errs by (2π/LOAD_GRID)²/8 of the
@@ -70,7 +70,7 @@ class _LoadTable:
     (``dynamics.tables``)."""
 
     def __init__(self, asm: Assembly, model: mujoco.MjModel):
-        from linkgen.dynamics.tables import PeriodicTable, jump_grid, switch_angles
+        from linkgen.machine.tables import PeriodicTable, jump_grid, switch_angles
         from linkgen.mujoco.forces import load_schedule
 
         start = asm.mechanism.drive.start

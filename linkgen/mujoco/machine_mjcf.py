@@ -19,14 +19,14 @@ import mujoco
 import numpy as np
 from lxml import etree
 
-from linkgen.dynamics import motors
+from linkgen.machine import motors
 from linkgen.model.machine import Machine
 from linkgen.mujoco.mjcf import write_mjcf
 from linkgen.mujoco.options import PLACEHOLDER
 from linkgen.mujoco.scene import KEY, SERVO
 from linkgen.mujoco.settings import derive
 from linkgen.mujoco.tree import DRIVE_ACTUATOR
-from linkgen.planar.assembly import Assembly
+from linkgen.families.planar.assembly import Assembly
 from linkgen.mujoco.log import no_log_file
 
 ROTOR, SHAFT, MOTOR = "machine:rotor", "machine:shaft", "machine:motor"
@@ -153,7 +153,7 @@ def run_native(asm: Assembly, machine: Machine, t: np.ndarray, timestep: float |
     (what a user of the file gets), applying only what has no element each step at the step's
     mid-point (the process load, the mechanism's loads, a Kloss torque); sample at times ``t``
     (n,) [s] as ``mujoco.machine.run_machine_mujoco`` does; ``timestep`` [s] replaces the file's."""
-    from linkgen.dynamics.reduced import process_torque_function
+    from linkgen.machine.reduced import process_torque_function
     from linkgen.mujoco.forces import has_loads
     from linkgen.mujoco.log import no_log_file
     from linkgen.mujoco.machine import MujocoMachineRun, _LoadTable

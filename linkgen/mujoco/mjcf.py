@@ -4,7 +4,7 @@ One body per moving link, its frame the link's local frame placed at the assembl
 pose (so every constraint holds at qpos0); hinge/slide joints along a spanning tree that
 contains every prismatic pair; an equality ``connect`` for each loop-closing revolute.
 The reference pose is the closed form's for an Assembly (or a Mechanism whose structure
-decomposes into class-II groups), else the numeric one of ``linkgen.planar.pose`` (class III and
+decomposes into class-II groups), else the numeric one of ``linkgen.families.planar.pose`` (class III and
 higher: MuJoCo needs a spanning tree and connects, not Assur groups).
 Output is deterministic: fixed element order, one number format (``%.17g``).
 
@@ -33,15 +33,15 @@ import mujoco
 import numpy as np
 from lxml import etree
 
-from linkgen.planar.assembly import Assembly, assemble
-from linkgen.model.description import GROUND, MassProperties, Mechanism
+from linkgen.families.planar.assembly import Assembly, assemble
+from linkgen.families.planar.description import GROUND, MassProperties, Mechanism
 from linkgen.errors import AssemblyError, DescriptionError, SimulationError, SingularityError, StructureError
-from linkgen.model.plate import convex_hull, hull_area
-from linkgen.model.geometry import GuideShape, LinkShape, effective_mass_properties, guide_shapes, link_shapes
-from linkgen.planar.kinematics import solve
+from linkgen.families.planar.plate import convex_hull, hull_area
+from linkgen.families.planar.geometry import GuideShape, LinkShape, effective_mass_properties, guide_shapes, link_shapes
+from linkgen.families.planar.kinematics import solve
 from linkgen.mujoco.options import MESH_VOLUME_MARGIN, MUJOCO_MIN_BAR, MUJOCO_MIN_MESH_VOLUME
 from linkgen.mujoco.options import PLACEHOLDER, Settings
-from linkgen.planar.pose import mechanism_size, reference_pose
+from linkgen.families.planar.pose import mechanism_size, reference_pose
 from linkgen.mujoco.settings import crank_only, derive
 from linkgen.mujoco.scene import add_scene, add_scene_assets, add_servo, add_sketch_key, motion_extent, settings_comment
 from linkgen.mujoco.tree import DRIVE_ACTUATOR, body_name, sensor_name, site_name, spanning_tree

@@ -1,6 +1,6 @@
 """Mechanisms the closed form does not cover (groups of class III and higher) as the MuJoCo
 side needs them: the description, link shapes, guides and the numeric reference pose
-(``linkgen.planar.pose``), standing in for an Assembly where no Assur groups are needed."""
+(``linkgen.families.planar.pose``), standing in for an Assembly where no Assur groups are needed."""
 
 from __future__ import annotations
 
@@ -9,12 +9,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from linkgen.planar.assembly import Assembly
-from linkgen.model.description import Mechanism
+from linkgen.families.planar.assembly import Assembly
+from linkgen.families.planar.description import Mechanism
 from linkgen.errors import SimulationError
-from linkgen.model.geometry import GuideShape, LinkShape, guide_shapes, link_shapes
-from linkgen.planar.kinematics import solve
-from linkgen.planar.pose import LinkStates, reference_pose
+from linkgen.families.planar.geometry import GuideShape, LinkShape, guide_shapes, link_shapes
+from linkgen.families.planar.kinematics import solve
+from linkgen.families.planar.pose import LinkStates, reference_pose
 
 
 @dataclass(frozen=True)
@@ -52,7 +52,7 @@ def slider_reference(source: Assembly | Posed) -> dict[str, float]:
 def torque_schedule(source: Posed, model, n: int) -> np.ndarray:
     """``xfrc_applied`` rows (n, 6·nbody) for a Posed mechanism's link torques (constant);
     point forces would need the closed form's positions to be scheduled, so they are refused."""
-    from linkgen.model.description import GROUND
+    from linkgen.families.planar.description import GROUND
     from linkgen.mujoco.tree import body_name
 
     mech = source.mechanism

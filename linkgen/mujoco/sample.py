@@ -13,7 +13,7 @@ from dataclasses import dataclass
 import mujoco
 import numpy as np
 
-from linkgen.planar.assembly import Assembly
+from linkgen.families.planar.assembly import Assembly
 from linkgen.mujoco.tree import DRIVE_ACTUATOR, body_name, spanning_tree
 from linkgen.mujoco.forces import ForceSamples, apply_loads, forward_forces
 

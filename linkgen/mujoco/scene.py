@@ -69,14 +69,14 @@ def motion_extent(src) -> tuple[float, float, float, float]:
     """xmin, xmax, ymin, ymax [m] of every point over the drive's range (the reference pose's
     extent, ``pose_extent``, where the range cannot be traced)."""
     from linkgen.errors import LinkgenError
-    from linkgen.planar.positions import drive_angles, positions
+    from linkgen.families.planar.positions import drive_angles, positions
 
     try:
         x0, x1, y0, y1 = positions(src.mech, drive_angles(src.mech, EXTENT_SAMPLES)).bounds()
     except LinkgenError:
         return pose_extent(src)
     if getattr(src.mech, "cams", ()):  # a cam's profile turns within the circle of its largest radius
-        from linkgen.planar.cam_profile import cam_reach
+        from linkgen.families.planar.cam_profile import cam_reach
 
         px, py = src.mech.points[src.mech.revolute(src.mech.drive.joint).point]
         r = cam_reach(src.mech)
@@ -120,7 +120,7 @@ def settings_comment(settings) -> str:
 @no_log_file()  # MuJoCo's warnings stay out of the user's folder (linkgen.mujoco.log)
 def add_sketch_key(root, source, mech) -> None:
     """The keyframe ``sketch``: the assembled sketch pose, moving at the drive's ω."""
-    from linkgen.model.geometry import link_shapes
+    from linkgen.families.planar.geometry import link_shapes
     from linkgen.mujoco.state import tree_state
 
     try:

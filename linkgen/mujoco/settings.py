@@ -30,12 +30,12 @@ from dataclasses import asdict, dataclass
 import mujoco
 import numpy as np
 
-from linkgen.planar.assembly import Assembly
-from linkgen.model.description import Mechanism
+from linkgen.families.planar.assembly import Assembly
+from linkgen.families.planar.description import Mechanism
 from linkgen.errors import SimulationError
-from linkgen.planar.kinetostatics import forces
+from linkgen.families.planar.kinetostatics import forces
 from linkgen.mujoco.options import IMPEDANCE, MAX_STEPS, Settings
-from linkgen.crosscheck.tolerances import GAP_TOL, REL_TOL
+from linkgen.mujoco.tolerances import GAP_TOL, REL_TOL
 from linkgen.mujoco.loops import acceleration_scale, closure_diag, closure_forces, closure_jacobian, mechanism_size
 from linkgen.mujoco.state import joint_states
 from linkgen.mujoco.scene import switch_off_servo
@@ -247,8 +247,8 @@ def crank_only(mech: Mechanism, omega: float) -> Settings:
     """Settings from the crank speed (τ = PHASE/ω) and, for the rotor, Σ (m·L² + I) over the
     links (L the mechanism's size) instead of J(φ): for mechanisms the closed form does not
     cover, so neither the loop forces nor J are known before the run."""
-    from linkgen.model.geometry import effective_mass_properties, link_shapes
-    from linkgen.planar.pose import mechanism_size
+    from linkgen.families.planar.geometry import effective_mass_properties, link_shapes
+    from linkgen.families.planar.pose import mechanism_size
 
     shapes = link_shapes(mech)
     size = mechanism_size(mech)

@@ -19,10 +19,10 @@ import mujoco
 import numpy as np
 from mujoco import rollout
 
-from linkgen.planar.assembly import Assembly
-from linkgen.planar.blocks import default_threads
+from linkgen.families.planar.assembly import Assembly
+from linkgen.families.planar.blocks import default_threads
 from linkgen.errors import AssemblyError, SimulationError, SingularityError
-from linkgen.planar.kinematics import solve
+from linkgen.families.planar.kinematics import solve
 from linkgen.mujoco.mjcf import write_mjcf
 from linkgen.mujoco.tree import sensor_name, spanning_tree
 from linkgen.mujoco.log import no_log_file
@@ -33,7 +33,7 @@ from linkgen.mujoco.options import PLACEHOLDER, PROGRESS_AFTER, Settings
 from linkgen.mujoco.posed import Posed, slider_reference, torque_schedule
 from linkgen.mujoco.settings import MAX_STEPS, Scales, apply, check_budget, crank_only, derive
 from linkgen.mujoco.state import tree_state
-from linkgen.planar.pose import state
+from linkgen.families.planar.pose import state
 from linkgen.mujoco.state import initial_state, joint_state, joint_states
 from linkgen.mujoco.timing import LEAD_TARGET, SETTLE_TARGET, crank_phi, crank_time, settle_window, switch_angles
 
@@ -321,5 +321,19 @@ def _gap(sensors: np.ndarray, pairs: list[tuple[int, int]]) -> np.ndarray:
     return gap
 
 
-__all__ = ["LeftOut", "Run", "build_model", "initial_state", "joint_state", "joint_states", "settle_window",
+def simulate_mechanism(mech, **options) -> Run:
+    """``simulate`` for a planar description: assembled by its Assur groups, or posed
+    numerically where they do not cover it (class III and higher: MuJoCo needs no groups)."""
+    from linkgen.errors import StructureError
+    from linkgen.families.planar.assembly import assemble
+    from linkgen.mujoco.posed import posed
+
+    try:
+        source = assemble(mech)
+    except StructureError:
+        source = posed(mech)
+    return simulate(source, **options)
+
+
+__all__ = ["LeftOut", "Run", "simulate_mechanism", "build_model", "initial_state", "joint_state", "joint_states", "settle_window",
            "simulate", "steps_per_revolution"]

@@ -5,11 +5,11 @@ from __future__ import annotations
 import mujoco
 import numpy as np
 
-from linkgen.model.description import Mechanism
-from linkgen.model.geometry import guide_shapes, link_shapes
-from linkgen.planar.assembly import Assembly
-from linkgen.planar.pose import LinkStates, reference_pose, state
-from linkgen.planar.kinematics import solve
+from linkgen.families.planar.description import Mechanism
+from linkgen.families.planar.geometry import guide_shapes, link_shapes
+from linkgen.families.planar.assembly import Assembly
+from linkgen.families.planar.pose import LinkStates, reference_pose, state
+from linkgen.families.planar.kinematics import solve
 from linkgen.mujoco.tree import spanning_tree
 
 

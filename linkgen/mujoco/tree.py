@@ -7,10 +7,10 @@ import math
 from dataclasses import dataclass
 
 from linkgen.errors import StructureError
-from linkgen.model.description import GROUND, Mechanism
-from linkgen.model.geometry import effective_mass_properties, link_shapes
-from linkgen.planar.assembly import Assembly
-from linkgen.planar.structure import Pair, pairs_of
+from linkgen.families.planar.description import GROUND, Mechanism
+from linkgen.families.planar.geometry import effective_mass_properties, link_shapes
+from linkgen.families.planar.assembly import Assembly
+from linkgen.families.planar.structure import Pair, pairs_of
 
 DRIVE_ACTUATOR = "drive:motor"
 WORLD = "world"  # MuJoCo's name for the world body

@@ -1,0 +1,166 @@
+"""A machine in MuJoCo against its ODE (``linkgen.machine``): the machine file's run over the
+first COMPARE_SECONDS or over its start-up and steady cycles, and MuJoCo's own dcmotor element."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from linkgen.errors import SimulationError
+from linkgen.families.planar.assembly import Assembly, assemble
+from linkgen.families.planar.reader import load
+from linkgen.families.planar.kinetostatics import forces
+from linkgen.machine.machine import MachineRun, run_machine
+from linkgen.machine.reduced import Reduced, reduce
+from linkgen.model.machine import Machine, machine_from_dict
+from linkgen.model.toml_file import read_toml
+
+# The machine comparison in ``linkgen validate``: MuJoCo's full linkage against the ODE over the
+# first COMPARE_SECONDS of the start-up (or the whole duration if shorter); ``linkgen dynamics
+# --mujoco`` and validation/machines.py compare the start-up and STEADY_CYCLES steady cycles.
+# Each quantity within this of its peak (measured 7e-11 to 1.2e-7 over the first second on the
+# bundled machines, see tests/test_dynamics.py and the closing figures of validation/machines.py).
+COMPARE_SECONDS = 1.0
+STEADY_CYCLES = 10
+MACHINE_TOL = 1e-6
+# Samples of the compared window.
+COMPARE_SAMPLES = 2001
+
+
+def _window(asm: Assembly, machine: Machine, cycles: int | None, progress=None
+            ) -> tuple[MachineRun, float, Reduced, int | None]:
+    """The ODE run over the compared window: the first COMPARE_SECONDS, or with ``cycles`` the
+    start-up and that many steady cycles (the ODE is run long enough to find them); a machine
+    that never settles (e.g. a constant torque without friction) is compared over its whole
+    duration instead (then the cycles compared are None)."""
+    red = reduce(asm, machine.process_load)
+    if cycles is None:
+        duration = min(machine.duration, COMPARE_SECONDS)
+        return run_machine(machine, red, samples=COMPARE_SAMPLES, duration=duration, progress=progress), duration, red, None
+    run = run_machine(machine, red, samples=16, progress=progress)
+    if run.steady is None:
+        return (run_machine(machine, red, samples=COMPARE_SAMPLES, duration=machine.duration, progress=progress),
+                machine.duration, red, None)
+    duration = run.steady.t_start + cycles * run.steady.period
+    return run_machine(machine, red, samples=COMPARE_SAMPLES, duration=duration, progress=progress), duration, red, cycles
+
+
+def _settled(asm: Assembly, mj) -> np.ndarray:
+    """Samples outside the loops' settling window after the start and after each switch of a
+    stroke-switched force: there MuJoCo's soft loop closures are still catching up with a load
+    step (``mujoco.timing.settle_window``), as the prescribed-speed comparison leaves out too."""
+    from linkgen.machine.tables import switch_angles
+
+    keep = mj.t >= mj.t[0] + mj.settle
+    for s in switch_angles(asm.mechanism, asm.mechanism.drive.start):
+        turn = np.floor((mj.phi - s) / (2 * math.pi))
+        for k in np.flatnonzero(np.diff(turn) != 0):
+            keep &= ~((mj.t >= mj.t[k]) & (mj.t <= mj.t[k + 1] + mj.settle))
+    return keep
+
+
+def _error(mj: np.ndarray | None, ref: np.ndarray | None, mask: np.ndarray, scale: float | None = None
+           ) -> float | None:
+    """The largest |mj − ref| over ``mask`` relative to ``scale`` (default the peak of ref)."""
+    if mj is None or ref is None or not mask.any():
+        return None
+    peak = float(np.abs(ref).max()) if scale is None else scale
+    return float(np.abs(mj[mask] - ref[mask]).max() / (peak if peak > 0 else 1.0))
+
+
+def compare_machine_run(asm: Assembly, machine: Machine, cycles: int | None = None, native: bool = False,
+                        progress=None):
+    """MuJoCo's machine against the ODE (see COMPARE_SECONDS): JSON-ready errors relative to each
+    quantity's peak — ω (start-up, and steady cycles with ``cycles``), the motor torque, the
+    shaft twist — and φ [rad], the reactions relative to the mechanism's largest reaction (one
+    scale for every joint: a joint that carries little is not judged on its own small peak);
+    "ok" when each is within MACHINE_TOL, "worst" naming the largest. MuJoCo's settings come
+    from the largest speed the ODE reaches. With ``native``, a DC machine also reports MuJoCo's
+    own dcmotor element ("dcmotor", not part of "ok"). ``progress(fraction, elapsed)`` during
+    the long runs. Returns the dict, MuJoCo's run and the ODE's."""
+    from linkgen.machine.machine import motor_torque_at
+    from linkgen.mujoco.machine import run_machine_mujoco
+
+    run, duration, red, cycles = _window(asm, machine, cycles, progress)
+    reached = float(np.abs(run.omega).max())
+    mj = run_machine_mujoco(asm, machine, run.t, reactions=True, omega=reached, progress=progress)
+    y = run.solution(mj.t)
+    w, phi = y[1], y[0]
+    twist = (y[2] - y[0]) if machine.shaft is not None else None
+    torque = motor_torque_at(machine, red, y)
+    everything = np.ones(mj.t.shape, dtype=bool)
+    steady_from = run.steady.t_start if (cycles is not None and run.steady is not None) else None
+    errors = {"omega": _error(mj.omega, w, everything),
+              "motor_torque": _error(mj.motor_torque, torque, everything),
+              "twist": _error(mj.twist, twist, everything)}
+    if steady_from is not None:
+        errors["omega_startup"] = _error(mj.omega, w, mj.t < steady_from)
+        errors["omega_steady"] = _error(mj.omega, w, mj.t >= steady_from)
+    if mj.reactions:  # the kinetostatics at MuJoCo's own crank states against MuJoCo's reactions
+        f = forces(asm, mj.phi, mj.omega, mj.epsilon)
+        settled = _settled(asm, mj)
+        scale = max(float(np.linalg.norm(np.asarray(f.reactions[k]), axis=-1).max()) for k in mj.reactions)
+        errors["reactions"] = max(_error(mj.reactions[k], np.asarray(f.reactions[k]), settled, scale)
+                                  for k in mj.reactions)
+        out_extra = {"reactions_left_out": int((~settled).sum()), "settle_window_s": mj.settle,
+                     "reaction_scale_n": scale,
+                     "reactions_error_with_transients": max(_error(mj.reactions[k], np.asarray(f.reactions[k]),
+                                                                   everything, scale) for k in mj.reactions)}
+    else:
+        out_extra = {}
+    name = max((k for k, v in errors.items() if v is not None), key=lambda k: errors[k])
+    worst = errors[name]
+    out = {"ok": worst <= MACHINE_TOL, "omega_error_relative": errors["omega"], "errors_relative": errors,
+           "worst": name, "worst_error_relative": worst,
+           "tolerance": MACHINE_TOL, "phi_error_rad": float(np.abs(mj.phi - phi).max()), "duration_s": duration,
+           "steps": mj.steps, "timestep": mj.timestep, "omega_reached": reached}
+    out |= out_extra
+    if steady_from is not None:
+        out |= {"steady_from_s": steady_from, "cycles": cycles}
+    if run.steady is None:
+        out["no_steady_cycle"] = True
+    if native and machine.motor.kind == "dc":
+        out["dcmotor"] = _native_dc(asm, machine, run, mj.t)
+    return out, mj, run
+
+
+# MuJoCo's own dcmotor element (what ``linkgen dynamics --mjcf`` writes) is compared over at most
+# this much of the window [s]: its error is first order in the timestep, not a pass/fail check.
+NATIVE_SECONDS = 0.5
+
+
+def _native_dc(asm: Assembly, machine: Machine, run: MachineRun, t: np.ndarray) -> dict:
+    """ω of the machine file's dcmotor run against the ODE, relative to its peak, at the file's
+    timestep and at half of it: the ratio shows the order in the timestep."""
+    from linkgen.mujoco.machine_mjcf import run_native
+
+    t = t[t <= NATIVE_SECONDS]
+    y = run.solution(t)
+    peak = float(np.abs(y[1]).max()) or 1.0
+    first = run_native(asm, machine, t)
+    half = run_native(asm, machine, t, timestep=0.5 * first.timestep)
+    e1 = float(np.abs(first.omega - run.solution(first.t)[1]).max() / peak)
+    e2 = float(np.abs(half.omega - run.solution(half.t)[1]).max() / peak)
+    return {"omega_error_relative": e1, "timestep": first.timestep, "omega_error_relative_half_step": e2,
+            "order": math.log2(e1 / e2) if e2 > 0 else None, "duration_s": float(t[-1]) if t.size else 0.0,
+            "note": "MuJoCo's dcmotor element: its error falls in proportion to the timestep (order ≈ 1), the "
+                    "circuit's current being integrated to first order while the linkage is integrated by RK4; "
+                    "the comparison above applies the same circuit's torque at each step's mid-point instead"}
+
+
+def compare_machine(path, cycles: int | None = None, progress=None) -> dict | None:
+    """The dynamics comparison for a description with a ``[machine]`` table (None without one);
+    a machine MuJoCo does not model here says so in "skipped"."""
+    data = read_toml(path)
+    machine = machine_from_dict(data)
+    if machine is None:
+        return None
+    asm = assemble(load(path))
+    try:
+        return compare_machine_run(asm, machine, cycles, progress=progress)[0]
+    except SimulationError as exc:
+        return {"ok": False, "skipped": str(exc), "duration_s": None}
+
+
+__all__ = ["COMPARE_SECONDS", "MACHINE_TOL", "STEADY_CYCLES", "compare_machine", "compare_machine_run"]

@@ -1,0 +1,261 @@
+"""A spatial four-bar run in MuJoCo against the closed form: every point's position, velocity and
+acceleration, the balancing torque and (where the statics determine them) the pair reactions,
+over a full revolution of the crank.
+
+MuJoCo drives the crank by a rotor inertia (``state.derive_settings``) from the closed-form
+state a lead-in before the compared revolution; at every sample the closed form is evaluated at
+MuJoCo's own crank angle, speed and acceleration, so the comparison measures the loop, not the
+rotor. Errors are relative to the scale of each kind of quantity: the size L for positions,
+L·ω for velocities, L·(ω² + |ε|) + |g| for accelerations, the peak closed-form torque and pair
+force for forces. Tolerances are the planar ones (``linkgen.mujoco.tolerances``). The
+description's loads are set on MuJoCo's bodies before every step and every read-out, at
+MuJoCo's own positions and crank angle (``spatial.mjloads``).
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass, field
+
+import mujoco
+import numpy as np
+
+from linkgen.mujoco.tolerances import FORCE_TOL, GAP_TOL, INVERSE_TOL, REL_TOL
+from linkgen.errors import SimulationError
+from linkgen.mujoco.log import no_log_file
+from linkgen.mujoco.scene import SERVO
+from linkgen.mujoco.settings import Scales
+from linkgen.mujoco.timing import SETTLE_TARGET, settle_window, switch_angles
+from linkgen.families.spatial.description import SpatialMechanism
+from linkgen.families.spatial.forces import forces
+from linkgen.mujoco.spatial_inverse import inverse_torque
+from linkgen.families.spatial.jets import motion as jet_motion
+from linkgen.families.spatial.kinematics import assembled_chain, solve
+from linkgen.mujoco.spatial_mjcf import DRIVE_ACTUATOR, write_spatial_mjcf
+from linkgen.mujoco.spatial_loads import loads_at_state, loads_while_stepping
+from linkgen.mujoco.spatial_state import SCAN, derive_settings, joint_state
+
+# The run starts this many crank radians before the compared revolution, from the closed-form
+# state: the loop's transient from the start (a few time constants τ = PHASE/ω, i.e. a few
+# hundredths of a radian) has died out by the first sample.
+LEAD = 0.2
+# Chains whose coupler turns on two ball joints and so has an idle spin about its own line.
+IDLE_SPIN = ("RSSR", "RSSP")
+# Closed-form states at which MuJoCo's inverse dynamics is compared (every 10°).
+INVERSE_SAMPLES = 36
+
+
+@dataclass(frozen=True)
+class SpatialCheck:
+    """Worst relative errors by quantity (``errors``: name → (error, tolerance)), the largest loop
+    gap over the size, the steps, the wall time [s], the settings used and what they came from,
+    and the reactions left out (statically indeterminate chains)."""
+
+    model: str
+    kind: str
+    errors: dict
+    gap: float
+    steps: int
+    wall: float
+    settings: object
+    scales: dict
+    note: str = ""
+    samples: dict = field(default_factory=dict, repr=False)
+
+    @property
+    def ok(self) -> bool:
+        return self.gap <= GAP_TOL and all(e <= tol for e, tol in self.errors.values())
+
+    def worst(self) -> tuple[str, float, float]:
+        """The worst quantity relative to its tolerance, the loop gap included."""
+        errors = self.errors | {"loop gap": (self.gap, GAP_TOL)}
+        name = max(errors, key=lambda k: errors[k][0] / errors[k][1])
+        return (name, *errors[name])
+
+    def summary(self, wall: str | None = None) -> str:
+        """One line; ``wall``: the wall time as the caller measured it (default: this check's)."""
+        name, err, tol = self.worst()
+        gap = name == "loop gap"  # worded as the planar line: the gap once, relative to the size
+        return (f"{'ok  ' if self.ok else 'FAIL'} {self.kind}: worst {name} {err:.2e} " + ("of the size " if gap else "")
+                + f"(tolerance {tol:g}), "
+                + ("" if gap else f"loop gap {self.gap:.1e} of the size (tolerance {GAP_TOL:g}), ")
+                + f"{self.steps} steps, {wall or f'{self.wall:.2f} s'}" + (f"; {self.note}" if self.note else ""))
+
+    def to_json(self) -> dict:
+        return {"model": self.model, "kind": self.kind, "ok": self.ok,
+                "errors": {k: {"error": e, "tolerance": t} for k, (e, t) in self.errors.items()},
+                "loop_gap": self.gap, "loop_gap_tolerance": GAP_TOL, "steps": self.steps, "wall_s": self.wall,
+                "settings": self.settings.to_json(), "scales": self.scales, "note": self.note}
+
+
+# Steps between progress reports (a few thousand steps take about a second here).
+PROGRESS_STEPS = 5000
+
+
+@no_log_file()
+def derived_settings(mech: SpatialMechanism, omega: float | None = None, chain=None):
+    """The MuJoCo settings derived for the mechanism at crank speed ω (default the drive's)."""
+    chain = assembled_chain(mech) if chain is None else chain
+    w0 = mech.drive.omega if omega is None else float(omega)
+    model = mujoco.MjModel.from_xml_string(write_spatial_mjcf(mech, chain=chain))
+    scan = solve(mech, np.linspace(0.0, 2 * np.pi, SCAN, endpoint=False), chain)
+    return derive_settings(mech, chain, scan, model, w0)
+
+
+@no_log_file()
+def check_spatial(mech: SpatialMechanism, samples: int = 360, omega: float | None = None,
+                  progress=None, max_steps: int | None = None) -> SpatialCheck:
+    """Run the mechanism over one revolution in MuJoCo and compare it with the closed form.
+    ``progress(fraction, elapsed seconds)`` is called about every second once the run has lasted
+    PROGRESS_AFTER seconds (a heavy chain under strong gravity needs 3e5 steps: a minute). A run
+    past ``max_steps`` steps (default ``mujoco.options.MAX_STEPS``) is refused before it starts."""
+    from linkgen.mujoco.options import MAX_STEPS, PROGRESS_AFTER, within_budget
+
+    wall0 = time.perf_counter()
+    w0 = mech.drive.omega if omega is None else float(omega)
+    if not (math.isfinite(w0) and w0 > 0):
+        raise SimulationError(f"{'drive.omega' if omega is None else 'omega'}: must be > 0 rad/s for a MuJoCo run "
+                              f"(it drives the crank forwards through a turn), got {w0!r}")
+    chain = assembled_chain(mech)
+    scan = solve(mech, np.linspace(0.0, 2 * np.pi, SCAN, endpoint=False), chain)
+    settings, scales = derived_settings(mech, w0, chain)
+    model = mujoco.MjModel.from_xml_string(write_spatial_mjcf(mech, settings, chain))
+    model.actuator(SERVO).biasprm[:] = 0.0  # the viewer's speed servo is off: the rotor holds the speed
+    data = mujoco.MjData(model)
+    phi_start = -LEAD
+    start = solve(mech, np.array([phi_start]), chain)
+    data.qpos[:], data.qvel[:] = joint_state(model, chain, start, 0, w0)
+    mean_torque = float(np.mean(forces(mech, scan.phi, w0, 0.0, motion=scan).balancing_torque))
+    data.ctrl[model.actuator(DRIVE_ACTUATOR).id] = mean_torque
+    dt = settings.timestep
+    t_samples = (LEAD + np.arange(samples) * (2 * np.pi / samples)) / w0
+    steps_at = np.rint(t_samples / dt).astype(int)
+    within_budget(mech.name, int(steps_at[-1]), dt, MAX_STEPS if max_steps is None else max_steps)
+    states = []
+    step = 0
+    with loads_while_stepping(mech, model, data, model.joint(chain.drive).qposadr[0], chain.phi_s):
+        for target in steps_at:
+            while step < target:
+                mujoco.mj_step(model, data)
+                step += 1
+                if progress is not None and step % PROGRESS_STEPS == 0:
+                    elapsed = time.perf_counter() - wall0
+                    if elapsed > PROGRESS_AFTER:
+                        progress(step / steps_at[-1], elapsed)
+                if not np.all(np.isfinite(data.qacc)):
+                    raise SimulationError(f"{mech.name}: MuJoCo diverged at t = {data.time:.6g} s (step {step})")
+            states.append((data.time, data.qpos.copy(), data.qvel.copy()))
+    states, left = _after_switches(mech, chain, model, states, settings, scales, w0)
+    result = _compare(mech, chain, model, states, w0, settings)
+    note = "; ".join(x for x in (left, result[2]) if x)
+    return SpatialCheck(mech.name, chain.kind, result[0], result[1], step, time.perf_counter() - wall0, settings,
+                        scales, note, result[3])
+
+
+def _after_switches(mech, chain, model, states, settings, scales, w0) -> tuple[list, str]:
+    """The samples outside the loop's settling window after a load switches on or off (the
+    planar rule, ``mujoco.timing.settle_window``: a soft loop answers a step in its load with a
+    transient of a few τ), and a note on those left out."""
+    crank = model.joint(chain.drive).qposadr[0]
+    phi = np.array([q[crank] for _, q, _ in states]) + chain.phi_s
+    edges = switch_angles(mech, float(phi[0]), float(phi[-1]))
+    if not edges:
+        return states, ""
+    # The spatial settings do not measure the loop's conditioning: σ = 1 (a well-conditioned loop).
+    sc = Scales(chain.size, w0, scales["loop_acceleration"], 1.0, math.nan, scales["reduced_inertia"],
+                scales["tau_gap"], scales["tau_phase"], math.nan, False)
+    reach = w0 * settle_window(settings, sc, mech.drive.epsilon, SETTLE_TARGET, float(np.linalg.norm(mech.gravity)))
+    hit = np.zeros(phi.shape[0], dtype=bool)
+    for edge in edges:
+        hit |= (phi >= edge) & (phi <= edge + reach)
+    if hit.all():
+        raise SimulationError(f"{mech.name}: every sample lies within {math.degrees(reach):.3g}° after a load switch, "
+                              "where the loop still settles; nothing is left to compare")
+    note = (f"{int(hit.sum())} samples within {math.degrees(reach):.3g}° after {len(edges)} load switch(es) left out "
+            "(the loop's transient)")
+    return [s for s, h in zip(states, hit) if not h], note
+
+
+def _compare(mech, chain, model, states, w0, settings):
+    d = mujoco.MjData(model)
+    m = len(states)
+    crank = model.joint(chain.drive)
+    eq = model.equality(chain.pair_b).id
+    g = np.array(mech.gravity)
+    names = [p for p in mech.points if p not in mech.link("ground").points]
+    mj = {p: np.zeros((m, 3, 3)) for p in names}
+    phi, om, ep, gap, torque = (np.zeros(m) for _ in range(5))
+    react = {k: np.zeros((m, 3)) for k in (chain.drive, chain.pair_a, chain.pair_b, chain.pair_out)}
+    moving = (chain.crank, chain.coupler, chain.output)
+    spin = {link: np.zeros((m, 3)) for link in moving}
+    r6 = np.zeros(6)
+    for k, (t, qpos, qvel) in enumerate(states):
+        d.time, d.qpos[:], d.qvel[:] = t, qpos, qvel
+        d.ctrl[:] = 0.0
+        d.ctrl[model.actuator(DRIVE_ACTUATOR).id] = 0.0
+        loads_at_state(mech, model, d, float(qpos[crank.qposadr[0]]) + chain.phi_s)
+        mujoco.mj_forward(model, d)
+        mujoco.mj_rnePostConstraint(model, d)
+        phi[k] = qpos[crank.qposadr[0]] + chain.phi_s
+        om[k], ep[k] = qvel[crank.dofadr[0]], d.qacc[crank.dofadr[0]]
+        torque[k] = d.actuator(DRIVE_ACTUATOR).force[0] - settings.armature * ep[k]
+        rows = np.flatnonzero((d.efc_type == mujoco.mjtConstraint.mjCNSTR_EQUALITY) & (d.efc_id == eq))
+        gap[k] = float(np.linalg.norm(d.efc_pos[rows]))
+        for p in names:
+            sid = model.site(p).id
+            mujoco.mj_objectVelocity(model, d, mujoco.mjtObj.mjOBJ_SITE, sid, r6, 0)
+            v = r6[3:].copy()
+            mujoco.mj_objectAcceleration(model, d, mujoco.mjtObj.mjOBJ_SITE, sid, r6, 0)
+            mj[p][k] = (d.site(p).xpos, v, r6[3:] + g)  # MuJoCo reports a − g
+        for link in moving:
+            mujoco.mj_objectVelocity(model, d, mujoco.mjtObj.mjOBJ_BODY, model.body(link).id, r6, 0)
+            spin[link][k] = r6[:3]
+        react[chain.drive][k] = d.cfrc_int[model.body(chain.crank).id, 3:]
+        react[chain.pair_a][k] = d.cfrc_int[model.body(chain.coupler).id, 3:]
+        react[chain.pair_b][k] = -d.efc_force[rows]  # the connect's force on the coupler, reversed
+        react[chain.pair_out][k] = d.cfrc_int[model.body(chain.output).id, 3:]
+    cf = solve(mech, phi, chain)
+    size = chain.size
+    acc_scale = size * (w0**2 + float(np.abs(ep).max())) + float(np.linalg.norm(g))
+    errors = {}
+    for p in names:
+        pos, vel, acc, _ = jet_motion(cf.points[p], om, ep)
+        for i, (what, ref, scale) in enumerate((("position", pos, size), ("velocity", vel, size * w0),
+                                                ("acceleration", acc, acc_scale))):
+            errors[f"points.{p}.{what}"] = (float(np.abs(mj[p][:, i] - ref).max()) / scale, REL_TOL)
+    for link in moving:
+        ref = cf.spin[link][0] * om[:, None]
+        errors[f"links.{link}.angular_velocity"] = (float(np.abs(spin[link] - ref).max()) / w0, REL_TOL)
+    if chain.kind in IDLE_SPIN:  # the coupler's spin about its own line, which nothing drives
+        ends = [cf.points[q].d[0] for q in mech.link(chain.coupler).points[:2]]
+        axis = (ends[1] - ends[0]) / np.linalg.norm(ends[1] - ends[0], axis=1)[:, None]
+        errors[f"links.{chain.coupler}.idle_spin"] = (
+            float(np.abs(np.einsum("ij,ij->i", spin[chain.coupler], axis)).max()) / w0, REL_TOL)
+    fc = forces(mech, phi, om, ep, motion=cf)
+    t_scale = float(np.abs(fc.balancing_torque).max()) or 1.0
+    errors["balancing_torque"] = (float(np.abs(torque - fc.balancing_torque).max()) / t_scale, FORCE_TOL)
+    note = ""
+    if fc.indeterminate == 0:
+        f_scale = max(float(np.abs(r.force).max()) for r in fc.reactions.values()) or 1.0
+        for name, r in fc.reactions.items():
+            errors[f"reactions.{name}"] = (float(np.abs(react[name] - r.force).max()) / f_scale, FORCE_TOL)
+    else:
+        note = (f"pair reactions not compared: the {chain.kind} chain is statically indeterminate by {fc.indeterminate} "
+                "(its redundant constraints share the load in a way rigid-body statics does not fix)")
+    # the inverse route: MuJoCo's inverse dynamics at closed-form states (no integration)
+    phi_i = np.linspace(0.0, 2 * np.pi, INVERSE_SAMPLES, endpoint=False)
+    t_inv, lam_inv = inverse_torque(mech, phi_i, w0, mech.drive.epsilon, settings)
+    fi = forces(mech, phi_i, w0, mech.drive.epsilon)
+    ti_scale = float(np.abs(fi.balancing_torque).max()) or 1.0
+    errors["inverse.balancing_torque"] = (float(np.abs(t_inv - fi.balancing_torque).max()) / ti_scale, INVERSE_TOL)
+    if fc.indeterminate == 0:
+        fb = fi.reactions[chain.pair_b].force
+        errors[f"inverse.reactions.{chain.pair_b}"] = (float(np.abs(lam_inv - fb).max()) / (float(np.abs(fb).max()) or 1.0),
+                                                       INVERSE_TOL)
+    samples = {"phi": phi, "omega": om, "epsilon": ep, "gap": gap, "torque": torque, "closed_torque": fc.balancing_torque,
+               "points": mj, "closed": {p: jet_motion(cf.points[p], om, ep) for p in names}}
+    return errors, float(gap.max()) / size, note, samples
+
+
+__all__ = ["SpatialCheck", "check_spatial", "derived_settings"]

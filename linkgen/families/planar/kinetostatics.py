@@ -1,0 +1,332 @@
+"""Closed-form kinetostatics: joint reactions and the balancing torque, group by group.
+
+The method of Buynachev, Bazhenov, Troitsky (2019), §1 and §6: with d'Alembert's inertia loads (−m·a_S at the centre of
+mass, −I·ε about it) every link is in equilibrium, and each class-II Assur group is
+statically determinate on its own — 6 equations (3 per link) in the 6 unknowns of its
+three pairs. The groups are solved from the last attached back to the first, each one's
+outer reactions becoming given loads on the links it hangs from; the crank's 3 equations
+then give the drive pair's reaction and the balancing torque. Everything is vectorised
+over crank angles (one batched 6×6 LU solve per group), in the kinematics' blocks, and the
+result is checked against the power balance on every call (BALANCE_TOL).
+
+Sign conventions (documented in the CLI and README too):
+    * Revolute pair ``J`` between links (first, second) in the description's order
+      (``Mechanism.revolutes``): ``reactions[J]`` is the force [N] the *second* link
+      exerts on the *first*, world frame, shape (n, 2).
+    * Prismatic pair: ``normal_force`` [N] is the guide's force on the slider along the
+      guide line's left normal; ``moment`` [N·m] is the couple the guide exerts on the
+      slider (about +z) when the normal force is placed at the slider's ``point``. The
+      pair is frictionless: no force along the line.
+    * ``balancing_torque`` [N·m]: the torque the drive applies to the crank, about +z.
+"""
+
+from __future__ import annotations
+
+import math
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from linkgen.families.planar.assembly import Assembly, assemble
+from linkgen.families.planar.blocks import in_blocks
+from linkgen.families.planar.description import GROUND
+from linkgen.errors import BalanceError, MagnitudeError, SingularityError, angle_ranges
+from linkgen.families.planar.cam_pair import contact as cam_contact, ground_pair
+from linkgen.families.planar.kinematics import BlockFailed, Kinematics, checked_angles, checked_mode, raise_failure, solve_block
+from linkgen.families.planar.motion import rate
+from linkgen.families.planar.loads import applied_loads, mass_table
+from linkgen.families.planar.structure import Pair
+
+
+@dataclass(frozen=True)
+class Forces:
+    """Reactions and torques over crank angles ``phi`` (n,) at crank speed ``omega`` and
+    acceleration ``epsilon`` (each (n,)). See the module docstring for the sign conventions.
+
+    Attributes:
+        balancing_torque: (n,) [N·m] from the group-by-group solution.
+        power_balance_torque: (n,) [N·m] the same from virtual work (Σ F·v′ + M·θ′ = 0),
+            an independent check.
+        reactions: revolute name → (n, 2) [N].
+        normal_force, moment: prismatic name → (n,) [N], [N·m].
+        reduced: the reduced dynamics at these angles.
+        tooth: gear pair name → the tooth force on its planet (n, 2) [N]: the tangential part
+            from the planet's moment balance about its centre, the radial part |F_t|·tan α
+            pushing the gears apart (along the line of action at the pressure angle α).
+        contact: cam pair name → the contact force N (n,) [N] the cam presses on its follower's
+            roller with, along the pitch curve's outward normal through the roller's centre
+            (``planar.cam_pair``); N < 0 where the follower would leave the cam.
+        singular: (n,) True at angles marked singular (``on_singular="mark"``); there every
+            force and torque is 0.
+    """
+
+    def __repr__(self) -> str:
+        return f"Forces({self.phi.shape[0]} angles, {len(self.reactions)} reactions, {len(self.normal_force)} prismatic pairs)"
+
+
+    phi: np.ndarray
+    omega: np.ndarray
+    epsilon: np.ndarray
+    balancing_torque: np.ndarray
+    power_balance_torque: np.ndarray
+    reactions: dict[str, np.ndarray]
+    normal_force: dict[str, np.ndarray]
+    moment: dict[str, np.ndarray]
+    reduced: "ReducedDynamics"
+    singular: np.ndarray
+    tooth: dict = field(default_factory=dict)
+    contact: dict = field(default_factory=dict)
+
+
+@dataclass(frozen=True)
+class ReducedDynamics:
+    """The mechanism reduced to the crank, over φ (each (n,)).
+
+    inertia J(φ) = Σ m·|v_S′|² + I·θ′² [kg·m²]; inertia_derivative dJ/dφ [kg·m²/rad];
+    moment: reduced moment of the given loads (gravity, forces, torques) Σ F·v′ + M·θ′ [N·m].
+    The balancing torque then is T = J·ε + ½·J′·ω² − moment.
+    """
+
+    inertia: np.ndarray
+    inertia_derivative: np.ndarray
+    moment: np.ndarray
+
+
+def reduced_dynamics(asm: Assembly, kin: Kinematics, loads: dict | None = None) -> ReducedDynamics:
+    """J(φ), dJ/dφ and the reduced moment of the given loads at the angles of ``kin``
+    (``loads``: ``applied_loads(asm, kin)`` if already at hand)."""
+    loads = applied_loads(asm, kin) if loads is None else loads
+    n = kin.phi.shape[0]
+    j, dj, m_red = np.zeros(n), np.zeros(n), np.zeros(n)
+    for name, mp in mass_table(asm).items():
+        s, th = loads[name].com, kin.links[name].angle
+        j += mp.mass * np.einsum("ij,ij->i", s.d1, s.d1) + mp.inertia * th.d1**2
+        dj += 2.0 * (mp.mass * np.einsum("ij,ij->i", s.d1, s.d2) + mp.inertia * th.d1 * th.d2)
+        m_red += np.einsum("ij,ij->i", loads[name].force, s.d1) + loads[name].moment * th.d1
+    return ReducedDynamics(j, dj, m_red)
+
+
+# The balancing torque by two routes must agree to this fraction of the torque scale S (per
+# angle: Σ|F·S′| + |M·θ′| over the links' total loads, plus |R|·span of every reaction on the
+# crank, the sizes of the terms each route adds up). Each route rounds at ~eps·S per operation;
+# the group route also goes through one LU solve of a 6×6 system per group, whose forward error
+# is ~κ·eps with κ ≲ (ratio of the group's lengths ≲ 1e2)/|D| and |D| ≥ SINGULAR_TOL = 1e-4
+# (linkgen.groups): ≲ 2e-10 per group, a few groups chained. 1e-8 leaves a margin of ~10 over
+# that and still catches any wrong or missing term, which shows at the size of S itself.
+# Measured on the bundled models: ≤ 1.5e-15 of the peak torque.
+BALANCE_TOL = 1e-8
+
+
+def forces(mech_or_asm, phi, omega, epsilon=0.0, threads: int | None = None, *,
+           on_singular: str = "raise") -> Forces:
+    """Kinetostatics at crank angles ``phi`` [rad] (n,), crank speed ω [rad/s] and
+    acceleration ε [rad/s²] (scalars or (n,)), in the cache-sized blocks of the kinematics
+    (``linkgen.blocks``: the memory besides the results does not grow with n). Every call
+    compares the group-by-group balancing torque with the power balance (BALANCE_TOL).
+    ``on_singular="mark"``: return normally with ``Forces.singular`` True at singular angles,
+    where every force is set to 0.
+
+    Raises:
+        ArgumentError: ω or ε not finite, or neither scalar nor (n,); a bad ``on_singular``.
+        AssemblyError / SingularityError / MagnitudeError: as ``solve``.
+        BalanceError: the two balancing torques disagree (names the angles).
+    """
+    mark = checked_mode(on_singular)
+    asm = mech_or_asm if isinstance(mech_or_asm, Assembly) else assemble(mech_or_asm)
+    phi = checked_angles(phi)
+    n = phi.shape[0]
+    w, e = rate("omega", omega, n, "rad/s"), rate("epsilon", epsilon, n, "rad/s²")
+
+    def block(rows: slice):
+        (poses, points, sliders, near, marked), ok = solve_block(asm, phi[rows], mark)
+        if not ok:
+            raise BlockFailed
+        kin = Kinematics(asm, phi[rows], poses, points, sliders, near, marked)
+        wr, er = (w if np.ndim(w) == 0 else w[rows]), (e if np.ndim(e) == 0 else e[rows])
+        return _block_forces(asm, kin, np.broadcast_to(wr, kin.phi.shape), np.broadcast_to(er, kin.phi.shape))
+
+    try:
+        tree, infos = in_blocks(block, n, threads)
+    except BlockFailed:
+        raise_failure(asm, phi, mark)
+        raise
+    bad = [r for info in infos for r in info[0]]
+    if bad:
+        raise BalanceError(bad, max(info[1] for info in infos), BALANCE_TOL)
+    torque, power, reactions, normal, moment, (j, dj, m_red), marked, tooth, contact = tree
+    return Forces(phi, np.array(np.broadcast_to(w, (n,))), np.array(np.broadcast_to(e, (n,))), torque, power,
+                  reactions, normal, moment, ReducedDynamics(j, dj, m_red), marked, tooth, contact)
+
+
+@np.errstate(invalid="ignore", divide="ignore", over="ignore")  # found and named by angle below
+def _block_forces(asm: Assembly, kin: Kinematics, w: np.ndarray, e: np.ndarray):
+    """One block's forces: (tree, (balance failures as angle ranges, worst relative deviation))."""
+    mech = asm.mechanism
+    n = kin.phi.shape[0]
+    marked = kin.singular
+    given = applied_loads(asm, kin)
+    masses = mass_table(asm)
+    # Total load on each link (given + d'Alembert), force (n,2) and moment about its centre of mass.
+    load: dict[str, list[np.ndarray]] = {}
+    for name, mp in masses.items():
+        s, th = given[name].com, kin.links[name].angle
+        acc = s.d2 * (w * w)[:, None] + s.d1 * e[:, None]
+        alpha = th.d2 * w * w + th.d1 * e
+        load[name] = [given[name].force - mp.mass * acc, given[name].moment - mp.inertia * alpha]
+    # Virtual work with the crank turned by δφ: T + Σ (F·S′ + M·θ′) = 0; the terms' sizes give the scale.
+    power, scale = np.zeros(n), np.zeros(n)
+    for name in masses:
+        f_term = np.einsum("ij,ij->i", load[name][0], given[name].com.d1)
+        m_term = load[name][1] * kin.links[name].angle.d1
+        power += f_term + m_term
+        scale += np.hypot(*load[name][0].T) * np.hypot(*given[name].com.d1.T) + np.abs(m_term)
+
+    com = {name: given[name].com.p for name in masses}
+    reactions: dict[str, np.ndarray] = {}
+    normal: dict[str, np.ndarray] = {}
+    moment: dict[str, np.ndarray] = {}
+
+    def columns(pair: Pair, link: str) -> list[tuple[np.ndarray, np.ndarray]]:
+        """The load on ``link`` per unit value of each of ``pair``'s two unknowns."""
+        if pair.kind == "R":
+            joint = mech.revolute(pair.name)
+            sign = 1.0 if link == joint.links[0] else -1.0
+            d = kin.points[joint.point].p - com[link]
+            ex, ey = np.zeros((n, 2)), np.zeros((n, 2))
+            ex[:, 0], ey[:, 1] = sign, sign
+            return [(ex, -sign * d[:, 1]), (ey, sign * d[:, 0])]
+        g = asm.guides[pair.name]
+        sign = 1.0 if link == g.slider else -1.0
+        u = kin.links[g.guide].direction(g.alpha).p
+        nrm = np.stack([-u[:, 1], u[:, 0]], axis=1)
+        d = kin.links[g.slider].point(g.point).p - com[link]
+        return [(sign * nrm, sign * (d[:, 0] * nrm[:, 1] - d[:, 1] * nrm[:, 0])),
+                (np.zeros((n, 2)), np.full(n, sign))]
+
+    def store(pair: Pair, x: np.ndarray) -> None:
+        if pair.kind == "R":
+            reactions[pair.name] = x.copy()
+        else:
+            normal[pair.name], moment[pair.name] = x[:, 0].copy(), x[:, 1].copy()
+
+    def transmit(pair: Pair, link: str, x: np.ndarray) -> None:
+        """Add the solved pair's load on ``link`` (a link solved later) to its given load."""
+        if link == GROUND:
+            return
+        for k, (f, m) in enumerate(columns(pair, link)):
+            load[link][0] = load[link][0] + f * x[:, k:k + 1]
+            load[link][1] = load[link][1] + m * x[:, k]
+
+    crank, drive = asm.structure.crank, asm.structure.drive
+    span = asm.shapes[crank].span()
+    for group in reversed(asm.structure.groups):
+        (l1, l2), (o1, inner, o2) = group.links, group.pairs
+        a = np.zeros((n, 6, 6))
+        b = np.zeros((n, 6))
+        for row, link in ((0, l1), (3, l2)):
+            b[:, row:row + 2], b[:, row + 2] = load[link][0], load[link][1]
+        for col, pair in ((0, o1), (2, inner), (4, o2)):
+            for row, link in ((0, l1), (3, l2)):
+                if link not in pair.links:
+                    continue
+                for k, (f, m) in enumerate(columns(pair, link)):
+                    a[:, row:row + 2, col + k], a[:, row + 2, col + k] = f, m
+        x = _solve(a, -b, kin.phi, marked, f"{group.label} (equilibrium equations)")
+        for col, pair in ((0, o1), (2, inner), (4, o2)):
+            store(pair, x[:, col:col + 2])
+            if crank in pair.links:
+                scale += span * np.hypot(*x[:, col:col + 2].T)
+        transmit(o1, group.known[0], x[:, 0:2])
+        transmit(o2, group.known[1], x[:, 4:6])
+
+    contact: dict[str, np.ndarray] = {}
+    for cam in mech.cams:  # each follower: the contact force along the cam's normal and its pair with the ground
+        follower = cam.follower
+        kind, gp = ground_pair(mech, cam)
+        pair = Pair(kind, gp.name, gp.links if kind == "R" else (gp.slider, gp.guide))
+        c, nrm, _ = cam_contact(kin, cam)
+        d = c - com[follower]
+        a = np.zeros((n, 3, 3))
+        a[:, 0:2, 0], a[:, 2, 0] = nrm, d[:, 0] * nrm[:, 1] - d[:, 1] * nrm[:, 0]
+        for k, (f, m) in enumerate(columns(pair, follower)):
+            a[:, 0:2, 1 + k], a[:, 2, 1 + k] = f, m
+        b = np.concatenate([load[follower][0], load[follower][1][:, None]], axis=1)
+        x = _solve(a, -b, kin.phi, marked, f"the follower {follower!r} of cam {cam.name!r} (equilibrium equations)")
+        contact[cam.name] = x[:, 0].copy()
+        store(pair, x[:, 1:3])
+        on_cam = -x[:, :1] * nrm  # through C, on the line of the contact
+        dc = c - com[crank]
+        load[crank][0] = load[crank][0] + on_cam
+        load[crank][1] = load[crank][1] + dc[:, 0] * on_cam[:, 1] - dc[:, 1] * on_cam[:, 0]
+        scale += np.abs(x[:, 0]) * np.hypot(*(c - kin.points[mech.revolute(drive.name).point].p).T)
+
+    tooth: dict[str, np.ndarray] = {}
+    for g in mech.gears:  # each planet: its tooth force from the moment about its centre, then its pin
+        planet, centre = g.planet, mech.link(g.planet).points[0]
+        pin = next(Pair("R", r.name, r.links) for r in mech.revolutes
+                   if r.point == centre and set(r.links) == {crank, planet})
+        c = kin.points[centre].p
+        pivot = kin.points[mech.revolute(drive.name).point].p
+        radial = (c - pivot) / np.hypot(*(c - pivot).T)[:, None]
+        tangent = np.stack([-radial[:, 1], radial[:, 0]], axis=1)
+        side = 1.0 if g.kind == "internal" else -1.0  # the pitch point beyond the centre, or before it
+        f_load, m_load = load[planet]
+        d = com[planet] - c
+        m_centre = m_load + d[:, 0] * f_load[:, 1] - d[:, 1] * f_load[:, 0]
+        f_t = -m_centre / (side * g.planet_radius)
+        f_tooth = f_t[:, None] * tangent + (np.abs(f_t) * math.tan(g.pressure_angle))[:, None] * (-side * radial)
+        tooth[g.name] = f_tooth
+        r = -(f_load + f_tooth)  # on the planet from the crank
+        x = r if planet == pin.links[0] else -r
+        store(pin, x)
+        transmit(pin, crank, x)
+        scale += span * np.hypot(*x.T)
+
+    a = np.zeros((n, 3, 3))
+    for k, (f, m) in enumerate(columns(drive, crank)):
+        a[:, 0:2, k], a[:, 2, k] = f, m
+    a[:, 2, 2] = 1.0
+    b = np.concatenate([load[crank][0], load[crank][1][:, None]], axis=1)
+    x = _solve(a, -b, kin.phi, marked, "I(0,1) crank (equilibrium equations)")
+    store(drive, x[:, 0:2])
+    torque, power = x[:, 2].copy(), -power
+    red = reduced_dynamics(asm, kin, given)
+    if marked.any():
+        for arr in (power, red.inertia, red.inertia_derivative, red.moment):
+            arr[marked] = 0.0
+    bad, worst = balance_failures(kin.phi, torque, power, scale, marked)
+    tree = (torque, power, reactions, normal, moment, (red.inertia, red.inertia_derivative, red.moment), marked, tooth,
+            contact)
+    return tree, (bad, worst)
+
+
+def balance_failures(phi: np.ndarray, torque: np.ndarray, power: np.ndarray, scale: np.ndarray,
+                     skip: np.ndarray) -> tuple[list[tuple[float, float]], float]:
+    """Where the two balancing torques [N·m] (n,) differ by more than BALANCE_TOL of the torque
+    scale (n,) [N·m], outside ``skip``: (angle ranges, worst relative deviation)."""
+    rel = np.abs(torque - power) / np.maximum(scale, np.finfo(float).tiny)
+    bad = ~(rel <= BALANCE_TOL) & ~skip
+    return (angle_ranges(phi, bad), float(rel[bad].max())) if bad.any() else ([], 0.0)
+
+
+def _solve(a: np.ndarray, rhs: np.ndarray, phi: np.ndarray, marked: np.ndarray, label: str) -> np.ndarray:
+    """Solve the batch of systems a·x = rhs, (n, k, k)·(n, k) → (n, k), one LU factorisation
+    each. At ``marked`` (singular) angles the system is replaced by x = 0. A system that is
+    exactly singular elsewhere raises SingularityError naming the angles; a non-finite
+    solution, MagnitudeError."""
+    if marked.any():
+        a[marked] = np.eye(a.shape[1])
+        rhs[marked] = 0.0
+    try:
+        x = np.linalg.solve(a, rhs[..., None])[..., 0]
+    except np.linalg.LinAlgError:  # only to name the angles: which of the systems is singular
+        bad = np.array([np.linalg.matrix_rank(m) < m.shape[0] for m in a])
+        raise SingularityError(label, angle_ranges(phi, bad), "the equilibrium equations are singular") from None
+    bad = ~np.all(np.isfinite(x), axis=1)
+    if np.any(bad):
+        raise MagnitudeError(f"the solution of {label}", angle_ranges(phi, bad))
+    return x
+
+
+__all__ = ["BALANCE_TOL", "Forces", "ReducedDynamics", "balance_failures", "forces", "reduced_dynamics"]

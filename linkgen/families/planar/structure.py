@@ -1,0 +1,134 @@
+"""Structural analysis: mobility, decomposition into the input link and class-II Assur groups."""
+
+from __future__ import annotations
+
+import enum
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+from linkgen.errors import StructureError
+from linkgen.model.names import GROUND
+from linkgen.families.planar.decompose import Conn, decompose
+
+if TYPE_CHECKING:
+    from linkgen.families.planar.description import Mechanism
+
+
+class GroupKind(enum.Enum):
+    """The five class-II groups (dyads), named by their joints: outer, inner, outer."""
+
+    RRR = "RRR"
+    RRP = "RRP"
+    RPR = "RPR"
+    PRP = "PRP"
+    RPP = "RPP"
+
+
+@dataclass(frozen=True)
+class Pair:
+    """A kinematic pair as the structure sees it: kind 'R' or 'P', name, the two links."""
+
+    kind: str
+    name: str
+    links: tuple[str, str]
+
+    def other(self, link: str) -> str:
+        return self.links[1] if self.links[0] == link else self.links[0]
+
+
+@dataclass(frozen=True)
+class Group:
+    """A class-II Assur group, oriented so that its kind is one of GroupKind.
+
+    Attributes:
+        links: (L1, L2); L1 is attached to the known link ``known[0]`` by ``pairs[0]``,
+            L2 to ``known[1]`` by ``pairs[2]``; ``pairs[1]`` joins L1 and L2.
+        numbers: the links' numbers in the structure formula.
+    """
+
+    kind: GroupKind
+    links: tuple[str, str]
+    pairs: tuple[Pair, Pair, Pair]
+    known: tuple[str, str]
+    numbers: tuple[int, int]
+
+    @property
+    def label(self) -> str:
+        return f"II({self.numbers[0]},{self.numbers[1]}) {self.kind.value} [{self.links[0]}, {self.links[1]}]"
+
+
+@dataclass(frozen=True)
+class Structure:
+    """Mobility and the Assur-group decomposition, groups in attachment order."""
+
+    mobility: int
+    moving_links: int
+    lower_pairs: int
+    crank: str
+    drive: Pair
+    groups: tuple[Group, ...]
+
+    @property
+    def formula(self) -> str:
+        """E.g. ``I(0,1) → II(2,3) → II(4,5)``."""
+        parts = ["I(0,1)"] + [f"II({g.numbers[0]},{g.numbers[1]})" for g in self.groups]
+        return " → ".join(parts)
+
+
+_KINDS = {k.value for k in GroupKind}
+
+def pairs_of(mech: Mechanism) -> list[Pair]:
+    """All lower pairs of the mechanism, revolutes then prismatics, in description order."""
+    out = [Pair("R", j.name, j.links) for j in mech.revolutes]
+    out += [Pair("P", j.name, (j.slider, j.guide)) for j in mech.prismatics]
+    return out
+
+
+def analyze(mech: Mechanism) -> Structure:
+    """Mobility (Chebyshev–Grübler) and the decomposition into class-II groups (``decompose``).
+
+    Raises:
+        StructureError: a link is not connected, or some links form a group of a class
+            higher than II (not supported), naming the links.
+    """
+    pairs = pairs_of(mech)
+    n = len(mech.moving_links)
+    drive = next(p for p in pairs if p.kind == "R" and p.name == mech.drive.joint)
+    crank = mech.crank
+    extra = [p for p in pairs if p is not drive and set(p.links) == {GROUND, crank}]
+    if extra:
+        raise StructureError(f"the crank {crank!r} has another pair with ground ({extra[0].name!r})")
+    raw, rest = decompose({l.name: l.points for l in mech.links},
+                          [(j.name, j.slider, j.guide) for j in mech.prismatics], crank, mech.planets)
+    if rest:
+        raise StructureError(
+            f"links {rest} do not decompose into class-II Assur groups attached to the crank; "
+            f"groups of class III and higher are not supported"
+        )
+    revolute = {(j.point, frozenset(j.links)): Pair("R", j.name, j.links) for j in mech.revolutes}
+    prismatic = {p.name: p for p in pairs if p.kind == "P"}
+
+    def pair(conn: Conn) -> Pair:
+        kind, name, links = conn
+        return revolute[(name, frozenset(links))] if kind == "R" else prismatic[name]
+
+    groups = []
+    for i, ((l1, l2), conns) in enumerate(raw):
+        o1, inner, o2 = (pair(c) for c in conns)
+        kind = o1.kind + inner.kind + o2.kind
+        if kind not in _KINDS:  # PRR -> RRP, PPR -> RPP
+            l1, l2, o1, o2 = l2, l1, o2, o1
+            kind = o1.kind + inner.kind + o2.kind
+        if kind not in _KINDS:
+            raise StructureError(f"links {[l1, l2]} form a PPP group, which has no defined position")
+        groups.append(Group(GroupKind(kind), (l1, l2), (o1, inner, o2), (o1.other(l1), o2.other(l2)),
+                            (2 + 2 * i, 3 + 2 * i)))
+    return Structure(
+        mobility=3 * n - 2 * len(pairs) - len(mech.gears) - len(mech.cams),
+        moving_links=n,
+        lower_pairs=len(pairs),
+        crank=crank,
+        drive=drive,
+        groups=tuple(groups),
+    )
+

@@ -1,0 +1,237 @@
+"""The design summary a designer reads first: each slider's stroke and each rocker's swing with
+their limit (dead-centre) positions, the time ratio of a working and a return stroke, each
+group's least transmission angle, and the peak balancing torque and joint reactions.
+
+Limit positions are the crank angles where an output's first transfer function changes sign,
+found on a grid of SAMPLES angles — round the wrap from 2π to 0 over a full turn, and where it
+is exactly 0 at a sample — and refined by Brent's method on the closed form to XTOL; the least
+transmission angles and the peaks are refined between the samples too (``linkgen.extrema``).
+The transmission angle of a class-II group is μ = arcsin|D|, D the group's normalised
+transfer-function denominator (``groups``): the angle between the two links at the middle joint
+of an RRR group (folded into 0..90°), between the rod and the guide's normal for an RRP group,
+90° less the coulisse's offset angle for RPR, and the angle between the guides for PRP and RPP —
+the textbook definitions, 90° best and 0° at a dead centre."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from linkgen.errors import LinkgenError
+from linkgen.extrema import peak, stationary
+from linkgen.families.planar.description import GROUND
+from linkgen.families.planar.assembly import Assembly
+from linkgen.families.planar.groups import input_poses, solve_group
+from linkgen.families.planar.kinematics import solve
+
+# Grid over the drive's range for extrema and peaks: one every 0.1° over a full turn.
+SAMPLES = 3601
+# Limit positions are refined to this crank angle [rad] (Brent's method; the transfer function
+# is smooth, so the bracket closes to a few ulps of 2π).
+XTOL = 1e-13
+# A full turn is a period of a quantity whose values at its two ends agree to this (relative to
+# its size; the closed form repeats to ~1e-15): else its range's ends count as extremes.
+PERIODIC_TOL = 1e-9
+
+
+@dataclass(frozen=True)
+class Limit:
+    """An extreme position of an output: crank angle [rad], the output's value there (m or rad)
+    and whether it is the least ("min") or the greatest ("max")."""
+
+    phi: float
+    value: float
+    kind: str
+
+
+@dataclass(frozen=True)
+class Output:
+    """A slider (kind "slider", displacement along its guide [m]) or a ground-pivoted link
+    (kind "rocker", angle [rad]). ``travel`` is the stroke [m] or swing [rad] (max − min over
+    the range; None for a link that turns fully round), ``limits`` its interior extremes in
+    crank-angle order, and, where there are exactly two over a full turn, ``strokes`` = crank
+    angles [rad] of the min → max and max → min strokes and ``time_ratio`` = the longer over
+    the shorter (≥ 1, at constant crank speed)."""
+
+    name: str
+    kind: str
+    travel: float | None
+    limits: tuple[Limit, ...]
+    strokes: tuple[float, float] | None = None
+    time_ratio: float | None = None
+
+
+@dataclass(frozen=True)
+class Transmission:
+    """A group's least transmission angle over the range [rad] and the crank angle where [rad]."""
+
+    group: str
+    minimum: float
+    at: float
+
+
+@dataclass(frozen=True)
+class Peak:
+    """The largest magnitude of a force [N] or torque [N·m] over the range and its crank angle [rad]."""
+
+    name: str
+    value: float
+    at: float
+
+
+@dataclass(frozen=True)
+class DesignSummary:
+    """Everything above for one mechanism over its drive's range (SI units, radians).
+
+    ``peaks`` is empty and ``forces_note`` says why when the kinetostatics cannot be solved over
+    the whole range (a dead centre inside it)."""
+
+    model: str
+    omega: float
+    epsilon: float
+    outputs: tuple[Output, ...]
+    transmission: tuple[Transmission, ...]
+    torque: Peak | None
+    reactions: tuple[Peak, ...] = field(default=())
+    forces_note: str = ""
+
+    def to_dict(self) -> dict:
+        def lim(x: Limit) -> dict:
+            return {"phi": x.phi, "value": x.value, "kind": x.kind}
+
+        return {
+            "model": self.model, "omega": self.omega, "epsilon": self.epsilon,
+            "units": {"phi": "rad", "slider": "m", "rocker": "rad", "transmission": "rad", "torque": "N·m",
+                      "reaction": "N"},
+            "outputs": {o.name: {"kind": o.kind, "travel": o.travel, "limits": [lim(x) for x in o.limits],
+                                 "strokes": list(o.strokes) if o.strokes else None, "time_ratio": o.time_ratio}
+                        for o in self.outputs},
+            "transmission": {t.group: {"minimum": t.minimum, "at": t.at} for t in self.transmission},
+            "peak_balancing_torque": {"value": self.torque.value, "at": self.torque.at} if self.torque else None,
+            "peak_reactions": {p.name: {"value": p.value, "at": p.at} for p in self.reactions},
+            "forces_note": self.forces_note or None,
+        }
+
+
+def _grid(asm: Assembly) -> tuple[np.ndarray, bool]:
+    """SAMPLES crank angles over the drive's range, both ends included, and whether it is a full
+    turn (or more)."""
+    d = asm.mechanism.drive
+    full = d.stop - d.start >= 2 * math.pi - 1e-12
+    return np.linspace(d.start, d.stop, SAMPLES), full
+
+
+def _period(phi: np.ndarray, v: np.ndarray) -> float | None:
+    """2π if the crank angles ``phi`` span one turn and the quantity ``v`` sampled there comes
+    back to its first value (a gear train of a non-integer ratio does not), else None: the
+    range's ends are then extremes of their own."""
+    if abs(float(phi[-1] - phi[0]) - 2 * math.pi) > 1e-12:
+        return None
+    scale = float(np.max(np.abs(v))) if v.size else 0.0
+    return 2 * math.pi if abs(float(v[-1] - v[0])) <= PERIODIC_TOL * max(scale, 1.0) else None
+
+
+def _on_range(phi: np.ndarray, period: float | None, fx: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The samples to search: without the repeated end over a period."""
+    return (phi[:-1], fx[:-1]) if period else (phi, fx)
+
+
+def _output(asm: Assembly, name: str, kind: str, phi: np.ndarray, full: bool, pick) -> Output:
+    """``pick(kin)`` → (value (n,), d/dφ (n,)) of the output."""
+    kin = solve(asm, phi, on_singular="mark")
+    v, d1 = pick(kin)
+    if kind == "rocker":
+        v = np.unwrap(v)
+        if full and abs(v[-1] - v[0]) > math.pi:  # turns fully round: no swing, no limits
+            return Output(name, kind, None, ())
+    period = _period(phi, v)
+    x, dx = _on_range(phi, period, d1)
+    found = stationary(lambda p: pick(solve(asm, p, on_singular="mark"))[1], x, dx, period=period, xtol=XTOL)
+    at = np.array([e.x for e in found])
+    values = pick(solve(asm, at, on_singular="mark"))[0] if found else np.zeros(0)
+    extremes = []
+    for e, value in zip(found, values):
+        if kind == "rocker":  # on the unwrapped branch of the samples
+            k = min(int(np.searchsorted(phi, e.x)), len(v) - 1)
+            value = value + 2 * math.pi * round((v[k] - value) / (2 * math.pi))
+        extremes.append((e, float(value)))
+    limits = [Limit(e.x, value, e.kind) for e, value in extremes if not e.end]
+    travel = float(np.max(v) - np.min(v))
+    if extremes:
+        travel = max(value for _, value in extremes) - min(value for _, value in extremes)
+    strokes = ratio = None
+    if period and len(limits) == 2:
+        lo, hi = (limits[0], limits[1]) if limits[0].kind == "min" else (limits[1], limits[0])
+        out = (hi.phi - lo.phi) % (2 * math.pi)
+        strokes = (out, 2 * math.pi - out)
+        ratio = max(strokes) / min(strokes)
+    return Output(name, kind, travel, tuple(limits), strokes, ratio)
+
+
+def _peak(f, phi: np.ndarray, fx: np.ndarray, kind: str = "max") -> tuple[float, float]:
+    """(crank angle, value) of the refined peak of ``f`` (vectorised over crank angles)."""
+    period = _period(phi, fx)
+    x, fx = _on_range(phi, period, fx)
+    return peak(f, x, fx, kind=kind, period=period)
+
+
+def transmission_angles(asm: Assembly, phi: np.ndarray) -> dict[str, np.ndarray]:
+    """μ (n,) [rad] of every class-II group at crank angles ``phi`` (n,) (module docstring)."""
+    mech = asm.mechanism
+    poses = input_poses(mech, asm.structure, asm.shapes, phi)
+    out = {}
+    with np.errstate(invalid="ignore", divide="ignore"):
+        for group, m in zip(asm.structure.groups, asm.branches):
+            p1, p2, res = solve_group(group, m, poses, asm.shapes, asm.guides, mech)
+            den = np.abs(np.broadcast_to(res.denominator, phi.shape))
+            out[group.label] = np.arcsin(np.clip(den, 0.0, 1.0))
+            poses[group.links[0]], poses[group.links[1]] = p1, p2
+    return out
+
+
+def summarize(asm: Assembly, omega: float | None = None, epsilon: float | None = None) -> DesignSummary:
+    """The design summary over the drive's range at crank speed ω [rad/s] and acceleration
+    ε [rad/s²] (default the drive's).
+
+    Raises:
+        AssemblyError: the mechanism does not assemble over its whole range.
+    """
+    from linkgen.families.planar.kinetostatics import forces
+
+    mech = asm.mechanism
+    w = mech.drive.omega if omega is None else float(omega)
+    e = mech.drive.epsilon if epsilon is None else float(epsilon)
+    phi, full = _grid(asm)
+    outputs = [_output(asm, name, "slider", phi, full, lambda k, n=name: (k.sliders[n].v, k.sliders[n].d1))
+               for name in asm.guides]
+    pivoted = {p for r in mech.revolutes if GROUND in r.links for p in r.links if p != GROUND}
+    for link in mech.links:
+        if link.name in pivoted and link.name != mech.crank:
+            outputs.append(_output(asm, link.name, "rocker", phi, full,
+                                   lambda k, n=link.name: (k.links[n].angle.v, k.links[n].angle.d1)))
+    trans = []
+    for label, mu in transmission_angles(asm, phi).items():
+        at, least = _peak(lambda p, n=label: transmission_angles(asm, p)[n], phi, mu, "min")
+        trans.append(Transmission(label, least, at))
+    torque, peaks, note = None, [], ""
+    try:
+        f = forces(asm, phi, w, e)
+    except LinkgenError as exc:
+        note = f"no peak forces: {exc}"
+    else:
+        at, value = _peak(lambda p: np.abs(forces(asm, p, w, e).balancing_torque), phi,
+                          np.abs(f.balancing_torque))
+        torque = Peak("balancing torque", value, at)
+        for name, r in f.reactions.items():
+            def mag(p, n=name):
+                r = np.asarray(forces(asm, p, w, e).reactions[n])
+                return np.hypot(r[:, 0], r[:, 1])
+            at, value = _peak(mag, phi, np.hypot(r[:, 0], r[:, 1]))
+            peaks.append(Peak(name, value, at))
+    return DesignSummary(mech.name, w, e, tuple(outputs), tuple(trans), torque, tuple(peaks), note)
+
+
+__all__ = ["DesignSummary", "Limit", "Output", "Peak", "SAMPLES", "Transmission", "XTOL", "summarize",
+           "transmission_angles"]

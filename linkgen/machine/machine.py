@@ -1,0 +1,352 @@
+"""The real motion of a machine: the mechanism reduced to its crank, driven by a motor.
+
+One-mass machine (rigid shaft), φ and ω the crank's angle and speed:
+
+    (J(φ) + J_add)·ω̇ + ½·J′(φ)·ω² = M(φ) + u·η·M_m(u·ω[, i]),
+
+J_add = J_rotor·u² + J_flywheel (u the gear ratio, η its efficiency), M the reduced moment of the
+loads (gravity, forces, torques, the process load). With an elastic shaft the rotor (angle θ and
+speed ω_r, reduced to the crank) is a second mass:
+
+    J_rotor·u²·ω̇_r = u·η·M_m(u·ω_r) − T,   (J(φ) + J_flywheel)·ω̇ + ½·J′·ω² = M(φ) + T,
+    T = c·dz(θ − φ) + b·(ω_r − ω),  dz the dead zone of the backlash.
+
+A DC motor with inductance adds its current i (``motors.dc_current_rate``). Integrated by scipy's
+``solve_ivp`` from the start speed to ``duration``: DOP853, or Radau with a current or a shaft
+or where the machine's time constants make it stiff (``choose_method``), in steps of at most a
+64th of a turn; the steady cycle, the start-up and the peak motor torque are found on the dense
+output (``dynamics.cycle``).
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+from scipy.integrate import solve_ivp
+
+from linkgen.machine import motors
+from linkgen.machine.cycle import CYCLE_POINTS, STEADY_TOL, SteadyCycle, peak, startup_time, steady_cycle
+from linkgen.machine.reduced import Reduced
+from linkgen.errors import SimulationError
+from linkgen.model.machine import Machine
+
+# Relative tolerance of the integration; the absolute one is this times the state's scale.
+RTOL = 1e-10
+# The integrator: DOP853 unless a current or a shaft is present (Radau, as validated) or the
+# machine's fastest time constant τ would hold an explicit method to steps far shorter than a
+# turn needs for accuracy: its stability bound is a step of about 3τ, so beyond STIFF_STEPS
+# such steps per turn at the top speed the implicit Radau takes over (whose step follows the
+# accuracy alone). DOP853 takes some hundreds to a few thousand steps per turn at RTOL.
+STIFF_STEPS = 1000
+# A time constant shorter than this fraction of the duration cannot be resolved at all: a step
+# of τ at t = duration would be below the spacing of float64 numbers (2.2e-16 of t) times 1e3.
+RESOLVABLE = 1e3 * np.finfo(float).eps
+# The solver's step is at most this fraction of a turn at the top speed: the load table M(φ) is
+# linear between 4096+ angles, and a step over hundreds of its kinks has an error the solver's
+# estimate does not see (dynamics.cycle).
+STEPS_PER_TURN = 64
+# Right-hand sides evaluated at most (about 100 µs each on a 5-body linkage: some minutes).
+MAX_EVALUATIONS = 3_000_000
+# A motor-driven crank whose speed passes RUNAWAY times the motor's top speed (its no-load or
+# synchronous speed at the crank), either way round, is driven by its loads, not by its motor:
+# far outside what the motor laws describe, and each turn then costs the integration steps
+# without end (a fuzzed process load of 5.6e8 N·m on one table point ran past 150 s). Ten times
+# leaves room for a load that drives the motor as a generator (a few per cent over its no-load
+# speed) and for any start speed within it; a constant torque has no top speed and no such stop.
+RUNAWAY = 10.0
+# A crank that completes no new turn over STALL_EVALUATIONS evaluations of the right-hand side is
+# stalled, rocking against a load its motor cannot carry it past: the run stops there and says
+# where, rather than integrating the rocking for the rest of the duration (a fuzzed load spike of
+# 5.6e8 N·m on one table point: 3 M evaluations over 188 s, no result). A turn costs 64 steps
+# at most (STEPS_PER_TURN) of ~12 evaluations, ~800, once running; a slow first turn from rest
+# is bounded in steps by the same max_step in time: 300 000 leaves it a factor of ~50 beyond
+# a crank reaching only a hundredth of its speed scale.
+STALL_EVALUATIONS = 300_000
+# Progress is reported after this much wall time [s], then every PROGRESS_EVERY s.
+PROGRESS_AFTER, PROGRESS_EVERY = 2.0, 2.0
+
+
+@dataclass(frozen=True)
+class MachineRun:
+    """Samples (n,) of time t [s], crank angle φ [rad], speed ω [rad/s], acceleration ε [rad/s²],
+    motor torque [N·m] on the motor shaft, current [A] (DC motor, else None), shaft twist θ − φ
+    [rad] and shaft torque [N·m] (elastic shaft, else None); the steady cycle (None if not
+    reached within the duration), the start-up time [s] and the largest |motor torque| [N·m]
+    with its time [s] (both refined on the dense output between samples); the method used."""
+
+    t: np.ndarray
+    phi: np.ndarray
+    omega: np.ndarray
+    epsilon: np.ndarray
+    motor_torque: np.ndarray
+    current: np.ndarray | None
+    twist: np.ndarray | None
+    shaft_torque: np.ndarray | None
+    steady: SteadyCycle | None
+    startup_time: float | None
+    solution: object = field(default=None, repr=False, compare=False)  # dense output, t → state
+    rate: object = field(default=None, repr=False, compare=False)  # the ODE's right-hand side (t, y) → dy/dt
+    peak_motor_torque: float = math.nan
+    peak_motor_torque_at: float = math.nan
+    method: str = ""
+
+    def state_at(self, t) -> tuple[np.ndarray, np.ndarray]:
+        """Crank angle [rad] and speed [rad/s] at times t [s] from the solver's dense output."""
+        y = self.solution(np.asarray(t, dtype=float))
+        return y[0], y[1]
+
+    def acceleration_at(self, t) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """φ [rad], ω [rad/s] and the crank's ε [rad/s²] at times t [s]: ε is the ODE's own
+        right-hand side at each state (right-continuous where a load jumps), not a difference."""
+        t = np.atleast_1d(np.asarray(t, dtype=float))
+        y = self.solution(t)
+        return y[0], y[1], np.asarray(self.rate(t, y)[1], dtype=float)
+
+
+class _Model:
+    """The right-hand side, state layout [φ, ω, (θ, ω_r), (i)]."""
+
+    def __init__(self, machine: Machine, red: Reduced):
+        self.m, self.red = machine, red
+        self.u, self.eta = machine.gear_ratio, machine.gear_efficiency
+        self.shaft = machine.shaft
+        self.current = motors.has_current(machine.motor)
+        self.n = 2 + (2 if self.shaft else 0) + (1 if self.current else 0)
+
+    def motor(self, omega_rotor, y):
+        """Motor torque on its shaft and its current (or None), from the rotor speed at the crank."""
+        w_m = self.u * omega_rotor
+        mot = self.m.motor
+        if self.current:
+            i = y[-1]
+            return motors.torque(mot, w_m, i), i
+        if mot.kind == "dc":
+            i = motors.dc_static_current(mot, w_m)
+            return motors.torque(mot, w_m, i), i
+        return motors.torque(mot, w_m), None
+
+    def shaft_torque(self, y):
+        s = self.shaft
+        twist = y[2] - y[0]
+        half = 0.5 * s.backlash
+        spring = np.where(twist > half, twist - half, np.where(twist < -half, twist + half, 0.0))
+        return s.stiffness * spring + s.damping * (y[3] - y[1])
+
+    def rhs(self, t, y):
+        phi, w = y[0], y[1]
+        red = self.red
+        dy = np.empty_like(y)
+        dy[0] = w
+        w_rotor = y[3] if self.shaft else w
+        mm, i = self.motor(w_rotor, y)
+        drive = self.u * self.eta * mm
+        if self.shaft:
+            ts = self.shaft_torque(y)
+            dy[1] = (red.moment(phi) + ts - 0.5 * red.dj(phi) * w * w) / (red.j(phi) + self.m.flywheel_inertia)
+            dy[2] = y[3]
+            jr = self.m.rotor_inertia * self.u**2
+            if not jr > 0:
+                raise SimulationError("an elastic shaft needs a rotor inertia > 0 ([machine] rotor_inertia)")
+            dy[3] = (drive - ts) / jr
+        else:
+            dy[1] = (red.moment(phi) + drive - 0.5 * red.dj(phi) * w * w) / (red.j(phi) + self.m.added_inertia)
+        if self.current:
+            dy[-1] = motors.dc_current_rate(self.m.motor, self.u * w_rotor, i)
+        return dy
+
+    def y0(self, phi0: float) -> np.ndarray:
+        w0 = self.m.start_speed
+        y = [phi0, w0] + ([phi0, w0] if self.shaft else [])
+        if self.current:
+            y.append(float(motors.dc_static_current(self.m.motor, self.u * w0)) if w0 > 0 else 0.0)
+        return np.array(y, dtype=float)
+
+
+def motor_torque_at(machine: Machine, red: Reduced, y: np.ndarray) -> np.ndarray:
+    """The motor torque [N·m] on the motor shaft at ODE states ``y`` (k, n) (``MachineRun.solution``)."""
+    model = _Model(machine, red)
+    w_rotor = y[3] if model.shaft else y[1]
+    mm, _ = model.motor(w_rotor, y)
+    return np.asarray(mm, dtype=float) * np.ones(y.shape[1])
+
+
+
+def _jacobian_radius(model: _Model, y: np.ndarray) -> float:
+    """The largest |eigenvalue| [1/s] of the right-hand side's Jacobian at state y (central
+    differences); inf where the machine's rates leave float range."""
+    n = y.size
+    jac = np.empty((n, n))
+    with np.errstate(all="ignore"):
+        for j in range(n):
+            h = 1e-6 * max(1.0, abs(y[j]))
+            a, b = y.copy(), y.copy()
+            a[j] -= h
+            b[j] += h
+            jac[:, j] = (model.rhs(0.0, b) - model.rhs(0.0, a)) / (2 * h)
+    if not np.isfinite(jac).all():
+        return math.inf
+    return float(np.abs(np.linalg.eigvals(jac)).max())
+
+
+def _speed_scale(machine: Machine, red: Reduced) -> float:
+    """The crank speed [rad/s] the machine runs at, at most: the motor's no-load or synchronous
+    speed, or the start speed; the drive's prescribed speed only where neither gives one (a
+    constant torque from rest)."""
+    top = machine.top_speed(0.0)
+    return top if top > 0 else abs(red.drive_omega)
+
+
+def choose_method(machine: Machine, red: Reduced, duration: float) -> tuple[str, float]:
+    """The integrator (see STIFF_STEPS) and the machine's fastest time constant τ [s] (1/the
+    largest |eigenvalue| of the Jacobian at the start and at the top speed); SimulationError if τ
+    is beyond what any step can resolve over the duration (RESOLVABLE) or the rates leave float
+    range."""
+    model = _Model(machine, red)
+    y0 = model.y0(float(red.phi[0]))
+    top = _speed_scale(machine, red)
+    states = [y0]
+    if model.current:  # at rest with the stall current U/R: the largest current and torque
+        stall = y0.copy()
+        stall[1:-1] = 0.0
+        stall[-1] = float(motors.dc_static_current(machine.motor, 0.0))
+        states.append(stall)
+    if top > 0 and math.isfinite(top):
+        y1 = y0.copy()
+        y1[1] = top
+        if model.shaft:
+            y1[3] = top
+        if model.current:
+            y1[-1] = float(motors.dc_static_current(machine.motor, machine.gear_ratio * top))
+        states.append(y1)
+    with np.errstate(all="ignore"):
+        finite = all(np.isfinite(model.rhs(0.0, y)).all() for y in states)
+    radius = max(_jacobian_radius(model, y) for y in states) if finite else math.inf
+    tau = 1.0 / radius if radius > 0 else math.inf
+    if not tau > RESOLVABLE * duration:
+        what = ("its accelerations leave the range of float64 numbers" if not math.isfinite(radius) else
+                f"its fastest time constant is {tau:.3g} s, {tau / duration:.2g} of the duration of {duration:g} s, "
+                f"finer than any step can resolve")
+        raise SimulationError(f"the machine cannot be integrated: {what}; check the [machine.motor] parameters "
+                              f"({', '.join(f'{k} = {v:g}' for k, v in machine.motor.params)}), the gear ratio, "
+                              "the inertias, the loads" + (" and the duration" if math.isfinite(radius) else ""))
+    scale = min(duration, 2 * math.pi / top) if top > 0 else duration
+    stiff = model.current or model.shaft is not None or scale / (3 * tau) > STIFF_STEPS
+    return ("Radau" if stiff else "DOP853"), tau
+
+
+class _Budget:
+    """The right-hand side counted: SimulationError past MAX_EVALUATIONS, and progress(fraction,
+    elapsed) every PROGRESS_EVERY s once the run has lasted PROGRESS_AFTER s."""
+
+    def __init__(self, rhs, duration: float, progress, phi0: float = 0.0):
+        self.rhs, self.duration, self.progress = rhs, duration, progress
+        self.calls, self.t0, self.next, self.t = 0, time.perf_counter(), PROGRESS_AFTER, 0.0
+        self.phi0, self.turns, self.turned_at = phi0, 0, 0  # the crank's turns done, and when
+
+    def __call__(self, t, y):
+        self.calls += 1
+        self.t = t
+        turns = (y[0] - self.phi0) / (2 * math.pi)
+        if not math.isfinite(turns):  # a trial state of the solver's own (a Jacobian's probe)
+            pass
+        elif turns >= self.turns + 1:
+            self.turns, self.turned_at = int(turns), self.calls
+        elif self.calls - self.turned_at > STALL_EVALUATIONS:
+            raise SimulationError(f"the machine stalls: the crank has completed no new turn over {STALL_EVALUATIONS:,} "
+                                  f"evaluations, rocking near φ = {math.degrees(y[0]):.2f}° at t = {t:.6g} s; its motor "
+                                  "(and the flywheel's energy) cannot carry it past the load there; check "
+                                  "[machine.process_load], the mechanism's loads and the motor")
+        if self.calls % 200 == 0:
+            if self.calls > MAX_EVALUATIONS:
+                raise SimulationError(f"the machine's integration took more than {MAX_EVALUATIONS:,} evaluations "
+                                      f"and stopped at t = {t:.6g} s of {self.duration:g} s; give a shorter "
+                                      "duration or check the [machine] parameters")
+            elapsed = time.perf_counter() - self.t0
+            if self.progress is not None and elapsed >= self.next:
+                self.progress(min(t / self.duration, 1.0), elapsed)
+                self.next = elapsed + PROGRESS_EVERY
+        return self.rhs(t, y)
+
+
+def run_machine(machine: Machine, red: Reduced, *, samples: int = 2000, duration: float | None = None,
+                progress=None) -> MachineRun:
+    """Integrate the machine from its start speed over ``duration`` [s] (default the
+    description's) and sample it at ``samples`` equal time steps (the steady cycle, the start-up
+    and the peak motor torque come from the solver's dense output, not from the samples).
+    ``progress(fraction, elapsed seconds)`` is called during a long integration."""
+    model = _Model(machine, red)
+    T = machine.duration if duration is None else float(duration)
+    phi0 = float(red.phi[0])
+    method, _ = choose_method(machine, red, T)
+    top = _speed_scale(machine, red)
+    max_step = 2 * math.pi / top / STEPS_PER_TURN if top > 0 else math.inf
+    scale = np.ones(model.n)
+    budget = _Budget(model.rhs, T, progress, phi0)
+    motor_top = machine.top_speed(0.0)
+    limit = RUNAWAY * motor_top if motor_top > 0 and math.isfinite(motor_top) else math.inf
+
+    def runaway(t, y):
+        return limit - abs(y[1])
+
+    runaway.terminal = True
+    def solve(how: str):
+        with np.errstate(over="ignore", invalid="ignore"):
+            return solve_ivp(budget, (0.0, T), model.y0(phi0), method=how, rtol=RTOL, atol=RTOL * scale * 1e-3,
+                             dense_output=True, max_step=max_step, events=runaway if math.isfinite(limit) else None)
+
+    try:
+        try:
+            sol = solve(method)
+        except (ValueError, np.linalg.LinAlgError):
+            # Radau's Newton matrix can turn non-finite on a state that has settled exactly (a DC
+            # motor at twice the bundled voltage: a finite, steady ω = 12 rad/s, and scipy's
+            # lu_factor refused the iteration matrix at t = 4.8 s): LSODA, which switches between
+            # stiff and non-stiff steps itself, takes the run over from the start.
+            if method != "Radau":
+                raise
+            budget = _Budget(model.rhs, T, progress, phi0)
+            sol, method = solve("LSODA"), "LSODA"
+    except (ValueError, np.linalg.LinAlgError) as exc:  # the solver's own check of its Jacobian or states
+        raise SimulationError(f"the machine's state left float64's range near t = {budget.t:.6g} s ({exc}); check "
+                              "the [machine.motor] parameters and the inertias") from None
+    if sol.status == 1:  # the runaway event
+        t_run, w_run = float(sol.t_events[0][0]), float(sol.y_events[0][0][1])
+        raise SimulationError(f"the crank's speed reached {w_run:.4g} rad/s at t = {t_run:.6g} s, {RUNAWAY:g} times the "
+                              f"motor's top speed ({motor_top:.4g} rad/s at the crank){' turning backwards' if w_run < 0 else ''}: "
+                              "the loads drive the machine, not its motor; check [machine.process_load] and the "
+                              "mechanism's loads against the motor")
+    if not sol.success or not np.isfinite(sol.y).all():
+        raise SimulationError(f"the machine's integration stopped at t = {sol.t[-1]:.6g} s: {sol.message}")
+    t = np.linspace(0.0, T, samples)
+    y = sol.sol(t)
+    eps = model.rhs(t, y)[1]
+    w_rotor = y[3] if model.shaft else y[1]
+    mm, cur = model.motor(w_rotor, y)
+    twist = (y[2] - y[0]) if model.shaft else None
+    ts = model.shaft_torque(y) if model.shaft else None
+    steady = steady_cycle(sol, phi0, RTOL)
+    startup = None if steady is None else startup_time(sol, steady, T)
+    top, top_at = peak(sol, lambda s: motor_torque_at(machine, red, s), T)
+    return MachineRun(t, y[0], y[1], np.asarray(eps, dtype=float), np.asarray(mm, dtype=float) * np.ones_like(t),
+                      None if cur is None else np.asarray(cur, dtype=float) * np.ones_like(t), twist, ts, steady,
+                      startup, sol.sol, model.rhs, top, top_at, method)
+
+
+
+def speed_range(solution, a: float, b: float, *, periodic: bool, n: int = 64 * CYCLE_POINTS) -> tuple[float, float]:
+    """ω_min and ω_max [rad/s] of the dense output ``solution`` (t → state) over times [a, b]
+    (a cycle, if ``periodic``): n samples, each extreme refined between them (``linkgen.extrema``)."""
+    from linkgen.extrema import peak, samples
+
+    t = samples(a, b, n, periodic)
+    w = solution(t)[1]
+    period = (b - a) if periodic else None
+    speed = lambda tt: solution(tt)[1]  # noqa: E731
+    return peak(speed, t, w, kind="min", period=period)[1], peak(speed, t, w, period=period)[1]
+
+
+__all__ = ["MachineRun", "RTOL", "STEADY_TOL", "SteadyCycle", "choose_method", "motor_torque_at", "run_machine",
+           "speed_range", "steady_cycle"]

@@ -1,0 +1,92 @@
+"""The mechanism reduced to the crank over one turn, as smooth periodic functions of φ for an
+ODE solver: J(φ) and dJ/dφ [kg·m²] by periodic cubic splines through the closed form on a grid,
+and the reduced moment of the loads M(φ) [N·m] (gravity, forces, torques, the process load).
+
+M(φ) is piecewise linear between grid points, and jumps exactly where a stroke-switched force
+switches (``tables``: the switch angles are in its grid twice)."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.interpolate import CubicSpline
+
+from linkgen.machine.tables import PeriodicTable, jump_grid, switch_angles
+from linkgen.errors import DescriptionError
+from linkgen.model.machine import ProcessLoad
+from linkgen.families.planar.assembly import Assembly
+from linkgen.families.planar.kinetostatics import forces
+
+# Grid points over one turn. J(φ) of the bundled models is reproduced by the spline to < 1e-10
+# relative between the grid points (checked in tests/test_dynamics.py against the closed form).
+GRID = 4096
+
+
+@dataclass(frozen=True)
+class Reduced:
+    """Periodic splines of J, dJ/dφ over [0, 2π) and the table of M (linear, with its jumps)."""
+
+    phi: np.ndarray  # (GRID + 1,) [rad], from the drive's start over one turn
+    inertia: CubicSpline
+    inertia_derivative: CubicSpline
+    moment_phi: np.ndarray  # (GRID + 1 + 2·switches,) [rad], non-decreasing; a switch angle twice
+    moment_grid: np.ndarray  # M at moment_phi [N·m]
+    drive_omega: float = 0.0  # the drive's prescribed speed [rad/s]: a speed scale where a motor has none
+
+    def j(self, phi):
+        return self.inertia(self._wrap(phi))
+
+    def dj(self, phi):
+        return self.inertia_derivative(self._wrap(phi))
+
+    def moment(self, phi):
+        m = self._table.at(phi)
+        return m if np.ndim(m) else float(m)
+
+    @property
+    def _table(self) -> PeriodicTable:
+        table = self.__dict__.get("_cached_table")
+        if table is None:
+            table = PeriodicTable(self.moment_phi, self.moment_grid)
+            object.__setattr__(self, "_cached_table", table)
+        return table
+
+    def _wrap(self, phi):
+        return self.phi[0] + np.mod(np.asarray(phi, dtype=float) - self.phi[0], 2 * math.pi)
+
+
+def process_torque_function(load: ProcessLoad | None):
+    """φ [rad] → the process load's resisting torque [N·m] (periodic cubic spline through the
+    table; 0 without a process load)."""
+    if load is None:
+        return lambda phi: np.zeros_like(np.asarray(phi, dtype=float))
+    a = np.array(load.angles + (load.angles[0] + 2 * math.pi,))
+    spline = CubicSpline(a, np.array(load.torque + (load.torque[0],)), bc_type="periodic")
+    return lambda phi: spline(a[0] + np.mod(np.asarray(phi, dtype=float) - a[0], 2 * math.pi))
+
+
+def process_torque(load: ProcessLoad | None, phi: np.ndarray) -> np.ndarray:
+    """The process load's resisting torque [N·m] at crank angles φ."""
+    return process_torque_function(load)(phi)
+
+
+def reduce(asm: Assembly, load: ProcessLoad | None = None, grid: int = GRID) -> Reduced:
+    """J, dJ/dφ and M over one turn of the crank from the drive's start angle."""
+    d = asm.mechanism.drive
+    if d.stop - d.start < 2 * math.pi - 1e-9:
+        raise DescriptionError("drive.range", "a machine needs a crank that turns fully (range of 360°); this "
+                               f"one spans {math.degrees(d.stop - d.start):.6g}°")
+    phi = d.start + np.linspace(0.0, 2 * math.pi, grid + 1)
+    f = forces(asm, phi[:-1], 0.0, 0.0)
+    j = np.append(f.reduced.inertia, f.reduced.inertia[0])
+    dj = np.append(f.reduced.inertia_derivative, f.reduced.inertia_derivative[0])
+    table_phi, where = jump_grid(d.start, grid, switch_angles(asm.mechanism, d.start))
+    m = forces(asm, where, 0.0, 0.0).reduced.moment - process_torque(load, where)
+    m[-1] = m[0]  # one turn on: the same load
+    return Reduced(phi, CubicSpline(phi, j, bc_type="periodic"), CubicSpline(phi, dj, bc_type="periodic"),
+                   table_phi, m, float(d.omega))
+
+
+__all__ = ["GRID", "Reduced", "process_torque", "process_torque_function", "reduce"]

@@ -1,0 +1,90 @@
+"""Loads as periodic functions of the crank angle that keep their jumps: piecewise linear between
+grid angles, with a stroke-switched force's switch angles in the grid twice (the value just before
+and just after), so a jump sits exactly where the force switches instead of being spread over a
+grid step.
+
+Both sides of the machine comparison use it: the ODE reads M(φ) from it (``at``), and MuJoCo
+applies over each step the exact mean of the table over the crank angles the step sweeps
+(``mean``), so a switch inside a step counts for the fraction of the step past it."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from linkgen.model.strokes import stroke_active  # noqa: F401  (the convention the switch angles follow)
+
+# The two values at a switch angle s are evaluated at s ∓ SIDE [rad]: the smooth part of the load
+# moves by SIDE·M′ there, 1e-10 of a load that varies like cos φ.
+SIDE = 1e-10
+
+
+def switch_angles(mech, start: float) -> list[float]:
+    """Crank angles in [start, start + 2π) [rad] where a stroke-switched force switches on or off
+    (``stroke_active``: on over [from, to] modulo one turn)."""
+    out = set()
+    for f in mech.forces:
+        if f.stroke is None or f.stroke[1] - f.stroke[0] >= 2 * math.pi:
+            continue
+        for s in f.stroke:
+            out.add(start + (s - start) % (2 * math.pi))
+    return sorted(out)
+
+
+def jump_grid(start: float, cells: int, switches: list[float]) -> tuple[np.ndarray, np.ndarray]:
+    """The table's angles (m,) — ``cells`` equal cells over one turn from ``start``, each switch
+    angle added twice — and the angles (m,) to evaluate the load at (a switch's first copy just
+    before it, its second just after)."""
+    base = start + np.linspace(0.0, 2 * math.pi, cells + 1)
+    grid = np.sort(np.concatenate([base, switches, switches]))
+    where = grid.copy()
+    for s in switches:
+        k = int(np.searchsorted(grid, s, side="left"))
+        where[k], where[k + 1] = s - SIDE, s + SIDE
+    return grid, where
+
+
+class PeriodicTable:
+    """Values (m,) or (m, k) at non-decreasing angles (m,) spanning one turn [rad]; a repeated
+    angle is a jump (the later value holds from it on)."""
+
+    def __init__(self, phi: np.ndarray, values: np.ndarray):
+        self.phi = np.asarray(phi, dtype=float)
+        self.values = np.asarray(values, dtype=float)
+        self.start, self.period = float(self.phi[0]), float(self.phi[-1] - self.phi[0])
+        widths = np.diff(self.phi).reshape((-1,) + (1,) * (self.values.ndim - 1))
+        cells = 0.5 * (self.values[1:] + self.values[:-1]) * widths
+        self.cumulative = np.concatenate([np.zeros((1,) + self.values.shape[1:]), np.cumsum(cells, axis=0)])
+
+    def _locate(self, phi):
+        x = np.asarray(phi, dtype=float)
+        turns = np.floor((x - self.start) / self.period)
+        u = x - self.start - turns * self.period + self.start
+        k = np.clip(np.searchsorted(self.phi, u, side="right") - 1, 0, self.phi.size - 2)
+        return turns, u, k
+
+    def at(self, phi):
+        """The value at crank angles φ [rad] (any turn; right-continuous at a jump)."""
+        _, u, k = self._locate(phi)
+        width = self.phi[k + 1] - self.phi[k]
+        w = np.where(width > 0, (u - self.phi[k]) / np.where(width > 0, width, 1.0), 1.0)
+        w = w.reshape(np.shape(w) + (1,) * (self.values.ndim - 1))
+        return (1.0 - w) * self.values[k] + w * self.values[k + 1]
+
+    def integral(self, phi):
+        """∫ from the table's start to φ [rad] of the values (over whole turns too) [value·rad]."""
+        turns, u, k = self._locate(phi)
+        v = self.at(u)
+        part = self.cumulative[k] + 0.5 * (self.values[k] + v) * (u - self.phi[k]).reshape(
+            np.shape(u) + (1,) * (self.values.ndim - 1))
+        return np.reshape(turns, np.shape(turns) + (1,) * (self.values.ndim - 1)) * self.cumulative[-1] + part
+
+    def mean(self, a: float, b: float):
+        """The mean value over the crank angles from a to b [rad] (the value at a when a = b)."""
+        if b == a:
+            return self.at(a)
+        return (self.integral(b) - self.integral(a)) / (b - a)
+
+
+__all__ = ["PeriodicTable", "SIDE", "jump_grid", "switch_angles"]

@@ -1,0 +1,1 @@
+"""The report of a MuJoCo check: figures per model and the pages that gather them."""
