@@ -31,7 +31,7 @@ from linkgen.errors import (
     ValidationError,
 )
 from linkgen.families.planar.kinematics import Kinematics, solve, solve_motion
-from linkgen.families.planar.reader import from_dict, load
+from linkgen.pipeline.registry import from_dict, load
 from linkgen.families.planar.motion import Motion
 from linkgen.families.planar.structure import Group, GroupKind, Structure, analyze
 from linkgen.api import (ForcesResult, KinematicsResult, Quantity, forces, kinematics, simulate, structure, validate,

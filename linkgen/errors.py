@@ -44,6 +44,11 @@ class ArgumentError(LinkgenError, ValueError):
     message names the argument, what it got and what is allowed."""
 
 
+class UnsupportedError(ArgumentError):
+    """A command or stage that the description's family does not take (the message names the
+    families and commands that do apply)."""
+
+
 class StructureError(LinkgenError):
     """The mechanism's structure is outside what linkgen solves (e.g. a class-III group)."""
 

@@ -303,7 +303,7 @@ from hypothesis import strategies as st  # noqa: E402
 
 from linkgen.families.cam.description import cam_from_dict  # noqa: E402
 from linkgen.families.cam.laws import LAWS  # noqa: E402
-from linkgen.families.planar.reader import from_dict  # noqa: E402
+from linkgen.pipeline.registry import from_dict  # noqa: E402
 
 GENERATED = dict(max_examples=40, deadline=None, derandomize=True, phases=[Phase.explicit, Phase.generate],
                  suppress_health_check=[HealthCheck.too_slow])

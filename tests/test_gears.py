@@ -10,7 +10,7 @@ import pytest
 
 from linkgen import load
 from linkgen.errors import DescriptionError
-from linkgen.families.planar.reader import loads
+from linkgen.pipeline.registry import loads
 from linkgen.families.planar.kinematics import solve
 from linkgen.families.planar.kinetostatics import forces
 

@@ -1,4 +1,5 @@
-"""The package's layout: one subpackage per pipeline stage, no import cycles, small modules.
+"""The package's layout: one subpackage per pipeline stage in the order data flows (families
+inside the stages), packages import only downward, no import cycles, small modules.
 
 Import edges are read from the source (``ast``), counting imports inside functions too;
 imports under ``if TYPE_CHECKING:`` are annotations only and do not count."""
@@ -11,7 +12,12 @@ from pathlib import Path
 import linkgen
 
 PACKAGE = Path(linkgen.__file__).parent
-STAGES = ("model", "planar", "mujoco", "crosscheck", "cli", "dynamics", "cams", "draw")
+# The stages, lowest first (docs/architecture.md): a package may import only packages before it.
+# ``families`` holds one closed form per family; a family imports only those before it in
+# FAMILIES (a planar linkage's cam pair moves by the cam family's motion programs). ``pipeline`` is the registry of families, written against every stage
+# below it; the CLI and the API are written once against it.
+STAGES = ("model", "families", "machine", "mujoco", "crosscheck", "draw", "report", "pipeline", "cli")
+FAMILIES = ("cam", "spatial", "planar")
 # A module past ~300 lines is asking to be split (the project's style guide); 450 leaves room
 # for a generator of test mechanisms (planar/corpus.py), the largest module, and no more.
 MAX_LINES = 450
@@ -76,6 +82,8 @@ def _cycle(edges: dict[str, set[str]]) -> list[str] | None:
 def test_stages_are_subpackages():
     for stage in STAGES:
         assert (PACKAGE / stage / "__init__.py").is_file(), stage
+    for family in FAMILIES:
+        assert (PACKAGE / "families" / family / "__init__.py").is_file(), family
     loose = sorted(p.name for p in PACKAGE.glob("*.py"))
     assert loose == ["__init__.py", "__main__.py", "api.py", *sorted(f"{m}.py" for m in BOTTOM)], loose
 
@@ -90,6 +98,52 @@ def test_bottom_modules_import_no_stage():
     for m in BOTTOM:
         above = sorted(e for e in edges[f"linkgen.{m}"] if e.removeprefix("linkgen.") not in BOTTOM)
         assert not above, (m, above)
+
+
+def _package(module: str) -> str:
+    parts = module.split(".")
+    if len(parts) > 2 and parts[1] == "families":
+        return f"families.{parts[2]}"
+    return parts[1] if len(parts) > 1 else "linkgen"
+
+
+def _rank(package: str) -> int:
+    if package in BOTTOM:
+        return -1
+    if package in ("api", "linkgen", "__main__"):
+        return len(STAGES)  # the top: the API and the command line
+    return STAGES.index(package.split(".")[0])
+
+
+def test_every_module_belongs_to_a_stage():
+    for m in _modules():
+        p = _package(m)
+        assert p in ("linkgen", "api", "__main__") or p in BOTTOM or p.split(".")[0] in STAGES, m
+    assert sorted(p.name for p in (PACKAGE / "families").iterdir() if (p / "__init__.py").is_file()) == sorted(FAMILIES)
+
+
+def test_packages_import_only_downward():
+    """A stage imports only the stages before it (and the bottom modules); a family's closed form
+    imports no other family's."""
+    edges = _edges(_modules())
+    upward = []
+    for m, targets in edges.items():
+        a = _package(m)
+        for t in targets:
+            b = _package(t)
+            if a == b:
+                continue
+            if a.startswith("families.") and b.startswith("families."):
+                if FAMILIES.index(b.split(".")[1]) > FAMILIES.index(a.split(".")[1]):
+                    upward.append(f"{m} -> {t} (a family into one after it)")
+            elif _rank(b) > _rank(a) or (_rank(b) == _rank(a) and -1 < _rank(a) < len(STAGES) - 1):
+                upward.append(f"{m} -> {t}")
+    assert not upward, "\n".join(sorted(upward))
+
+
+def test_the_order_check_finds_an_upward_import():
+    assert _rank("mujoco") > _rank("families.planar") > _rank("model") > _rank("errors")
+    assert _package("linkgen.families.cam.laws") == "families.cam" and _package("linkgen.report.report") == "report"
 
 
 def test_no_import_cycles():

@@ -39,7 +39,7 @@ def test_a_table_keeps_its_jump_and_integrates_exactly():
 
 
 def test_switch_angles_wrap_into_the_turn():
-    from linkgen.families.planar.reader import load
+    from linkgen.pipeline.registry import load
 
     mech = load(MODELS / "machine_press.toml")
     assert switch_angles(mech, 0.0) == pytest.approx([math.radians(100), math.radians(170)])

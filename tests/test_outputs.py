@@ -80,7 +80,7 @@ def test_validate_report_folder_that_is_a_symlink_is_refused_before_the_run(tmp_
 
 def test_report_files_inside_the_folder_refuse_symlinks(tmp_path):
     from linkgen.report.report import plot_mechanism, write_index
-    from linkgen.families.planar.reader import load
+    from linkgen.pipeline.registry import load
     from linkgen.families.planar.assembly import assemble
 
     link, victim = _plant(tmp_path, "fourbar_plan.png")

@@ -11,7 +11,7 @@ import pytest
 from linkgen import DescriptionError, assemble
 from linkgen.families.planar.geometry import effective_mass_properties, link_shapes
 from linkgen.families.planar.plate import hull_area, plate_properties
-from linkgen.families.planar.reader import loads
+from linkgen.pipeline.registry import loads
 from linkgen.mujoco.mjcf import write_mjcf
 
 ROOT = Path(__file__).resolve().parents[1]

@@ -12,7 +12,7 @@ import pytest  # noqa: E402
 from PIL import Image  # noqa: E402
 
 from linkgen import assemble, load  # noqa: E402
-from linkgen.crosscheck import figures  # noqa: E402
+from linkgen.report import figures  # noqa: E402
 from linkgen.crosscheck.run import crosscheck  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]

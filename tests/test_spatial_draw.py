@@ -15,7 +15,7 @@ from PIL import Image
 from linkgen.draw.plan import DPI
 from linkgen.draw.skeleton import CRANK, LINK
 from linkgen.draw.spatial import FIGSIZE, draw_spatial, plot_spatial_check
-from linkgen.families.planar.reader import load
+from linkgen.pipeline.registry import load
 from linkgen.crosscheck.spatial import check_spatial
 
 ROOT = Path(__file__).resolve().parents[1]

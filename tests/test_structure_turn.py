@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 
 from linkgen.errors import AssemblyError
-from linkgen.families.planar.reader import load
+from linkgen.pipeline.registry import load
 from linkgen.model.turn import turn_assembly
 from linkgen.families.planar.kinematics import solve
 

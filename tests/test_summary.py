@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 
 from linkgen import assemble, load
-from linkgen.families.planar.reader import loads
+from linkgen.pipeline.registry import loads
 from linkgen.families.planar.summary import SAMPLES, summarize
 from linkgen.api import forces
 

@@ -7,7 +7,7 @@ from pathlib import Path
 import pytest
 
 from linkgen import DescriptionError, load
-from linkgen.families.planar.reader import loads
+from linkgen.pipeline.registry import loads
 
 ROOT = Path(__file__).resolve().parents[1]
 FOURBAR = (ROOT / "models" / "fourbar.toml").read_text()

@@ -52,7 +52,7 @@ def test_scene_scales_with_the_mechanism():
                      ("C = [1.0, 0.0]", f"C = [{1.0 * k}, 0.0]"), ("length = 0.3\n", f"length = {0.3 * k}\n"),
                      ("length = 1.0\n", f"length = {1.0 * k}\n"), ("length = 0.7\n", f"length = {0.7 * k}\n")):
             big = big.replace(a, b)
-        from linkgen.families.planar.reader import loads
+        from linkgen.pipeline.registry import loads
 
         models.append(mujoco.MjModel.from_xml_string(write_mjcf(assemble(loads(big)))))
     small, large = models

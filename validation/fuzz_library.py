@@ -136,7 +136,7 @@ def _cam(path: Path, deep: bool) -> list:
 
 
 def _spatial(path: Path, deep: bool) -> list:
-    from linkgen.families.planar.reader import load
+    from linkgen.pipeline.registry import load
     from linkgen.crosscheck.spatial import derived_settings
     from linkgen.families.spatial.forces import forces
     from linkgen.families.spatial.kinematics import assembled_chain, solve

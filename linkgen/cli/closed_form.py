@@ -10,7 +10,7 @@ from linkgen.cli.common import (check_crank_options, check_finite, crank_grid, d
                                 write_rows)
 from linkgen.cli.singular import report_singular
 from linkgen.families.planar.checks import mobility_formula
-from linkgen.families.planar.reader import load
+from linkgen.pipeline.registry import load
 from linkgen.families.planar.assembly import assemble
 from linkgen.families.planar.cam_pair import above_lowest, contact, lift, oscillating
 from linkgen.families.planar.kinematics import Kinematics, solve

@@ -95,7 +95,7 @@ def _progress(label: str):
 def cmd_draw(args) -> int:
     from linkgen.cli.files import atomic_output
     from linkgen.draw.plan import plan_figure, skeleton_figure
-    from linkgen.families.planar.reader import load
+    from linkgen.pipeline.registry import load
 
     _suffix(args.output, FIGURE_FORMATS, "a drawing")
     if args.angle is not None and args.angles is not None:
@@ -163,7 +163,7 @@ def _animate_other(args, kind: str) -> int:
         model = load_cam(args.model)
         frames = cam_frames(model, angles, progress)
     else:
-        from linkgen.families.planar.reader import load
+        from linkgen.pipeline.registry import load
 
         model = load(args.model)
         frames = spatial_frames(model, angles, progress)
@@ -187,7 +187,7 @@ def _render_other(args, kind: str) -> int:
         model = load_cam(args.model)
         frames = cam_render(model, angle, args.width, args.height)
     else:
-        from linkgen.families.planar.reader import load
+        from linkgen.pipeline.registry import load
 
         model = load(args.model)
         frames = spatial_render(model, angle, args.width, args.height)
@@ -201,7 +201,7 @@ def _render_other(args, kind: str) -> int:
 def cmd_animate(args) -> int:
     from linkgen.cli.files import atomic_output
     from linkgen.draw.animate import drawn_frames, frame_angles, mujoco_run_frames, save_animation
-    from linkgen.families.planar.reader import load
+    from linkgen.pipeline.registry import load
 
     _suffix(args.output, ("gif", "mp4"), "an animation")
     kind = _other_kind(args.model)
@@ -227,7 +227,7 @@ def cmd_render(args) -> int:
 
     from linkgen.cli.files import atomic_output
     from linkgen.draw.render import render_mechanism
-    from linkgen.families.planar.reader import load
+    from linkgen.pipeline.registry import load
 
     _suffix(args.output, ("png",), "a MuJoCo frame")
     kind = _other_kind(args.model)

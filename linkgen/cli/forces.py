@@ -21,7 +21,7 @@ import math
 import numpy as np
 
 from linkgen.families.planar.kinetostatics import Forces, forces
-from linkgen.families.planar.reader import load
+from linkgen.pipeline.registry import load
 
 
 def forces_json(f: Forces, mech, i: int = 0) -> dict:

@@ -130,6 +130,7 @@ def main(argv: list[str] | None = None) -> int:
     try:
         from linkgen.cli.spatial import route
         from linkgen.outputs import forget_inputs
+        from linkgen.pipeline.registry import check_command
 
         forget_inputs()  # the descriptions this command reads are the ones no output may replace
         with contextlib.ExitStack() as stack:
@@ -137,6 +138,8 @@ def main(argv: list[str] | None = None) -> int:
                 from linkgen.mujoco.log import no_log_file
 
                 stack.enter_context(no_log_file())
+            if getattr(args, "model", None) is not None:
+                check_command(args.command, args.model)  # a command the file's family does not take: one line
             status = (route(args) or args.func)(args)
         sys.stdout.flush()  # a closed pipe shows here, not in the interpreter's exit
         return status

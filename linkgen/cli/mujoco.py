@@ -49,7 +49,7 @@ def _build_checked(path: Path, out: Path, practical: bool = False) -> Path:
     import mujoco
 
     from linkgen.cli.files import atomic_write_text
-    from linkgen.families.planar.reader import load
+    from linkgen.pipeline.registry import load
     from linkgen.mujoco.mjcf import write_mjcf
     from linkgen.mujoco.log import no_log_file
 
@@ -122,7 +122,7 @@ def cmd_simulate(args) -> int:
     from linkgen.cli.common import check_finite_columns
     from linkgen.families.planar.assembly import assemble
     from linkgen.errors import StructureError
-    from linkgen.families.planar.reader import load
+    from linkgen.pipeline.registry import load
     from linkgen.mujoco.posed import posed
     from linkgen.mujoco.simulate import simulate, steps_per_revolution
     from linkgen.cli.common import OptionError
@@ -196,7 +196,7 @@ def _check_one(path: Path, report: Path | None, practical: bool, nthread: int | 
     from linkgen.crosscheck.run import crosscheck
     from linkgen.errors import StructureError
     from linkgen.cli.files import message_for
-    from linkgen.families.planar.reader import load
+    from linkgen.pipeline.registry import load
 
     t0 = time.perf_counter()
     from linkgen.families.cam.description import is_cam_file

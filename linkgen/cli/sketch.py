@@ -8,7 +8,7 @@ from pathlib import Path
 
 def cmd_assemble(args) -> int:
     from linkgen.cli.files import atomic_write_text
-    from linkgen.families.planar.reader import load
+    from linkgen.pipeline.registry import load
     from linkgen.families.planar.sketch import exact_sketch
 
     mech = load(args.model)

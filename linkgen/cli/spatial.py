@@ -14,30 +14,18 @@ from linkgen.families.spatial.description import is_spatial_file
 from linkgen.cli.common import OptionError, check_crank_options, check_finite, drive_rates, print_json, write_rows
 from linkgen.families.spatial.jets import motion as jet_motion
 
-SUPPORTED = ("structure", "analyze", "forces", "build", "validate", "draw", "render", "animate")
-
-
 def route(args):
-    """The handler for a spatial model's command, or None for a planar (or no) model."""
+    """The handler for a spatial model's closed-form command, or None for a planar (or no) model
+    (the registry has refused the commands spatial four-bars do not take)."""
     model = getattr(args, "model", None)
     if model is None or not is_spatial_file(model):
         return None
     handlers = {"structure": cmd_structure, "analyze": cmd_analyze, "forces": cmd_forces, "draw": cmd_draw}
-    if args.command in handlers:
-        return handlers[args.command]
-    if args.command in ("build", "validate", "render", "animate"):
-        return None  # they handle spatial files themselves
-
-    def refuse(args):
-        takes = "cam files (docs/cams.md)" if args.command == "profile" else "planar linkages"
-        raise OptionError(f"{model}: a spatial mechanism; `linkgen {args.command}` is for {takes}; "
-                          f"spatial ones work with {', '.join(SUPPORTED)}")
-
-    return refuse
+    return handlers.get(args.command)
 
 
 def _load(path):
-    from linkgen.families.planar.reader import load
+    from linkgen.pipeline.registry import load
 
     return load(path)
 

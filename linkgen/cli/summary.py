@@ -12,7 +12,7 @@ def _deg(x: float) -> str:
 
 
 def cmd_summary(args) -> int:
-    from linkgen.families.planar.reader import load
+    from linkgen.pipeline.registry import load
     from linkgen.families.planar.assembly import assemble
     from linkgen.families.planar.summary import summarize
 

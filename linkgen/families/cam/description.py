@@ -41,7 +41,6 @@ _LAW = {"kind", "amplitude", "mean", "phase"}
 
 
 # The commands that take a cam file (linkgen.cli); every other one refuses it, naming these.
-CAM_COMMANDS = ("analyze", "profile", "draw", "animate", "render", "build", "validate")
 
 
 @dataclass(frozen=True)
@@ -258,4 +257,4 @@ def cam_from_dict(data: dict) -> CamMechanism:
                               enumerate(vector2(mech.get("gravity", [0.0, 0.0]), "mechanism.gravity"))))
 
 
-__all__ = ["CAM_COMMANDS", "CamMechanism", "cam_from_dict", "is_cam_data", "is_cam_file", "load_cam", "program_from_table"]
+__all__ = ["CamMechanism", "cam_from_dict", "is_cam_data", "is_cam_file", "load_cam", "program_from_table"]

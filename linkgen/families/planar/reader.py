@@ -70,14 +70,9 @@ def load(path: str | Path) -> Mechanism:
 
 
 def loads(raw: bytes | str, source: str = "<description>") -> Mechanism:
-    """A Mechanism from the bytes (or text) of a TOML description; errors name ``source``. A
-    description with ``[mechanism] space = "spatial"`` gives a
-    ``linkgen.families.spatial.description.SpatialMechanism``."""
+    """A planar Mechanism from the bytes (or text) of a TOML description; errors name ``source``.
+    (``linkgen.load`` opens every family's descriptions: ``linkgen.pipeline.registry``.)"""
     data = parse_toml(raw, source)
-    from linkgen.families.spatial.description import is_spatial, spatial_from_dict
-
-    if is_spatial(data):  # a spatial four-bar: its own format (linkgen.families.spatial.description)
-        return spatial_from_dict(data, source)
     try:
         mech = from_dict(data)
         machine_from_dict(data)  # checked with the rest; linkgen.machine reads it
@@ -89,10 +84,8 @@ def loads(raw: bytes | str, source: str = "<description>") -> Mechanism:
 def from_dict(data: dict) -> Mechanism:
     """Build a Mechanism from the parsed TOML structure."""
     if isinstance(data, dict) and "cam" in data and "links" not in data:
-        from linkgen.families.cam.description import CAM_COMMANDS
-
-        raise DescriptionError("cam", f"this is a cam mechanism; {', '.join(CAM_COMMANDS[:-1])} and "
-                                      f"{CAM_COMMANDS[-1]} take it (docs/cams.md), this command takes linkages")
+        raise DescriptionError("cam", "a [cam] table without [links] describes a stand-alone cam (docs/cams.md), "
+                                      "not a planar linkage; linkgen.load opens it")
     given = data.get("mechanism") if isinstance(data, dict) else None
     if isinstance(given, dict) and given.get("space", "planar") != "planar":
         raise DescriptionError("mechanism.space", f"must be \"spatial\" (a spatial four-bar, docs/spatial.md) or "

@@ -1,0 +1,52 @@
+"""What every mechanism family implements (``Family``), and the one-line refusal of a command a
+family does not take.
+
+A family's stages take its validated description first and return frozen results with the same
+protocol in every family: ``to_dict()`` (JSON, SI units, the same keys as the attributes),
+``columns()`` (CSV: "name.quantity[.x|.y|.z] [unit]" → 1-D arrays) where there are samples, and
+``text()`` for the terminal. A stage a family does not have is missing from its ``stages``; the
+CLI and the API refuse it in one line naming the families that do have it
+(``registry.stage``)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any, Callable, Mapping
+
+
+@dataclass(frozen=True)
+class Family:
+    """One mechanism family.
+
+    name:        "planar", "cam" or "spatial": the registry's key and JSON's ``family``.
+    title:       what the user reads ("planar linkage"), and ``plural`` ("planar linkages").
+    doc:         where its description format is documented.
+    description: the type ``from_dict`` returns (a frozen dataclass with ``name``).
+    detects:     True for the parsed TOML of one of its descriptions (the registry asks the
+                 families in order; the last one, planar, takes every other file).
+    from_dict:   (parsed TOML, source or None) → validated description; DescriptionError names
+                 the field, and the file when a source is given.
+    commands:    the CLI commands it takes, in the order help lists them.
+    stages:      stage name → callable(description, ...): structure, kinematics, forces, summary,
+                 mjcf, validate, draw, ... (see ``STAGES``).
+    """
+
+    name: str
+    title: str
+    plural: str
+    doc: str
+    description: type
+    detects: Callable[[Mapping], bool]
+    from_dict: Callable[[Mapping, str | None], Any]
+    commands: tuple[str, ...]
+    stages: Mapping[str, Callable]
+
+    def __repr__(self) -> str:
+        return f"Family({self.name!r})"
+
+
+# The stages of the interface, in the order data flows through them.
+STAGES = ("structure", "kinematics", "forces", "summary", "mjcf", "simulate", "validate", "draw", "animate",
+          "render")
+
+__all__ = ["Family", "STAGES"]

@@ -1,0 +1,108 @@
+"""The registry of mechanism families: the only place that tells one kind of description from
+another. ``load(path)`` opens every description linkgen reads; ``family_of`` gives the family of a
+description (or of a file) and with it the stages every command and API function calls.
+
+Adding a family: write its package (description, closed form and its stage modules) and one
+entry in FAMILIES; nothing else branches on the kind of file."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any, Mapping
+
+from linkgen.errors import ArgumentError, DescriptionError, UnsupportedError
+from linkgen.pipeline.cam import CAM
+from linkgen.pipeline.family import Family
+from linkgen.pipeline.planar import PLANAR
+from linkgen.pipeline.spatial import SPATIAL
+
+# Asked in this order: the first whose ``detects`` accepts the parsed TOML reads it; planar last
+# (it takes every other file and names what is wrong with it).
+FAMILIES: tuple[Family, ...] = (SPATIAL, CAM, PLANAR)
+BY_NAME: Mapping[str, Family] = {f.name: f for f in FAMILIES}
+
+
+def family_of_data(data: Mapping) -> Family:
+    """The family of a parsed TOML description."""
+    return next(f for f in FAMILIES if f.detects(data))
+
+
+def from_dict(data: Mapping, source: str | None = None) -> Any:
+    """The validated description of any family from its parsed TOML (errors name ``source``)."""
+    return family_of_data(data).from_dict(data, source)
+
+
+def loads(raw: bytes | str, source: str = "<description>") -> Any:
+    """The validated description of any family from the bytes or text of a TOML file."""
+    from linkgen.model.toml_file import parse_toml
+
+    return from_dict(parse_toml(raw, source), source)
+
+
+def load(path: str | Path) -> Any:
+    """Open any description linkgen reads: a planar linkage (``Mechanism``, with its cams, gears
+    and ``[machine]``), a stand-alone cam (``CamMechanism``) or a spatial four-bar
+    (``SpatialMechanism``). DescriptionError names the file, the field and the value."""
+    from linkgen.model.toml_file import read_toml
+
+    return from_dict(read_toml(path), str(path))
+
+
+def family_of(description: Any) -> Family:
+    """The family of a description (any object ``load`` returns, or a planar ``Assembly``)."""
+    for f in FAMILIES:
+        if isinstance(description, f.description):
+            return f
+    inner = getattr(description, "mechanism", None)  # an assembled planar mechanism
+    if inner is not None and inner is not description:
+        return family_of(inner)
+    kinds = ", ".join(f"{f.description.__name__} ({f.plural})" for f in FAMILIES)
+    raise ArgumentError(f"not a mechanism description: got {type(description).__name__}; linkgen takes {kinds} "
+                        f"(linkgen.load opens every kind)")
+
+
+def family_of_file(path: str | Path) -> Family | None:
+    """The family of a description file, or None when the file cannot be read as TOML (the
+    command then reports why, naming the file)."""
+    from linkgen.model.toml_file import read_toml
+
+    try:
+        return family_of_data(read_toml(path))
+    except DescriptionError:
+        return None
+
+
+def unsupported(family: Family, what: str, path: str | Path | None = None) -> UnsupportedError:
+    """The one-line refusal of a command (or stage) ``what`` that ``family`` does not take."""
+    others = [f.plural for f in FAMILIES if f is not family and what in f.commands]
+    where = f"{path}: " if path is not None else ""
+    takes = f"`linkgen {what}` is for {' and '.join(others)}" if others else f"`linkgen {what}` does not apply"
+    article = "an" if family.title[0] in "aeiou" else "a"
+    return UnsupportedError(f"{where}{article} {family.title} ({family.doc}); {takes}; {family.plural} take "
+                            f"{', '.join(family.commands)}")
+
+
+def stage(description: Any, name: str):
+    """The stage ``name`` of the description's family (a callable taking the description first);
+    UnsupportedError, naming the families that have it, if its family has none."""
+    family = family_of(description)
+    fn = family.stages.get(name)
+    if fn is None:
+        others = [f.plural for f in FAMILIES if name in f.stages]
+        has = f"it is for {' and '.join(others)}" if others else "no family has it yet"
+        raise UnsupportedError(f"{getattr(description, 'name', '?')}: {family.plural} have no {name.replace('_', ' ')} "
+                               f"stage; {has}")
+    return fn
+
+
+def check_command(command: str, path: str | Path) -> Family | None:
+    """The family of the file ``path`` if it takes ``command``; UnsupportedError if not; None
+    when the file cannot be read (the command reports that)."""
+    family = family_of_file(path)
+    if family is not None and command not in family.commands:
+        raise unsupported(family, command, path)
+    return family
+
+
+__all__ = ["BY_NAME", "FAMILIES", "UnsupportedError", "check_command", "family_of", "family_of_data", "family_of_file",
+           "from_dict", "load", "loads", "stage", "unsupported"]
