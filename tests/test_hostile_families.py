@@ -4,6 +4,7 @@ with one line naming the file, the field, the value and what is allowed — neve
 a hang or a non-finite number in an output."""
 
 import math
+import re
 import os
 import signal
 import socket
@@ -401,3 +402,21 @@ def test_a_cam_that_cannot_drive_its_follower_is_refused_not_infinite():
         cm = load_cam(path)
         with pytest.raises(SingularityError, match="square to the follower's motion"):
             state(cm, np.linspace(0.0, 2 * np.pi, 72, endpoint=False))
+
+
+@pytest.mark.parametrize("model", ["flywheel_sine", "cam_translating", "rssr"])
+def test_a_name_too_long_for_a_file_name_is_refused_at_load(tmp_path, model):
+    """A mechanism's name starts the names of its figures; 250 characters plus "_flywheel.png"
+    passed the loader and ended in "File name too long" after the run (fuzz campaign seed 2031)."""
+    from linkgen.errors import DescriptionError
+    from linkgen.model.names import MAX_NAME_LENGTH
+    from linkgen.pipeline.registry import load
+
+    text = (MODELS / f"{model}.toml").read_text()
+    long, ok = "x" * 250, "y" * MAX_NAME_LENGTH
+    src = tmp_path / "m.toml"
+    src.write_text(re.sub(r'(?m)^name = "[^"]*"', f'name = "{long}"', text, count=1))
+    with pytest.raises(DescriptionError, match="mechanism.name: must be at most 128 characters"):
+        load(src)
+    src.write_text(re.sub(r'(?m)^name = "[^"]*"', f'name = "{ok}"', text, count=1))
+    assert load(src).name == ok

@@ -166,6 +166,8 @@ def _plant(kind: str, target: str | None, box: Path, model: Path) -> tuple[Path 
         return model, None
     path = box / "cwd" / target.removeprefix("report:")
     path.parent.mkdir(parents=True, exist_ok=True)
+    if len(path.name.encode()) > NAME_MAX:  # a figure named after a 250-character mechanism: nothing can sit there
+        return None, None
     if kind == "symlink":
         victim = box / "victim" / "target.txt"
         victim.write_bytes(VICTIM)
@@ -174,6 +176,10 @@ def _plant(kind: str, target: str | None, box: Path, model: Path) -> tuple[Path 
     path.write_bytes(OLD)
     os.chmod(path, 0o600)
     return path, None
+
+
+# The longest file name the file system takes (bytes; Linux's NAME_MAX).
+NAME_MAX = os.pathconf("/tmp", "PC_NAME_MAX")
 
 
 # A HOME whose caches Matplotlib and fontconfig have already filled (make_home): a fresh one
