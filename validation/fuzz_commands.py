@@ -15,7 +15,8 @@ or a binary file. Each mutant runs
 
 - through the library in-process (validation/fuzz_library.py): load → structure → kinematics →
   forces → summary, and for every third mutant of a family also the MJCF compiled by MuJoCo and
-  the machine run and flywheel; past ``--timeout`` s (SIGALRM; 5 s for a special file) it is a hang;
+  the machine run and flywheel; past ``--timeout`` s of its own CPU, or 10 × that on the clock
+  (5 s on the clock for a special file: reading one has no reason to take long), it is a hang;
 - and every ``--cli-every``-th mutant through one command as a subprocess in a sandbox
   (validation/fuzz_cli.py): a command of its family (one in ten drawn from all), with a
   symlink or a 0600 file planted at its output's name, or SIGTERM sent mid-run, or neither; cwd,
@@ -109,7 +110,8 @@ def run_one(seed: int, k: int, families: tuple[str, ...], timeout: float, cli_ev
         here = os.getcwd()
         os.chdir(box / "lib")  # the library must write nothing; whatever it does lands here
         try:
-            cls, detail = fuzz_library.run_library(path, timeout, deep)
+            cls, detail = fuzz_library.run_library(path, timeout, deep,
+                                                   wall=timeout if m.family == "special" else None)
         finally:
             os.chdir(here)
         stray = sorted(p.name for p in (box / "lib").iterdir())

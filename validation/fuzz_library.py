@@ -26,7 +26,7 @@ SAMPLES = 24
 
 
 class Hang(BaseException):
-    """Raised by SIGALRM when the library path runs past its time limit."""
+    """Raised by SIGPROF or SIGALRM when the library path runs past its time limit."""
 
 
 def _alarm(signum, frame):
@@ -168,21 +168,29 @@ def _dispatch(path: Path, deep: bool) -> list:
     return _machine(path, deep) if "[machine" in text else _planar(path, deep)
 
 
-def run_library(path: Path, timeout: float, deep: bool = True) -> tuple[str, str]:
+def run_library(path: Path, timeout: float, deep: bool = True, wall: float | None = None) -> tuple[str, str]:
     """The class of ``path``'s library run and a one-line detail; ``deep`` adds the MJCF
-    (compiled by MuJoCo) and the machine run and flywheel, the slow half of the path."""
+    (compiled by MuJoCo) and the machine run and flywheel, the slow half of the path. A hang is
+    ``timeout`` seconds of this process's CPU without a result (SIGPROF: the run's own work,
+    whatever else the machine runs beside it), or ``wall`` seconds of the clock (SIGALRM, default
+    10 × timeout: a run blocked waiting, e.g. on a FIFO)."""
     from linkgen.errors import LinkgenError
 
+    wall = 10 * timeout if wall is None else wall
     old = signal.signal(signal.SIGALRM, _alarm)
-    cpu = time.process_time()
+    old_prof = signal.signal(signal.SIGPROF, _alarm)
+    cpu, t0 = time.process_time(), time.perf_counter()
     try:
-        signal.setitimer(signal.ITIMER_REAL, timeout)
+        signal.setitimer(signal.ITIMER_REAL, wall)
+        signal.setitimer(signal.ITIMER_PROF, timeout)
         try:
             results = _dispatch(path, deep)
         finally:  # disarmed before any handling: a late alarm must not hit the handlers below
             signal.setitimer(signal.ITIMER_REAL, 0)
+            signal.setitimer(signal.ITIMER_PROF, 0)
     except Hang:
-        return "hang", f"no result in {timeout:g} s ({time.process_time() - cpu:.1f} s of CPU)"
+        return "hang", (f"no result after {time.process_time() - cpu:.1f} s of CPU in {time.perf_counter() - t0:.1f} s "
+                        f"(limits: {timeout:g} s of CPU, {wall:g} s of the clock)")
     except LinkgenError as exc:
         return "clean error", f"{type(exc).__name__}: {str(exc).splitlines()[0][:160] if str(exc) else ''}"
     except Exception as exc:  # noqa: BLE001 — the point of the run: any other exception is a finding
@@ -191,5 +199,6 @@ def run_library(path: Path, timeout: float, deep: bool = True) -> tuple[str, str
         return "crash", f"{type(exc).__name__} at {where}: {str(exc).splitlines()[0][:160] if str(exc) else ''}"
     finally:
         signal.signal(signal.SIGALRM, old)
+        signal.signal(signal.SIGPROF, old_prof)
     bad = non_finite(dict(results))
     return ("non-finite", bad) if bad else ("ok", "")
