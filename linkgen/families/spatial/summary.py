@@ -68,7 +68,7 @@ def summarize(mech: SpatialMechanism) -> SpatialSummary:
     ends = solve(mech, [e.x for e in found], chain) if found else None
     values = ends.output.d[0] if found else []  # the joint variable analyze gives, absolute
     limits = [(e.kind, e.x, float(v)) for e, v in zip(found, values)]
-    swing = float(np.ptp(ends.turn.d[0])) if limits else None  # None: the output turns fully
+    swing = float(max(values) - min(values)) if limits else None  # None: the output turns fully
     strokes = ratio = None
     if len(limits) == 2:
         lo = next(a for kind, a, _ in limits if kind == "min")
