@@ -110,7 +110,8 @@ def test_forces_cli_names_the_links_of_each_reaction():
     assert p.returncode == 0, p.stderr
     d = json.loads(p.stdout)
     assert d["statically_indeterminate"] == 0
-    assert d["reactions"]["A"]["on"] == "coupler" and d["reactions"]["A"]["by"] == "crank"
+    # the planar convention: on the pair's first link by its second, in the order of [links.*]
+    assert d["reactions"]["A"]["on"] == "crank" and d["reactions"]["A"]["by"] == "coupler"
 
 
 # The coupler's spin about its own line given at the start, as a fraction of the crank speed.

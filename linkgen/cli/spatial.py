@@ -147,12 +147,12 @@ def _summary(args) -> int:
         print(f"{sm.model}: spatial {sm.kind}, output {sm.output!r} turns fully with the crank (no limit positions)")
     else:
         print(f"{sm.model}: spatial {sm.kind}, output {sm.output!r}: {'stroke' if unit == 'm' else 'swing'} "
-              f"{show(sm.swing)} (positions measured from the sketch)")
+              f"{show(sm.swing)}")
     for kind, a, v in sm.limits:
         print(f"  limit position ({kind}) at φ = {math.degrees(a):.6g}°: {show(v)}")
     if sm.time_ratio is not None:
-        work = 360.0 * sm.time_ratio / (1.0 + sm.time_ratio)
-        print(f"  min→max over {work:.6g}° of crank turn, max→min over {360.0 - work:.6g}°: time ratio "
+        out, back = (math.degrees(a) for a in sm.strokes)
+        print(f"  min→max over {out:.6g}° of crank turn, max→min over {back:.6g}°: time ratio "
               f"K = {sm.time_ratio:.6g} (at constant ω)")
     t, a = sm.peak_torque
     print(f"  peak balancing torque: {t:.6g} N·m at φ = {math.degrees(a):.4g}°")

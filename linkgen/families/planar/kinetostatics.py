@@ -9,10 +9,11 @@ then give the drive pair's reaction and the balancing torque. Everything is vect
 over crank angles (one batched 6×6 LU solve per group), in the kinematics' blocks, and the
 result is checked against the power balance on every call (BALANCE_TOL).
 
-Sign conventions (documented in the CLI and README too):
+Sign conventions (the same for every family: docs/format.md, "Conventions"; each pair's two
+links are in ``Forces.on`` and ``Forces.by``):
     * Revolute pair ``J`` between links (first, second) in the description's order
-      (``Mechanism.revolutes``): ``reactions[J]`` is the force [N] the *second* link
-      exerts on the *first*, world frame, shape (n, 2).
+      (``Mechanism.revolutes``: the order of the ``[links.NAME]`` tables): ``reactions[J]`` is
+      the force [N] the *second* link exerts on the *first*, world frame, shape (n, 2).
     * Prismatic pair: ``normal_force`` [N] is the guide's force on the slider along the
       guide line's left normal; ``moment`` [N·m] is the couple the guide exerts on the
       slider (about +z) when the normal force is placed at the slider's ``point``. The
@@ -59,6 +60,9 @@ class Forces:
             (``planar.cam_pair``); N < 0 where the follower would leave the cam.
         singular: (n,) True at angles marked singular (``on_singular="mark"``); there every
             force and torque is 0.
+        on, by: pair name → the link its reaction acts on and the link that exerts it: a
+            revolute's first and second link in the description's order, a prismatic pair's
+            slider and guide.
     """
 
     def __repr__(self) -> str:
@@ -77,6 +81,8 @@ class Forces:
     singular: np.ndarray
     tooth: dict = field(default_factory=dict)
     contact: dict = field(default_factory=dict)
+    on: dict = field(default_factory=dict)
+    by: dict = field(default_factory=dict)
 
 
 @dataclass(frozen=True)
@@ -155,8 +161,11 @@ def forces(mech_or_asm, phi, omega, epsilon=0.0, threads: int | None = None, *,
     if bad:
         raise BalanceError(bad, max(info[1] for info in infos), BALANCE_TOL)
     torque, power, reactions, normal, moment, (j, dj, m_red), marked, tooth, contact = tree
+    mech = asm.mechanism
+    on = {r.name: r.links[0] for r in mech.revolutes} | {p.name: p.slider for p in mech.prismatics}
+    by = {r.name: r.links[1] for r in mech.revolutes} | {p.name: p.guide for p in mech.prismatics}
     return Forces(phi, np.array(np.broadcast_to(w, (n,))), np.array(np.broadcast_to(e, (n,))), torque, power,
-                  reactions, normal, moment, ReducedDynamics(j, dj, m_red), marked, tooth, contact)
+                  reactions, normal, moment, ReducedDynamics(j, dj, m_red), marked, tooth, contact, on, by)
 
 
 @np.errstate(invalid="ignore", divide="ignore", over="ignore")  # found and named by angle below

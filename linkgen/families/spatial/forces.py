@@ -45,13 +45,23 @@ RESIDUAL_TOL = 1e-9
 @dataclass(frozen=True)
 class Reaction:
     """The force [N] (n, 3) and moment [N·m] (n, 3) that link ``by`` exerts on link ``on`` at
-    pair ``pair``'s point (world axes)."""
+    pair ``pair``'s point (world axes). The convention of every family (docs/format.md,
+    "Conventions"): at a revolute or spherical pair ``on`` is the pair's first link and ``by`` its
+    second, in the order of the ``[links.NAME]`` tables; at a prismatic pair ``on`` is the slider
+    and ``by`` the guide."""
 
     pair: str
     on: str
     by: str
     force: np.ndarray
     moment: np.ndarray
+
+    def force_on(self, link: str) -> np.ndarray:
+        """The pair's force (n, 3) [N] on ``link``, either of its two links (the other's is its
+        opposite)."""
+        if link not in (self.on, self.by):
+            raise ValueError(f"pair {self.pair} joins {self.on} and {self.by}, not {link}")
+        return self.force if link == self.on else -self.force
 
 
 @dataclass(frozen=True)
@@ -172,17 +182,20 @@ def forces(mech: SpatialMechanism, phi, omega: float | None = None, epsilon: flo
         ub = rotate(chain.kb, chain.ub, motion.turn).value
     ka = np.broadcast_to(chain.ka, (n, 3))
     kb = np.broadcast_to(chain.kb, (n, 3))
-    # pairs as (name, on, by, point (n,3), force basis [(n,3)...], moment basis [(n,3)...])
+    # pairs as (name, on, by, point (n,3), force basis [(n,3)...], moment basis [(n,3)...]); a
+    # revolute or spherical pair acts on its first link by its second (description order), a
+    # prismatic one on the slider by the guide (Reaction)
     eye = [np.broadcast_to(v, (n, 3)) for v in np.eye(3)]
-    pairs = [(chain.drive, chain.crank, "ground", pts[chain.drive].d[0], eye, list(_square_basis(ka))),
-             (chain.pair_a, chain.coupler, chain.crank, pts[chain.pair_a].d[0], eye,
+    order = {j.name: j.links for j in mech.joints}
+    pairs = [(chain.drive, *order[chain.drive], pts[chain.drive].d[0], eye, list(_square_basis(ka))),
+             (chain.pair_a, *order[chain.pair_a], pts[chain.pair_a].d[0], eye,
               list(_square_basis(ua)) if ua is not None else []),
-             (chain.pair_b, chain.output, chain.coupler, pts[chain.pair_b].d[0], eye,
+             (chain.pair_b, *order[chain.pair_b], pts[chain.pair_b].d[0], eye,
               list(_square_basis(ub)) if ub is not None else [])]
     if chain.output_slides:
-        pairs.append((chain.pair_out, chain.output, "ground", pts[chain.pair_b].d[0], list(_square_basis(kb)), eye))
+        pairs.append((chain.pair_out, chain.output, GROUND, pts[chain.pair_b].d[0], list(_square_basis(kb)), eye))
     else:
-        pairs.append((chain.pair_out, chain.output, "ground", pts[chain.pair_out].d[0], eye, list(_square_basis(kb))))
+        pairs.append((chain.pair_out, *order[chain.pair_out], pts[chain.pair_out].d[0], eye, list(_square_basis(kb))))
     columns, rhs = [], np.zeros((n, 18))
     com = {b: loads[b][1] for b in bodies}
     layout = []

@@ -1,0 +1,304 @@
+"""One convention for every family (docs/format.md, "Conventions"), proved on one mechanism
+described twice: a planar four-bar, and the same four-bar written as a spatial RSSR (every pair
+axis along z, every point in the plane z = 0, the coupler on two spherical pairs, whose idle spin
+about its own line carries nothing).
+
+Both must give the same reaction at every pair (the same link acted on, the same link acting,
+the same in-plane components), the same balancing torque, the same time ratio K and the same
+summary (swing, limit positions at the same crank angles with the same values, peak torque and
+peak reactions). The balancing torque is also checked against virtual work computed here from an
+independent position solution of the four-bar (circle intersection) and finite differences —
+nothing from linkgen's closed forms.
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+from hypothesis import HealthCheck, Phase, assume, given, settings
+from hypothesis import strategies as st
+
+import linkgen
+from linkgen.families.planar.assembly import assemble
+from linkgen.families.planar.kinetostatics import forces as planar_forces
+from linkgen.families.planar.summary import summarize as planar_summary
+from linkgen.families.spatial.forces import forces as spatial_forces
+from linkgen.families.spatial.summary import summarize as spatial_summary
+from linkgen.pipeline.registry import loads
+
+ROOT = Path(__file__).resolve().parents[1]
+
+# The two families solve the same statics by different routes (the planar one 6×6 LU per group,
+# the spatial one a least-squares solve of 18 equations in 17 unknowns): each rounds at ~eps
+# times the condition number of its system, which the least transmission angle kept here
+# (≥ MIN_TRANSMISSION) and link ratios ≤ 16 bound by ~1e3, i.e. ~2e-13 of the largest force.
+# Measured over 25 generated four-bars: 1.1e-14. 1e-10 leaves a margin and still catches any sign or
+# lever-arm error, which shows at the size of the force itself.
+REACTION_TOL = 1e-10
+# The same crank angle of a limit position refined by each family's Brent search to 1e-13 rad
+# (a simple root of dq/dφ): both within a few ulps of 2π of the root.
+LIMIT_ANGLE_TOL = 1e-11
+# A peak's crank angle from Brent's bounded minimiser on two different sample grids (planar
+# 3601 samples with the end, spatial 3600 periodic): near a smooth maximum the objective is flat
+# to ~f″·δ²/2, so rounding (eps·|f|) leaves the location free by δ ~ √(2·eps·|f|/|f″|) ≈ 1.5e-8·
+# √(2|f|/|f″|), up to ~1e-6 rad for the flat peaks here — far below the 1.7e-3 rad sample step
+# that a different convention would shift it by. Measured over 25 generated four-bars: 1.1e-7.
+PEAK_ANGLE_TOL = 1e-5
+# A peak's value is second-order in the location error: eps-level. Measured: 9e-15.
+PEAK_VALUE_TOL = 1e-12
+# The virtual-work torque from 5-point finite differences with step H: truncation ~H⁴/90·q⁽⁶⁾ and
+# rounding ~eps·|q|/H² ≈ 6e-11·|q| in the second derivatives (rounding dominates: H = 5e-4 gives
+# 1.6e-8, H = 2e-3 1.1e-9 over 25 generated four-bars), so 1e-7 of the torque scale (Σ|terms|)
+# bounds it with a margin and still catches a missing or wrong load, which shows at its own size.
+FD_TOL = 1e-7
+H = 2e-3
+# Generated four-bars keep this least transmission angle (conditioning of both statics) and the
+# rocker this far from ±π (where an angle's representative is a matter of wrapping).
+MIN_TRANSMISSION = math.radians(25.0)
+ANGLE_MARGIN = 0.05
+GRAVITY = 9.81
+
+PLANAR = """
+[mechanism]
+name = "fourbar"
+gravity = [0.0, {g_y!r}]
+
+[points]
+O = [0.0, 0.0]
+A = [{a!r}, 0.0]
+B = [{bx!r}, {by!r}]
+C = [{d!r}, 0.0]
+
+[links.ground]
+points = ["O", "C"]
+
+[links.crank]
+points = ["O", "A"]
+length = {a!r}
+density = {rho!r}
+
+[links.coupler]
+points = ["A", "B"]
+length = {b!r}
+density = {rho!r}
+
+[links.rocker]
+points = ["C", "B"]
+length = {c!r}
+density = {rho!r}
+
+[[force]]
+link = "rocker"
+point = "B"
+force = [{fx!r}, {fy!r}]
+
+[[torque]]
+link = "coupler"
+torque = {m!r}
+
+[drive]
+joint = "O"
+omega = {omega!r}
+"""
+
+SPATIAL = """
+[mechanism]
+name = "fourbar_rssr"
+space = "spatial"
+gravity = [0.0, {g_y!r}, 0.0]
+
+[points]
+O = [0.0, 0.0, 0.0]
+A = [{a!r}, 0.0, 0.0]
+B = [{bx!r}, {by!r}, 0.0]
+C = [{d!r}, 0.0, 0.0]
+
+[links.ground]
+points = ["O", "C"]
+
+[links.crank]
+points = ["O", "A"]
+length = {a!r}
+density = {rho!r}
+
+[links.coupler]
+points = ["A", "B"]
+length = {b!r}
+density = {rho!r}
+
+[links.rocker]
+points = ["C", "B"]
+length = {c!r}
+density = {rho!r}
+
+[joints.O]
+kind = "revolute"
+axis = [0.0, 0.0, 1.0]
+
+[joints.A]
+kind = "spherical"
+
+[joints.B]
+kind = "spherical"
+
+[joints.C]
+kind = "revolute"
+axis = [0.0, 0.0, 1.0]
+
+[[force]]
+link = "rocker"
+point = "B"
+force = [{fx!r}, {fy!r}, 0.0]
+
+[[torque]]
+link = "coupler"
+torque = [0.0, 0.0, {m!r}]
+
+[drive]
+joint = "O"
+omega = {omega!r}
+"""
+
+# models/fourbar.toml's numbers (crank 0.3 m, coupler 1.0 m, rocker 0.7 m, ground 1.0 m, 10 kg/m,
+# 10 rad/s, B above the x axis), without loads.
+FOURBAR = dict(a=0.3, b=1.0, c=0.7, d=1.0, rho=10.0, omega=10.0, fx=0.0, fy=0.0, m=0.0, branch=1)
+
+
+def _poses(p: dict, phi: np.ndarray) -> dict[str, np.ndarray]:
+    """Points (n, 2) [m] of the four-bar at crank angles ``phi``: B where the circles about A (the
+    coupler) and C (the rocker) meet, on the side ``branch`` of the line A→C (+1: left)."""
+    a_pt = p["a"] * np.stack([np.cos(phi), np.sin(phi)], axis=1)
+    u = np.array([p["d"], 0.0]) - a_pt
+    dist = np.hypot(u[:, 0], u[:, 1])
+    x = (p["b"] ** 2 - p["c"] ** 2 + dist**2) / (2 * dist)
+    h = p["branch"] * np.sqrt(p["b"] ** 2 - x**2)
+    e = u / dist[:, None]
+    b_pt = a_pt + x[:, None] * e + h[:, None] * np.stack([-e[:, 1], e[:, 0]], axis=1)
+    return {"O": np.zeros_like(a_pt), "A": a_pt, "B": b_pt, "C": np.broadcast_to([p["d"], 0.0], a_pt.shape)}
+
+
+def _texts(p: dict) -> tuple[str, str]:
+    b = _poses(p, np.array([0.0]))["B"][0]
+    values = dict(p, bx=float(b[0]), by=float(b[1]), g_y=-GRAVITY)
+    return PLANAR.format(**values), SPATIAL.format(**values)
+
+
+def _d(f, phi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """First and second derivatives of ``f`` (vectorised over φ) by 5-point central differences."""
+    fm2, fm1, f0, fp1, fp2 = (f(phi + k * H) for k in (-2, -1, 0, 1, 2))
+    return (fm2 - 8 * fm1 + 8 * fp1 - fp2) / (12 * H), (-fm2 + 16 * fm1 - 30 * f0 + 16 * fp1 - fp2) / (12 * H * H)
+
+
+def _virtual_work_torque(p: dict, phi: np.ndarray, omega: float, epsilon: float) -> tuple[np.ndarray, float]:
+    """The torque on the crank that balances gravity, inertia and the loads, T + Σ F·v′ + M·θ′ = 0
+    with d'Alembert's loads, from the independent poses; and the scale Σ|terms| it rounds at."""
+    links = {"crank": ("O", "A", p["a"]), "coupler": ("A", "B", p["b"]), "rocker": ("C", "B", p["c"])}
+    torque, scale = np.zeros_like(phi), np.zeros_like(phi)
+    for name, (s, e, length) in links.items():
+        mass, inertia = p["rho"] * length, p["rho"] * length**3 / 12.0
+        com1, com2 = _d(lambda x: 0.5 * (_poses(p, x)[s] + _poses(p, x)[e]), phi)
+        vec = _poses(p, phi)[e] - _poses(p, phi)[s]
+        v1, v2 = _d(lambda x: _poses(p, x)[e] - _poses(p, x)[s], phi)
+        th1 = (vec[:, 0] * v1[:, 1] - vec[:, 1] * v1[:, 0]) / length**2  # dθ/dφ = v × v′ / |v|²
+        th2 = (vec[:, 0] * v2[:, 1] - vec[:, 1] * v2[:, 0]) / length**2  # d²θ/dφ² (|v| is constant)
+        force = -mass * (com2 * omega**2 + com1 * epsilon) + np.array([0.0, -mass * GRAVITY])
+        moment = -inertia * (th2 * omega**2 + th1 * epsilon)
+        terms = [np.einsum("ij,ij->i", force, com1), moment * th1]
+        if name == "rocker":
+            terms.append(_d(lambda x: _poses(p, x)["B"], phi)[0] @ np.array([p["fx"], p["fy"]]))
+        if name == "coupler":
+            terms.append(p["m"] * th1)
+        for t in terms:
+            torque -= t
+            scale += np.abs(t)
+    return torque, float(scale.max())
+
+
+def _check_forces(planar, spatial, p: dict, epsilon: float) -> None:
+    phi = np.linspace(0.0, 2 * math.pi, 240, endpoint=False)
+    omega = p["omega"]
+    fp = planar_forces(planar, phi, omega, epsilon)
+    fs = spatial_forces(spatial, phi, omega, epsilon)
+    scale = max(float(np.abs(r).max()) for r in fp.reactions.values())
+    assert set(fs.reactions) == set(fp.reactions) == {"O", "A", "B", "C"}
+    for name, r in fs.reactions.items():
+        assert (r.on, r.by) == (fp.on[name], fp.by[name]), name
+        np.testing.assert_allclose(r.force[:, :2], fp.reactions[name], rtol=0, atol=REACTION_TOL * scale,
+                                   err_msg=f"in-plane reaction at {name}")
+        np.testing.assert_allclose(r.force[:, 2], 0.0, atol=REACTION_TOL * scale, err_msg=f"z force at {name}")
+    expected, t_scale = _virtual_work_torque(p, phi, omega, epsilon)
+    np.testing.assert_allclose(fp.balancing_torque, expected, rtol=0, atol=FD_TOL * t_scale)
+    np.testing.assert_allclose(fs.balancing_torque, expected, rtol=0, atol=FD_TOL * t_scale)
+
+
+def _check_summary(planar, spatial) -> None:
+    sp, ss = planar_summary(assemble(planar)), spatial_summary(spatial)
+    (out,) = sp.outputs
+    assert out.kind == "rocker" and ss.unit == "rad"
+    assert [x.kind for x in out.limits] == [kind for kind, _, _ in ss.limits]
+    for x, (_, at, value) in zip(out.limits, ss.limits):  # the same crank angles, the same absolute angles
+        assert abs(math.remainder(at - x.phi, 2 * math.pi)) <= LIMIT_ANGLE_TOL
+        assert value == pytest.approx(x.value, abs=LIMIT_ANGLE_TOL)
+    assert ss.swing == pytest.approx(out.travel, abs=LIMIT_ANGLE_TOL)
+    assert ss.strokes == pytest.approx(out.strokes, abs=LIMIT_ANGLE_TOL)
+    assert ss.time_ratio == pytest.approx(out.time_ratio, abs=LIMIT_ANGLE_TOL) and ss.time_ratio >= 1.0
+    value, at = ss.peak_torque
+    assert value == pytest.approx(sp.torque.value, rel=PEAK_VALUE_TOL)
+    assert abs(math.remainder(at - sp.torque.at, 2 * math.pi)) <= PEAK_ANGLE_TOL
+    assert set(ss.peak_pair_forces) == {p.name for p in sp.reactions}
+    for peak in sp.reactions:
+        value, at = ss.peak_pair_forces[peak.name]
+        assert value == pytest.approx(peak.value, rel=PEAK_VALUE_TOL), peak.name
+        assert abs(math.remainder(at - peak.at, 2 * math.pi)) <= PEAK_ANGLE_TOL, peak.name
+
+
+def test_the_bundled_fourbar_template_is_models_fourbar():
+    """The planar text above with FOURBAR's numbers describes models/fourbar.toml's mechanism."""
+    planar, _ = _texts(FOURBAR)
+    mine, bundled = loads(planar), linkgen.load(ROOT / "models" / "fourbar.toml")
+    phi = np.linspace(0.0, 2 * math.pi, 36, endpoint=False)
+    np.testing.assert_array_equal(planar_forces(mine, phi, 10.0).balancing_torque,
+                                  planar_forces(bundled, phi, 10.0).balancing_torque)
+
+
+# A crank-rocker whose min → max stroke takes the shorter crank turn (175° of 360°): there a
+# time ratio taken as min → max over max → min falls below 1 (0.942; planar K = 1.0618).
+SHORT_RISE = dict(FOURBAR, a=0.27, b=0.71, c=0.69, branch=-1)
+
+
+@pytest.mark.parametrize("p", [FOURBAR, SHORT_RISE], ids=["fourbar", "short-rise"])
+def test_fourbar_as_rssr_gives_the_same_reactions_torque_and_summary(p):
+    planar, spatial = (loads(t) for t in _texts(p))
+    _check_forces(planar, spatial, p, epsilon=3.0)
+    _check_summary(planar, spatial)
+
+
+def _crank_rocker(a: float, b: float, c: float) -> bool:
+    """Grashof crank-rocker with the crank shortest and a margin of 0.05 m from a change point."""
+    d = 1.0
+    lengths = sorted((a, b, c, d))
+    return lengths[0] == a and a + lengths[-1] <= sum(lengths[1:3]) - 0.05
+
+
+@settings(max_examples=8, deadline=None, derandomize=True, phases=[Phase.explicit, Phase.generate],
+          suppress_health_check=[HealthCheck.too_slow, HealthCheck.filter_too_much])
+@given(a=st.floats(0.1, 0.4), b=st.floats(0.4, 1.6), c=st.floats(0.4, 1.6), rho=st.floats(1.0, 20.0),
+       omega=st.floats(-20.0, 20.0).filter(lambda w: abs(w) >= 0.5), epsilon=st.floats(-50.0, 50.0),
+       fx=st.floats(-100.0, 100.0), fy=st.floats(-100.0, 100.0), m=st.floats(-20.0, 20.0),
+       branch=st.sampled_from([1, -1]))
+def test_generated_crank_rockers_as_rssr_agree(a, b, c, rho, omega, epsilon, fx, fy, m, branch):
+    """Planar crank-rockers (ground 1 m, loads on the rocker and the coupler, either branch, either
+    sense of rotation) written as spatial RSSRs: the same reactions, torque, K and summary."""
+    assume(_crank_rocker(a, b, c))
+    p = dict(a=a, b=b, c=c, d=1.0, rho=rho, omega=omega, fx=fx, fy=fy, m=m, branch=branch)
+    phi = np.linspace(0.0, 2 * math.pi, 720, endpoint=False)
+    pts = _poses(p, phi)
+    ab, cb = pts["B"] - pts["A"], pts["B"] - pts["C"]
+    assume(np.all(np.abs(ab[:, 0] * cb[:, 1] - ab[:, 1] * cb[:, 0]) >= b * c * math.sin(MIN_TRANSMISSION)))
+    assume(np.all(np.abs(np.arctan2(cb[:, 1], cb[:, 0])) <= math.pi - ANGLE_MARGIN))
+    planar, spatial = (loads(t) for t in _texts(p))
+    _check_forces(planar, spatial, p, epsilon)
+    _check_summary(planar, spatial)
