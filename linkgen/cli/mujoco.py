@@ -247,8 +247,8 @@ def cmd_validate(args) -> int:
     if report is not None:
         path = write_index(results, report, wall, cores)
         print(f"report: {path} ({len(paths)} model(s) in {wall:.1f} s, {cores:.2f} cores busy)", file=sys.stderr)
-    elif len(paths) > 1:
-        print(f"{len(paths)} models in {wall:.1f} s, {cores:.2f} cores busy; no report written (-o DIR writes one, "
+    elif args.model.is_dir():
+        print(f"{len(paths)} model(s) in {wall:.1f} s, {cores:.2f} cores busy; no report written (-o DIR writes one, "
               f"with the figures)", file=sys.stderr)
     if any("error" in r for r in results):
         return 2  # a file that could not be validated at all
