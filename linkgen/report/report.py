@@ -77,8 +77,8 @@ def _worst(quantities: dict, kind: str) -> str:
 
 
 def write_index(results: list[dict], out: Path, wall: float, cores: float) -> Path:
-    """The report's README.md from the per-model results (``CrossCheck.to_json`` plus file,
-    figures and wall time)."""
+    """The report's README.md from the per-model entries of ``linkgen validate --json`` (each
+    validation result's ``to_dict()`` plus file, figures, wall time and line)."""
     from linkgen.outputs import atomic_write_text, output_folder
 
     output_folder(out)
