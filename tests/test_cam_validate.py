@@ -146,8 +146,9 @@ def test_the_report_has_a_section_for_a_stand_alone_cam(tmp_path):
     from linkgen.crosscheck.cam import CamCheck
     from linkgen.crosscheck.diagnose_cam import diagnose_cam
     from linkgen.report.figures_cam import plot_cam
-    from linkgen.report.report import write_index
     from linkgen.mujoco.cam import CAM_TOLERANCES, compare_cam
+    from linkgen.pipeline.registry import report_parts
+    from linkgen.report.report import write_index
 
     cm = _user_cam()
     run = _synthetic_fly_off(cm)  # no MuJoCo needed to draw a run
@@ -157,9 +158,9 @@ def test_the_report_has_a_section_for_a_stand_alone_cam(tmp_path):
         assert (tmp_path / f).read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     c = compare_cam(cm, run=run)
     check = CamCheck("user_cam", c, CAM_TOLERANCES, tuple(diagnose_cam(cm, run, c["errors_relative"], c["windows"])), run)
-    r = {"file": "user_cam.toml"} | check.to_dict() | {"figures": figs, "total_wall_s": 1.234,
+    r = {"file": "user_cam.toml", "family": "cam"} | check.to_dict() | {"figures": figs, "total_wall_s": 1.234,
                                                         "line": check.summary(wall_text(1.234))}
-    text = write_index([r], tmp_path, 1.3, 1.0).read_text()
+    text = write_index([r], tmp_path, 1.3, 1.0, report_parts).read_text()
     section = text[text.index("## user_cam (a cam)"):]
     for f in figs:
         assert f"![{f}]({f})" in section
@@ -182,6 +183,7 @@ def test_the_validate_line_and_the_report_give_one_wall_time(tmp_path, monkeypat
     table both give the whole validation's wall time."""
     import linkgen.cli.mujoco as cli_mujoco
     from linkgen.cli.mujoco import _check_one, _summary
+    from linkgen.pipeline.registry import report_parts
     from linkgen.report.report import write_index
 
     class Clock:  # the validation's first reading of the clock 5 s early
@@ -197,7 +199,7 @@ def test_the_validate_line_and_the_report_give_one_wall_time(tmp_path, monkeypat
     shown = f"{r['total_wall_s']:.2f}"
     assert r["total_wall_s"] > 5.0
     assert f"validated in {shown} s" in _summary(r)
-    assert f"| {shown} |" in write_index([r], tmp_path, 1.0, 1.0).read_text()
+    assert f"| {shown} |" in write_index([r], tmp_path, 1.0, 1.0, report_parts).read_text()
 
 
 def test_the_practical_settings_runs_report_progress(monkeypatch):

@@ -140,11 +140,11 @@ def _check_one(path: Path, report: Path | None, practical: bool, nthread: int | 
                max_steps: int | None = None) -> dict:
     """Validate one file (in a worker process for folders) through its family's ``validate``
     stage; with ``report``, its ``figures`` stage draws into that folder. Returns the file's
-    JSON entry: the result's ``to_dict()``, ``file``, its figures, ``total_wall_s`` and
+    JSON entry: ``file``, ``family``, the result's ``to_dict()``, its figures, ``total_wall_s`` and
     ``line`` (the result's ``summary``), or ``error`` when it could not be validated."""
     from linkgen.cli.dynamics import integration_progress
     from linkgen.cli.files import message_for
-    from linkgen.pipeline.registry import load, stage
+    from linkgen.pipeline.registry import family_of, load, stage
 
     t0 = time.perf_counter()
     try:
@@ -154,7 +154,7 @@ def _check_one(path: Path, report: Path | None, practical: bool, nthread: int | 
                                         machine_progress=integration_progress(desc.name) if progress else None)
     except LinkgenError as exc:
         return {"model": path.stem, "file": str(path), "ok": False, "error": message_for(path, exc)}
-    out = {"file": str(path)} | check.to_dict()
+    out = {"file": str(path), "family": family_of(desc).name} | check.to_dict()
     if report is not None:
         from linkgen.outputs import output_folder
 
@@ -202,6 +202,7 @@ def _summary(r: dict) -> str:
 
 def cmd_validate(args) -> int:
     from linkgen.families.planar.blocks import default_threads
+    from linkgen.pipeline.registry import report_parts
     from linkgen.report.report import write_index
 
     paths = _models(args.model)
@@ -245,7 +246,7 @@ def cmd_validate(args) -> int:
     elif len(paths) == 1:
         print(_summary(results[0]))
     if report is not None:
-        path = write_index(results, report, wall, cores)
+        path = write_index(results, report, wall, cores, report_parts)
         print(f"report: {path} ({len(paths)} model(s) in {wall:.1f} s, {cores:.2f} cores busy)", file=sys.stderr)
     elif args.model.is_dir():
         print(f"{len(paths)} model(s) in {wall:.1f} s, {cores:.2f} cores busy; no report written (-o DIR writes one, "

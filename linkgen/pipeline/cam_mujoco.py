@@ -34,6 +34,13 @@ def figures(desc, check, out) -> dict:
     return {"figures": plot_cam(desc, check.run, out)}
 
 
+def report(entry: dict):
+    """The report's (row, section) writers of a cam's validate entry (``report.sections``)."""
+    from linkgen.report import sections
+
+    return sections.CAM
+
+
 def draw(desc, angles, out) -> str:
     """The cam and its follower at one cam angle (``angles`` a number [rad], None: 0) or a
     position plan by inversion (an array), written to ``out``; returns what was drawn."""
@@ -68,6 +75,6 @@ def render(desc, angle, width: int, height: int) -> tuple[np.ndarray, str]:
     return cam_render(desc, theta, width, height)[0], f"MuJoCo frame of {desc.name} at θ = {math.degrees(theta):.6g}°"
 
 
-STAGES = {"mjcf": mjcf, "validate": validate, "figures": figures, "draw": draw, "animate": animate, "render": render}
+STAGES = {"mjcf": mjcf, "validate": validate, "figures": figures, "report": report, "draw": draw, "animate": animate, "render": render}
 
 __all__ = ["STAGES"]

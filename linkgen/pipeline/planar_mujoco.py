@@ -118,6 +118,14 @@ def figures(desc, check, out) -> dict:
             "summary": summarize(asm).to_dict()}
 
 
+def report(entry: dict):
+    """The report's (row, section) writers of a linkage's validate entry: a cam on the crank's,
+    or a linkage comparison's (``report.sections``)."""
+    from linkgen.report import sections
+
+    return sections.CAM_LINKAGE if "cam_linkage" in entry else sections.LINKAGE
+
+
 def _in_range(mech, phi: np.ndarray, option: str) -> None:
     from linkgen.errors import ArgumentError
 
@@ -174,7 +182,7 @@ def render(desc, angle, width: int, height: int) -> tuple[np.ndarray, str]:
     return frames[0], f"MuJoCo frame of {mech.name} at φ = {math.degrees(phi):.6g}°"
 
 
-STAGES = {"mjcf": mjcf, "simulate": simulate, "validate": validate, "figures": figures, "draw": draw,
+STAGES = {"mjcf": mjcf, "simulate": simulate, "validate": validate, "figures": figures, "report": report, "draw": draw,
           "animate": animate, "render": render}
 
 __all__ = ["STAGES"]

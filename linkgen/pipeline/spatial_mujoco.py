@@ -42,6 +42,13 @@ def figures(desc, check, out) -> dict:
     return {"figures": names + plot_spatial_check(check, out, desc)}
 
 
+def report(entry: dict):
+    """The report's (row, section) writers of a spatial four-bar's validate entry (``report.sections``)."""
+    from linkgen.report import sections
+
+    return sections.SPATIAL
+
+
 def draw(desc, angles, out) -> str:
     """The chain at one crank angle (``angles`` a number [rad], None: the sketch's own pose) or a
     position plan (an array), written to ``out``; returns what was drawn."""
@@ -79,6 +86,6 @@ def render(desc, angle, width: int, height: int) -> tuple[np.ndarray, str]:
     return spatial_render(desc, phi, width, height)[0], f"MuJoCo frame of {desc.name} at φ = {math.degrees(phi):.6g}°"
 
 
-STAGES = {"mjcf": mjcf, "validate": validate, "figures": figures, "draw": draw, "animate": animate, "render": render}
+STAGES = {"mjcf": mjcf, "validate": validate, "figures": figures, "report": report, "draw": draw, "animate": animate, "render": render}
 
 __all__ = ["PLAN_STEP_DEG", "STAGES"]
