@@ -246,48 +246,35 @@ def forces(source: Mechanism | Assembly, phi, omega=None, epsilon=None) -> Force
                         {k: _shape(v, scalar) for k, v in f.moment.items()}, _shape(f.reduced.inertia, scalar))
 
 
-def write_mjcf(source: Mechanism | Assembly, settings=None) -> str:
-    """The MJCF text (``linkgen build``); any structure class."""
-    if _spatial(source):
-        from linkgen.mujoco.spatial_mjcf import write_spatial_mjcf
+def _stage(source, name: str):
+    """The stage ``name`` of the family of ``source`` (any description ``linkgen.load`` returns,
+    or an assembled planar mechanism); UnsupportedError names the families that have it."""
+    from linkgen.pipeline.registry import stage
 
-        return write_spatial_mjcf(source, settings)
-    from linkgen.errors import StructureError
-    from linkgen.mujoco.mjcf import write_mjcf as _write
-
-    if isinstance(source, Mechanism):
-        try:
-            source = assemble(source)
-        except StructureError:  # class III and higher: MuJoCo needs no Assur groups
-            pass
-    return _write(source, settings)
+    return stage(source, name)
 
 
-def simulate(source: Mechanism | Assembly, **options):
+def write_mjcf(source, settings=None) -> str:
+    """The MJCF text (``linkgen build``) of any description: a planar linkage of any structure
+    class, a stand-alone cam or a spatial four-bar; ``settings`` (default: derived from the
+    mechanism, as ``validate`` runs it)."""
+    return _stage(source, "mjcf")(source, settings)
+
+
+def simulate(source, **options):
     """A MuJoCo run over the drive range (``linkgen simulate``); options as
     ``linkgen.mujoco.simulate.simulate``."""
-    from linkgen.mujoco.simulate import simulate as _simulate, simulate_mechanism
-
-    if isinstance(source, Mechanism):
-        return simulate_mechanism(source, **options)
-    return _simulate(source, **options)
+    return _stage(source, "simulate")(source, **options)
 
 
-def validate(source: Mechanism | Assembly, **options):
-    """MuJoCo against the closed form (``linkgen validate``): a ``CrossCheck`` with ``.ok``,
-    ``.to_json()`` and the diagnosis; options as ``linkgen.crosscheck.run.crosscheck``."""
-    if _spatial(source):  # a SpatialCheck (linkgen.crosscheck.spatial)
-        from linkgen.crosscheck.spatial import check_spatial
-
-        return check_spatial(source, **options)
-    asm = _assembly(source)
-    if asm.mechanism.cams:  # contact in MuJoCo: a CamLinkageCheck (linkgen.mujoco.cam_linkage)
-        from linkgen.mujoco.cam_linkage import check_cam_linkage
-
-        return check_cam_linkage(asm)
-    from linkgen.crosscheck.run import crosscheck
-
-    return crosscheck(asm, **options)
+def validate(source, **options):
+    """MuJoCo against the closed form (``linkgen validate``), for every family: a result with
+    ``.ok``, ``.summary()`` (the line the CLI prints), ``.to_dict()`` (its JSON) and
+    ``.diagnosis`` — a ``CrossCheck`` (``linkgen.crosscheck.run``; options as its ``crosscheck``),
+    a ``CamLinkageCheck`` for a crank carrying a cam, a ``CamCheck`` (``linkgen.crosscheck.cam``)
+    for a stand-alone cam, a ``SpatialCheck`` (``linkgen.crosscheck.spatial``) for a spatial
+    four-bar."""
+    return _stage(source, "validate")(source, **options)
 
 
 __all__ = ["ForcesResult", "KinematicsResult", "Quantity", "forces", "kinematics", "simulate", "structure",

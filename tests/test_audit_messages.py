@@ -10,7 +10,6 @@ import numpy as np
 import pytest
 
 from conftest import ROOT
-from linkgen.cli.cams import cam_line
 from linkgen.cli.main import main
 from linkgen.crosscheck.spatial import SpatialCheck
 
@@ -69,13 +68,15 @@ def test_build_of_a_folder_reports_every_family_in_order(tmp_path, capsys):
 def test_the_cam_line_gives_each_force_its_own_tolerance():
     # before: "contact force … and cam torque … of their peaks as 5° means (tolerance 0.07)" with the
     # contact force's tolerance for both, though the cam torque is held to its own
-    r = {"model": "cam", "ok": True, "total_wall_s": 1.0,
-         "cam": {"errors_relative": {"displacement": 1e-4, "contact_force": 0.05, "cam_torque": 0.075},
-                 "tolerances": {"displacement": 2e-4, "contact_force": 0.07, "cam_torque": 0.08},
-                 "profile_points": 4000, "windows": 72, "steps": 100}}
-    assert cam_line(r) == ("cam                    ok   cam in MuJoCo (contact with a 4000-vertex profile): displacement "
-                           "1.00e-04 of the stroke (tolerance 0.0002), contact force 5.00e-02 (tolerance 0.07) and cam "
-                           "torque 7.50e-02 (tolerance 0.08) of their peaks as 5° means, 100 steps, validated in 1.00 s")
+    from linkgen.crosscheck.cam import CamCheck
+
+    r = CamCheck("cam", {"errors_relative": {"displacement": 1e-4, "contact_force": 0.05, "cam_torque": 0.075},
+                         "profile_points": 4000, "windows": 72, "steps": 100},
+                 {"displacement": 2e-4, "contact_force": 0.07, "cam_torque": 0.08})
+    assert r.summary("validated in 1.00 s") == (
+        "ok   cam in MuJoCo (contact with a 4000-vertex profile): displacement 1.00e-04 of the stroke (tolerance "
+        "0.0002), contact force 5.00e-02 (tolerance 0.07) and cam torque 7.50e-02 (tolerance 0.08) of their peaks as "
+        "5° means, 100 steps, validated in 1.00 s")
 
 
 def test_a_cam_csv_counts_cam_angles(tmp_path, capsys):
@@ -213,7 +214,7 @@ def test_a_file_name_with_control_characters_is_shown_by_their_codes(tmp_path, c
 def test_simulate_out_names_the_option_not_the_description(tmp_path, capsys):
     # before: "linkgen: error: …/fourbar.toml: --out: …" — the description blamed for an option
     assert main(["simulate", str(MODELS / "fourbar.toml"), "--out", str(tmp_path / "run.txt")]) == 2
-    assert capsys.readouterr().err == (f"linkgen simulate: error: --out: must end in .npz or .csv, got "
+    assert capsys.readouterr().err == (f"linkgen simulate: error: -o/--out: must end in .npz or .csv, got "
                                        f"{str(tmp_path / 'run.txt')!r}\n")
 
 
@@ -241,7 +242,7 @@ def test_a_report_refuses_two_files_of_one_mechanism_name(tmp_path, capsys):
     assert capsys.readouterr().err == (
         f"linkgen validate: error: {tmp_path / 'a.toml'} and {tmp_path / 'b.toml'} both name their mechanism "
         "'fourbar': the report names its figures and sections after it, so one would overwrite the other's; give "
-        "them different [mechanism] names, or validate them into separate --report folders\n")
+        "them different [mechanism] names, or validate them into separate -o/--out folders\n")
     assert not (tmp_path / "report").exists()
 
 

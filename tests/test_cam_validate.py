@@ -142,12 +142,13 @@ def test_a_fly_off_is_diagnosed_as_contact_lost_with_its_landing_impact():
 
 
 def test_the_report_has_a_section_for_a_stand_alone_cam(tmp_path):
-    from linkgen.cli.cams import wall_text
-    from linkgen.cli.mujoco import _summary
+    from linkgen.cli.mujoco import _summary, wall_text
+    from linkgen.crosscheck.cam import CamCheck
     from linkgen.crosscheck.diagnose_cam import diagnose_cam
     from linkgen.report.figures_cam import plot_cam
-    from linkgen.report.report import write_index
     from linkgen.mujoco.cam import CAM_TOLERANCES, compare_cam
+    from linkgen.pipeline.registry import report_parts
+    from linkgen.report.report import write_index
 
     cm = _user_cam()
     run = _synthetic_fly_off(cm)  # no MuJoCo needed to draw a run
@@ -156,10 +157,10 @@ def test_the_report_has_a_section_for_a_stand_alone_cam(tmp_path):
     for f in figs:
         assert (tmp_path / f).read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     c = compare_cam(cm, run=run)
-    r = {"file": "user_cam.toml", "ok": False, "model": "user_cam", "cam": c | {"tolerances": CAM_TOLERANCES},
-         "diagnosis": [f.to_json() for f in diagnose_cam(cm, run, c["errors_relative"], c["windows"])],
-         "figures": figs, "total_wall_s": 1.234}
-    text = write_index([r], tmp_path, 1.3, 1.0).read_text()
+    check = CamCheck("user_cam", c, CAM_TOLERANCES, tuple(diagnose_cam(cm, run, c["errors_relative"], c["windows"])), run)
+    r = {"file": "user_cam.toml", "family": "cam"} | check.to_dict() | {"figures": figs, "total_wall_s": 1.234,
+                                                        "line": check.summary(wall_text(1.234))}
+    text = write_index([r], tmp_path, 1.3, 1.0, report_parts).read_text()
     section = text[text.index("## user_cam (a cam)"):]
     for f in figs:
         assert f"![{f}]({f})" in section
@@ -169,26 +170,36 @@ def test_the_report_has_a_section_for_a_stand_alone_cam(tmp_path):
 
 
 def test_the_headline_names_the_failing_loop_gap():
-    from linkgen.cli.mujoco import _summary
+    from linkgen.crosscheck.run import headline
 
-    r = {"model": "m", "ok": False, "steps": 10, "total_wall_s": 1.0,
+    r = {"model": "m", "ok": False, "steps": 10, "wall_s": 1.0,
          "quantities": {"points.B.position": {"relative_error": 5e-7, "tolerance": 1e-6}},
          "loop_gap": {"relative": 3e-8, "tolerance": 1e-8}}
-    assert "worst loop gap 3.00e-08" in _summary(r).splitlines()[0]
+    assert "worst loop gap 3.00e-08" in headline(r)
 
 
-def test_the_validate_line_and_the_report_give_one_wall_time(tmp_path):
+def test_the_validate_line_and_the_report_give_one_wall_time(tmp_path, monkeypatch):
     """A spatial model whose file took 5 s before its check began: the line and the report's
     table both give the whole validation's wall time."""
-    from linkgen.cli.mujoco import _summary
-    from linkgen.cli.spatial import check_spatial_file
+    import linkgen.cli.mujoco as cli_mujoco
+    from linkgen.cli.mujoco import _check_one, _summary
+    from linkgen.pipeline.registry import report_parts
     from linkgen.report.report import write_index
 
-    r = check_spatial_file(MODELS / "bennett.toml", time.perf_counter() - 5.0)
+    class Clock:  # the validation's first reading of the clock 5 s early
+        calls = 0
+
+        @classmethod
+        def perf_counter(cls):
+            cls.calls += 1
+            return time.perf_counter() - (5.0 if cls.calls == 1 else 0.0)
+
+    monkeypatch.setattr(cli_mujoco, "time", Clock)
+    r = _check_one(MODELS / "bennett.toml", None, True, None, False)
     shown = f"{r['total_wall_s']:.2f}"
     assert r["total_wall_s"] > 5.0
     assert f"validated in {shown} s" in _summary(r)
-    assert f"| {shown} |" in write_index([r], tmp_path, 1.0, 1.0).read_text()
+    assert f"| {shown} |" in write_index([r], tmp_path, 1.0, 1.0, report_parts).read_text()
 
 
 def test_the_practical_settings_runs_report_progress(monkeypatch):
@@ -231,8 +242,8 @@ def test_a_knife_edges_small_roller_starts_on_the_profile_not_in_it():
 def test_a_cam_linkage_run_that_misses_is_diagnosed():
     """A cam on a linkage's crank: the same diagnosis, on the cam's contact (a synthetic run: the
     roller off the cam from 100° to 104°, the follower's displacement off by 1e-3 of its stroke)."""
-    from linkgen.cli.cams import cam_linkage_findings
     from linkgen.cli.mujoco import _summary
+    from linkgen.crosscheck.diagnose_cam import cam_linkage_findings
     from linkgen.mujoco.cam_linkage import CamLinkageCheck
 
     n = 36000

@@ -113,7 +113,7 @@ def test_build_does_not_write_through_a_symlink(tmp_path, capsys):
 def test_build_output_option_with_a_folder(tmp_path, capsys):
     assert main(["build", str(MODELS), "-o", str(tmp_path / "x.xml")]) == 2
     assert capsys.readouterr().err == (
-        f"linkgen build: error: -o/--output writes one model, but {str(MODELS)!r} is a folder (a folder's models "
+        f"linkgen build: error: -o/--out writes one model, but {str(MODELS)!r} is a folder (a folder's models "
         "are written next to their descriptions)\n")
     assert not (tmp_path / "x.xml").exists()
 

@@ -174,13 +174,14 @@ def test_a_machine_that_never_settles_is_compared_over_its_duration_at_the_speed
 
 def test_validates_machine_line_names_the_failing_quantity():
     from linkgen.cli.mujoco import _summary
+    from linkgen.crosscheck.run import headline
 
-    r = {"model": "m", "ok": False, "quantities": {"x": {"relative_error": 1e-9, "tolerance": 1e-6}},
+    r = {"model": "m", "ok": False, "wall_s": 1.0, "quantities": {"x": {"relative_error": 1e-9, "tolerance": 1e-6}},
          "loop_gap": {"relative": 1e-10, "tolerance": 1e-8}, "steps": 10, "total_wall_s": 1.0,
          "dynamics": {"ok": False, "duration_s": 1.0, "omega_error_relative": 1e-8, "tolerance": 1e-6,
                       "errors_relative": {"omega": 1e-8, "reactions": 5e-6}, "worst": "reactions",
                       "worst_error_relative": 5e-6}}
-    line = _summary(r).splitlines()[1]
+    line = _summary(r | {"line": headline(r)}).splitlines()[1]
     assert "reactions 5.00e-06" in line and "omega" not in line
 
 

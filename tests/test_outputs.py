@@ -90,7 +90,7 @@ def test_report_files_inside_the_folder_refuse_symlinks(tmp_path):
     folder = output_folder(tmp_path / "r")
     (folder / "README.md").symlink_to(victim)
     with pytest.raises(OutputError, match="is a symbolic link"):
-        write_index([], folder, 0.0, 0.0)
+        write_index([], folder, 0.0, 0.0, lambda entry: None)
     assert victim.read_text() == PRECIOUS
 
 

@@ -240,3 +240,15 @@ def add_crank_arguments(parser: argparse.ArgumentParser, example_angle: str) -> 
                              f"written marked, singular = 1, and the exit status is {SINGULAR_STATUS}); at one "
                              "crank angle a singular position is always an error (status 2)")
 
+
+
+def add_out_argument(parser: argparse.ArgumentParser, help: str, old: tuple[str, ...] = (), required: bool = False,
+                     append: bool = False) -> None:
+    """``-o/--out``, the one output option of every command that writes (a file, its format from
+    the extension, or a folder for a report); ``old``: earlier spellings kept as hidden aliases
+    (``args.out`` either way). ``append``: given once per output (a list)."""
+    kind = {"action": "append"} if append else {}
+    group = parser.add_mutually_exclusive_group(required=required) if old and not append else parser
+    group.add_argument("-o", "--out", type=Path, help=help, **kind)
+    for option in old:
+        group.add_argument(option, dest="out", type=Path, help=argparse.SUPPRESS, **kind)

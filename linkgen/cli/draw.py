@@ -9,7 +9,7 @@ from pathlib import Path
 
 import numpy as np
 
-from linkgen.cli.common import OptionError, _angle_arg, _positive_int
+from linkgen.cli.common import OptionError, _angle_arg, _positive_int, add_out_argument
 from linkgen.draw.limits import MAX_FRAMES, MAX_HEIGHT, MAX_WIDTH, MIN_FRAMES, MIN_SIDE
 
 
@@ -74,16 +74,6 @@ def _suffix(path: Path, allowed: tuple[str, ...], what: str) -> None:
                           f"got {'.' + kind if kind else 'no suffix'}")
 
 
-def _in_range(mech, phi: np.ndarray, option: str) -> None:
-    d = mech.drive
-    if d.stop - d.start >= 2 * math.pi - 1e-12:
-        return
-    bad = phi[(phi < d.start - 1e-12) | (phi > d.stop + 1e-12)]
-    if bad.size:
-        raise OptionError(f"{option}: {math.degrees(float(bad[0])):.6g}° is outside the drive's range "
-                          f"{math.degrees(d.start):.6g}°..{math.degrees(d.stop):.6g}° (drive.start, drive.stop)")
-
-
 def _progress(label: str):
     def report(done: int, total: int) -> None:
         if sys.stderr.isatty() or done == total:
@@ -94,131 +84,33 @@ def _progress(label: str):
 
 def cmd_draw(args) -> int:
     from linkgen.cli.files import atomic_output
-    from linkgen.draw.plan import plan_figure, skeleton_figure
-    from linkgen.pipeline.registry import load
+    from linkgen.pipeline.registry import load, stage
 
-    _suffix(args.output, FIGURE_FORMATS, "a drawing")
+    _suffix(args.out, FIGURE_FORMATS, "a drawing")
     if args.angle is not None and args.angles is not None:
         raise OptionError("--angle cannot be combined with --angles: --angle draws one position, --angles a plan")
-    from linkgen.families.cam.description import is_cam_file
-
-    if is_cam_file(args.model):
-        return _draw_cam(args)
-    mech = load(args.model)
-    if args.angles is not None:
-        _in_range(mech, args.angles, "--angles")
-        with atomic_output(args.output) as tmp:
-            plan_figure(mech, args.angles, tmp)
-        what = f"position plan of {len(args.angles)} positions"
-    else:
-        phi = mech.drive.start if args.angle is None else args.angle
-        _in_range(mech, np.array([phi]), "--angle")
-        with atomic_output(args.output) as tmp:
-            skeleton_figure(mech, phi, tmp)
-        what = f"skeleton at φ = {math.degrees(phi):.6g}°"
-    print(f"wrote {args.output}: {mech.name}, {what}")
-    return 0
-
-
-def _draw_cam(args) -> int:
-    from linkgen.families.cam.description import load_cam
-    from linkgen.cli.files import atomic_output
-    from linkgen.draw.cam import cam_figure, cam_plan_figure
-
-    cm = load_cam(args.model)
-    with atomic_output(args.output) as tmp:
-        if args.angles is not None:
-            cam_plan_figure(cm, args.angles, tmp)
-            what = f"position plan by inversion of {len(args.angles)} cam angles"
-        else:
-            theta = 0.0 if args.angle is None else args.angle
-            cam_figure(cm, theta, tmp)
-            what = f"cam and follower at θ = {math.degrees(theta):.6g}°"
-    print(f"wrote {args.output}: {cm.name}, {what}")
-    return 0
-
-
-def _other_kind(path) -> str | None:
-    """"cam" for a cam file, "spatial" for a spatial four-bar, None for a planar linkage."""
-    from linkgen.families.cam.description import is_cam_file
-    from linkgen.families.spatial.description import is_spatial_file
-
-    return "cam" if is_cam_file(path) else "spatial" if is_spatial_file(path) else None
-
-
-def _animate_other(args, kind: str) -> int:
-    """A cam's or a spatial four-bar's animation over one turn (the drawing of `linkgen draw`)."""
-    from linkgen.cli.files import atomic_output
-    from linkgen.draw.animate import save_animation
-    from linkgen.draw.frames import cam_frames, spatial_frames, turn_angles
-
-    if args.mujoco:
-        raise OptionError(f"{args.model}: --mujoco puts MuJoCo's run beside planar linkages; for this model "
-                          f"`linkgen render` gives MuJoCo's frames and `linkgen validate` its run")
-    angles = turn_angles(args.frames)
-    progress = _progress(f"drawing {args.output.name}")
-    if kind == "cam":
-        from linkgen.families.cam.description import load_cam
-
-        model = load_cam(args.model)
-        frames = cam_frames(model, angles, progress)
-    else:
-        from linkgen.pipeline.registry import load
-
-        model = load(args.model)
-        frames = spatial_frames(model, angles, progress)
-    with atomic_output(args.output) as tmp:
-        save_animation(frames, tmp, args.fps)
-    h, w = frames[0].shape[:2]
-    print(f"wrote {args.output}: {len(frames)} frames of {w}×{h} px at {args.fps} frames/s over one turn")
-    return 0
-
-
-def _render_other(args, kind: str) -> int:
-    from PIL import Image
-
-    from linkgen.cli.files import atomic_output
-    from linkgen.draw.frames import cam_render, spatial_render
-
-    angle = 0.0 if args.angle is None else args.angle
-    if kind == "cam":
-        from linkgen.families.cam.description import load_cam
-
-        model = load_cam(args.model)
-        frames = cam_render(model, angle, args.width, args.height)
-    else:
-        from linkgen.pipeline.registry import load
-
-        model = load(args.model)
-        frames = spatial_render(model, angle, args.width, args.height)
-    with atomic_output(args.output) as tmp:
-        Image.fromarray(frames[0]).save(tmp, format="PNG")
-    print(f"wrote {args.output}: MuJoCo frame of {model.name} at {'θ' if kind == 'cam' else 'φ'} = "
-          f"{math.degrees(angle):.6g}°, {args.width}×{args.height} px, camera 'overview'")
+    desc = load(args.model)
+    draw = stage(desc, "draw")
+    with atomic_output(args.out) as tmp:
+        what = draw(desc, args.angles if args.angles is not None else args.angle, tmp)
+    print(f"wrote {args.out}: {what}")
     return 0
 
 
 def cmd_animate(args) -> int:
     from linkgen.cli.files import atomic_output
-    from linkgen.draw.animate import drawn_frames, frame_angles, mujoco_run_frames, save_animation
-    from linkgen.pipeline.registry import load
+    from linkgen.draw.animate import save_animation
+    from linkgen.pipeline.registry import load, stage
 
-    _suffix(args.output, ("gif", "mp4"), "an animation")
-    kind = _other_kind(args.model)
-    if kind is not None:
-        return _animate_other(args, kind)
-    mech = load(args.model)
-    phi = frame_angles(mech, args.frames)
-    shots = None
-    if args.mujoco:
-        print(f"running {mech.name} in MuJoCo over its drive range …", file=sys.stderr, flush=True)
-        phi, shots = mujoco_run_frames(mech, args.frames)
-    frames = drawn_frames(mech, phi, shots, progress=_progress(f"drawing {args.output.name}"))
-    with atomic_output(args.output) as tmp:
+    _suffix(args.out, ("gif", "mp4"), "an animation")
+    desc = load(args.model)
+    frames, how = stage(desc, "animate")(desc, args.frames, progress=_progress(f"drawing {args.out.name}"),
+                                         mujoco=args.mujoco,
+                                         notice=lambda text: print(text, file=sys.stderr, flush=True))
+    with atomic_output(args.out) as tmp:
         save_animation(frames, tmp, args.fps)
     h, w = frames[0].shape[:2]
-    print(f"wrote {args.output}: {len(frames)} frames of {w}×{h} px at {args.fps} frames/s"
-          + (", closed form beside MuJoCo's run" if args.mujoco else ""))
+    print(f"wrote {args.out}: {len(frames)} frames of {w}×{h} px at {args.fps} frames/s{how}")
     return 0
 
 
@@ -226,28 +118,21 @@ def cmd_render(args) -> int:
     from PIL import Image
 
     from linkgen.cli.files import atomic_output
-    from linkgen.draw.render import render_mechanism
-    from linkgen.pipeline.registry import load
+    from linkgen.pipeline.registry import load, stage
 
-    _suffix(args.output, ("png",), "a MuJoCo frame")
-    kind = _other_kind(args.model)
-    if kind is not None:
-        return _render_other(args, kind)
-    mech = load(args.model)
-    phi = mech.drive.start if args.angle is None else args.angle
-    _in_range(mech, np.array([phi]), "--angle")
-    _, frames = render_mechanism(mech, phi, args.width, args.height)
-    with atomic_output(args.output) as tmp:
-        Image.fromarray(frames[0]).save(tmp, format="PNG")
-    print(f"wrote {args.output}: MuJoCo frame of {mech.name} at φ = {math.degrees(phi):.6g}°, "
-          f"{args.width}×{args.height} px, camera 'overview'")
+    _suffix(args.out, ("png",), "a MuJoCo frame")
+    desc = load(args.model)
+    frame, what = stage(desc, "render")(desc, args.angle, args.width, args.height)
+    with atomic_output(args.out) as tmp:
+        Image.fromarray(frame).save(tmp, format="PNG")
+    print(f"wrote {args.out}: {what}, {args.width}×{args.height} px, camera 'overview'")
     return 0
 
 
 def add_commands(sub) -> None:
     d = sub.add_parser("draw", help="the mechanism's skeleton at one crank angle, or a position plan")
     d.add_argument("model", type=Path, help="description file (.toml)")
-    d.add_argument("-o", "--output", type=Path, required=True, help="figure file: .png, .svg or .pdf")
+    add_out_argument(d, "figure file: .png, .svg or .pdf", old=("--output",), required=True)
     d.add_argument("--angle", type=_angle_arg, help="crank angle with its unit, e.g. 30deg (default: the range's start)")
     d.add_argument("--angles", type=angles_arg,
                    help="a position plan at START:STOP:STEP, degrees unless a unit is given, e.g. 0:360:30 "
@@ -256,8 +141,8 @@ def add_commands(sub) -> None:
 
     a = sub.add_parser("animate", help="the mechanism moving over its drive range, with its point paths")
     a.add_argument("model", type=Path, help="description file (.toml)")
-    a.add_argument("-o", "--output", type=Path, required=True,
-                   help="animation file: .gif, or .mp4 with the video extra (pip install 'linkgen[video]')")
+    add_out_argument(a, "animation file: .gif, or .mp4 with the video extra (pip install 'linkgen[video]')",
+                     old=("--output",), required=True)
     a.add_argument("--frames", type=_whole_in(MIN_FRAMES, MAX_FRAMES), default=72,
                    help=f"frames over the range (no unit; default 72, {MIN_FRAMES} to {MAX_FRAMES})")
     a.add_argument("--fps", type=_positive_int, default=24, help="frames per second of the file (default 24)")
@@ -268,7 +153,7 @@ def add_commands(sub) -> None:
 
     r = sub.add_parser("render", help="a MuJoCo offscreen frame of the generated model at one crank angle")
     r.add_argument("model", type=Path, help="description file (.toml)")
-    r.add_argument("-o", "--output", type=Path, required=True, help="image file (.png)")
+    add_out_argument(r, "image file (.png)", old=("--output",), required=True)
     r.add_argument("--angle", type=_angle_arg, help="crank angle with its unit, e.g. 30deg (default: the range's start)")
     r.add_argument("--width", type=_whole_in(MIN_SIDE, MAX_WIDTH), default=800,
                    help=f"image width [px] (default 800, {MIN_SIDE} to {MAX_WIDTH})")

@@ -39,12 +39,40 @@ def integration_progress(name: str):
     return report
 
 
+# What ``-o/--out`` writes, told by the path: (key, what it is, how it is recognised).
+_OUT_KINDS = (("csv", "the time samples", ".csv"), ("mjcf", "the machine's MuJoCo file", ".xml"),
+              ("report", "the figure's folder", "a folder"))
+
+
+def _outputs(args, kinds: tuple[str, ...]) -> dict:
+    """The files and folder ``-o/--out`` names (each told by its extension: .csv the samples, .xml
+    the MJCF, a folder — existing or without an extension — the figure), with the earlier
+    spellings (--csv, --mjcf, --report) kept as hidden aliases: key → Path or None."""
+    from linkgen.cli.common import OptionError
+
+    out = {k: getattr(args, f"old_{k}", None) for k in kinds}
+    allowed = " or ".join(w for k, _, w in _OUT_KINDS if k in kinds)
+    for path in args.out or []:
+        suffix = path.suffix.lower()
+        key = ("csv" if suffix == ".csv" else "mjcf" if suffix == ".xml" else
+               "report" if path.is_dir() or not suffix else None)
+        if key not in kinds:
+            raise OptionError(f"-o/--out: {str(path)!r} is not {allowed}; `linkgen {args.command}` writes "
+                              + ", ".join(f"{what} ({w})" for k, what, w in _OUT_KINDS if k in kinds))
+        if out[key] is not None:
+            what = next(what for k, what, _ in _OUT_KINDS if k == key)
+            raise OptionError(f"-o/--out: {what} given twice ({out[key]} and {path})")
+        out[key] = path
+    return out
+
+
 def cmd_dynamics(args) -> int:
     from linkgen.machine.machine import run_machine
     from linkgen.machine.plots import plot_run
     from linkgen.machine.reduced import reduce
     from linkgen.machine.study import cycle_forces, load_machine
 
+    outs = _outputs(args, ("csv", "report", "mjcf"))
     asm, machine = load_machine(args.model)
     name = asm.mechanism.name
     duration = args.duration if args.duration is not None else machine.duration
@@ -70,18 +98,18 @@ def cmd_dynamics(args) -> int:
            "forces_over_steady_cycle": forces.to_json() if forces else None}
     if compared is not None:
         out["mujoco"] = compared
-    if args.mjcf is not None:
+    if outs["mjcf"] is not None:
         from linkgen.cli.files import atomic_write_text
         from linkgen.mujoco.machine_mjcf import machine_mjcf
 
-        atomic_write_text(args.mjcf, machine_mjcf(asm, machine))
-        out["mjcf"] = str(args.mjcf)
-    if args.report is not None:
-        output_folder(args.report)
-        fig = args.report / f"{name}_machine.png"
+        atomic_write_text(outs["mjcf"], machine_mjcf(asm, machine))
+        out["mjcf"] = str(outs["mjcf"])
+    if outs["report"] is not None:
+        output_folder(outs["report"])
+        fig = outs["report"] / f"{name}_machine.png"
         plot_run(name, mj_run if mj_run is not None else run, fig, mj)
         out["figure"] = str(fig)
-    if args.csv is not None:
+    if outs["csv"] is not None:
         cols = ["t [s]", "phi [rad]", "omega [rad/s]", "epsilon [rad/s²]", "motor_torque [N·m]"]
         data = [run.t, run.phi, run.omega, run.epsilon, run.motor_torque]
         for c, arr in (("current [A]", run.current), ("twist [rad]", run.twist),
@@ -89,7 +117,7 @@ def cmd_dynamics(args) -> int:
             if arr is not None:
                 cols.append(c)
                 data.append(arr)
-        write_rows(cols, data, args.csv, rows="time samples")
+        write_rows(cols, data, outs["csv"], rows="time samples")
     if args.json:
         print_json(out)
         return 0
@@ -122,7 +150,7 @@ def cmd_dynamics(args) -> int:
               f"{m['tolerance']:g}" + ("" if m["ok"] else f" ({m['worst']})"))
         if "dcmotor" in m:
             d = m["dcmotor"]
-            print(f"  MuJoCo's own dcmotor element (the --mjcf file), first {d['duration_s']:.3g} s: ω within "
+            print(f"  MuJoCo's own dcmotor element (the -o FILE.xml file), first {d['duration_s']:.3g} s: ω within "
                   f"{d['omega_error_relative']:.2e} at {d['timestep']:.3g} s steps, {d['omega_error_relative_half_step']:.2e} "
                   f"at half of it (order {d['order']:.2f} in the timestep)")
     if "figure" in out:
@@ -138,6 +166,7 @@ def cmd_flywheel(args) -> int:
     from linkgen.machine.reduced import reduce
     from linkgen.machine.study import flywheel_study, load_machine
 
+    outs = _outputs(args, ("report",))
     asm, machine = load_machine(args.model)
     fw, delta_check = flywheel_study(asm, machine, args.delta, args.omega)
     out = {"model": asm.mechanism.name, "delta": args.delta, "omega_mean": fw.omega_mean,
@@ -145,13 +174,13 @@ def cmd_flywheel(args) -> int:
            "delta_integrated": delta_check,
            "units": {"inertia_required": "kg·m² at the crank, beyond the mechanism and the rotor",
                      "driving_torque": "N·m", "energy_swing": "J", "omega_mean": "rad/s"}}
-    if args.report is not None:
-        output_folder(args.report)
+    if outs["report"] is not None:
+        output_folder(outs["report"])
         red = reduce(asm, machine.process_load)
         added = machine.rotor_inertia * machine.gear_ratio**2
         js = np.geomspace(max(fw.inertia, 1e-6) / 30, max(fw.inertia, 1e-6) * 30, 40)
         ds = np.array([fluctuation(red, j, fw.omega_mean, added) for j in js])
-        fig = args.report / f"{asm.mechanism.name}_flywheel.png"
+        fig = outs["report"] / f"{asm.mechanism.name}_flywheel.png"
         plot_flywheel(asm.mechanism.name, js, ds, (fw.inertia, args.delta), fig)
         out["figure"] = str(fig)
     if args.json:
@@ -170,16 +199,19 @@ def add_command(sub) -> None:
     d.add_argument("model", type=Path, help="description with a [machine] table")
     d.add_argument("--duration", type=_positive, help="seconds of machine time (default: [machine] duration)")
     d.add_argument("--samples", type=_samples, default=2000, help="time samples in the output (no unit; default 2000)")
-    d.add_argument("--csv", type=Path, help="also write t [s], phi [rad], omega [rad/s], epsilon [rad/s²], "
-                                            "motor_torque [N·m] (and current [A], twist [rad], shaft_torque "
-                                            "[N·m]) at the time samples to this CSV file")
+    d.add_argument("-o", "--out", type=Path, action="append",
+                   help="an output, told by its extension (give -o once per output): FILE.csv the time samples — "
+                        "t [s], phi [rad], omega [rad/s], epsilon [rad/s²], motor_torque [N·m] (and current [A], "
+                        "twist [rad], shaft_torque [N·m]); FILE.xml the machine as a MuJoCo file (the linkage, rotor, "
+                        "flywheel, shaft and the motor as MuJoCo's own element where it has one); a folder for the "
+                        "figure ω(t), M(t), ω(M)")
+    d.add_argument("--csv", dest="old_csv", type=Path, help=argparse.SUPPRESS)
     d.add_argument("--json", action="store_true", help="print one JSON object")
-    d.add_argument("--report", type=Path, help="folder for the figure ω(t), M(t), ω(M)")
+    d.add_argument("--report", dest="old_report", type=Path, help=argparse.SUPPRESS)
     d.add_argument("--mujoco", action="store_true",
                    help="also run the full linkage in MuJoCo over the start-up and --cycles steady cycles and compare "
                         "ω(t), φ(t), the motor torque and the shaft twist")
-    d.add_argument("--mjcf", type=Path, help="also write the machine as a MuJoCo file (.xml): the linkage, rotor, "
-                                             "flywheel, shaft and the motor as MuJoCo's own element where it has one")
+    d.add_argument("--mjcf", dest="old_mjcf", type=Path, help=argparse.SUPPRESS)
     d.add_argument("--cycles", type=_samples, default=10,
                    help="steady cycles compared with --mujoco (no unit; default 10)")
     d.set_defaults(func=cmd_dynamics)
@@ -189,7 +221,8 @@ def add_command(sub) -> None:
     f.add_argument("--delta", type=_positive, required=True, help="coefficient of speed fluctuation (no unit), e.g. 0.02")
     f.add_argument("--omega", type=_positive, help="mean crank speed [rad/s] (default: the drive's omega)")
     f.add_argument("--json", action="store_true", help="print one JSON object")
-    f.add_argument("--report", type=Path, help="folder for the figure δ against flywheel inertia")
+    f.add_argument("-o", "--out", type=Path, action="append", help="folder for the figure δ against flywheel inertia")
+    f.add_argument("--report", dest="old_report", type=Path, help=argparse.SUPPRESS)
     f.set_defaults(func=cmd_flywheel)
 
 

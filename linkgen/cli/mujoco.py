@@ -1,9 +1,9 @@
-"""CLI commands that need MuJoCo: build, simulate, validate."""
+"""CLI commands that need MuJoCo: build, simulate, validate — written once against the family
+stages (``pipeline.registry.stage``): mjcf, simulate, validate and the report's figures."""
 
 from __future__ import annotations
 
 import json
-import math
 import multiprocessing
 import os
 import sys
@@ -13,10 +13,8 @@ from pathlib import Path
 
 import numpy as np
 
-from linkgen.cli.cams import cam_line, check_cam_file, check_cam_linkage_file, wall_text
 from linkgen.errors import DescriptionError, LinkgenError
 
-REPORT_DIR = Path("validation/report")
 # Diagnosis lines printed per model (the JSON has them all).
 DIAGNOSIS_LINES = 5
 
@@ -33,61 +31,27 @@ def _models(path: Path) -> list[Path]:
 
 
 def _build_one(path: Path, out: Path, practical: bool = False) -> Path:
-    """Compile ``path``'s MJCF in MuJoCo and write it atomically to ``out``; a model MuJoCo's
-    compiler refuses is a LinkgenError saying what it refused."""
+    """Compile ``path``'s MJCF (its family's ``mjcf`` stage) in MuJoCo and write it atomically to
+    ``out``; a model MuJoCo's compiler refuses is a LinkgenError saying what it refused."""
+    import mujoco
+
+    from linkgen.cli.files import atomic_write_text
+    from linkgen.mujoco.log import no_log_file
+    from linkgen.pipeline.registry import load, stage
+
+    desc = load(path)
+    xml = stage(desc, "mjcf")(desc, practical=practical)  # any structure class: the MJCF needs no Assur groups
     try:
-        return _build_checked(path, out, practical)
+        with no_log_file():
+            mujoco.MjModel.from_xml_string(xml)  # always compile what we write
     except ValueError as exc:
         text = str(exc).strip()
         if not text.startswith(("Error", "XML Error")):  # not MuJoCo's compiler: a bug, reported as such
             raise
         raise LinkgenError(f"MuJoCo cannot represent this mechanism as described (its compiler refuses the "
                            f"generated model: {' '.join(text.split())})") from None
-
-
-def _build_checked(path: Path, out: Path, practical: bool = False) -> Path:
-    import mujoco
-
-    from linkgen.cli.files import atomic_write_text
-    from linkgen.pipeline.registry import load
-    from linkgen.mujoco.mjcf import write_mjcf
-    from linkgen.mujoco.log import no_log_file
-
-    from linkgen.families.cam.description import is_cam_file
-    from linkgen.cli.spatial import build_spatial, is_spatial_file
-
-    if is_spatial_file(path):
-        return build_spatial(path, out, practical)
-    if is_cam_file(path):
-        from linkgen.families.cam.description import load_cam
-        from linkgen.mujoco.cam import cam_mjcf
-
-        if practical:
-            raise DescriptionError("--practical", "is for linkages; a cam's MJCF carries its own contact settings",
-                                   str(path))
-        xml = cam_mjcf(load_cam(path))
-        with no_log_file():
-            mujoco.MjModel.from_xml_string(xml)
-        atomic_write_text(out, xml)
-        print(f"wrote {out}", file=sys.stderr)  # with the errors, in order, as for every family
-        return out
-    mech = load(path)
-    settings = None
-    if practical:  # MuJoCo's usual settings, the derived rotor inertia kept to hold the crank speed
-        from dataclasses import replace
-
-        from linkgen.crosscheck.practical import USER
-        from linkgen.mujoco.mjcf import settings_for
-
-        settings = replace(USER, armature=settings_for(mech).armature)
-    xml = write_mjcf(mech, settings)  # any structure class: the MJCF needs no Assur groups
-    try:
-        with no_log_file():
-            mujoco.MjModel.from_xml_string(xml)  # always compile what we write
-    except ValueError as exc:
-        raise LinkgenError(f"MuJoCo rejects the generated model: {str(exc).strip()}") from None
     atomic_write_text(out, xml)
-    print(f"wrote {out}", file=sys.stderr)
+    print(f"wrote {out}", file=sys.stderr)  # with the errors, in order, as for every family
     return out
 
 
@@ -97,12 +61,12 @@ def cmd_build(args) -> int:
     from linkgen.cli.common import OptionError
     from linkgen.cli.files import run_each
 
-    if args.output is not None and args.model.is_dir():
-        raise OptionError(f"-o/--output writes one model, but {str(args.model)!r} is a folder (a folder's models "
+    if args.out is not None and args.model.is_dir():
+        raise OptionError(f"-o/--out writes one model, but {str(args.model)!r} is a folder (a folder's models "
                           "are written next to their descriptions)")
     paths = _models(args.model)
     if len(paths) == 1 and not args.model.is_dir():
-        _build_one(paths[0], args.output or paths[0].with_suffix(".xml"), args.practical)
+        _build_one(paths[0], args.out or paths[0].with_suffix(".xml"), args.practical)
         return 0
     outcomes = run_each(paths, lambda p: _build_one(p, p.with_suffix(".xml"), args.practical))
     bad = [o for o in outcomes if not o.ok]
@@ -119,56 +83,34 @@ def _progress(name: str):
 
 
 def cmd_simulate(args) -> int:
-    from linkgen.cli.common import check_finite_columns
-    from linkgen.families.planar.assembly import assemble
-    from linkgen.errors import StructureError
-    from linkgen.pipeline.registry import load
-    from linkgen.mujoco.posed import posed
-    from linkgen.mujoco.simulate import simulate, steps_per_revolution
-    from linkgen.cli.common import OptionError
+    from linkgen.cli.common import OptionError, check_finite_columns
+    from linkgen.mujoco.simulate import steps_per_revolution
+    from linkgen.pipeline.registry import load, stage
 
     if args.out is not None and args.out.suffix not in (".npz", ".csv"):
-        raise OptionError(f"--out: must end in .npz or .csv, got {str(args.out)!r}")  # about the option, not the file
+        raise OptionError(f"-o/--out: must end in .npz or .csv, got {str(args.out)!r}")  # about the option, not the file
     if args.out is not None:  # a symlink or a folder refused before the run, not after it
         from linkgen.outputs import check_output
 
         check_output(args.out)
-    mech = load(args.model)
-    try:
-        asm = assemble(mech)
-    except StructureError as exc:  # no Assur groups needed: the numeric pose starts the run
-        print(f"{args.model}: the closed form does not cover this mechanism ({exc}); MuJoCo runs it from the "
-              f"numeric pose, with settings from the crank speed", file=sys.stderr)
-        asm = posed(mech)
-    run = simulate(asm, revolutions=args.revolutions, omega=args.omega, epsilon=args.epsilon,
-                   samples=args.samples, progress=_progress(asm.mechanism.name))
-    s = run.samples
-    arrays = {"time": s.time, "qpos": s.qpos, "qvel": s.qvel, "loop_gap": s.violation,
-              "phi": s.crank[0], "omega": s.crank[1], "epsilon": s.crank[2], "drive_torque": s.drive_torque}
-    for p, (x, v, a) in s.points.items():
-        arrays |= {f"points.{p}.position": x, f"points.{p}.velocity": v, f"points.{p}.acceleration": a}
-    for n, (x, v, a) in s.links.items():
-        arrays |= {f"links.{n}.angle": x, f"links.{n}.angular_velocity": v, f"links.{n}.angular_acceleration": a}
-    for n, (x, v, a) in s.sliders.items():
-        arrays |= {f"sliders.{n}.displacement": x, f"sliders.{n}.velocity": v, f"sliders.{n}.acceleration": a}
-    f = s.forces  # forward route, linkgen.kinetostatics' sign conventions
-    arrays |= {f"reactions.{k}.force": v for k, v in f.reactions.items()}
-    arrays |= {f"prismatic.{k}.normal_force": v for k, v in f.normal_force.items()}
-    arrays |= {f"prismatic.{k}.moment": v for k, v in f.moment.items()}
-    arrays["reduced_inertia"] = s.reduced_inertia
+    desc = load(args.model)
+    run = stage(desc, "simulate")(desc, revolutions=args.revolutions, omega=args.omega, epsilon=args.epsilon,
+                                  samples=args.samples, progress=_progress(desc.name),
+                                  notice=lambda text: print(f"{args.model}: {text}", file=sys.stderr))
+    arrays = run.samples.arrays()
     if args.out is not None:
         check_finite_columns(list(arrays), list(arrays.values()))  # nothing non-finite is written
         _write_samples(args.out, arrays)
     st = run.settings
-    print(f"{asm.mechanism.name}: {run.steps} steps ({steps_per_revolution(run):.0f} per revolution) in {run.wall:.2f} s "
+    print(f"{desc.name}: {run.steps} steps ({steps_per_revolution(run):.0f} per revolution) in {run.wall:.2f} s "
           f"on {run.segments} thread(s); timestep {st.timestep:g} s, loop time constant {st.timeconst:g} s; "
-          f"largest loop gap {run.gap_max:.3g} m; {s.time.shape[0]} samples"
+          f"largest loop gap {run.gap_max:.3g} m; {run.samples.time.shape[0]} samples"
           + (f"; wrote {args.out}" if args.out else ""))
     return 0
 
 
 def _write_samples(out: Path, arrays: dict[str, np.ndarray]) -> None:
-    """``simulate --out``: the sampled arrays as NPZ, or as CSV (2-D arrays as .x/.y columns;
+    """``simulate -o``: the sampled arrays as NPZ, or as CSV (2-D arrays as .x/.y columns;
     not qpos, qvel), written atomically and never through a symlink."""
     from linkgen.outputs import atomic_output
 
@@ -189,78 +131,48 @@ def _write_samples(out: Path, arrays: dict[str, np.ndarray]) -> None:
         np.savetxt(tmp, np.column_stack(data), delimiter=",", header=",".join(header), comments="", fmt="%.17g")
 
 
+def wall_text(seconds: float) -> str:
+    """The wall time of one file's validation, as the CLI line and the report table give it."""
+    return f"validated in {seconds:.2f} s"
+
+
 def _check_one(path: Path, report: Path | None, practical: bool, nthread: int | None, progress: bool,
-               max_steps: int = 1_000_000) -> dict:
-    """Validate one file (in a worker process for folders); draws its figures if ``report``."""
-    from linkgen.families.planar.assembly import assemble
-    from linkgen.crosscheck.run import crosscheck
-    from linkgen.errors import StructureError
+               max_steps: int | None = None) -> dict:
+    """Validate one file (in a worker process for folders) through its family's ``validate``
+    stage; with ``report``, its ``figures`` stage draws into that folder. Returns the file's
+    JSON entry: ``file``, ``family``, the result's ``to_dict()``, its figures, ``total_wall_s`` and
+    ``line`` (the result's ``summary``), or ``error`` when it could not be validated."""
+    from linkgen.cli.dynamics import integration_progress
     from linkgen.cli.files import message_for
-    from linkgen.pipeline.registry import load
+    from linkgen.pipeline.registry import family_of, load, stage
 
     t0 = time.perf_counter()
-    from linkgen.families.cam.description import is_cam_file
-
-    if is_cam_file(path):
-        return check_cam_file(path, t0, report, _progress(path.stem) if progress else None, max_steps)
-    from linkgen.cli.spatial import check_spatial_file, is_spatial_file
-
-    if is_spatial_file(path):
-        return check_spatial_file(path, t0, report, _progress(path.stem) if progress else None, max_steps)
     try:
-        asm = assemble(load(path))
-    except StructureError as exc:
-        return {"model": path.stem, "file": str(path), "ok": False,
-                "error": f"{path}: the closed form does not cover this mechanism ({exc}); `linkgen build` and "
-                         f"`linkgen simulate` still work for it"}
+        desc = load(path)
+        check = stage(desc, "validate")(desc, practical=practical, nthread=nthread, max_steps=max_steps,
+                                        progress=_progress(desc.name) if progress else None, source=path,
+                                        machine_progress=integration_progress(desc.name) if progress else None)
     except LinkgenError as exc:
         return {"model": path.stem, "file": str(path), "ok": False, "error": message_for(path, exc)}
-    if asm.mechanism.cams:
-        return check_cam_linkage_file(path, asm, report, t0, _progress(asm.mechanism.name) if progress else None,
-                                      max_steps)
-    cc = crosscheck(asm, practical=practical, nthread=nthread, max_steps=max_steps,
-                    progress=_progress(asm.mechanism.name) if progress else None)
-    out = {"file": str(path)} | cc.to_json()
-    from linkgen.crosscheck.machine import compare_machine
-
-    from linkgen.cli.dynamics import integration_progress
-
-    dyn = compare_machine(path, progress=integration_progress(asm.mechanism.name) if progress else None)
-    if dyn is not None:
-        out["dynamics"] = dyn
-        out["ok"] = bool(out["ok"] and dyn["ok"])
-    if report is not None and cc.comparison is not None:
-        from linkgen.report.report import plot_mechanism, plot_model
-        from linkgen.families.planar.summary import summarize
-
+    out = {"file": str(path), "family": family_of(desc).name} | check.to_dict()
+    if report is not None:
         from linkgen.outputs import output_folder
 
         output_folder(report)
-        out["figures"] = plot_mechanism(asm, report) + plot_model(cc.comparison, report)
-        out["summary"] = summarize(asm).to_dict()
+        out |= stage(desc, "figures")(desc, check, report)
     out["total_wall_s"] = time.perf_counter() - t0
+    out["line"] = check.summary(wall_text(out["total_wall_s"]))
     return out
 
 
 def _summary(r: dict) -> str:
+    """What the CLI prints of one file's validation (its JSON entry, ``_check_one``): the model
+    and its result's line, a machine's comparison, the diagnosis and the runs tried."""
     from linkgen.report.report import number as _num
 
     if "error" in r:
         return f"{r['model']:<22} FAIL {r['error']}"
-    lines = []
-    if "spatial" in r or "cam_linkage" in r:
-        lines.append(f"{r['model']:<22} {r['line']}")
-    elif "cam" in r:
-        lines.append(cam_line(r))
-    elif "quantities" in r:
-        worst, err, tol = headline_worst(r)
-        gap = r["loop_gap"]
-        lines.append(f"{r['model']:<22} {'ok  ' if r['ok'] else 'FAIL'} worst {worst} {err:.2e} "
-                     + ("of the size " if worst == "loop gap" else "")
-                     + f"(tolerance {tol:g}), " + ("" if worst == "loop gap" else f"loop gap {gap['relative']:.1e} of the size, ")
-                     + f"{r['steps']} steps, {wall_text(r['total_wall_s'])}")
-    else:
-        lines.append(f"{r['model']:<22} FAIL")
+    lines = [f"{r['model']:<22} {r['line']}"]
     dyn = r.get("dynamics")
     if dyn is not None:
         lines.append(f"    machine: {dyn['skipped']}" if "skipped" in dyn else
@@ -288,21 +200,13 @@ def _summary(r: dict) -> str:
     return "\n".join(lines)
 
 
-def headline_worst(r: dict) -> tuple[str, float, float]:
-    """The quantity a linkage's validate line names: the worst relative to its tolerance of every
-    compared quantity and the loop gap (name, relative error, tolerance)."""
-    q = {k: (v["relative_error"], v["tolerance"]) for k, v in r["quantities"].items()}
-    q["loop gap"] = (r["loop_gap"]["relative"], r["loop_gap"]["tolerance"])
-    worst = max(q, key=lambda k: q[k][0] / q[k][1] if q[k][1] > 0 else math.inf)
-    return worst, *q[worst]
-
-
 def cmd_validate(args) -> int:
     from linkgen.families.planar.blocks import default_threads
+    from linkgen.pipeline.registry import report_parts
     from linkgen.report.report import write_index
 
     paths = _models(args.model)
-    report = args.report if args.report is not None else (REPORT_DIR if args.model.is_dir() else None)
+    report = args.out  # a report only where the user asks for one: never relative to the working folder
     if report is not None:  # refused before the runs (a symlink, a file), not after them
         from linkgen.outputs import output_folder
 
@@ -313,7 +217,7 @@ def cmd_validate(args) -> int:
         if twins:
             raise OptionError(f"{twins[1]} and {twins[2]} both name their mechanism {twins[0]!r}: the report names its "
                               "figures and sections after it, so one would overwrite the other's; give them different "
-                              "[mechanism] names, or validate them into separate --report folders")
+                              "[mechanism] names, or validate them into separate -o/--out folders")
         output_folder(report)
     practical = not args.no_practical
     t0 = time.perf_counter()
@@ -342,8 +246,11 @@ def cmd_validate(args) -> int:
     elif len(paths) == 1:
         print(_summary(results[0]))
     if report is not None:
-        path = write_index(results, report, wall, cores)
+        path = write_index(results, report, wall, cores, report_parts)
         print(f"report: {path} ({len(paths)} model(s) in {wall:.1f} s, {cores:.2f} cores busy)", file=sys.stderr)
+    elif args.model.is_dir():
+        print(f"{len(paths)} model(s) in {wall:.1f} s, {cores:.2f} cores busy; no report written (-o DIR writes one, "
+              f"with the figures)", file=sys.stderr)
     if any("error" in r for r in results):
         return 2  # a file that could not be validated at all
     return 0 if all(r["ok"] for r in results) else 1
@@ -357,13 +264,14 @@ def _json_default(x):
 
 def add_commands(sub) -> None:
     from linkgen.model import limits
-    from linkgen.cli.common import _float_arg, _positive_int, rate_arg
+    from linkgen.cli.common import _float_arg, _positive_int, add_out_argument, rate_arg
     from linkgen.mujoco.options import MAX_STEPS
 
     b = sub.add_parser("build", help="write the MJCF of a model, or of every model in a folder")
     b.add_argument("model", type=Path, help="description file (.toml), or a folder whose every description is "
                                             "written beside itself as .xml")
-    b.add_argument("-o", "--output", type=Path, help="output file (one model file only, not a folder)")
+    add_out_argument(b, "MJCF file (.xml; one model file only, not a folder; default: beside the description)",
+                     old=("--output",))
     b.add_argument("--practical", action="store_true",
                    help="write MuJoCo's usual settings (timestep 2 ms, Euler, default solref/solimp) instead of "
                         "the validation's; validate reports what they cost in accuracy")
@@ -378,14 +286,14 @@ def add_commands(sub) -> None:
     s.add_argument("--epsilon", type=rate_arg(limits.MAX_EPSILON, "rad/s²"),
                    help="crank acceleration [rad/s²] (default: the description's)")
     s.add_argument("--samples", type=_positive_int, default=360, help="sampled states over the range (no unit; default 360)")
-    s.add_argument("--out", type=Path, help="write the samples to FILE.npz or FILE.csv (SI units)")
+    add_out_argument(s, "write the samples to FILE.npz or FILE.csv (SI units)")
     s.set_defaults(func=cmd_simulate)
 
-    v = sub.add_parser("validate", help="closed form against MuJoCo; a folder also writes the report")
+    v = sub.add_parser("validate", help="closed form against MuJoCo, for a file or every file of a folder")
     v.add_argument("model", type=Path, help="description file (.toml) or a folder of them")
     v.add_argument("--json", action="store_true", help="print the results as JSON")
-    v.add_argument("--report", type=Path, help=f"write the report (Markdown and plots) into this folder "
-                                               f"(default for a folder: {REPORT_DIR})")
+    add_out_argument(v, "write the report (README.md and the figures) into this folder (default: no report)",
+                     old=("--report",))
     v.add_argument("--no-practical", action="store_true",
                    help="skip the runs at MuJoCo's usual settings (the practical-settings table)")
     v.add_argument("--max-steps", type=_positive_int, default=MAX_STEPS,
@@ -394,4 +302,4 @@ def add_commands(sub) -> None:
     v.set_defaults(func=cmd_validate)
 
 
-__all__ = ["add_commands", "LinkgenError"]
+__all__ = ["add_commands", "wall_text", "LinkgenError"]

@@ -135,4 +135,18 @@ def diagnose_cam(cm, run, errs: dict, windows: int = WINDOWS) -> list[Finding]:
     return findings(trace, misses)
 
 
-__all__ = ["IMPACT_FACTOR", "LEFT_FOR", "ContactTrace", "diagnose_cam", "findings", "windows_over"]
+def cam_linkage_findings(r) -> list[Finding]:
+    """The diagnosis of a cam linkage's MuJoCo check (``mujoco.cam_linkage.CamLinkageCheck``):
+    every quantity over its tolerance with where and why, judged on its cam's contact (the first
+    cam's for the points and the balancing torque)."""
+    out = []
+    for name, (err, tol) in r.errors.items():
+        if err <= tol:
+            continue
+        cam = name.split(".", 1)[0] if name.split(".", 1)[0] in r.contacts else next(iter(r.contacts))
+        out += findings(ContactTrace(**r.contacts[cam]), {name: (r.curves[name] > tol, err, tol)})
+    return sorted(out, key=lambda f: -f.relative_error / f.tolerance)
+
+
+__all__ = ["IMPACT_FACTOR", "LEFT_FOR", "ContactTrace", "cam_linkage_findings", "diagnose_cam", "findings",
+           "windows_over"]

@@ -4,6 +4,7 @@ first COMPARE_SECONDS or over its start-up and steady cycles, and MuJoCo's own d
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -163,4 +164,43 @@ def compare_machine(path, cycles: int | None = None, progress=None) -> dict | No
         return {"ok": False, "skipped": str(exc), "duration_s": None}
 
 
-__all__ = ["COMPARE_SECONDS", "MACHINE_TOL", "STEADY_CYCLES", "compare_machine", "compare_machine_run"]
+@dataclass(frozen=True)
+class MachineCheck:
+    """A planar file's validation with its ``[machine]`` table: the linkage's check at the
+    prescribed speed (``check``: a ``crosscheck.run.CrossCheck``) and the machine driven by its
+    motor in MuJoCo against its ODE (``machine``: ``compare_machine``'s dict); ok when both are."""
+
+    check: object
+    machine: dict
+
+    @property
+    def model(self) -> str:
+        return self.check.model
+
+    @property
+    def ok(self) -> bool:
+        return bool(self.check.ok and self.machine["ok"])
+
+    @property
+    def comparison(self):
+        return self.check.comparison
+
+    @property
+    def diagnosis(self) -> tuple:
+        return self.check.diagnosis
+
+    def summary(self, wall: str | None = None) -> str:
+        """The linkage's line (``crosscheck.run.headline``), FAIL when the machine missed."""
+        from linkgen.crosscheck.run import headline
+
+        return headline(self.to_json(), wall)
+
+    def to_json(self) -> dict:
+        return self.check.to_json() | {"dynamics": self.machine, "ok": self.ok}
+
+    def to_dict(self) -> dict:
+        """The result as ``linkgen validate --json`` gives it."""
+        return self.to_json()
+
+
+__all__ = ["COMPARE_SECONDS", "MACHINE_TOL", "STEADY_CYCLES", "MachineCheck", "compare_machine", "compare_machine_run"]

@@ -56,6 +56,14 @@ class CrossCheck:
     def ok(self) -> bool:
         return self.comparison is not None and self.comparison.ok and not self.diagnosis
 
+    def summary(self, wall: str | None = None) -> str:
+        """One line; ``wall``: the wall time as the caller measured it (default: the runs')."""
+        return headline(self.to_json(), wall)
+
+    def to_dict(self) -> dict:
+        """The result as ``linkgen validate --json`` gives it."""
+        return self.to_json()
+
     def to_json(self) -> dict:
         out: dict = {"model": self.model, "ok": self.ok}
         c = self.comparison
@@ -78,6 +86,29 @@ class CrossCheck:
         out["attempts"] = [a.to_json() for a in self.attempts]
         out["practical_settings"] = [r.to_json() for r in self.practical]
         return out
+
+
+def headline_worst(r: dict) -> tuple[str, float, float]:
+    """The quantity a linkage's validate line names (``r``: ``CrossCheck.to_json``): the worst
+    relative to its tolerance of every compared quantity and the loop gap (name, relative
+    error, tolerance)."""
+    q = {k: (v["relative_error"], v["tolerance"]) for k, v in r["quantities"].items()}
+    q["loop gap"] = (r["loop_gap"]["relative"], r["loop_gap"]["tolerance"])
+    worst = max(q, key=lambda k: q[k][0] / q[k][1] if q[k][1] > 0 else math.inf)
+    return worst, *q[worst]
+
+
+def headline(r: dict, wall: str | None = None) -> str:
+    """The validate line of a linkage's check from its JSON (``CrossCheck.to_json``, with a
+    machine's comparison joined: ``ok`` is then both): ok or FAIL, the worst quantity, the loop
+    gap, the steps and ``wall`` (default: the runs' wall time)."""
+    if "quantities" not in r:  # no run compared anything: the diagnosis says why
+        return "FAIL"
+    worst, err, tol = headline_worst(r)
+    gap = worst == "loop gap"
+    return (f"{'ok  ' if r['ok'] else 'FAIL'} worst {worst} {err:.2e} " + ("of the size " if gap else "")
+            + f"(tolerance {tol:g}), " + ("" if gap else f"loop gap {r['loop_gap']['relative']:.1e} of the size, ")
+            + f"{r['steps']} steps, {wall or format(r['wall_s'], '.2f') + ' s'}")
 
 
 def _attempt(asm: Assembly, settings: Settings | None, progress, nthread,
@@ -161,4 +192,4 @@ def crosscheck(asm: Assembly, *, practical: bool = True, progress=None, nthread:
     return CrossCheck(asm.mechanism.name, cmp, tuple(attempts), tuple(findings), tuple(rows))
 
 
-__all__ = ["Attempt", "CrossCheck", "crosscheck", "finer"]
+__all__ = ["Attempt", "CrossCheck", "crosscheck", "finer", "headline", "headline_worst"]

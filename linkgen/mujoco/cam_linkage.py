@@ -54,6 +54,9 @@ class CamLinkageCheck:
     # each cam's contact (``contact_trace``); for the diagnosis (``crosscheck.diagnose_cam``)
     curves: dict = field(default_factory=dict, repr=False)
     contacts: dict = field(default_factory=dict, repr=False)
+    # what missed, where and why (``crosscheck.diagnose_cam.cam_linkage_findings``; filled by
+    # ``crosscheck.cam.check_cam_linkage``)
+    diagnosis: tuple = ()
 
     @property
     def ok(self) -> bool:
@@ -72,6 +75,11 @@ class CamLinkageCheck:
                                                                for k, (e, t) in self.errors.items()},
                 "steps": self.steps, "timestep": self.timestep, "wall_s": self.wall, "windows": WINDOWS,
                 "profile_points": PROFILE_POINTS}
+
+    def to_dict(self) -> dict:
+        """The result as ``linkgen validate --json`` gives it."""
+        return {"ok": self.ok, "model": self.model, "cam_linkage": self.to_json(),
+                "diagnosis": [f.to_json() for f in self.diagnosis]}
 
 
 def _check_contact(asm: Assembly) -> None:

@@ -42,6 +42,26 @@ class Samples:
     forces: ForceSamples
     reduced_inertia: np.ndarray
 
+    def arrays(self) -> dict[str, np.ndarray]:
+        """Every sampled quantity by name (``linkgen simulate -o``'s NPZ keys; SI units): time,
+        qpos, qvel, loop_gap, phi, omega, epsilon, drive_torque, points.P.position|velocity|
+        acceleration (m, 2), links.L.angle|…, sliders.S.displacement|…, the forward route's
+        reactions.J.force, prismatic.S.normal_force|moment, reduced_inertia."""
+        out = {"time": self.time, "qpos": self.qpos, "qvel": self.qvel, "loop_gap": self.violation,
+               "phi": self.crank[0], "omega": self.crank[1], "epsilon": self.crank[2], "drive_torque": self.drive_torque}
+        for p, (x, v, a) in self.points.items():
+            out |= {f"points.{p}.position": x, f"points.{p}.velocity": v, f"points.{p}.acceleration": a}
+        for n, (x, v, a) in self.links.items():
+            out |= {f"links.{n}.angle": x, f"links.{n}.angular_velocity": v, f"links.{n}.angular_acceleration": a}
+        for n, (x, v, a) in self.sliders.items():
+            out |= {f"sliders.{n}.displacement": x, f"sliders.{n}.velocity": v, f"sliders.{n}.acceleration": a}
+        f = self.forces  # forward route, the kinetostatics' sign conventions
+        out |= {f"reactions.{k}.force": v for k, v in f.reactions.items()}
+        out |= {f"prismatic.{k}.normal_force": v for k, v in f.normal_force.items()}
+        out |= {f"prismatic.{k}.moment": v for k, v in f.moment.items()}
+        out["reduced_inertia"] = self.reduced_inertia
+        return out
+
 
 def moving_points(mech) -> list[str]:
     ground = set(mech.link("ground").points)

@@ -7,6 +7,7 @@ from typing import Mapping
 
 from linkgen.families.cam.description import CamMechanism, is_cam_data
 from linkgen.pipeline.family import Family
+from linkgen.pipeline.cam_mujoco import STAGES as MUJOCO_STAGES
 
 
 def _from_dict(data: Mapping, source: str | None = None) -> CamMechanism:
@@ -23,6 +24,6 @@ CAM = Family(
     name="cam", title="stand-alone cam", plural="stand-alone cams", doc="docs/cams.md", description=CamMechanism,
     detects=is_cam_data, from_dict=_from_dict,
     commands=("analyze", "profile", "build", "validate", "draw", "animate", "render"),
-    stages={})
+    stages={**MUJOCO_STAGES})
 
 __all__ = ["CAM"]

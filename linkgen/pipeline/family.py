@@ -46,7 +46,13 @@ class Family:
 
 
 # The stages of the interface, in the order data flows through them.
-STAGES = ("structure", "kinematics", "forces", "summary", "mjcf", "simulate", "validate", "draw", "animate",
-          "render")
+STAGES = ("structure", "kinematics", "forces", "summary", "mjcf", "simulate", "validate", "figures", "report",
+          "draw", "animate", "render")
+# The MuJoCo and picture stages (pipeline/*_mujoco.py): mjcf(desc, settings=None, practical=False) → MJCF
+# text; simulate(desc, **options) → a run; validate(desc, **options) → a result with ok, summary(wall),
+# to_dict() and diagnosis; figures(desc, result, folder) → the report's entries (figures, …);
+# report(entry) → the report's (row, section) writers; draw(desc, angles, out) → what was drawn;
+# animate(desc, frames, progress, mujoco, notice) → (frames, how); render(desc, angle, width, height)
+# → (frame, what).
 
 __all__ = ["Family", "STAGES"]

@@ -7,6 +7,7 @@ from typing import Mapping
 
 from linkgen.families.planar.description import Mechanism
 from linkgen.pipeline.family import Family
+from linkgen.pipeline.planar_mujoco import STAGES as MUJOCO_STAGES
 
 
 def _from_dict(data: Mapping, source: str | None = None) -> Mechanism:
@@ -27,6 +28,6 @@ PLANAR = Family(
     detects=lambda data: True, from_dict=_from_dict,
     commands=("structure", "analyze", "forces", "assemble", "build", "simulate", "validate", "draw", "animate",
               "render", "dynamics", "flywheel"),
-    stages={})
+    stages={**MUJOCO_STAGES})
 
 __all__ = ["PLANAR"]

@@ -95,6 +95,18 @@ def stage(description: Any, name: str):
     return fn
 
 
+def report_parts(entry: Mapping):
+    """The report's (row, section) writers (``report.sections``) of one entry of ``linkgen
+    validate --json``: its family's ``report`` stage, or the error's for a file that could not
+    be validated."""
+    from linkgen.report import sections
+
+    family = BY_NAME.get(entry.get("family"))
+    if "error" in entry or family is None:
+        return sections.ERROR
+    return family.stages["report"](entry)
+
+
 def check_command(command: str, path: str | Path) -> Family | None:
     """The family of the file ``path`` if it takes ``command``; UnsupportedError if not; None
     when the file cannot be read (the command reports that)."""
@@ -105,4 +117,4 @@ def check_command(command: str, path: str | Path) -> Family | None:
 
 
 __all__ = ["BY_NAME", "FAMILIES", "UnsupportedError", "check_command", "family_of", "family_of_data", "family_of_file",
-           "from_dict", "load", "loads", "stage", "unsupported"]
+           "from_dict", "load", "loads", "report_parts", "stage", "unsupported"]

@@ -1,0 +1,72 @@
+"""Cams through MuJoCo against their closed form, as validation results: a stand-alone cam
+(``CamCheck``: ``mujoco.cam.compare_cam`` with its diagnosis) and a linkage whose crank carries
+a cam (``mujoco.cam_linkage.CamLinkageCheck`` with the diagnosis of its contact)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field, replace
+
+from linkgen.crosscheck.diagnose import Finding
+from linkgen.mujoco.cam import CAM_TOLERANCES
+
+
+@dataclass(frozen=True)
+class CamCheck:
+    """A stand-alone cam in MuJoCo against its closed form: ``comparison`` as
+    ``mujoco.cam.compare_cam`` gives it (the errors relative to the stroke and the peaks, steps,
+    timestep, windows), the tolerances it is held to, the diagnosis of what missed, and the run
+    (for the report's figures)."""
+
+    model: str
+    comparison: dict
+    tolerances: dict
+    diagnosis: tuple[Finding, ...] = ()
+    run: object = field(default=None, repr=False, compare=False)
+
+    @property
+    def ok(self) -> bool:
+        e = self.comparison["errors_relative"]
+        return all(e[k] <= tol for k, tol in self.tolerances.items())
+
+    def summary(self, wall: str | None = None) -> str:
+        """One line; ``wall``: the wall time as the caller measured it (default: the steps only)."""
+        c, e, tol = self.comparison, self.comparison["errors_relative"], self.tolerances
+        return (f"{'ok  ' if self.ok else 'FAIL'} cam in MuJoCo (contact with a {c['profile_points']}-vertex profile): "
+                f"displacement {e['displacement']:.2e} of the stroke (tolerance {tol['displacement']:g}), contact force "
+                f"{e['contact_force']:.2e} (tolerance {tol['contact_force']:g}) and cam torque {e['cam_torque']:.2e} "
+                f"(tolerance {tol['cam_torque']:g}) of their peaks as {360 / c['windows']:g}° means, "
+                f"{c['steps']} steps" + (f", {wall}" if wall else ""))
+
+    def to_json(self) -> dict:
+        """The comparison with its tolerances (``validate --json``'s ``cam`` entry)."""
+        return self.comparison | {"tolerances": dict(self.tolerances)}
+
+    def to_dict(self) -> dict:
+        """The result as ``linkgen validate --json`` gives it."""
+        return {"ok": self.ok, "cam": self.to_json(), "model": self.model,
+                "diagnosis": [f.to_json() for f in self.diagnosis]}
+
+
+def check_cam(cm, progress=None, max_steps: int | None = None) -> CamCheck:
+    """One turn of the cam in MuJoCo (``mujoco.cam.run_cam``; ``progress(fraction, seconds)``,
+    ``max_steps`` its step budget) compared with the closed form and diagnosed."""
+    from linkgen.crosscheck.diagnose_cam import diagnose_cam
+    from linkgen.mujoco.cam import compare_cam, run_cam
+
+    run = run_cam(cm, progress=progress, max_steps=max_steps)
+    r = compare_cam(cm, run=run)
+    return CamCheck(r["model"], r, dict(CAM_TOLERANCES),
+                    tuple(diagnose_cam(cm, run, r["errors_relative"], r["windows"])), run)
+
+
+def check_cam_linkage(asm, progress=None, max_steps: int | None = None):
+    """A linkage whose crank carries a cam in MuJoCo (``mujoco.cam_linkage.check_cam_linkage``),
+    with the diagnosis of its contact (``diagnose_cam.cam_linkage_findings``)."""
+    from linkgen.crosscheck.diagnose_cam import cam_linkage_findings
+    from linkgen.mujoco.cam_linkage import check_cam_linkage as run_check
+
+    r = run_check(asm, progress, **({} if max_steps is None else {"max_steps": max_steps}))
+    return replace(r, diagnosis=tuple(cam_linkage_findings(r)))
+
+
+__all__ = ["CamCheck", "check_cam", "check_cam_linkage"]

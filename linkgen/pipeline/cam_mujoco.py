@@ -1,0 +1,80 @@
+"""The stand-alone cam family's MuJoCo and picture stages: mjcf, validate (with the report's
+figures), draw, animate, render."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+
+def mjcf(desc, settings=None, practical: bool = False) -> str:
+    """The MJCF text (``linkgen build``): the cam's own contact settings, derived from its motion."""
+    from linkgen.errors import ArgumentError
+    from linkgen.mujoco.cam import cam_mjcf
+
+    if practical or settings is not None:
+        raise ArgumentError("--practical is for linkages; a cam's MJCF carries its own contact settings")
+    return cam_mjcf(desc)
+
+
+def validate(desc, *, progress=None, max_steps: int | None = None, **_options):
+    """One turn in MuJoCo against the closed form, diagnosed: a ``crosscheck.cam.CamCheck``
+    (the linkage options — practical settings, threads, the description's file — do not apply)."""
+    from linkgen.crosscheck.cam import check_cam
+
+    return check_cam(desc, progress=progress, max_steps=max_steps)
+
+
+def figures(desc, check, out) -> dict:
+    """The report's figures of a validated cam into the folder ``out``: its drawing, the
+    follower's motion and the contact, closed form against MuJoCo."""
+    from linkgen.report.figures_cam import plot_cam
+
+    return {"figures": plot_cam(desc, check.run, out)}
+
+
+def report(entry: dict):
+    """The report's (row, section) writers of a cam's validate entry (``report.sections``)."""
+    from linkgen.report import sections
+
+    return sections.CAM
+
+
+def draw(desc, angles, out) -> str:
+    """The cam and its follower at one cam angle (``angles`` a number [rad], None: 0) or a
+    position plan by inversion (an array), written to ``out``; returns what was drawn."""
+    from linkgen.draw.cam import cam_figure, cam_plan_figure
+
+    if angles is not None and np.ndim(angles) > 0:
+        cam_plan_figure(desc, np.asarray(angles, dtype=float), out)
+        return f"{desc.name}, position plan by inversion of {len(angles)} cam angles"
+    theta = 0.0 if angles is None else float(angles)
+    cam_figure(desc, theta, out)
+    return f"{desc.name}, cam and follower at θ = {math.degrees(theta):.6g}°"
+
+
+def animate(desc, frames: int, progress=None, mujoco: bool = False, notice=None) -> tuple[list, str]:
+    """The frames of the cam turning once (the drawing of ``draw``), and how they were made."""
+    from linkgen.draw.frames import cam_frames, turn_angles
+
+    if mujoco:
+        from linkgen.errors import ArgumentError
+
+        raise ArgumentError("--mujoco puts MuJoCo's run beside planar linkages; for this model `linkgen render` "
+                            "gives MuJoCo's frames and `linkgen validate` its run")
+    return cam_frames(desc, turn_angles(frames), progress), " over one turn"
+
+
+def render(desc, angle, width: int, height: int) -> tuple[np.ndarray, str]:
+    """A MuJoCo offscreen frame of the cam model at cam angle ``angle`` [rad] (None: 0), the
+    follower where the closed form puts it, and what it shows."""
+    from linkgen.draw.frames import cam_render
+
+    theta = 0.0 if angle is None else float(angle)
+    return cam_render(desc, theta, width, height)[0], f"MuJoCo frame of {desc.name} at θ = {math.degrees(theta):.6g}°"
+
+
+STAGES = {"mjcf": mjcf, "validate": validate, "figures": figures, "report": report, "draw": draw, "animate": animate, "render": render}
+
+__all__ = ["STAGES"]

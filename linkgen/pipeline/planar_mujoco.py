@@ -1,0 +1,188 @@
+"""The planar family's MuJoCo and picture stages: mjcf, simulate, validate (with the report's
+figures), draw, animate, render. The planar sub-kinds are told apart here and nowhere else: a
+linkage whose crank carries a cam is checked by its contact (``crosscheck.cam``), a class III or
+higher linkage (no Assur groups) is posed numerically, and a ``[machine]`` table joins its
+comparison (``crosscheck.machine``) to the file's result."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from linkgen.families.planar.description import Mechanism
+
+
+def _source(mech):
+    """The assembled mechanism, or the numerically posed one where the Assur groups do not cover
+    it (MuJoCo needs no groups); and the StructureError that said so, or None."""
+    from linkgen.errors import StructureError
+    from linkgen.families.planar.assembly import assemble
+    from linkgen.mujoco.posed import posed
+
+    if not isinstance(mech, Mechanism):  # already assembled (or posed)
+        return mech, None
+    try:
+        return assemble(mech), None
+    except StructureError as exc:
+        return posed(mech), exc
+
+
+def _mechanism(desc):
+    return getattr(desc, "mechanism", desc)
+
+
+def mjcf(desc, settings=None, practical: bool = False) -> str:
+    """The MJCF text (``linkgen build``) of any structure class; ``settings`` (default derived
+    from the mechanism), or with ``practical`` MuJoCo's usual settings keeping the derived rotor
+    inertia that holds the crank speed."""
+    from linkgen.errors import StructureError
+    from linkgen.families.planar.assembly import assemble
+    from linkgen.mujoco.mjcf import write_mjcf
+
+    source = desc
+    if isinstance(desc, Mechanism):
+        try:
+            source = assemble(desc)
+        except StructureError:  # class III and higher: MuJoCo needs no Assur groups
+            pass
+    if practical:
+        from dataclasses import replace
+
+        from linkgen.crosscheck.practical import USER
+        from linkgen.mujoco.mjcf import settings_for
+
+        settings = replace(USER, armature=settings_for(_mechanism(desc)).armature)
+    return write_mjcf(source, settings)
+
+
+def simulate(desc, notice=None, **options):
+    """A MuJoCo run over the drive range (``mujoco.simulate.simulate``'s options); ``notice(text)``
+    hears that the closed form does not cover the mechanism and the run starts from the numeric
+    pose."""
+    from linkgen.mujoco.simulate import simulate as run
+
+    source, why = _source(desc)
+    if why is not None and notice is not None:
+        notice(f"the closed form does not cover this mechanism ({why}); MuJoCo runs it from the numeric pose, "
+               f"with settings from the crank speed")
+    return run(source, **options)
+
+
+def validate(desc, *, practical: bool = True, nthread: int | None = None, max_steps: int | None = None, progress=None,
+             source=None, machine_progress=None):
+    """MuJoCo against the closed form: a ``CrossCheck`` (``crosscheck.run.crosscheck``), a
+    ``CamLinkageCheck`` for a crank carrying a cam, or with ``source`` (the description's file)
+    holding a ``[machine]`` table a ``MachineCheck`` joining the machine's comparison
+    (``machine_progress`` its progress). StructureError for a class III or higher linkage."""
+    from linkgen.errors import StructureError
+    from linkgen.families.planar.assembly import assemble
+    from linkgen.mujoco.options import MAX_STEPS
+
+    try:
+        asm = assemble(desc) if isinstance(desc, Mechanism) else desc
+    except StructureError as exc:
+        raise StructureError(f"the closed form does not cover this mechanism ({exc}); `linkgen build` and "
+                             f"`linkgen simulate` still work for it") from None
+    if asm.mechanism.cams:  # contact in MuJoCo, the cam's tolerances
+        from linkgen.crosscheck.cam import check_cam_linkage
+
+        return check_cam_linkage(asm, progress, max_steps)
+    from linkgen.crosscheck.run import crosscheck
+
+    check = crosscheck(asm, practical=practical, nthread=nthread, progress=progress,
+                       max_steps=MAX_STEPS if max_steps is None else max_steps)
+    if source is None:
+        return check
+    from linkgen.crosscheck.machine import MachineCheck, compare_machine
+
+    machine = compare_machine(source, progress=machine_progress)
+    return check if machine is None else MachineCheck(check, machine)
+
+
+def figures(desc, check, out) -> dict:
+    """The report's figures of a validated linkage into the folder ``out`` (its skeleton and
+    position plan, and the comparison's plots) and the design summary beside them: the entries
+    the report adds to the file's result (``figures``: file names, ``summary``)."""
+    from linkgen.families.planar.assembly import assemble
+    from linkgen.report.report import plot_mechanism, plot_model
+
+    asm = assemble(desc) if isinstance(desc, Mechanism) else desc
+    if asm.mechanism.cams:
+        return {"figures": plot_mechanism(asm, out)}
+    if getattr(check, "comparison", None) is None:
+        return {}
+    from linkgen.families.planar.summary import summarize
+
+    return {"figures": plot_mechanism(asm, out) + plot_model(check.comparison, out),
+            "summary": summarize(asm).to_dict()}
+
+
+def report(entry: dict):
+    """The report's (row, section) writers of a linkage's validate entry: a cam on the crank's,
+    or a linkage comparison's (``report.sections``)."""
+    from linkgen.report import sections
+
+    return sections.CAM_LINKAGE if "cam_linkage" in entry else sections.LINKAGE
+
+
+def _in_range(mech, phi: np.ndarray, option: str) -> None:
+    from linkgen.errors import ArgumentError
+
+    d = mech.drive
+    if d.stop - d.start >= 2 * math.pi - 1e-12:
+        return
+    bad = phi[(phi < d.start - 1e-12) | (phi > d.stop + 1e-12)]
+    if bad.size:
+        raise ArgumentError(f"{option}: {math.degrees(float(bad[0])):.6g}° is outside the drive's range "
+                            f"{math.degrees(d.start):.6g}°..{math.degrees(d.stop):.6g}° (drive.start, drive.stop)")
+
+
+def draw(desc, angles, out) -> str:
+    """The skeleton at one crank angle (``angles`` a number [rad], None: the range's start) or a
+    position plan (an array), written to ``out``; returns what was drawn."""
+    from linkgen.draw.plan import plan_figure, skeleton_figure
+
+    mech = _mechanism(desc)
+    if angles is not None and np.ndim(angles) > 0:
+        _in_range(mech, np.asarray(angles, dtype=float), "--angles")
+        plan_figure(mech, np.asarray(angles, dtype=float), out)
+        return f"{mech.name}, position plan of {len(angles)} positions"
+    phi = mech.drive.start if angles is None else float(angles)
+    _in_range(mech, np.array([phi]), "--angle")
+    skeleton_figure(mech, phi, out)
+    return f"{mech.name}, skeleton at φ = {math.degrees(phi):.6g}°"
+
+
+def animate(desc, frames: int, progress=None, mujoco: bool = False, notice=None) -> tuple[list, str]:
+    """The frames of the mechanism moving over its drive range with its point paths, and how
+    they were made; with ``mujoco``, MuJoCo's rendered run beside the drawing at the crank
+    angles it reached (``notice(text)`` hears that the run starts)."""
+    from linkgen.draw.animate import drawn_frames, frame_angles, mujoco_run_frames
+
+    mech = _mechanism(desc)
+    phi = frame_angles(mech, frames)
+    shots = None
+    if mujoco:
+        if notice is not None:
+            notice(f"running {mech.name} in MuJoCo over its drive range …")
+        phi, shots = mujoco_run_frames(mech, frames)
+    return drawn_frames(mech, phi, shots, progress=progress), (", closed form beside MuJoCo's run" if mujoco else "")
+
+
+def render(desc, angle, width: int, height: int) -> tuple[np.ndarray, str]:
+    """A MuJoCo offscreen frame (h, w, 3) of the generated model at crank angle ``angle`` [rad]
+    (None: the range's start), and what it shows."""
+    from linkgen.draw.render import render_mechanism
+
+    mech = _mechanism(desc)
+    phi = mech.drive.start if angle is None else float(angle)
+    _in_range(mech, np.array([phi]), "--angle")
+    _, frames = render_mechanism(mech, phi, width, height)
+    return frames[0], f"MuJoCo frame of {mech.name} at φ = {math.degrees(phi):.6g}°"
+
+
+STAGES = {"mjcf": mjcf, "simulate": simulate, "validate": validate, "figures": figures, "report": report, "draw": draw,
+          "animate": animate, "render": render}
+
+__all__ = ["STAGES"]

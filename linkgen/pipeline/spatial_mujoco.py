@@ -1,0 +1,91 @@
+"""The spatial four-bar family's MuJoCo and picture stages: mjcf, validate (with the report's
+figures), draw, animate, render."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+# Positions in the report's position plan of a spatial four-bar (every 30° of the crank's turn).
+PLAN_STEP_DEG = 30.0
+
+
+def mjcf(desc, settings=None, practical: bool = False) -> str:
+    """The MJCF text (``linkgen build``) with ``settings`` (default: derived from the chain at
+    the drive's speed, as ``validate`` runs it)."""
+    from linkgen.crosscheck.spatial import derived_settings
+    from linkgen.errors import ArgumentError
+    from linkgen.mujoco.spatial_mjcf import write_spatial_mjcf
+
+    if practical:
+        raise ArgumentError("--practical is for planar linkages")
+    return write_spatial_mjcf(desc, derived_settings(desc)[0] if settings is None else settings)
+
+
+def validate(desc, *, progress=None, max_steps: int | None = None, **_options):
+    """MuJoCo against the closed form: a ``crosscheck.spatial.SpatialCheck`` (the linkage
+    options — practical settings, threads, the description's file — do not apply)."""
+    from linkgen.crosscheck.spatial import check_spatial
+
+    return check_spatial(desc, progress=progress, max_steps=max_steps)
+
+
+def figures(desc, check, out) -> dict:
+    """The report's figures of a validated chain into the folder ``out``: its drawing, a
+    position plan and the comparison's plots."""
+    from linkgen.draw.spatial import draw_spatial, plot_spatial_check
+
+    names = [f"{check.model}_drawing.png", f"{check.model}_plan.png"]
+    draw_spatial(desc, np.array([0.0]), out / names[0])
+    draw_spatial(desc, np.radians(np.arange(0.0, 360.0, PLAN_STEP_DEG)), out / names[1])
+    return {"figures": names + plot_spatial_check(check, out, desc)}
+
+
+def report(entry: dict):
+    """The report's (row, section) writers of a spatial four-bar's validate entry (``report.sections``)."""
+    from linkgen.report import sections
+
+    return sections.SPATIAL
+
+
+def draw(desc, angles, out) -> str:
+    """The chain at one crank angle (``angles`` a number [rad], None: the sketch's own pose) or a
+    position plan (an array), written to ``out``; returns what was drawn."""
+    from linkgen.draw.spatial import draw_spatial
+
+    if angles is None:
+        from linkgen.families.spatial.kinematics import assembled_chain
+
+        angles = np.array([assembled_chain(desc).phi_s])
+    angles = np.atleast_1d(np.asarray(angles, dtype=float))
+    draw_spatial(desc, angles, out)
+    return f"{desc.name}, " + (f"position plan of {len(angles)} positions" if len(angles) > 1
+                               else f"skeleton at φ = {math.degrees(float(angles[0])):.6g}°")
+
+
+def animate(desc, frames: int, progress=None, mujoco: bool = False, notice=None) -> tuple[list, str]:
+    """The frames of the chain over one turn of its crank (the drawing of ``draw``), and how
+    they were made."""
+    from linkgen.draw.frames import spatial_frames, turn_angles
+
+    if mujoco:
+        from linkgen.errors import ArgumentError
+
+        raise ArgumentError("--mujoco puts MuJoCo's run beside planar linkages; for this model `linkgen render` "
+                            "gives MuJoCo's frames and `linkgen validate` its run")
+    return spatial_frames(desc, turn_angles(frames), progress), " over one turn"
+
+
+def render(desc, angle, width: int, height: int) -> tuple[np.ndarray, str]:
+    """A MuJoCo offscreen frame of the spatial model at crank angle ``angle`` [rad] (None: 0),
+    posed from the closed form, and what it shows."""
+    from linkgen.draw.frames import spatial_render
+
+    phi = 0.0 if angle is None else float(angle)
+    return spatial_render(desc, phi, width, height)[0], f"MuJoCo frame of {desc.name} at φ = {math.degrees(phi):.6g}°"
+
+
+STAGES = {"mjcf": mjcf, "validate": validate, "figures": figures, "report": report, "draw": draw, "animate": animate, "render": render}
+
+__all__ = ["PLAN_STEP_DEG", "STAGES"]

@@ -1,0 +1,214 @@
+"""The report's rows and sections, one writer per kind of validation result (the family
+adapters, ``pipeline``, say which an entry takes): a linkage's comparison (``CrossCheck``, with
+a machine's joined), a cam on a linkage's crank, a stand-alone cam, a spatial four-bar, and a
+file that could not be validated. Each takes the entry of ``linkgen validate --json``."""
+
+from __future__ import annotations
+
+from linkgen.report.report import number
+
+
+def _ok(r: dict) -> str:
+    return "yes" if r["ok"] else "**NO**"
+
+
+def _figures(r: dict) -> list[str]:
+    out = []
+    for fig in r.get("figures", []):
+        out += [f"![{fig}]({fig})", ""]
+    return out
+
+
+def error_row(r: dict) -> str:
+    """A file that could not be validated, or whose runs all failed: why."""
+    why = r.get("error") or "; ".join(d["cause"] for d in r.get("diagnosis", [])) or "run failed"
+    return f"| {r['model']} | **NO** | {why} |  |  |  |  |  |  |  |  |  |  |"
+
+
+def error_section(r: dict) -> list[str]:
+    """No run compared anything: the section says why (nothing for a file that did not load)."""
+    return ["", f"## {r['model']}", ""] + diagnosis_lines(r["diagnosis"]) if r.get("diagnosis") else []
+
+
+def _worst(quantities: dict, kind: str) -> str:
+    def group(k: str) -> str:
+        if k.startswith("inverse."):
+            return "inv"
+        return "fwd" if k.startswith(("reactions.", "prismatic.", "balancing", "reduced")) else "kin"
+
+    g = {k: q for k, q in quantities.items() if group(k) == kind}
+    if not g:
+        return "– | –"
+    worst = max(g, key=lambda k: g[k]["relative_error"])
+    return f"`{worst}` | {g[worst]['relative_error']:.2e}"
+
+
+def linkage_row(r: dict) -> str:
+    """A linkage's comparison (``CrossCheck.to_dict``): the worst kinematic, forward and inverse
+    quantities, the loop gap, the settings, steps and wall time."""
+    if "quantities" not in r:
+        return error_row(r)
+    q, st = r["quantities"], r["settings"]
+    cells = " | ".join(_worst(q, k) for k in ("kin", "fwd", "inv"))
+    return (f"| {r['model']} | {_ok(r)} | {cells} | {r['loop_gap']['relative']:.1e} | "
+            f"{st['timestep']:.3g} | {st['timeconst']:.3g} | {r['steps']} | {r['total_wall_s']:.2f} |")
+
+
+def linkage_section(r: dict) -> list[str]:
+    """A linkage's section: its figures, the design summary, the diagnosis, what was left out,
+    what MuJoCo's usual settings cost and every compared quantity."""
+    if "quantities" not in r:  # no run compared anything: the section says why
+        return error_section(r)
+    lines = ["", f"## {r['model']}", ""] + _figures(r)
+    if r.get("summary"):
+        lines += _summary_lines(r["summary"])
+    lines += diagnosis_lines(r["diagnosis"])
+    if r["left_out"]:
+        lines.append("Left out of the comparison: " + "; ".join(
+            f"{lo['samples']} samples after the {lo['reason']} at {lo['from_deg']:.1f}°" for lo in r["left_out"]))
+        lines.append("")
+    if r["practical_settings"]:
+        lines += ["What MuJoCo's settings cost (errors relative to the size / peak reaction / peak reaction × size):",
+                  "", "| settings | timestep [s] | integrator | loop τ [s] | loop gap / L | reactions | driving torque "
+                  "| steps/rev | wall/rev [s] |", "|---|---|---|---|---|---|---|---|---|"]
+        for p in r["practical_settings"]:
+            if p["failure"]:
+                lines.append(f"| {p['label']} | {p['timestep']:.3g} | {p['integrator']} | {p['solref'][0]:.3g} | "
+                             f"failed: {p['failure']} |  |  |  |  |")
+                continue
+            lines.append(f"| {p['label']} | {p['timestep']:.3g} | {p['integrator']} | {p['solref'][0]:.3g} | "
+                         f"{number(p['loop_gap_relative'], '.1e')} | {number(p['reaction_error_relative'], '.1e')} | "
+                         f"{number(p['driving_torque_error_relative'], '.1e')} | "
+                         f"{number(p['steps_per_revolution'], '.0f')} | {number(p['wall_s_per_revolution'], '.3f')} |")
+        lines.append("")
+    lines += ["| quantity | max abs error | peak | scale | relative | tolerance | ok |", "|---|---|---|---|---|---|---|"]
+    for k, q in r["quantities"].items():
+        lines.append(f"| `{k}` | {q['max_abs_error']:.3e} | {q['peak']:.3e} | {q['scale']:.3e} | "
+                     f"{q['relative_error']:.2e} | {q['tolerance']:g} | {'yes' if q['ok'] else '**NO**'} |")
+    return lines
+
+
+def cam_linkage_row(r: dict) -> str:
+    """A cam on a linkage's crank (``CamLinkageCheck.to_dict``): the worst motion and force."""
+    e = r["cam_linkage"]["errors"]
+    kin = max((k for k in e if not k.endswith(("contact_force", "torque"))), key=lambda k: e[k]["error"])
+    frc = max((k for k in e if k.endswith(("contact_force", "torque"))), key=lambda k: e[k]["error"])
+    return (f"| {r['model']} | {_ok(r)} | cam contact: `{kin}` | {e[kin]['error']:.2e} | `{frc}` (5° means) | "
+            f"{e[frc]['error']:.2e} |  |  |  | {r['cam_linkage']['timestep']:.3g} |  | {r['cam_linkage']['steps']} | "
+            f"{r['total_wall_s']:.2f} |")
+
+
+def cam_linkage_section(r: dict) -> list[str]:
+    """A cam on a linkage's crank: its figures and every compared quantity."""
+    lines = ["", f"## {r['model']} (a cam on the crank)", ""] + [f"![{f}]({f})\n" for f in r.get("figures", [])]
+    lines += ["| quantity | relative error | tolerance | ok |", "|---|---|---|---|"]
+    return lines + [f"| `{k}` | {e['error']:.2e} | {e['tolerance']:g} | {'yes' if e['error'] <= e['tolerance'] else '**NO**'} |"
+                    for k, e in r["cam_linkage"]["errors"].items()]
+
+
+def cam_row(r: dict) -> str:
+    """A stand-alone cam (``CamCheck.to_dict``): the follower's displacement and the contact force."""
+    e = r["cam"]["errors_relative"]
+    return (f"| {r['model']} | {_ok(r)} | cam: `displacement` | {e['displacement']:.2e} | cam: `contact_force` "
+            f"(5° means) | {e['contact_force']:.2e} |  |  |  | {r['cam']['timestep']:.3g} |  | {r['cam']['steps']} | "
+            f"{r['total_wall_s']:.2f} |")
+
+
+def spatial_row(r: dict) -> str:
+    """A spatial four-bar (``SpatialCheck.to_dict``): the worst kinematic, forward and inverse
+    quantities, the loop gap, the settings, steps and wall time."""
+    sp = r["spatial"]
+    kin = {k: v for k, v in sp["errors"].items() if k.startswith(("points.", "links."))}
+    inv = {k: v for k, v in sp["errors"].items() if k.startswith("inverse.")}
+    frc = {k: v for k, v in sp["errors"].items() if k not in kin and k not in inv}
+    wk, wf, wi = (max(g, key=lambda k, g=g: g[k]["error"]) for g in (kin, frc, inv))
+    return (f"| {r['model']} | {_ok(r)} | {sp['kind']}: `{wk}` | {kin[wk]['error']:.2e} | `{wf}` | "
+            f"{frc[wf]['error']:.2e} | `{wi}` | {inv[wi]['error']:.2e} | {sp['loop_gap']:.1e} | "
+            f"{sp['settings']['timestep']:.3g} | {sp['settings']['timeconst']:.3g} | {sp['steps']} | "
+            f"{r['total_wall_s']:.2f} |")
+
+
+def _summary_lines(s: dict) -> list[str]:
+    """The design summary (``DesignSummary.to_dict``) as Markdown lines."""
+    import math
+
+    deg = math.degrees
+    lines = ["**Design summary** (at the drive's ω and ε)", ""]
+    for name, o in s["outputs"].items():
+        if o["travel"] is None:
+            lines.append(f"- {o['kind']} `{name}`: turns fully round")
+            continue
+        travel = f"stroke {o['travel']:.6g} m" if o["kind"] == "slider" else f"swing {deg(o['travel']):.4g}°"
+        limits = ", ".join(f"{x['kind']} at φ = {deg(x['phi']):.4g}°" for x in o["limits"]) or "extremes at the range's ends"
+        ratio = f"; time ratio K = {o['time_ratio']:.4g}" if o["time_ratio"] is not None else ""
+        lines.append(f"- {o['kind']} `{name}`: {travel}; limit positions {limits}{ratio}")
+    for g, t in s["transmission"].items():
+        lines.append(f"- least transmission angle of {g}: {deg(t['minimum']):.4g}° at φ = {deg(t['at']):.4g}°")
+    if s["peak_balancing_torque"]:
+        t = s["peak_balancing_torque"]
+        lines.append(f"- peak balancing torque {t['value']:.4g} N·m at φ = {deg(t['at']):.4g}°")
+        worst = sorted(s["peak_reactions"].items(), key=lambda kv: -kv[1]["value"])[:3]
+        lines.append("- largest reactions: " + ", ".join(f"{k} {v['value']:.4g} N at {deg(v['at']):.4g}°" for k, v in worst))
+    elif s["forces_note"]:
+        lines.append(f"- {s['forces_note']}")
+    return lines + [""]
+
+
+def diagnosis_lines(diagnosis: list[dict]) -> list[str]:
+    if not diagnosis:
+        return []
+    lines = ["**Diagnosis**", ""]
+    for d in diagnosis:
+        if d["relative_error"] is None and not d["ranges_deg"]:  # no run compared anything: why, alone
+            lines.append(f"- {d['cause']}: {d['detail']}")
+            continue
+        rng = ", ".join(f"{a:.1f}°..{b:.1f}°" for a, b in d["ranges_deg"][:3])
+        lines.append(f"- `{d['quantity']}` {number(d['relative_error'], '.2e')} (tolerance {d['tolerance']:g}) at {rng}: "
+                     f"{d['cause']} — {d['detail']}")
+    return lines + [""]
+
+
+def cam_section(r: dict) -> list[str]:
+    """A stand-alone cam's section: its drawing, the follower's motion and the contact, closed
+    form against MuJoCo, the diagnosis and every compared quantity."""
+    c = r["cam"]
+    lines = ["", f"## {r['model']} (a cam)", ""]
+    for fig in r.get("figures", []):
+        lines += [f"![{fig}]({fig})", ""]
+    lines += [f"MuJoCo: a {c['profile_points']}-vertex profile, timestep {c['timestep']:.3g} s ({c.get('integrator', '')}), "
+              f"{c['steps']} steps; the contact force and cam torque compared as {360 / c['windows']:g}° means.", ""]
+    lines += diagnosis_lines(r.get("diagnosis", []))
+    lines += ["| quantity | relative error | tolerance | ok |", "|---|---|---|---|"]
+    for k, tol in c["tolerances"].items():
+        e = c["errors_relative"][k]
+        lines.append(f"| `{k}` | {e:.2e} | {tol:g} | {'yes' if e <= tol else '**NO**'} |")
+    for k in ("contact_force", "cam_torque"):
+        lines.append(f"| `{k}` (instantaneous, not held to a tolerance) | {c['errors_relative'][k + '_instantaneous']:.2e} "
+                     f"|  |  |")
+    return lines
+
+
+def spatial_section(r: dict) -> list[str]:
+    """A spatial model's section: its figures and every compared quantity."""
+    sp = r["spatial"]
+    lines = ["", f"## {r['model']} (spatial {sp['kind']})", ""]
+    for fig in r.get("figures", []):
+        lines += [f"![{fig}]({fig})", ""]
+    if sp["note"]:
+        lines += [sp["note"][:1].upper() + sp["note"][1:] + ".", ""]
+    lines += ["| quantity | relative error | tolerance | ok |", "|---|---|---|---|"]
+    for k, e in sp["errors"].items():
+        lines.append(f"| `{k}` | {e['error']:.2e} | {e['tolerance']:g} | {'yes' if e['error'] <= e['tolerance'] else '**NO**'} |")
+    lines.append(f"| loop gap / L | {sp['loop_gap']:.2e} | {sp['loop_gap_tolerance']:g} | "
+                 f"{'yes' if sp['loop_gap'] <= sp['loop_gap_tolerance'] else '**NO**'} |")
+    return lines
+
+
+# (row, section) of each kind of entry, for the family adapters to choose from.
+LINKAGE = (linkage_row, linkage_section)
+CAM_LINKAGE = (cam_linkage_row, cam_linkage_section)
+CAM = (cam_row, cam_section)
+SPATIAL = (spatial_row, spatial_section)
+ERROR = (error_row, error_section)
+
+__all__ = ["CAM", "CAM_LINKAGE", "ERROR", "LINKAGE", "SPATIAL", "diagnosis_lines", "number"]
