@@ -18,6 +18,8 @@ import numpy as np
 
 from linkgen import DescriptionError, LinkgenError, load, solve
 from linkgen.families.planar.kinetostatics import forces
+from linkgen.families.cam.description import CamMechanism
+from linkgen.families.cam.kinetics import state as cam_state
 from linkgen.families.spatial.description import SpatialMechanism
 from linkgen.families.spatial.forces import forces as spatial_forces
 from linkgen.families.spatial.kinematics import solve as spatial_solve
@@ -66,6 +68,8 @@ def check(path: Path) -> str:
         return "DescriptionError on load"
     if isinstance(mech, SpatialMechanism):
         return _check_spatial(mech)
+    if isinstance(mech, CamMechanism):
+        return _check_cam(mech)
     phi = np.linspace(mech.drive.start, mech.drive.stop, 16)
     try:
         f = forces(mech, phi, mech.drive.omega, mech.drive.epsilon)
@@ -74,6 +78,18 @@ def check(path: Path) -> str:
     for name, v in [("balancing_torque", f.balancing_torque), *f.reactions.items()]:
         assert np.all(np.isfinite(v)), f"non-finite {name}"
     solve(mech, phi)
+    return "solved"
+
+
+def _check_cam(cm: CamMechanism) -> str:
+    """A stand-alone cam over a whole turn: finite follower motion and forces, or a LinkgenError."""
+    theta = np.linspace(0.0, 2 * np.pi, 16)
+    try:
+        st = cam_state(cm, theta)
+    except LinkgenError as exc:
+        return type(exc).__name__ + " on solve"
+    for name in ("displacement", "velocity", "acceleration", "contact_force", "cam_torque"):
+        assert np.all(np.isfinite(getattr(st, name))), f"non-finite {name}"
     return "solved"
 
 
