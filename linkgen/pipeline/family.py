@@ -46,7 +46,7 @@ class Family:
 
 
 # The stages of the interface, in the order data flows through them.
-STAGES = ("structure", "kinematics", "forces", "summary", "mjcf", "simulate", "validate", "draw", "animate",
+STAGES = ("angles", "structure", "kinematics", "forces", "summary", "profile", "mjcf", "simulate", "validate", "draw", "animate",
           "render")
 
 __all__ = ["Family", "STAGES"]

@@ -6,10 +6,44 @@ from __future__ import annotations
 from linkgen.families.spatial.description import SpatialMechanism, is_spatial, spatial_from_dict
 from linkgen.pipeline.family import Family
 
+def _angles(mech, samples: int | None = None):
+    """The default crank angle (0), or ``samples`` angles over one turn (its end excluded)."""
+    import math
+
+    import numpy as np
+
+    return 0.0 if samples is None else np.linspace(0.0, 2 * math.pi, samples, endpoint=False)
+
+
+def _structure(desc):
+    from linkgen.families.spatial.texts import structure
+
+    return structure(desc)
+
+
+def _kinematics(desc, phi, omega=None, epsilon=None, **options):
+    from linkgen.families.spatial.results import kinematics
+
+    return kinematics(desc, phi, omega, epsilon, **options)
+
+
+def _forces(desc, phi, omega=None, epsilon=None, **options):
+    from linkgen.families.spatial.results import forces
+
+    return forces(desc, phi, omega, epsilon, **options)
+
+
+def _summary(desc, omega=None, epsilon=None):
+    from linkgen.families.spatial.texts import summary
+
+    return summary(desc, omega, epsilon)
+
+
 SPATIAL = Family(
     name="spatial", title="spatial four-bar", plural="spatial four-bars", doc="docs/spatial.md", description=SpatialMechanism,
     detects=is_spatial, from_dict=spatial_from_dict,
     commands=("structure", "analyze", "forces", "build", "validate", "draw", "animate", "render"),
-    stages={})
+    stages={"angles": _angles, "structure": _structure, "kinematics": _kinematics, "forces": _forces,
+            "summary": _summary})
 
 __all__ = ["SPATIAL"]
