@@ -27,7 +27,10 @@ def plain(x):
     """A number or an array as JSON-ready floats and lists."""
     if x is None or isinstance(x, (str, bool, int)) and not isinstance(x, np.generic):
         return x
-    return float(x) if np.ndim(x) == 0 else np.asarray(x, dtype=float).tolist()
+    a = np.asarray(x)
+    if a.dtype == bool:
+        return bool(a) if a.ndim == 0 else a.tolist()
+    return float(a) if a.ndim == 0 else a.astype(float).tolist()
 
 
 def shaped(x, scalar: bool):

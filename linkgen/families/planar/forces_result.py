@@ -89,6 +89,8 @@ class PlanarForces:
             out["tooth"] = {k: t.to_dict() for k, t in self.tooth.items()}
         if self.contact:
             out["contact"] = {k: c.to_dict() for k, c in self.contact.items()}
+        if np.ndim(self.phi):  # samples: which are marked singular (one state never is: it raises)
+            out["singular"] = plain(self.singular)
         return out
 
     def columns(self, transfer: bool = True) -> dict[str, np.ndarray]:

@@ -71,6 +71,8 @@ class PlanarKinematics:
             out[kind] = {n: q.to_dict(transfer) for n, q in getattr(self, kind).items()}
         if self.followers:
             out["followers"] = {n: f.to_dict() for n, f in self.followers.items()}
+        if np.ndim(self.phi):  # samples: which are marked singular (one state never is: it raises)
+            out["singular"] = plain(self.singular)
         return out
 
     def columns(self, transfer: bool = True) -> dict[str, np.ndarray]:
