@@ -119,3 +119,10 @@ def test_a_prismatic_pairs_normal_force_has_one_name():
     np.testing.assert_array_equal(f.columns()["ram.normal_force [N]"], f.prismatic["ram"].normal_force)
     np.testing.assert_array_equal(np.asarray(d["reactions"]["D"]["force"]), f.reactions["D"].force)
     np.testing.assert_array_equal(f.columns()["D.force.x [N]"], f.reactions["D"].force[:, 0])
+
+
+def test_every_family_is_walked():
+    """The walk above covers kinematics for every family and forces for planar and spatial ones."""
+    cases = {(family_of(linkgen.load(p.values[0])).name, p.values[1]) for p in _cases()}
+    assert cases == {("planar", "kinematics"), ("planar", "forces"), ("cam", "kinematics"),
+                     ("spatial", "kinematics"), ("spatial", "forces")}, cases
