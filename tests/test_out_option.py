@@ -74,3 +74,18 @@ def test_help_names_one_output_option_and_hides_the_old_ones():
     for command in ("analyze", "forces", "profile"):
         text = sub[command].format_help()
         assert "-o FILE, --out FILE" in text and "--csv" not in text and "--output" not in text, command
+
+
+@pytest.mark.parametrize("model,line", [("rssr", "omega = 10.0      # rad/s"), ("fourbar", "omega = 10.0      # rad/s"),
+                                        ("cam_translating", "omega = 10.0             # rad/s, counter-clockwise")])
+def test_the_summary_takes_omega_for_every_family(tmp_path, capsys, model, line):
+    """`--summary --omega 20` is the summary of the same description with its drive at 20 rad/s
+    (before: a spatial four-bar's summary ignored --omega)."""
+    src = (MODELS / f"{model}.toml").read_text(encoding="utf-8")
+    assert line in src
+    faster = tmp_path / f"{model}.toml"
+    faster.write_text(src.replace(line, "omega = 20.0"), encoding="utf-8")
+    assert main(["analyze", str(MODELS / f"{model}.toml"), "--summary", "--json", "--omega", "20"]) == 0
+    given = json.loads(capsys.readouterr().out)
+    assert main(["analyze", str(faster), "--summary", "--json"]) == 0
+    assert given == json.loads(capsys.readouterr().out)

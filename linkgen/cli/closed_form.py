@@ -40,7 +40,7 @@ def _output(args) -> tuple[Path | None, str, str | None]:
     and its format ("csv", "json"; None: no file)."""
     old = [(o, getattr(args, d)) for o, d in (("--csv", "csv"), ("--output", "output")) if getattr(args, d, None)]
     if old and args.out is not None:
-        raise OptionError(f"-o/--out and {old[0][0]} name the same output; give -o/--out only")
+        raise OptionError(f"-o/--out and {old[0][0]} both name the output; give -o/--out only")
     if old and old[0][0] == "--csv":  # the old spelling writes CSV whatever the name
         return old[0][1], "--csv", "csv"
     path, spelled = (old[0][1], old[0][0]) if old else (args.out, "-o/--out")

@@ -144,11 +144,16 @@ class SpatialSummaryResult:
 
 
 def summary(mech, omega=None, epsilon=None) -> SpatialSummaryResult:
-    """The spatial family's ``summary`` stage over one turn (at the drive's ω and ε; the
-    summary's peaks are those of ``families.spatial.summary``)."""
+    """The spatial family's ``summary`` stage over one turn at ω and ε (default the drive's;
+    ``families.spatial.summary`` reads them from the description's drive)."""
+    from dataclasses import replace
+
     from linkgen.families.spatial.summary import summarize
 
-    return SpatialSummaryResult(summarize(mech))
+    d = mech.drive
+    drive = replace(d, omega=d.omega if omega is None else float(omega),
+                    epsilon=d.epsilon if epsilon is None else float(epsilon))
+    return SpatialSummaryResult(summarize(mech if drive == d else replace(mech, drive=drive)))
 
 
 __all__ = ["SpatialStructure", "SpatialSummaryResult", "structure", "summary"]
