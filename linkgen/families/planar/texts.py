@@ -34,7 +34,7 @@ class PlanarStructure:
                 "groups": [{"label": g.label, "kind": g.kind.name, "links": list(g.links),
                             "pairs": [p.name for p in g.pairs], "known": list(g.known), "assembly_mode": m}
                            for g, m in zip(s.groups, self.branches or (None,) * len(s.groups))],
-                "text": list(self.lines)}
+                "lines": list(self.lines)}
 
     def text(self) -> str:
         return "\n".join(self.lines)

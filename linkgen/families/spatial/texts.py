@@ -20,10 +20,15 @@ class SpatialStructure:
     chain: object
     lines: tuple[str, ...]
 
+    def __getattr__(self, name):  # the chain's attributes (kind, crank, coupler, output, ...)
+        if name.startswith("__") or name in ("model", "chain", "lines"):
+            raise AttributeError(name)
+        return getattr(self.chain, name)
+
     def to_dict(self) -> dict:
         c = self.chain
         return {"model": self.model, "kind": c.kind, "crank": c.crank, "coupler": c.coupler, "output": c.output,
-                "drive": c.drive, "output_pair": c.pair_out, "mobility": c.mobility, "text": list(self.lines)}
+                "drive": c.drive, "pair_out": c.pair_out, "mobility": c.mobility, "lines": list(self.lines)}
 
     def text(self) -> str:
         return "\n".join(self.lines)
