@@ -34,7 +34,7 @@ from linkgen.families.planar.kinematics import Kinematics, solve, solve_motion
 from linkgen.pipeline.registry import from_dict, load
 from linkgen.families.planar.motion import Motion
 from linkgen.families.planar.structure import Group, GroupKind, Structure, analyze
-from linkgen.api import (ForcesResult, KinematicsResult, Quantity, forces, kinematics, simulate, structure, validate,
+from linkgen.api import (ForcesResult, KinematicsResult, forces, kinematics, simulate, structure, summary, validate,
                          write_mjcf)
 
 __all__ = [
@@ -42,6 +42,6 @@ __all__ = [
     "ArgumentError", "AssemblyError", "DescriptionError", "LinkgenError", "SimulationError", "SingularityError",
     "StructureError", "ValidationError", "BalanceError", "MagnitudeError", "Assembly", "Kinematics", "Motion", "assemble", "solve", "solve_motion",
     "from_dict", "load", "Group", "GroupKind", "Structure", "analyze",
-    "ForcesResult", "KinematicsResult", "Quantity", "forces", "kinematics", "simulate", "structure", "validate",
+    "ForcesResult", "KinematicsResult", "forces", "kinematics", "simulate", "structure", "summary", "validate",
     "write_mjcf",
 ]

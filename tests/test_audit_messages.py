@@ -101,17 +101,19 @@ def test_teeth_written_as_floats_are_explained(tmp_path, capsys, teeth, shown):
 
 
 @pytest.mark.parametrize("model,what", [
-    ("rssr.toml", "a spatial mechanism; `linkgen profile` is for cam files (docs/cams.md); spatial ones work with "
-                  "structure, analyze, forces, build, validate, draw, render, animate"),
-    ("cam_rocker_slider.toml", "a linkage whose crank carries a cam ([cam.NAME] pair tables beside [links]); "
-                               "`linkgen profile` takes a cam file: a [cam] table and no [links] (docs/cams.md)"),
-    ("fourbar.toml", "not a cam description; `linkgen profile` takes a cam file: a [cam] table and no [links] "
-                     "(docs/cams.md)")])
+    ("rssr.toml", "a spatial four-bar (docs/spatial.md); `linkgen profile` is for stand-alone cams; spatial four-bars "
+                  "take structure, analyze, forces, build, validate, draw, animate, render"),
+    ("cam_rocker_slider.toml", "a planar linkage (docs/format.md); `linkgen profile` is for stand-alone cams; planar "
+                               "linkages take structure, analyze, forces, assemble, build, simulate, validate, draw, "
+                               "animate, render, dynamics, flywheel"),
+    ("fourbar.toml", "a planar linkage (docs/format.md); `linkgen profile` is for stand-alone cams; planar linkages "
+                     "take structure, analyze, forces, assemble, build, simulate, validate, draw, animate, render, "
+                     "dynamics, flywheel")])
 def test_profile_says_what_it_takes(capsys, model, what):
     # before: a spatial file was told `profile` "is for planar linkages"; a linkage with a [cam.disc]
     # table was told it needs "a [cam] table"
     assert main(["profile", str(MODELS / model)]) == 2
-    assert capsys.readouterr().err == f"linkgen profile: error: {MODELS / model}: {what}\n"
+    assert capsys.readouterr().err == f"linkgen: error: {MODELS / model}: {what}\n"  # the registry's one line
 
 
 @pytest.mark.parametrize("gap,line", [
@@ -162,7 +164,6 @@ def test_a_slow_cam_builds_or_is_refused_at_load(tmp_path, capsys, omega, ok):
     ("fourbar.toml", ["analyze", "{m}", "--samples", "5", "--csv", "{m}"]),
     ("fourbar.toml", ["forces", "{m}", "--samples", "5", "--csv", "{m}"]),
     ("fourbar.toml", ["build", "{m}", "-o", "{link}"]),
-    ("cam_translating.toml", ["profile", "{m}", "-o", "{m}"]),
     ("cam_translating.toml", ["analyze", "{m}", "--samples", "5", "--csv", "{m}"]),
     ("rssr.toml", ["analyze", "{m}", "--samples", "5", "--csv", "{m}"]),
     ("rssr.toml", ["build", "{m}", "-o", "{m}"])], ids=lambda v: v if isinstance(v, str) else " ".join(v[:1]))
@@ -176,6 +177,16 @@ def test_no_output_replaces_the_description(tmp_path, capsys, model, args):
     out = link if "{link}" in args else path
     assert main([a.format(m=path, link=link) for a in args]) == 2
     assert capsys.readouterr().err.endswith(f"{out}: is the description being read; linkgen does not write over it: "
+                                            "give another output name\n")
+    assert path.read_bytes() == before
+
+
+def test_profile_does_not_replace_a_description_named_like_its_output(tmp_path, capsys):
+    path = tmp_path / "m.csv"  # -o takes .csv or .json: a description under such a name
+    shutil.copy(MODELS / "cam_translating.toml", path)
+    before = path.read_bytes()
+    assert main(["profile", str(path), "-o", str(path)]) == 2
+    assert capsys.readouterr().err.endswith(f"{path}: is the description being read; linkgen does not write over it: "
                                             "give another output name\n")
     assert path.read_bytes() == before
 

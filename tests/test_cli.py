@@ -157,6 +157,6 @@ def test_near_singular_forces_are_no_longer_answered(tmp_path, capsys):
 def test_keep_singular_is_for_samples(tmp_path, capsys, monkeypatch, options):
     monkeypatch.chdir(tmp_path)
     assert main(["forces", str(MODELS / "fourbar.toml"), "--keep-singular", *options]) == 2
-    assert capsys.readouterr().err == ("linkgen forces: error: --keep-singular is for samples (--samples, --csv); "
+    assert capsys.readouterr().err == ("linkgen forces: error: --keep-singular is for samples (--samples, -o FILE.csv); "
                                        "at one crank angle a singular position is an error\n")
     assert list(tmp_path.iterdir()) == []

@@ -239,26 +239,24 @@ def test_analyze_json_reports_jerk_scaling_as_omega_cubed(capsys, model):
     one = _analyze(capsys, model, "--omega", "1", "--transfer")
     two = _analyze(capsys, model, "--omega", "2")
     assert one["units"]["jerk"] == "m/s³" and one["units"]["angular_jerk"] == "rad/s³"
-    assert one["units"]["d3/dphi3"] == "per rad³"
-    tr = one["transfer"]
+    assert one["units"]["d3"] == "per rad³"
     for n, q in one["points"].items():
-        assert list(q) == ["position", "velocity", "acceleration", "jerk"] and len(q["jerk"]) == 2
+        assert list(q) == ["position", "velocity", "acceleration", "jerk", "d1", "d2", "d3"] and len(q["jerk"]) == 2
         # ε = 0: jerk = x‴·ω³
-        assert q["jerk"] == pytest.approx(tr["points"][n]["d3/dphi3"], rel=1e-15, abs=1e-300)
+        assert q["jerk"] == pytest.approx(q["d3"], rel=1e-15, abs=1e-300)
         assert two["points"][n]["jerk"] == pytest.approx([8.0 * x for x in q["jerk"]], rel=1e-14, abs=1e-300)
     for n, q in one["links"].items():
-        assert q["angular_jerk"] == pytest.approx(tr["links"][n]["d3/dphi3"], rel=1e-15, abs=1e-300)
+        assert q["angular_jerk"] == pytest.approx(q["d3"], rel=1e-15, abs=1e-300)
         assert two["links"][n]["angular_jerk"] == pytest.approx(8.0 * q["angular_jerk"], rel=1e-14, abs=1e-300)
     for n, q in one["sliders"].items():
-        assert q["jerk"] == pytest.approx(tr["sliders"][n]["d3/dphi3"], rel=1e-15, abs=1e-300)
+        assert q["jerk"] == pytest.approx(q["d3"], rel=1e-15, abs=1e-300)
         assert two["sliders"][n]["jerk"] == pytest.approx(8.0 * q["jerk"], rel=1e-14, abs=1e-300)
 
 
 def test_analyze_jerk_with_crank_acceleration(capsys):
     out = _analyze(capsys, "seven_link.toml", "--omega", "3", "--epsilon", "-4", "--transfer")
     for n, q in out["points"].items():
-        tf = out["transfer"]["points"][n]
-        expected = [d3 * 27.0 + 3.0 * d2 * 3.0 * -4.0 for d2, d3 in zip(tf["d2/dphi2"], tf["d3/dphi3"])]
+        expected = [d3 * 27.0 + 3.0 * d2 * 3.0 * -4.0 for d2, d3 in zip(q["d2"], q["d3"])]
         assert q["jerk"] == pytest.approx(expected, rel=1e-13, abs=1e-13)
 
 
@@ -272,7 +270,7 @@ def test_analyze_text_and_csv_carry_jerk(capsys, tmp_path):
     assert main(["analyze", model, "--samples", "8", "--csv", str(csv_path), "--transfer"]) == 0
     header = csv_path.read_text(encoding="utf-8").splitlines()[0].split(",")
     for col in ("B.jerk.x [m/s³]", "B.jerk.y [m/s³]", "lever.angular_jerk [rad/s³]", "slider.jerk [m/s³]",
-                "B.position.d3.x [m/rad³]", "lever.angle.d3 [rad/rad³]", "slider.displacement.d3 [m/rad³]"):
+                "B.d3.x [m/rad³]", "lever.d3 [rad/rad³]", "slider.d3 [m/rad³]"):
         assert col in header, col
     assert header.index("B.jerk.x [m/s³]") == header.index("B.acceleration.y [m/s²]") + 1
 
@@ -284,10 +282,9 @@ def test_api_reports_jerk_and_third_transfer_functions():
     assert np.allclose(k.points["B"].jerk, 8.0 * kin.points["B"].d3[0], rtol=1e-15, atol=0)
     assert k.links["lever"].d3 == kin.links["lever"].angle.d3[0]
     assert k.sliders["slider"].jerk == pytest.approx(8.0 * kin.sliders["slider"].d3[0], rel=1e-15)
-    value, velocity, acceleration = k.points["B"]  # still three when unpacked
     d = k.to_dict()
     assert d["units"]["jerk"] == "m/s³" and d["units"]["d3"] == "per rad³"
-    assert list(d["points"]["B"]) == ["value", "velocity", "acceleration", "jerk", "d1", "d2", "d3"]
+    assert list(d["points"]["B"]) == ["position", "velocity", "acceleration", "jerk", "d1", "d2", "d3"]
     cols = linkgen.kinematics(mech, np.linspace(-0.2, 0.2, 5)).columns()
-    for c in ("B.jerk.x [m/s³]", "B.d3.y [m/rad³]", "lever.jerk [rad/s³]", "slider.d3 [m/rad³]"):
+    for c in ("B.jerk.x [m/s³]", "B.d3.y [m/rad³]", "lever.angular_jerk [rad/s³]", "slider.d3 [m/rad³]"):
         assert c in cols and cols[c].shape == (5,), c

@@ -121,7 +121,7 @@ def _machine(path: Path, deep: bool) -> list:
 def _cam(path: Path, deep: bool) -> list:
     from linkgen.families.cam.description import load_cam
     from linkgen.families.cam.kinetics import state
-    from linkgen.cli.cams import cam_summary
+    from linkgen.families.cam.summary import cam_summary
     from linkgen.mujoco.cam import cam_mjcf
 
     cm = load_cam(path)

@@ -1,216 +1,214 @@
-"""``linkgen structure`` and ``linkgen analyze``: the closed form from the command line."""
+"""The closed form from the command line, written once for every family through the registry
+(``pipeline.registry.stage``): ``linkgen structure``, ``analyze`` (one state, samples, the
+transfer functions, the design summary), ``forces`` and ``profile``. What differs between
+families is in their results' ``text()``, ``to_dict()`` and ``columns()``.
+
+One output option: ``-o/--out FILE``, the format from its extension: ``.csv`` the samples,
+``.json`` the JSON object (of one state, of the samples with --samples, or of the summary)."""
 
 from __future__ import annotations
 
-import math
+import argparse
+import json
+import sys
+from pathlib import Path
 
-import numpy as np
+from linkgen.cli.common import OptionError, add_crank_arguments, check_finite, print_json, write_rows
 
-from linkgen.cli.common import (check_crank_options, check_finite, crank_grid, drive_rates, print_json,
-                                write_rows)
-from linkgen.cli.singular import report_singular
-from linkgen.families.planar.checks import mobility_formula
-from linkgen.pipeline.registry import load
-from linkgen.families.planar.assembly import assemble
-from linkgen.families.planar.cam_pair import above_lowest, contact, lift, oscillating
-from linkgen.families.planar.kinematics import Kinematics, solve
-
-
-UNITS = {"phi": "rad", "omega": "rad/s", "epsilon": "rad/s²", "position": "m", "velocity": "m/s",
-         "acceleration": "m/s²", "angle": "rad", "angular_velocity": "rad/s", "angular_acceleration": "rad/s²",
-         "jerk": "m/s³", "angular_jerk": "rad/s³", "displacement": "m", "d/dphi": "per rad", "d2/dphi2": "per rad²",
-         "d3/dphi3": "per rad³"}
-
-# Names of each kind's value and time derivatives, in the JSON and the CSV columns.
-_NAMES = {"points": ("position", "velocity", "acceleration", "jerk"),
-          "links": ("angle", "angular_velocity", "angular_acceleration", "angular_jerk"),
-          "sliders": ("displacement", "velocity", "acceleration", "jerk")}
+# Conventions of ``linkgen forces`` (see ``linkgen.families.planar.kinetostatics``), its --help.
+FORCES_HELP = ("Closed-form joint reactions, balancing torque and reduced inertia. Conventions: reactions[J].force is "
+               "the force [N] the second link of pair J (in the description's order) exerts on the first, in the world "
+               "frame; prismatic[P].normal_force [N] is the guide's force on the slider along the guide's left normal, "
+               "and moment [N·m] the couple it carries about the slider's point; balancing_torque [N·m] is the torque "
+               "the drive applies to the crank, about +z.")
+FORMATS = {".csv": "csv", ".json": "json"}
 
 
-def _motion_json(kin: Kinematics, omega: float, epsilon: float, i: int = 0, model: str = "") -> dict:
-    """The state at angle ``kin.phi[i]``; jerks take ε constant in time (x‴ω³ + 3x″ωε)."""
-    mo = kin.motion(omega, epsilon)
-    out = {"model": model, "phi": float(kin.phi[i]), "omega": float(omega), "epsilon": float(epsilon), "units": UNITS}
-    for kind in ("points", "links", "sliders"):
-        out[kind] = {n: dict(zip(_NAMES[kind], (a[i].tolist() for a in (*t, mo.jerk[kind][n]))))
-                     for n, t in getattr(mo, kind).items()}
-    if kin.assembly.mechanism.cams:
-        out["followers"] = followers_json(kin, omega, epsilon, i)
-    return out
+def out_format(path: Path | None, spelled: str = "-o/--out") -> str | None:
+    """"csv" or "json" from the extension of ``path`` (None: no file); OptionError for another."""
+    if path is None:
+        return None
+    fmt = FORMATS.get(path.suffix.lower())
+    if fmt is None:
+        raise OptionError(f"{spelled} {path}: the format comes from the extension: .csv (the samples) or .json (the "
+                          f"JSON object), got {path.suffix or 'no extension'!r}")
+    return fmt
 
 
-def followers_json(kin: Kinematics, omega: float, epsilon: float, i: int = 0) -> dict:
-    """Each cam pair's follower: its coordinate from the program's lowest position (rad or m) with
-    velocity, acceleration and jerk (ε constant), and the pressure angle [rad]."""
-    out = {}
-    for cam in kin.assembly.mechanism.cams:
-        theta = kin.phi[i:i + 1] - kin.assembly.sketch_phi
-        q = above_lowest(cam, theta)[0]
-        _, d1, d2, d3 = lift(cam, theta)
-        alpha = contact(kin, cam)[2][i]
-        out[cam.follower] = {"cam": cam.name, "displacement": float(q), "velocity": float(d1[0] * omega),
-                             "acceleration": float(d2[0] * omega**2 + d1[0] * epsilon),
-                             "jerk": float(d3[0] * omega**3 + 3 * d2[0] * omega * epsilon),
-                             "pressure_angle": float(alpha),
-                             "unit": "rad" if oscillating(kin.assembly.mechanism, cam) else "m"}
-    return out
+def _output(args) -> tuple[Path | None, str, str | None]:
+    """The file the command writes (-o/--out, or a hidden old spelling), how the user named it
+    and its format ("csv", "json"; None: no file)."""
+    old = [(o, getattr(args, d)) for o, d in (("--csv", "csv"), ("--output", "output")) if getattr(args, d, None)]
+    if old and args.out is not None:
+        raise OptionError(f"-o/--out and {old[0][0]} both name the output; give -o/--out only")
+    if old and old[0][0] == "--csv":  # the old spelling writes CSV whatever the name
+        return old[0][1], "--csv", "csv"
+    path, spelled = (old[0][1], old[0][0]) if old else (args.out, "-o/--out")
+    return path, spelled, out_format(path, spelled)
+
+
+def write_json(obj, path: Path | None) -> None:
+    """``obj`` as strict JSON on stdout or, atomically, to ``path``."""
+    if path is None:
+        print_json(obj)
+        return
+    from linkgen.cli.files import atomic_open
+
+    check_finite(obj)
+    with atomic_open(path) as out:
+        out.write(json.dumps(obj, indent=2, allow_nan=False) + "\n")
+    print(f"wrote {path}", file=sys.stderr)
+
+
+def _load(args):
+    from linkgen.pipeline.registry import load
+
+    return load(args.model)
 
 
 def cmd_structure(args) -> int:
-    asm = assemble(load(args.model))
-    s = asm.structure
-    print(f"mechanism: {asm.mechanism.name}")
-    p4 = len(asm.mechanism.gears) + len(asm.mechanism.cams)
-    print(f"mobility {mobility_formula(s.moving_links, s.lower_pairs, p4)}")
-    for g in asm.mechanism.gears:
-        print(f"gear pair {g.name!r}: planet {g.planet!r} on the crank, {g.kind} mesh {g.teeth[0]}/{g.teeth[1]} "
-              f"teeth, module {g.module:g} m: the planet turns {g.ratio:+g} times the crank")
-    for c in asm.mechanism.cams:
-        kind = "oscillating about its pivot" if oscillating(asm.mechanism, c) else "translating on its guide"
-        print(f"cam pair {c.name!r}: the cam on the crank drives the follower {c.follower!r} ({kind}) through "
-              f"its roller at {c.roller!r} (radius {c.roller_radius:g} m), a higher pair")
-    print(f"input link: I(0,1) crank {s.crank!r}, driven at {s.drive.name!r}")
-    for g, m in zip(s.groups, asm.branches):
-        pairs = ", ".join(f"{p.kind} {p.name}" for p in g.pairs)
-        print(f"group {g.label}: pairs {pairs}; attached to {list(g.known)}; assembly mode m = {m:+d}")
-    print(f"structure formula: {s.formula}")
-    for line in turn_lines(asm):
-        print(line)
+    from linkgen.pipeline.registry import stage
+
+    desc = _load(args)
+    print(stage(desc, "structure")(desc).text())
     return 0
 
 
-def turn_lines(asm) -> list[str]:
-    """Whether the crank turns fully and where the chain assembles (``linkgen.model.turn``)."""
-    from linkgen.model.turn import EDGE_TOL, degrees_text, drive_range_text
-    from linkgen.families.planar.kinematics import planar_turn
-
-    t = planar_turn(asm)
-    how = f"scanned every 0.1°, edges bisected to {EDGE_TOL:g} rad"
-    if t.full:
-        lines = [f"crank: turns fully — the chain assembles at every crank angle ({how})"]
-        if not t.regular:
-            lines.append(f"regular at crank angles {degrees_text(t.clean)}; dead centres in between")
-        return lines
-    lines = [f"crank: does not turn fully — the chain assembles at crank angles {degrees_text(t.assembles)} "
-             f"and cannot at {degrees_text(t.fails)} ({how}); it rocks between dead centres"]
-    d = asm.mechanism.drive
-    given = f"the drive's crank-angle range {math.degrees(d.start):.6g}°..{math.degrees(d.stop):.6g}°"
-    if any(lo - 1e-12 <= d.start and d.stop <= hi + 1e-12 for lo, hi in _turns(t.clean)):
-        lines.append(f"{given} lies where the chain is assembled and regular")
-        return lines
-    best = t.suggestion()
-    if best is not None:
-        lines.append(f"{given} leaves where the chain is regular; to run over the widest range where it is, put "
-                     f"under [drive]: {drive_range_text(best)}")
-    return lines
+def _check(args, path: Path | None, fmt: str | None, spelled: str) -> bool:
+    """Whether the command evaluates samples; OptionError for options that exclude each other."""
+    sampled = [o for o, v in (("--samples", args.samples), (spelled if fmt == "csv" else None, path if fmt == "csv"
+                                                                                           else None)) if v is not None]
+    single = [o for o, v in (("--angle", args.angle), ("--json", args.json or None)) if v is not None]
+    if sampled and single:
+        raise OptionError(f"{single[0]} cannot be combined with {sampled[0]}: {single[0]} is for one crank "
+                          f"angle, {sampled[0]} for samples over the drive range")
+    if args.json and path is not None:
+        raise OptionError(f"--json prints the JSON object; {spelled} {path} writes it to a file: give one of them")
+    if args.keep_singular and not sampled:
+        raise OptionError("--keep-singular is for samples (--samples, -o FILE.csv); at one crank angle a singular "
+                          "position is an error")
+    return bool(sampled)
 
 
-def _turns(ranges):
-    """Each range [rad] and its copies one turn either side."""
-    return [(lo + k * 2 * math.pi, hi + k * 2 * math.pi) for lo, hi in ranges for k in (-1, 0, 1)]
+def _closed_form(args, name: str) -> int:
+    """``analyze`` (name "kinematics") and ``forces``: one state (text or JSON) or samples (CSV or JSON)."""
+    from linkgen.cli.singular import report_singular
+    from linkgen.pipeline.registry import stage
+
+    path, spelled, fmt = _output(args)
+    sampled = _check(args, path, fmt, spelled)
+    desc = _load(args)
+    fn = stage(desc, name)
+    angles = stage(desc, "angles")
+    transfer = bool(getattr(args, "transfer", False))
+    if sampled:
+        r = fn(desc, angles(desc, args.samples or 360), args.omega, args.epsilon, on_singular="mark")
+    else:
+        r = fn(desc, angles(desc) if args.angle is None else args.angle, args.omega, args.epsilon)
+    if (transfer or args.keep_singular) and r.NO_TRANSFER:
+        raise OptionError(r.NO_TRANSFER)
+    if fmt == "json" or (args.json and not sampled):
+        write_json(r.to_dict(transfer=transfer), path)
+    elif sampled:
+        cols = r.columns(transfer=transfer)
+        write_rows(list(cols), list(cols.values()), path, rows=getattr(r, "ROWS", "crank angles"))
+    else:
+        check_finite(r.to_dict(transfer=transfer))
+        print(r.text(transfer=transfer))
+    return report_singular(args.model, r.singular_lines(), args.keep_singular) if sampled else 0
 
 
 def cmd_analyze(args) -> int:
-    from linkgen.families.cam.description import is_cam_file
-
-    if is_cam_file(args.model):
-        from linkgen.cli.cams import cmd_analyze_cam
-
-        return cmd_analyze_cam(args)
     if args.summary:
-        from linkgen.cli.summary import cmd_summary
-
         return cmd_summary(args)
-    check_crank_options(args)
-    mech = load(args.model)
-    omega, epsilon = drive_rates(mech, args)
-    if args.samples is not None or args.csv is not None:
-        phi = crank_grid(mech, args.samples or 360)
-        kin = solve(mech, phi, on_singular="mark")
-        mo = kin.motion(omega, epsilon)
-        cols, data = ["phi", "singular"], [phi, kin.singular]
-        for kind in ("points", "links", "sliders"):
-            for n, arrays in getattr(mo, kind).items():
-                for qname, arr in zip(_NAMES[kind], (*arrays, mo.jerk[kind][n])):
-                    if arr.ndim == 2:
-                        cols += [f"{n}.{qname}.x", f"{n}.{qname}.y"]
-                        data += [arr[:, 0], arr[:, 1]]
-                    else:
-                        cols.append(f"{n}.{qname}")
-                        data.append(arr)
-        if args.transfer:
-            c2, d2 = _transfer_columns(kin)
-            cols, data = cols + c2, data + d2
-        write_rows(cols, data, args.csv, units=True)
-        return report_singular(args.model, kin, args.keep_singular)
-    phi = mech.drive.start if args.angle is None else args.angle
-    kin = solve(mech, np.array([phi]))
-    result = _motion_json(kin, omega, epsilon, model=mech.name)
-    if args.transfer:
-        result["transfer"] = _transfer_json(kin)
+    return _closed_form(args, "kinematics")
+
+
+def cmd_forces(args) -> int:
+    return _closed_form(args, "forces")
+
+
+def cmd_summary(args) -> int:
+    """``analyze --summary``: the family's design summary as text or JSON."""
+    from linkgen.pipeline.registry import stage
+
+    path, spelled, fmt = _output(args)
+    used = [o for o, v in (("--angle", args.angle), ("--samples", args.samples), (spelled, path if fmt == "csv" else None),
+                           ("--transfer", args.transfer or None), ("--keep-singular", args.keep_singular or None))
+            if v is not None]
+    if used:
+        raise OptionError(f"--summary covers the whole drive range; it cannot be combined with {used[0]}")
+    if args.json and path is not None:
+        raise OptionError(f"--json prints the JSON object; {spelled} {path} writes it to a file: give one of them")
+    desc = _load(args)
+    s = stage(desc, "summary")(desc, args.omega, args.epsilon)
+    result = s.to_dict()
     check_finite(result)
-    if args.json:
-        print_json(result)
+    if args.json or fmt == "json":
+        write_json(result, path)
         return 0
-    print(f"{mech.name}: φ = {math.degrees(phi):.6g}° ({phi:.9g} rad), ω = {omega:g} rad/s, ε = {epsilon:g} rad/s²")
-    _print_state(result)
-    if args.transfer:
-        _print_transfer(result["transfer"])
+    print(s.text())
     return 0
 
 
-def _print_state(result: dict) -> None:
-    heads = ("x [m]", "y [m]", "vx [m/s]", "vy [m/s]", "ax [m/s²]", "ay [m/s²]", "jx [m/s³]", "jy [m/s³]")
-    print(f"{'point':<10}" + "".join(f"{h:>14}" for h in heads))
-    for n, q in result["points"].items():
-        print(f"{n:<10}" + "".join(f"{x:>14.6g}" for x in q["position"] + q["velocity"] + q["acceleration"] + q["jerk"]))
-    print(f"{'link':<10}{'angle [rad]':>14}{'ω [rad/s]':>14}{'ε [rad/s²]':>14}{'jerk [rad/s³]':>14}")
-    for n, q in result["links"].items():
-        print(f"{n:<10}" + "".join(f"{q[k]:>14.6g}" for k in _NAMES["links"]))
-    if result["sliders"]:
-        print(f"{'slider':<10}{'s [m]':>14}{'v [m/s]':>14}{'a [m/s²]':>14}{'j [m/s³]':>14}")
-        for n, q in result["sliders"].items():
-            print(f"{n:<10}" + "".join(f"{q[k]:>14.6g}" for k in _NAMES["sliders"]))
+def cmd_profile(args) -> int:
+    from linkgen.pipeline.registry import stage
+
+    path, spelled, fmt = _output(args)
+    desc = _load(args)
+    p = stage(desc, "profile")(desc, args.points)
+    if fmt == "json":
+        write_json(p.to_dict(), path)
+        return 0
+    cols = p.columns()
+    write_rows(list(cols), list(cols.values()), path, rows="cam angles")
+    return 0
 
 
-def _print_transfer(tr: dict) -> None:
-    print("transfer functions (derivatives with respect to the crank angle φ)")
-    heads = ("dx/dφ [m]", "dy/dφ [m]", "d²x/dφ² [m]", "d²y/dφ² [m]", "d³x/dφ³ [m]", "d³y/dφ³ [m]")
-    print(f"{'point':<10}" + "".join(f"{h:>14}" for h in heads))
-    for n, q in tr["points"].items():
-        print(f"{n:<10}" + "".join(f"{x:>14.6g}" for x in q["d/dphi"] + q["d2/dphi2"] + q["d3/dphi3"]))
-    for kind, unit in (("links", "rad/rad"), ("sliders", "m/rad")):
-        if tr[kind]:
-            print(f"{kind[:-1]:<10}" + "".join(f"{h + ' [' + unit + ']':>18}" for h in ("d/dφ", "d²/dφ²", "d³/dφ³")))
-            for n, q in tr[kind].items():
-                print(f"{n:<10}{q['d/dphi']:>18.6g}{q['d2/dphi2']:>18.6g}{q['d3/dphi3']:>18.6g}")
+def _out_argument(parser, what: str) -> None:
+    parser.add_argument("-o", "--out", type=Path, metavar="FILE",
+                        help=f"write to FILE, the format from its extension: .csv {what}, .json the JSON object")
 
 
-def _transfer_json(kin: Kinematics, i: int = 0) -> dict:
-    """First, second and third derivatives with respect to φ: points [m/rad, m/rad², m/rad³],
-    link angles [rad/rad, rad/rad², rad/rad³], slider displacements [m/rad, m/rad², m/rad³]."""
-    keys = ("d/dphi", "d2/dphi2", "d3/dphi3")
+def add_commands(sub) -> None:
+    """``structure``, ``analyze`` and ``forces``."""
+    s = sub.add_parser("structure", help="mobility, Assur groups and the structure formula")
+    s.add_argument("model", type=Path, help="description file (.toml)")
+    s.set_defaults(func=cmd_structure)
 
-    def row(q) -> dict:
-        return dict(zip(keys, (a[i].tolist() for a in (q.d1, q.d2, q.d3))))
+    a = sub.add_parser("analyze", help="closed-form positions, velocities, accelerations and jerks")
+    add_crank_arguments(a, "38.117deg")
+    _out_argument(a, "the samples (over the drive range; --samples N, default 360)")
+    a.add_argument("--csv", type=Path, help=argparse.SUPPRESS)  # the old spelling of -o FILE.csv
+    a.add_argument("--transfer", action="store_true",
+                   help="also the transfer functions d1, d2, d3 = d/dφ, d²/dφ², d³/dφ³ (m/rad, rad/rad; in the table, "
+                        "JSON or CSV)")
+    a.add_argument("--summary", action="store_true",
+                   help="print the design summary over the drive range (SI units and degrees in the text, "
+                        "radians in --json): stroke, swing, limit positions, time ratio, least transmission "
+                        "angles, peak torque and reactions")
+    a.set_defaults(func=cmd_analyze)
 
-    return {"points": {n: row(v) for n, v in kin.points.items()},
-            "links": {n: row(lp.angle) for n, lp in kin.links.items()},
-            "sliders": {n: row(s) for n, s in kin.sliders.items()}}
+    f = sub.add_parser("forces", help="joint reactions, balancing torque and reduced inertia (closed form)",
+                       description=FORCES_HELP)
+    add_crank_arguments(f, "30deg")
+    _out_argument(f, "the samples (over the drive range; --samples N, default 360)")
+    f.add_argument("--csv", type=Path, help=argparse.SUPPRESS)  # the old spelling of -o FILE.csv
+    f.set_defaults(func=cmd_forces)
 
 
-def _transfer_columns(kin: Kinematics) -> tuple[list[str], list[np.ndarray]]:
-    cols, data = [], []
-    n_phi = kin.phi.shape[0]
-    for n, v in kin.points.items():
-        for tag, arr in (("d1", v.d1), ("d2", v.d2), ("d3", v.d3)):
-            arr = np.broadcast_to(arr, (n_phi, 2))
-            cols += [f"{n}.position.{tag}.x", f"{n}.position.{tag}.y"]
-            data += [arr[:, 0], arr[:, 1]]
-    for kind, table in (("angle", {n: lp.angle for n, lp in kin.links.items()}), ("displacement", kin.sliders)):
-        for n, s in table.items():
-            for tag, arr in (("d1", s.d1), ("d2", s.d2), ("d3", s.d3)):
-                cols.append(f"{n}.{kind}.{tag}")
-                data.append(np.broadcast_to(arr, (n_phi,)))
-    return cols, data
+def add_profile(sub) -> None:
+    """``profile``: a cam's profile."""
+    from linkgen.cli.common import _positive_int
 
+    p = sub.add_parser("profile", help="a cam's profile and pitch curve as point coordinates (CSV or JSON)")
+    p.add_argument("model", type=Path, help="cam description file (.toml)")
+    p.add_argument("-o", "--out", type=Path, metavar="FILE",
+                   help="write to FILE, the format from its extension: .csv or .json (default: CSV on stdout)")
+    p.add_argument("--output", type=Path, help=argparse.SUPPRESS)  # the old spelling of -o/--out
+    p.add_argument("--points", type=_positive_int, default=720, help="points over the turn (no unit; default 720)")
+    p.set_defaults(func=cmd_profile)
+
+
+__all__ = ["FORCES_HELP", "add_commands", "add_profile", "cmd_analyze", "cmd_forces", "cmd_profile", "cmd_structure", "cmd_summary",
+           "out_format", "write_json"]

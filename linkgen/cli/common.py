@@ -12,9 +12,9 @@ from pathlib import Path
 
 import numpy as np
 
-from linkgen.errors import DescriptionError, LinkgenError
+from linkgen.errors import ArgumentError, LinkgenError
 from linkgen.model import limits
-from linkgen.model.units import parse_angle
+from linkgen.model.arguments import angle_text, rate_text
 from linkgen.cli.files import atomic_open
 from linkgen.cli.singular import SINGULAR_STATUS
 
@@ -27,21 +27,11 @@ def crank_grid(mech, samples: int) -> np.ndarray:
 
 
 def _angle_arg(text: str) -> float:
+    """An argparse type: an angle with its unit (``linkgen.model.arguments``, as the API reads it)."""
     try:
-        float(text)
-    except ValueError:
-        pass
-    else:
-        raise argparse.ArgumentTypeError(f"an angle needs its unit: write {text}deg or {text}rad (or {text}°), "
-                                         f"got {text!r}")
-    try:
-        x = parse_angle(text, "--angle")
-    except DescriptionError as exc:
-        raise argparse.ArgumentTypeError(f"expected an angle like 30deg, 30° or 0.52rad, got {text!r}") from exc
-    if abs(x) > limits.MAX_ANGLE:
-        raise argparse.ArgumentTypeError(f"expected an angle within ±{limits.MAX_ANGLE:g} rad (linkgen's limits, "
-                                         f"see the README), got {text!r}")
-    return x
+        return angle_text(text)
+    except ArgumentError as exc:
+        raise argparse.ArgumentTypeError(str(exc)) from None
 
 
 def _float_arg(text: str) -> float:
@@ -56,24 +46,14 @@ def _float_arg(text: str) -> float:
 
 def rate_arg(limit: float, unit: str):
     """An argparse type: a finite number with |x| <= ``limit`` (see linkgen.limits), in ``unit``
-    (rad/s or rad/s²) or with its own unit (100rpm, 2rad/s2, 60rpm/s)."""
-    from linkgen.model.units import angular_acceleration, angular_speed
-
-    read = angular_speed if unit == "rad/s" else angular_acceleration
+    (rad/s or rad/s²) or with its own unit (100rpm, 2rad/s2, 60rpm/s): ``linkgen.model.arguments``,
+    as the API reads it."""
 
     def parse(text: str) -> float:
         try:
-            x = _float_arg(text)
-        except argparse.ArgumentTypeError:
-            try:
-                x = read(text, "option")
-            except DescriptionError:
-                raise argparse.ArgumentTypeError(f"expected a number in {unit} or one with its unit "
-                                                 f"(e.g. {'100rpm' if unit == 'rad/s' else '60rpm/s'}), got {text!r}") from None
-        if abs(x) > limit:
-            raise argparse.ArgumentTypeError(f"expected a number within ±{limit:g} {unit} (linkgen's limits, "
-                                             f"see the README), got {text!r}")
-        return x
+            return rate_text(text, unit, limit)
+        except ArgumentError as exc:
+            raise argparse.ArgumentTypeError(str(exc)) from None
 
     return parse
 
@@ -91,12 +71,6 @@ def _positive_int(text: str) -> int:
     if not 1 <= n <= MAX_SAMPLES:
         raise argparse.ArgumentTypeError(f"expected a whole number from 1 to {MAX_SAMPLES}, got {text!r}")
     return n
-
-
-def drive_rates(mech, args) -> tuple[float, float]:
-    """ω [rad/s] and ε [rad/s²] from --omega/--epsilon, else the description's drive."""
-    return (mech.drive.omega if args.omega is None else args.omega,
-            mech.drive.epsilon if args.epsilon is None else args.epsilon)
 
 
 # Rows formatted at a time when writing CSV: bounds the text held in memory (~4096 rows ×
@@ -211,20 +185,9 @@ def print_json(obj) -> None:
     print(json.dumps(obj, indent=2, allow_nan=False))
 
 
-def check_crank_options(args) -> None:
-    """One crank state (--angle, --json) and samples (--samples, --csv) exclude each other."""
-    sampled = [o for o, v in (("--samples", args.samples), ("--csv", args.csv)) if v is not None]
-    single = [o for o, v in (("--angle", args.angle), ("--json", args.json or None)) if v is not None]
-    if sampled and single:
-        raise OptionError(f"{single[0]} cannot be combined with {sampled[0]}: {single[0]} is for one crank "
-                          f"angle, {sampled[0]} for samples over the drive range")
-    if args.keep_singular and not sampled:
-        raise OptionError("--keep-singular is for samples (--samples, --csv); at one crank angle a singular "
-                          "position is an error")
-
-
 def add_crank_arguments(parser: argparse.ArgumentParser, example_angle: str) -> None:
-    """MODEL, one crank state (--angle, --omega, --epsilon, --json) or samples (--samples, --csv)."""
+    """MODEL, one crank state (--angle, --omega, --epsilon, --json) or samples (--samples); the
+    command adds its output option (-o/--out)."""
     parser.add_argument("model", type=Path, help="description file (.toml)")
     parser.add_argument("--angle", type=_angle_arg,
                         help=f"crank angle with its unit, e.g. {example_angle}, 30° or 0.52rad (default: the range's start)")
@@ -232,9 +195,9 @@ def add_crank_arguments(parser: argparse.ArgumentParser, example_angle: str) -> 
                         help="crank speed [rad/s], or with a unit, e.g. 100rpm (default: the description's)")
     parser.add_argument("--epsilon", type=rate_arg(limits.MAX_EPSILON, "rad/s²"),
                         help="crank acceleration [rad/s²], or with a unit, e.g. 60rpm/s (default: the description's)")
-    parser.add_argument("--json", action="store_true", help="print one JSON object (not with --samples/--csv)")
-    parser.add_argument("--samples", type=_positive_int, help="evaluate this many angles over the drive range (no unit)")
-    parser.add_argument("--csv", type=Path, help="write the samples as CSV to this file (not with --angle/--json)")
+    parser.add_argument("--json", action="store_true", help="print one JSON object (not with --samples)")
+    parser.add_argument("--samples", type=_positive_int,
+                        help="evaluate this many angles over the drive range (no unit): CSV on stdout, or to -o FILE")
     parser.add_argument("--keep-singular", action="store_true",
                         help="with samples: exit 0 even if some are singular (by default such samples are "
                              f"written marked, singular = 1, and the exit status is {SINGULAR_STATUS}); at one "

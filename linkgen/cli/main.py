@@ -2,7 +2,7 @@
 
 User mistakes (LinkgenError, missing files, bad arguments, conflicting options) print one
 line to stderr naming the file concerned and exit with status 2; no traceback. A sampled run
-(``analyze``/``forces`` with --samples/--csv) writes singular samples marked (column
+(``analyze``/``forces`` with --samples or -o FILE.csv) writes singular samples marked (column
 ``singular`` = 1) and exits with status 3 unless --keep-singular is given. Output closed early
 by the reader (``linkgen analyze ... | head``) ends quietly with status 141, as a process
 stopped by SIGPIPE would.
@@ -21,10 +21,9 @@ import contextlib
 import os
 import signal
 import sys
-from pathlib import Path
 
-from linkgen.cli import cams, closed_form, draw, dynamics, forces, mujoco, sketch
-from linkgen.cli.common import OptionError, add_crank_arguments
+from linkgen.cli import closed_form, draw, dynamics, mujoco, sketch
+from linkgen.cli.common import OptionError
 from linkgen.cli.files import message_for
 from linkgen.outputs import Interrupted, OutputError
 from linkgen.errors import LinkgenError, printable
@@ -60,27 +59,12 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--version", action=_VersionAction, nargs=0, help="show the program's version number and exit")
     sub = p.add_subparsers(dest="command", required=True)
 
-    s = sub.add_parser("structure", help="mobility, Assur groups and the structure formula")
-    s.add_argument("model", type=Path, help="description file (.toml)")
-    s.set_defaults(func=closed_form.cmd_structure)
-
-    a = sub.add_parser("analyze", help="closed-form positions, velocities, accelerations and jerks")
-    add_crank_arguments(a, "38.117deg")
-    a.add_argument("--transfer", action="store_true",
-                   help="also the transfer functions d/dφ, d²/dφ² and d³/dφ³ (m/rad, rad/rad; in the table, JSON "
-                        "or CSV)")
-    a.add_argument("--summary", action="store_true",
-                   help="print the design summary over the drive range (SI units and degrees in the text, "
-                        "radians in --json): stroke, swing, limit positions, time ratio, least transmission "
-                        "angles, peak torque and reactions")
-    a.set_defaults(func=closed_form.cmd_analyze)
-
-    forces.add_command(sub)
+    closed_form.add_commands(sub)
     mujoco.add_commands(sub)
     dynamics.add_command(sub)
     sketch.add_command(sub)
     draw.add_commands(sub)
-    cams.add_command(sub)
+    closed_form.add_profile(sub)
     return p
 
 
@@ -128,7 +112,6 @@ def main(argv: list[str] | None = None) -> int:
         print(f"linkgen: error: {problem}", file=sys.stderr)
         return 2
     try:
-        from linkgen.cli.spatial import route
         from linkgen.outputs import forget_inputs
         from linkgen.pipeline.registry import check_command
 
@@ -140,7 +123,7 @@ def main(argv: list[str] | None = None) -> int:
                 stack.enter_context(no_log_file())
             if getattr(args, "model", None) is not None:
                 check_command(args.command, args.model)  # a command the file's family does not take: one line
-            status = (route(args) or args.func)(args)
+            status = args.func(args)
         sys.stdout.flush()  # a closed pipe shows here, not in the interpreter's exit
         return status
     except BrokenPipeError:

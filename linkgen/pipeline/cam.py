@@ -20,10 +20,37 @@ def _from_dict(data: Mapping, source: str | None = None) -> CamMechanism:
         raise (exc.in_file(source) if source else exc) from None
 
 
+def _angles(cm, samples: int | None = None):
+    """The default cam angle (0), or ``samples`` cam angles over one turn (its end excluded)."""
+    import math
+
+    import numpy as np
+
+    return 0.0 if samples is None else np.linspace(0.0, 2 * math.pi, samples, endpoint=False)
+
+
+def _kinematics(desc, phi, omega=None, epsilon=None, **options):
+    from linkgen.families.cam.results import kinematics
+
+    return kinematics(desc, phi, omega, epsilon, **options)
+
+
+def _summary(desc, omega=None, epsilon=None):
+    from linkgen.families.cam.results import summary
+
+    return summary(desc, omega, epsilon)
+
+
+def _profile(desc, points: int = 720):
+    from linkgen.families.cam.results import profile
+
+    return profile(desc, points)
+
+
 CAM = Family(
     name="cam", title="stand-alone cam", plural="stand-alone cams", doc="docs/cams.md", description=CamMechanism,
     detects=is_cam_data, from_dict=_from_dict,
     commands=("analyze", "profile", "build", "validate", "draw", "animate", "render"),
-    stages={**MUJOCO_STAGES})
+    stages={"angles": _angles, "kinematics": _kinematics, "summary": _summary, "profile": _profile, **MUJOCO_STAGES})
 
 __all__ = ["CAM"]

@@ -46,8 +46,11 @@ class Family:
 
 
 # The stages of the interface, in the order data flows through them.
-STAGES = ("structure", "kinematics", "forces", "summary", "mjcf", "simulate", "validate", "figures", "report",
-          "draw", "animate", "render")
+STAGES = ("angles", "structure", "kinematics", "forces", "summary", "profile", "mjcf", "simulate", "validate",
+          "figures", "report", "draw", "animate", "render")
+# The closed-form stages: angles(desc, samples=None) → the default crank angle or a sample grid;
+# structure(desc), kinematics(desc, phi, omega=None, epsilon=None), forces(...), summary(desc,
+# omega=None, epsilon=None), profile(desc, points) → results with to_dict(), columns(), text().
 # The MuJoCo and picture stages (pipeline/*_mujoco.py): mjcf(desc, settings=None, practical=False) → MJCF
 # text; simulate(desc, **options) → a run; validate(desc, **options) → a result with ok, summary(wall),
 # to_dict() and diagnosis; figures(desc, result, folder) → the report's entries (figures, …);

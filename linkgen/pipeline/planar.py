@@ -23,11 +23,50 @@ def _from_dict(data: Mapping, source: str | None = None) -> Mechanism:
         raise (exc.in_file(source) if source else exc) from None
 
 
+def _angles(mech, samples: int | None = None):
+    """The default crank angle (the drive range's start), or ``samples`` angles over the drive
+    range (a full turn excludes its end)."""
+    import math
+
+    import numpy as np
+
+    d = (mech.mechanism if hasattr(mech, "structure") else mech).drive
+    if samples is None:
+        return d.start
+    full = d.stop - d.start >= 2 * math.pi - 1e-12
+    return np.linspace(d.start, d.stop, samples, endpoint=not full)
+
+
+def _structure(desc):
+    from linkgen.families.planar.texts import structure
+
+    return structure(desc)
+
+
+def _kinematics(desc, phi, omega=None, epsilon=None, **options):
+    from linkgen.families.planar.motion_result import kinematics
+
+    return kinematics(desc, phi, omega, epsilon, **options)
+
+
+def _forces(desc, phi, omega=None, epsilon=None, **options):
+    from linkgen.families.planar.forces_result import forces
+
+    return forces(desc, phi, omega, epsilon, **options)
+
+
+def _summary(desc, omega=None, epsilon=None):
+    from linkgen.families.planar.texts import summary
+
+    return summary(desc, omega, epsilon)
+
+
 PLANAR = Family(
     name="planar", title="planar linkage", plural="planar linkages", doc="docs/format.md", description=Mechanism,
     detects=lambda data: True, from_dict=_from_dict,
     commands=("structure", "analyze", "forces", "assemble", "build", "simulate", "validate", "draw", "animate",
               "render", "dynamics", "flywheel"),
-    stages={**MUJOCO_STAGES})
+    stages={"angles": _angles, "structure": _structure, "kinematics": _kinematics, "forces": _forces,
+            "summary": _summary, **MUJOCO_STAGES})
 
 __all__ = ["PLANAR"]

@@ -7,10 +7,44 @@ from linkgen.families.spatial.description import SpatialMechanism, is_spatial, s
 from linkgen.pipeline.family import Family
 from linkgen.pipeline.spatial_mujoco import STAGES as MUJOCO_STAGES
 
+def _angles(mech, samples: int | None = None):
+    """The default crank angle (0), or ``samples`` angles over one turn (its end excluded)."""
+    import math
+
+    import numpy as np
+
+    return 0.0 if samples is None else np.linspace(0.0, 2 * math.pi, samples, endpoint=False)
+
+
+def _structure(desc):
+    from linkgen.families.spatial.texts import structure
+
+    return structure(desc)
+
+
+def _kinematics(desc, phi, omega=None, epsilon=None, **options):
+    from linkgen.families.spatial.results import kinematics
+
+    return kinematics(desc, phi, omega, epsilon, **options)
+
+
+def _forces(desc, phi, omega=None, epsilon=None, **options):
+    from linkgen.families.spatial.results import forces
+
+    return forces(desc, phi, omega, epsilon, **options)
+
+
+def _summary(desc, omega=None, epsilon=None):
+    from linkgen.families.spatial.texts import summary
+
+    return summary(desc, omega, epsilon)
+
+
 SPATIAL = Family(
     name="spatial", title="spatial four-bar", plural="spatial four-bars", doc="docs/spatial.md", description=SpatialMechanism,
     detects=is_spatial, from_dict=spatial_from_dict,
     commands=("structure", "analyze", "forces", "build", "validate", "draw", "animate", "render"),
-    stages={**MUJOCO_STAGES})
+    stages={"angles": _angles, "structure": _structure, "kinematics": _kinematics, "forces": _forces,
+            "summary": _summary, **MUJOCO_STAGES})
 
 __all__ = ["SPATIAL"]

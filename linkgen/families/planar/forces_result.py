@@ -1,0 +1,173 @@
+"""The kinetostatics of a planar linkage as one result (``linkgen forces``, ``linkgen.forces``):
+reactions, prismatic loads, tooth and contact forces, the balancing torque and the reduced
+dynamics, with ``to_dict()`` (JSON), ``columns()`` (CSV) and ``text()``, one name per quantity in
+all three (``linkgen.model.results``). Conventions: ``linkgen.families.planar.kinetostatics``."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import ClassVar, Mapping
+
+import numpy as np
+
+from linkgen.model.results import Reaction, Record, column, plain, shaped
+
+UNITS = {"phi": "rad", "omega": "rad/s", "epsilon": "rad/s²", "force": "N", "torque": "N·m", "moment": "N·m",
+         "normal_force": "N", "reduced_inertia": "kg·m²", "reduced_inertia_derivative": "kg·m²/rad",
+         "reduced_moment": "N·m"}
+# The crank-level quantities, their units, in the order the CSV gives them.
+SCALARS = (("balancing_torque", "N·m"), ("power_balance_torque", "N·m"), ("reduced_inertia", "kg·m²"),
+           ("reduced_inertia_derivative", "kg·m²/rad"), ("reduced_moment", "N·m"))
+
+
+@dataclass(frozen=True, repr=False)
+class PrismaticLoad(Record):
+    """A prismatic pair: the guide's ``normal_force`` [N] on the slider along the guide's left
+    normal and the ``moment`` [N·m] the pair carries about the slider's point."""
+
+    normal_force: np.ndarray | float
+    moment: np.ndarray | float
+    UNIT: ClassVar[str] = "N"
+    UNITS: ClassVar[dict[str, str]] = {"moment": "N·m"}
+
+
+@dataclass(frozen=True, repr=False)
+class ToothForce(Record):
+    """A gear pair's tooth force [N] on its planet ``on``."""
+
+    force: np.ndarray
+    on: str
+    UNIT: ClassVar[str] = "N"
+    VECTOR: ClassVar[bool] = True
+
+
+@dataclass(frozen=True, repr=False)
+class ContactForce(Record):
+    """A cam pair's contact force [N] on its follower ``on``, along the profile's normal (< 0
+    where the follower would leave the cam)."""
+
+    normal_force: np.ndarray | float
+    on: str
+    UNIT: ClassVar[str] = "N"
+
+
+@dataclass(frozen=True, repr=False)
+class PlanarForces:
+    """Balancing torque [N·m] (and the same from virtual work, ``power_balance_torque``),
+    ``reactions`` in the revolutes, ``prismatic`` loads, gear ``tooth`` and cam ``contact``
+    forces, and the reduced inertia J [kg·m²], dJ/dφ [kg·m²/rad] and reduced moment [N·m] at the
+    crank angles ``phi`` [rad]; ``singular`` True at samples marked singular (0 there)."""
+
+    model: str
+    phi: np.ndarray | float
+    omega: float
+    epsilon: float
+    balancing_torque: np.ndarray | float
+    power_balance_torque: np.ndarray | float
+    reactions: Mapping[str, Reaction]
+    prismatic: Mapping[str, PrismaticLoad]
+    tooth: Mapping[str, ToothForce]
+    contact: Mapping[str, ContactForce]
+    reduced_inertia: np.ndarray | float
+    reduced_inertia_derivative: np.ndarray | float
+    reduced_moment: np.ndarray | float
+    singular: np.ndarray | bool
+    solution: object = field(default=None, compare=False)  # the planar ``Forces``
+    NO_TRANSFER: ClassVar[str] = ""
+
+    def to_dict(self, transfer: bool = True) -> dict:
+        out = {"model": self.model, "phi": plain(self.phi), "omega": plain(self.omega), "epsilon": plain(self.epsilon),
+               "units": UNITS, "balancing_torque": plain(self.balancing_torque),
+               "power_balance_torque": plain(self.power_balance_torque),
+               "reactions": {k: r.to_dict() for k, r in self.reactions.items()},
+               "prismatic": {k: p.to_dict() for k, p in self.prismatic.items()},
+               "reduced_inertia": plain(self.reduced_inertia),
+               "reduced_inertia_derivative": plain(self.reduced_inertia_derivative),
+               "reduced_moment": plain(self.reduced_moment)}
+        if self.tooth:
+            out["tooth"] = {k: t.to_dict() for k, t in self.tooth.items()}
+        if self.contact:
+            out["contact"] = {k: c.to_dict() for k, c in self.contact.items()}
+        if np.ndim(self.phi):  # samples: which are marked singular (one state never is: it raises)
+            out["singular"] = plain(self.singular)
+        return out
+
+    def columns(self, transfer: bool = True) -> dict[str, np.ndarray]:
+        cols = {"phi [rad]": column(self.phi), "singular": np.atleast_1d(np.asarray(self.singular, dtype=bool))}
+        cols |= {f"{q} [{u}]": column(getattr(self, q)) for q, u in SCALARS}
+        for table in (self.reactions, self.prismatic, self.tooth, self.contact):
+            for k, r in table.items():
+                cols |= r.columns(k)
+        return cols
+
+    def singular_lines(self) -> list[str]:
+        """The groups singular somewhere (a second kinematic pass, only when some sample is marked)."""
+        if not np.any(self.singular) or self.solution is None:
+            return []
+        from linkgen.families.planar.motion_result import kinematics
+
+        return kinematics(self.solution[0], self.solution[1], on_singular="mark").singular_lines()
+
+    def text(self, transfer: bool = False) -> str:
+        phi = float(self.phi)
+        lines = [f"{self.model}: φ = {math.degrees(phi):.6g}°, ω = {self.omega:g} rad/s, ε = {self.epsilon:g} rad/s²",
+                 f"balancing torque on the crank: {float(self.balancing_torque):.6g} N·m "
+                 f"(power balance: {float(self.power_balance_torque):.6g} N·m)",
+                 f"reduced inertia J = {float(self.reduced_inertia):.6g} kg·m², dJ/dφ = "
+                 f"{float(self.reduced_inertia_derivative):.6g} kg·m²/rad, reduced moment of loads = "
+                 f"{float(self.reduced_moment):.6g} N·m",
+                 f"{'pair':<18}{'on':>10}{'by':>10}{'Fx [N]':>14}{'Fy [N]':>14}{'|F| [N]':>14}"]
+        for k, r in self.reactions.items():
+            fx, fy = (float(x) for x in r.force)
+            lines.append(f"{k:<18}{r.on:>10}{r.by:>10}{fx:>14.6g}{fy:>14.6g}{math.hypot(fx, fy):>14.6g}")
+        if self.prismatic:
+            lines.append(f"{'prismatic':<18}{'N [N]':>14}{'M [N·m]':>14}")
+            for k, p in self.prismatic.items():
+                lines.append(f"{k:<18}{float(p.normal_force):>14.6g}{float(p.moment):>14.6g}")
+        for k, t in self.tooth.items():
+            fx, fy = (float(x) for x in t.force)
+            lines.append(f"tooth force of gear {k!r} on {t.on!r}: ({fx:.6g}, {fy:.6g}) N, |F| = "
+                         f"{math.hypot(fx, fy):.6g} N")
+        for k, c in self.contact.items():
+            n = float(c.normal_force)
+            lines.append(f"contact force of cam {k!r} on its follower {c.on!r}: {n:.6g} N along the profile's normal"
+                         + ("" if n >= 0 else " — negative: the follower would leave the cam here (a stronger spring "
+                                              "keeps it on)"))
+        return "\n".join(lines)
+
+    def __repr__(self) -> str:
+        n = np.size(self.phi)
+        return (f"PlanarForces({self.model!r}, {n} angle{'s' if n != 1 else ''}, {len(self.reactions)} reactions, "
+                f"{len(self.prismatic)} prismatic pairs)")
+
+
+def forces(source, phi, omega=None, epsilon=None, *, on_singular: str = "raise") -> PlanarForces:
+    """The planar family's ``forces`` stage (``families.planar.kinetostatics.forces``) at crank
+    angles ``phi`` [rad] (scalar or (n,)), speed and acceleration (default the drive's)."""
+    from linkgen.families.planar.assembly import Assembly, assemble
+    from linkgen.families.planar.kinetostatics import forces as solve_forces
+
+    asm = source if isinstance(source, Assembly) else assemble(source)
+    mech = asm.mechanism
+    scalar = np.ndim(phi) == 0
+    phis = np.atleast_1d(np.asarray(phi, dtype=float))
+    w = float(mech.drive.omega if omega is None else omega)
+    e = float(mech.drive.epsilon if epsilon is None else epsilon)
+    f = solve_forces(asm, phis, w, e, on_singular=on_singular)
+    first = {r.name: r.links for r in mech.revolutes}
+
+    def s(x):
+        return shaped(x, scalar)
+
+    return PlanarForces(
+        mech.name, float(phis[0]) if scalar else phis, w, e, s(f.balancing_torque), s(f.power_balance_torque),
+        {k: Reaction(s(v), first[k][0], first[k][1]) for k, v in f.reactions.items()},
+        {k: PrismaticLoad(s(f.normal_force[k]), s(f.moment[k])) for k in f.normal_force},
+        {k: ToothForce(s(v), g.planet) for (k, v), g in zip(f.tooth.items(), mech.gears)},
+        {c.name: ContactForce(s(f.contact[c.name]), c.follower) for c in mech.cams if c.name in f.contact},
+        s(f.reduced.inertia), s(f.reduced.inertia_derivative), s(f.reduced.moment),
+        bool(f.singular[0]) if scalar else f.singular, (asm, phis))
+
+
+__all__ = ["ContactForce", "PlanarForces", "PrismaticLoad", "ToothForce", "forces"]

@@ -1,0 +1,171 @@
+"""The spatial four-bar's closed-form stages as results (``linkgen structure|analyze|forces``,
+``linkgen.kinematics|forces|structure|summary``): ``to_dict()`` (JSON), ``columns()`` (CSV)
+and ``text()``, one name per quantity in all three (``linkgen.model.results``)."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import ClassVar, Mapping
+
+import numpy as np
+
+from linkgen.model.results import AngleMotion, PointMotion, Reaction, SlideMotion, column, plain, shaped
+
+UNITS = {"position": "m", "velocity": "m/s", "acceleration": "m/s²", "jerk": "m/s³", "angle": "rad",
+         "angular_velocity": "rad/s", "angular_acceleration": "rad/s²", "angular_jerk": "rad/s³", "displacement": "m",
+         "d1": "per rad", "d2": "per rad²", "d3": "per rad³"}
+
+
+@dataclass(frozen=True, repr=False)
+class SpatialKinematics:
+    """Every point's position (3,) [m], velocity, acceleration, jerk and transfer functions d1..d3,
+    and the ``joints``: the drive (its angle φ, ω, ε) and the output pair (a rocker's angle, a
+    slider's displacement, with transfer functions) at the crank angles ``phi`` [rad]."""
+
+    model: str
+    kind: str
+    phi: np.ndarray | float
+    omega: float
+    epsilon: float
+    points: Mapping[str, PointMotion]
+    joints: Mapping[str, AngleMotion | SlideMotion]
+    NO_TRANSFER: ClassVar[str] = ""
+
+    def to_dict(self, transfer: bool = True) -> dict:
+        return {"model": self.model, "kind": self.kind, "phi": plain(self.phi), "omega": self.omega,
+                "epsilon": self.epsilon, "units": UNITS,
+                "points": {n: p.to_dict(transfer) for n, p in self.points.items()},
+                "joints": {n: j.to_dict(transfer) for n, j in self.joints.items()}}
+
+    def columns(self, transfer: bool = True) -> dict[str, np.ndarray]:
+        cols = {"phi [rad]": column(self.phi)}
+        for n, p in self.points.items():
+            cols |= p.columns(n, p.names(transfer))
+        for n, j in self.joints.items():
+            cols |= j.columns(n, j.names(transfer))
+        return cols
+
+    def singular_lines(self) -> list[str]:
+        return []
+
+    def text(self, transfer: bool = False) -> str:
+        d = self.to_dict(transfer=False)
+        phi = float(self.phi)
+        lines = [f"{self.model} ({self.kind}): φ = {math.degrees(phi):.6g}° ({phi:.9g} rad), ω = {self.omega:g} rad/s, "
+                 f"ε = {self.epsilon:g} rad/s²"]
+        head = "".join(f"{h:>13}" for h in ("x [m]", "y [m]", "z [m]", "vx [m/s]", "vy [m/s]", "vz [m/s]", "ax [m/s²]",
+                                              "ay [m/s²]", "az [m/s²]", "jx [m/s³]", "jy [m/s³]", "jz [m/s³]"))
+        lines.append(f"{'point':<8}{head}")
+        for n, q in d["points"].items():
+            lines.append(f"{n:<8}" + "".join(f"{x:>13.6g}" for x in q["position"] + q["velocity"] + q["acceleration"]
+                                              + q["jerk"]))
+        for n, q in d["joints"].items():
+            lines.append(f"joint {n}: " + ", ".join(f"{k} {v:.9g}" for k, v in q.items()))
+        if transfer:
+            out = next(j for j in self.joints.values() if j.d1 is not None)
+            lines.append("transfer functions (derivatives with respect to φ) of the output: " + ", ".join(
+                f"{k} {float(getattr(out, q)):.9g}" for k, q in (("d/dphi", "d1"), ("d2/dphi2", "d2"),
+                                                                 ("d3/dphi3", "d3"))))
+        return "\n".join(lines)
+
+    def __repr__(self) -> str:
+        return f"SpatialKinematics({self.model!r}, {np.size(self.phi)} angles, {len(self.points)} points)"
+
+
+def kinematics(mech, phi, omega=None, epsilon=None, *, on_singular: str = "raise") -> SpatialKinematics:
+    """The spatial family's ``kinematics`` stage (``families.spatial.kinematics.solve``); a
+    singular position is always an error here (``on_singular`` is for planar linkages)."""
+    from linkgen.families.spatial.jets import motion as jet_motion
+    from linkgen.families.spatial.kinematics import solve
+
+    scalar = np.ndim(phi) == 0
+    phis = np.atleast_1d(np.asarray(phi, dtype=float))
+    w = float(mech.drive.omega if omega is None else omega)
+    e = float(mech.drive.epsilon if epsilon is None else epsilon)
+    k = solve(mech, phis)
+    c = k.chain
+
+    def s(x):
+        return shaped(x, scalar)
+
+    points = {n: PointMotion(*(s(x) for x in (*jet_motion(jet, w, e), jet.d[1], jet.d[2], jet.d[3])))
+              for n, jet in k.points.items()}
+    n = phis.shape[0]
+    drive = AngleMotion(s(phis), s(np.full(n, w)), s(np.full(n, e)), s(np.zeros(n)))
+    out = (SlideMotion if c.output_slides else AngleMotion)(
+        *(s(x) for x in (*jet_motion(k.output, w, e), k.output.d[1], k.output.d[2], k.output.d[3])))
+    return SpatialKinematics(mech.name, c.kind, float(phis[0]) if scalar else phis, w, e, points,
+                             {c.drive: drive, c.pair_out: out})
+
+
+@dataclass(frozen=True, repr=False)
+class SpatialForcesResult:
+    """The balancing torque [N·m] (and the same from virtual work), every pair's reaction (3-D
+    force [N] and moment [N·m], on one link by another) at the crank angles ``phi`` [rad];
+    ``indeterminate``: the degree of static indeterminacy (the reactions then least-squares)."""
+
+    model: str
+    phi: np.ndarray | float
+    omega: float
+    epsilon: float
+    balancing_torque: np.ndarray | float
+    power_balance_torque: np.ndarray | float
+    reactions: Mapping[str, Reaction]
+    indeterminate: int
+    NO_TRANSFER: ClassVar[str] = ""
+
+    def to_dict(self, transfer: bool = True) -> dict:
+        return {"model": self.model, "phi": plain(self.phi), "omega": self.omega, "epsilon": self.epsilon,
+                "units": {"force": "N", "moment": "N·m", "balancing_torque": "N·m", "power_balance_torque": "N·m"},
+                "balancing_torque": plain(self.balancing_torque),
+                "power_balance_torque": plain(self.power_balance_torque), "indeterminate": self.indeterminate,
+                "reactions": {n: r.to_dict() for n, r in self.reactions.items()}}
+
+    def columns(self, transfer: bool = True) -> dict[str, np.ndarray]:
+        cols = {"phi [rad]": column(self.phi), "balancing_torque [N·m]": column(self.balancing_torque),
+                "power_balance_torque [N·m]": column(self.power_balance_torque)}
+        for n, r in self.reactions.items():
+            cols |= r.columns(n)
+        return cols
+
+    def singular_lines(self) -> list[str]:
+        return []
+
+    def text(self, transfer: bool = False) -> str:
+        phi = float(self.phi)
+        lines = [f"{self.model}: φ = {math.degrees(phi):.6g}°, ω = {self.omega:g} rad/s, ε = {self.epsilon:g} rad/s²: "
+                 f"balancing torque {float(self.balancing_torque):.6g} N·m (power balance: "
+                 f"{float(self.power_balance_torque):.6g} N·m)"]
+        for n, r in self.reactions.items():
+            lines.append(f"pair {n}: on {r.on} by {r.by}: force [{', '.join(f'{x:.6g}' for x in r.force)}] N, "
+                         f"moment [{', '.join(f'{x:.6g}' for x in r.moment)}] N·m")
+        if self.indeterminate:
+            lines.append(f"statically indeterminate by {self.indeterminate}: the reactions shown are the least-squares "
+                         "(minimum-norm) ones; the balancing torque is determined")
+        return "\n".join(lines)
+
+    def __repr__(self) -> str:
+        return f"SpatialForcesResult({self.model!r}, {np.size(self.phi)} angles, {len(self.reactions)} reactions)"
+
+
+def forces(mech, phi, omega=None, epsilon=None, *, on_singular: str = "raise") -> SpatialForcesResult:
+    """The spatial family's ``forces`` stage (``families.spatial.forces.forces``)."""
+    from linkgen.families.spatial.forces import forces as solve_forces
+
+    scalar = np.ndim(phi) == 0
+    phis = np.atleast_1d(np.asarray(phi, dtype=float))
+    w = float(mech.drive.omega if omega is None else omega)
+    e = float(mech.drive.epsilon if epsilon is None else epsilon)
+    f = solve_forces(mech, phis, w, e)
+
+    def s(x):
+        return shaped(x, scalar)
+
+    return SpatialForcesResult(mech.name, float(phis[0]) if scalar else phis, w, e, s(f.balancing_torque),
+                         s(f.power_balance_torque),
+                         {n: Reaction(s(r.force), r.on, r.by, s(r.moment)) for n, r in f.reactions.items()},
+                         f.indeterminate)
+
+
+__all__ = ["SpatialForcesResult", "SpatialKinematics", "forces", "kinematics"]

@@ -1,0 +1,128 @@
+"""One vocabulary: for every family and every bundled model where the stage applies, the
+kinematics and forces results name each quantity the same way as a Python attribute
+(``f.reactions["B"].force``), as a ``to_dict()``/JSON key path (``reactions.B.force``) and as a
+CSV header (``B.force.x [N]``), and the three give the same numbers.
+
+Element quantities (a point's velocity, a pair's force, a prismatic pair's normal_force) must
+match exactly across the three. At the top level every CSV column and every JSON key is an
+attribute of the result; the drive's rates ``omega`` and ``epsilon`` are inputs, constant over
+the samples, and have no CSV column."""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+from collections.abc import Mapping
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import linkgen
+from linkgen.pipeline.registry import family_of, stage
+
+MODELS = sorted((Path(__file__).resolve().parents[1] / "models").glob("*.toml"))
+# Samples per model: enough for every column to be (n,), few enough to keep the test cheap.
+SAMPLES = 5
+# The CSV writes floats with repr() and JSON with json's repr: both round-trip float64 exactly,
+# so the three views must agree to the last bit.
+EXACT = 0.0
+
+
+def _cases():
+    for path in MODELS:
+        desc = linkgen.load(path)
+        for name in ("kinematics", "forces"):
+            if name in family_of(desc).stages:
+                yield pytest.param(path, name, id=f"{path.stem}-{name}")
+
+
+def _result(path: Path, name: str):
+    desc = linkgen.load(path)
+    phi = stage(desc, "angles")(desc, SAMPLES)
+    return stage(desc, name)(desc, phi, on_singular="mark")
+
+
+def _numeric(x) -> bool:
+    return x is not None and not isinstance(x, str)
+
+
+def python_names(r) -> dict[tuple[str, ...], np.ndarray]:
+    """Element quantities (name, quantity) → value from the result's attributes."""
+    out = {}
+    for f in dataclasses.fields(r):
+        table = getattr(r, f.name)
+        if not isinstance(table, Mapping):
+            continue
+        for name, rec in table.items():
+            for q in dataclasses.fields(rec):
+                v = getattr(rec, q.name)
+                if _numeric(v):
+                    out[(name, q.name)] = np.asarray(v, dtype=float)
+    return out
+
+
+def json_names(d: dict) -> dict[tuple[str, ...], np.ndarray]:
+    out = {}
+    for section, table in d.items():
+        if section == "units" or not isinstance(table, dict):
+            continue
+        for name, rec in table.items():
+            for q, v in rec.items():
+                if _numeric(v):
+                    out[(name, q)] = np.asarray(v, dtype=float)
+    return out
+
+
+def csv_names(cols: dict[str, np.ndarray], top: set[str]) -> dict[tuple[str, ...], np.ndarray]:
+    """Headers "name.quantity[.x|.y|.z] [unit]" → (name, quantity): the columns (n,) or (n, k)."""
+    parts: dict[tuple[str, ...], dict[str, np.ndarray]] = {}
+    for head, col in cols.items():
+        key = head.split(" [")[0]
+        if key in top:
+            continue
+        bits = key.split(".")
+        axis = bits[-1] if len(bits) == 3 and bits[-1] in ("x", "y", "z") else None
+        name, q = (bits[0], ".".join(bits[1:-1] if axis else bits[1:]))
+        parts.setdefault((name, q), {})[axis or ""] = col
+    return {k: (v[""] if "" in v else np.column_stack([v[a] for a in "xyz" if a in v])) for k, v in parts.items()}
+
+
+@pytest.mark.parametrize("path,name", list(_cases()))
+def test_python_json_and_csv_name_every_quantity_alike(path, name):
+    r = _result(path, name)
+    d = json.loads(json.dumps(r.to_dict(), allow_nan=False))
+    cols = r.columns()
+    top = {h.split(" [")[0] for h in cols if "." not in h.split(" [")[0]}
+    py, js, cs = python_names(r), json_names(d), csv_names(cols, top)
+    assert py, "the result names no quantity"
+    assert set(py) == set(js), sorted(set(py) ^ set(js))
+    assert set(py) == set(cs), sorted(set(py) ^ set(cs))
+    for key, v in py.items():
+        np.testing.assert_allclose(js[key], v, rtol=EXACT, atol=EXACT, err_msg=f"JSON {key}")
+        np.testing.assert_allclose(cs[key], v.reshape(cs[key].shape), rtol=EXACT, atol=EXACT, err_msg=f"CSV {key}")
+    for k in top:
+        assert k in d and hasattr(r, k), k
+        np.testing.assert_allclose(np.asarray(d[k], dtype=float), np.asarray(getattr(r, k), dtype=float),
+                                   rtol=EXACT, atol=EXACT)
+    for k, v in d.items():
+        assert hasattr(r, k) or k == "units", k
+
+
+def test_a_prismatic_pairs_normal_force_has_one_name():
+    """``f.prismatic["ram"].normal_force`` ↔ JSON prismatic.ram.normal_force ↔ CSV ram.normal_force
+    (was ``f.normal_force["ram"]`` in Python)."""
+    mech = linkgen.load(Path(__file__).resolve().parents[1] / "models" / "cam_rocker_slider.toml")
+    f = linkgen.forces(mech, [0.1, 0.2])
+    d = f.to_dict()
+    np.testing.assert_array_equal(d["prismatic"]["ram"]["normal_force"], f.prismatic["ram"].normal_force)
+    np.testing.assert_array_equal(f.columns()["ram.normal_force [N]"], f.prismatic["ram"].normal_force)
+    np.testing.assert_array_equal(np.asarray(d["reactions"]["D"]["force"]), f.reactions["D"].force)
+    np.testing.assert_array_equal(f.columns()["D.force.x [N]"], f.reactions["D"].force[:, 0])
+
+
+def test_every_family_is_walked():
+    """The walk above covers kinematics for every family and forces for planar and spatial ones."""
+    cases = {(family_of(linkgen.load(p.values[0])).name, p.values[1]) for p in _cases()}
+    assert cases == {("planar", "kinematics"), ("planar", "forces"), ("cam", "kinematics"),
+                     ("spatial", "kinematics"), ("spatial", "forces")}, cases
