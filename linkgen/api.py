@@ -20,8 +20,6 @@ prints.
 
 from __future__ import annotations
 
-from linkgen.families.planar.assembly import Assembly, assemble
-from linkgen.families.planar.description import Mechanism
 from linkgen.families.planar.forces_result import PlanarForces
 from linkgen.families.planar.motion_result import PlanarKinematics
 from linkgen.model.arguments import angle_argument, rate_argument
