@@ -108,13 +108,21 @@ def test_writer_refuses_a_device(tmp_path):
         atomic_write_text("/dev/null", "x")
 
 
+def _default_signals() -> None:
+    """In the child: SIGINT and SIGTERM as a terminal leaves them (a test runner's worker may
+    ignore SIGINT, and an ignored signal stays ignored across exec: Python then installs no
+    KeyboardInterrupt handler and the interrupt never arrives)."""
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
+    signal.signal(signal.SIGTERM, signal.SIG_DFL)
+
+
 @pytest.mark.parametrize("signum", [signal.SIGTERM, signal.SIGINT])
 def test_interrupted_csv_leaves_no_temporary_file(tmp_path, signum):
     out = tmp_path / "big.csv"
     env = os.environ | {"PYTHONPATH": str(ROOT)}
     proc = subprocess.Popen([sys.executable, "-m", "linkgen", "analyze", str(FOURBAR), "--samples",
                              str(INTERRUPT_SAMPLES), "--csv", str(out)], env=env, cwd=tmp_path,
-                            stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
+                            stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, preexec_fn=_default_signals)
     deadline = time.monotonic() + WAIT_S
     while not list(tmp_path.glob(".big.csv.*")):
         assert proc.poll() is None and time.monotonic() < deadline, "the temporary file never appeared"
