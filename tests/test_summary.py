@@ -13,6 +13,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+import linkgen
 from linkgen import assemble, load
 from linkgen.pipeline.registry import loads
 from linkgen.families.planar.summary import SAMPLES, summarize
@@ -43,9 +44,9 @@ def test_offset_slider_crank_stroke_dead_centres_and_time_ratio():
     assert near.phi == pytest.approx(math.pi + math.asin(e / (l2 - l1)), abs=ANGLE_TOL)  # folded
     theta = math.asin(e / (l2 - l1)) - math.asin(e / (l1 + l2))
     assert o.time_ratio == pytest.approx((math.pi + theta) / (math.pi - theta), abs=1e-10)
-    (t,) = s.transmission  # least where the rod is steepest: crank at 270°, sin β = (l1 + e)/l2
-    assert t.minimum == pytest.approx(math.pi / 2 - math.asin((l1 + e) / l2), abs=GRID_TOL)
-    assert t.at == pytest.approx(1.5 * math.pi, abs=2 * math.pi / (SAMPLES - 1))
+    (t,) = s.min_transmission_angle.values()  # least where the rod is steepest: crank at 270°, sin β = (l1 + e)/l2
+    assert t.value == pytest.approx(math.pi / 2 - math.asin((l1 + e) / l2), abs=GRID_TOL)
+    assert t.phi == pytest.approx(1.5 * math.pi, abs=2 * math.pi / (SAMPLES - 1))
 
 
 def _crank_rocker(a, b, c, d):
@@ -169,6 +170,20 @@ omega = 2.0
     assert o.travel is None and o.limits == () and o.time_ratio is None
 
 
+# ga32's sketch gives its points to 5 decimals: lengths taken from it are good to ~1e-5 m.
+SKETCH_TOL = 1e-5
+
+
+def test_a_slider_and_a_rocker_of_one_name_are_both_in_the_json():
+    """ga32's block turns about B (a rocker, link "block") while the rod slides through it (a
+    slider, prismatic pair "block"): the JSON keyed both "block", so the rocker hid the slider's
+    stroke. Each is now under its name and kind; the stroke is the span of |AB| = |OB| ± the crank."""
+    d = linkgen.summary(load(ROOT / "models" / "ga32.toml")).to_dict()
+    assert {k: o["kind"] for k, o in d["outputs"].items()} == {"block (slider)": "slider", "block (rocker)": "rocker"}
+    crank, ob = 0.3, math.hypot(0.44550, 0.22700)
+    assert d["outputs"]["block (slider)"]["travel"] == pytest.approx((ob + crank) - (ob - crank), abs=SKETCH_TOL)
+
+
 def test_peaks_are_maxima():
     asm = assemble(load(ROOT / "models" / "press.toml"))
     s = summarize(asm)
@@ -275,7 +290,7 @@ def test_summary_extrema_agree_with_a_dense_independent_scan(path):
     s = summarize(asm)
     d = asm.mechanism.drive
     full = abs(d.stop - d.start - 2 * math.pi) <= 1e-12
-    outputs = {(name, o.kind): o for name, o in s.outputs.items()}
+    outputs = {(key.removesuffix(f" ({o.kind})"), o.kind): o for key, o in s.outputs.items()}
     phi = np.linspace(d.start, d.stop, DENSE + 1)
     kin = solve(asm, phi, on_singular="mark")
     for name, kind, pick in _outputs(asm):

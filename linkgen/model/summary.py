@@ -7,7 +7,8 @@ Every family's summary is a frozen dataclass whose attributes are its ``to_dict(
     units: the unit of each quantity below;
     outputs: output name → ``Output`` (kind "slider" [m] or "rocker" [rad], travel, limits,
              strokes, time_ratio): a slider under its prismatic pair's name, a turning output
-             under its link's name (a stand-alone cam's follower under "follower");
+             under its link's name (a stand-alone cam's follower under "follower"; a name both
+             outputs have, each as "NAME (kind)": ``output_table``);
     peak_balancing_torque: ``Extreme`` (largest |torque| on the driving link [N·m], its φ);
     peak_reactions: pair name → ``Extreme`` (largest |force| [N], its φ), where the family
              computes pair reactions, with forces_note saying why when they are missing.
@@ -65,6 +66,15 @@ class Output:
     time_ratio: float | None = None
 
 
+def output_table(outputs) -> dict[str, Output]:
+    """(name, Output) pairs → ``outputs``: each under its name, or, where a prismatic pair and a
+    ground-pivoted link share a name (both outputs, a slider and a rocker), under "NAME (slider)"
+    and "NAME (rocker)", so that neither hides the other."""
+    outputs = list(outputs)
+    names = [n for n, _ in outputs]
+    return {(n if names.count(n) == 1 else f"{n} ({o.kind})"): o for n, o in outputs}
+
+
 def as_dict(x):
     """A summary (or any of its parts) as JSON-ready data: a dataclass → its attributes by name,
     a mapping → the same keys, a tuple → a list, numbers → floats."""
@@ -84,4 +94,4 @@ def summary_dict(s) -> dict:
     return out | {"units": dict(s.units)} | d
 
 
-__all__ = ["COMMON", "REACTION_KEYS", "Extreme", "Limit", "Output", "as_dict", "summary_dict"]
+__all__ = ["COMMON", "REACTION_KEYS", "Extreme", "Limit", "Output", "as_dict", "output_table", "summary_dict"]

@@ -134,7 +134,8 @@ def _summary_lines(s: dict) -> list[str]:
 
     deg = math.degrees
     lines = ["**Design summary** (at the drive's ω and ε)", ""]
-    for name, o in s["outputs"].items():
+    for key, o in s["outputs"].items():
+        name = key.removesuffix(f" ({o['kind']})")
         if o["travel"] is None:
             lines.append(f"- {o['kind']} `{name}`: turns fully round")
             continue

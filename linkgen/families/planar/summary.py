@@ -22,7 +22,7 @@ import numpy as np
 
 from linkgen.errors import LinkgenError
 from linkgen.extrema import peak, stationary
-from linkgen.model.summary import Extreme, Limit, Output, summary_dict
+from linkgen.model.summary import Extreme, Limit, Output, output_table, summary_dict
 from linkgen.families.planar.description import GROUND
 from linkgen.families.planar.assembly import Assembly
 from linkgen.families.planar.groups import input_poses, solve_group
@@ -160,13 +160,14 @@ def summarize(asm: Assembly, omega: float | None = None, epsilon: float | None =
     w = mech.drive.omega if omega is None else float(omega)
     e = mech.drive.epsilon if epsilon is None else float(epsilon)
     phi, full = _grid(asm)
-    outputs = {name: _output(asm, "slider", phi, full, lambda k, n=name: (k.sliders[n].v, k.sliders[n].d1))
-               for name in asm.guides}
+    found = [(name, _output(asm, "slider", phi, full, lambda k, n=name: (k.sliders[n].v, k.sliders[n].d1)))
+             for name in asm.guides]
     pivoted = {p for r in mech.revolutes if GROUND in r.links for p in r.links if p != GROUND}
     for link in mech.links:
         if link.name in pivoted and link.name != mech.crank:
-            outputs[link.name] = _output(asm, "rocker", phi, full,
-                                         lambda k, n=link.name: (k.links[n].angle.v, k.links[n].angle.d1))
+            found.append((link.name, _output(asm, "rocker", phi, full,
+                                             lambda k, n=link.name: (k.links[n].angle.v, k.links[n].angle.d1))))
+    outputs = output_table(found)
     trans = {}
     for label, mu in transmission_angles(asm, phi).items():
         at, least = _peak(lambda p, n=label: transmission_angles(asm, p)[n], phi, mu, "min")

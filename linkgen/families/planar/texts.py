@@ -109,7 +109,8 @@ def summary_text(s) -> str:
     start, stop = s.drive_range
     lines = [f"{s.model}: design summary over φ = {_deg(start)}..{_deg(stop)} at ω = {s.omega:g} rad/s, "
              f"ε = {s.epsilon:g} rad/s²"]
-    for name, o in s.outputs.items():
+    for key, o in s.outputs.items():
+        name = key.removesuffix(f" ({o.kind})")
         if o.travel is None:
             lines.append(f"  {o.kind} {name}: turns fully round (no swing, no limit positions)")
             continue
