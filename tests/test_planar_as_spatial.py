@@ -327,3 +327,19 @@ def test_generated_crank_rockers_as_rssr_agree(a, b, c, rho, omega, epsilon, fx,
     planar, spatial = (loads(t) for t in _texts(p))
     _check_forces(planar, spatial, p, epsilon)
     _check_summary(planar, spatial)
+
+
+# The structure keys only one family has: planar the structure formula and the Assur groups,
+# spatial the chain's kind, its coupler, output link and output pair. ``lines`` both have with
+# each family's own wording, ``model`` with the names of two different files.
+STRUCTURE_PLANAR_ONLY = {"formula", "groups"}
+STRUCTURE_SPATIAL_ONLY = {"kind", "coupler", "output", "pair_out"}
+
+
+def test_fourbar_as_rssr_gives_the_same_structure_keys():
+    """mobility, crank and drive pair: the same keys and the same values in both families."""
+    planar, spatial = (loads(t) for t in _texts(FOURBAR))
+    dp, ds = linkgen.structure(planar).to_dict(), linkgen.structure(spatial).to_dict()
+    assert set(dp) - set(ds) == STRUCTURE_PLANAR_ONLY and set(ds) - set(dp) == STRUCTURE_SPATIAL_ONLY
+    assert {k: dp[k] for k in set(dp) & set(ds) - {"model", "lines"}} == {"mobility": 1, "crank": "crank", "drive": "O"}
+    assert {k: ds[k] for k in set(dp) & set(ds) - {"model", "lines"}} == {"mobility": 1, "crank": "crank", "drive": "O"}
