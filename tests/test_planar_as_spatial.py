@@ -22,7 +22,6 @@ from hypothesis import HealthCheck, Phase, assume, given, settings
 from hypothesis import strategies as st
 
 import linkgen
-from linkgen.families.planar.assembly import assemble
 from linkgen.families.planar.kinetostatics import forces as planar_forces
 from linkgen.families.spatial.forces import forces as spatial_forces
 from linkgen.pipeline.registry import loads

@@ -149,7 +149,8 @@ def _summary_lines(s: dict) -> list[str]:
         t = s["peak_balancing_torque"]
         lines.append(f"- peak balancing torque {t['value']:.4g} N·m at φ = {deg(t['phi']):.4g}°")
         worst = sorted(s["peak_reactions"].items(), key=lambda kv: -kv[1]["value"])[:3]
-        lines.append("- largest reactions: " + ", ".join(f"{k} {v['value']:.4g} N at {deg(v['phi']):.4g}°" for k, v in worst))
+        lines.append("- largest reactions: " + ", ".join(f"{k} {v['value']:.4g} N at {deg(v['phi']):.4g}°"
+                                                         for k, v in worst))
     elif s["forces_note"]:
         lines.append(f"- {s['forces_note']}")
     return lines + [""]

@@ -73,7 +73,8 @@ class CamSummary:
         deg = math.degrees
         a, r, t = self.max_pressure_angle, self.min_profile_curvature_radius, self.peak_balancing_torque
         shape = "convex" if self.convex else "concave in places"
-        lines = [f"{self.model}: {self.kind} follower, base circle {self.base_radius:.6g} m, at ω = {self.omega:g} rad/s",
+        lines = [f"{self.model}: {self.kind} follower, base circle {self.base_radius:.6g} m, "
+                 f"at ω = {self.omega:g} rad/s",
                  f"  stroke {out.travel:.6g} {unit}" + (f" ({deg(out.travel):.4g}°)" if unit == "rad" else ""),
                  f"  largest pressure angle {deg(a.value):.4g}° at θ = {deg(a.phi):.4g}°",
                  f"  profile {shape}; least radius of curvature {r.value:.6g} m at θ = {deg(r.phi):.4g}°"

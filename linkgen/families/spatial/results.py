@@ -143,8 +143,8 @@ class SpatialForcesResult:
             lines.append(f"pair {n}: on {r.on} by {r.by}: force [{', '.join(f'{x:.6g}' for x in r.force)}] N, "
                          f"moment [{', '.join(f'{x:.6g}' for x in r.moment)}] N·m")
         if self.statically_indeterminate:
-            lines.append(f"statically indeterminate by {self.statically_indeterminate}: the reactions shown are the least-squares "
-                         "(minimum-norm) ones; the balancing torque is determined")
+            lines.append(f"statically indeterminate by {self.statically_indeterminate}: the reactions shown are the "
+                         "least-squares (minimum-norm) ones; the balancing torque is determined")
         return "\n".join(lines)
 
     def __repr__(self) -> str:

@@ -97,8 +97,9 @@ def summarize(mech: SpatialMechanism) -> SpatialSummary:
             peaks[name] = Extreme(mag, at)
     else:
         note = f"pair forces: statically indeterminate by {f.indeterminate}, not summarised"
-    return SpatialSummary(mech.name, w, e, (0.0, turn), chain.kind, {chain.pair_out if slides else chain.output: output},
-                          Extreme(torque, t_at), peaks, note, f.indeterminate)
+    name = chain.pair_out if slides else chain.output  # a slider by its pair, a rocker by its link, as planar
+    return SpatialSummary(mech.name, w, e, (0.0, turn), chain.kind, {name: output}, Extreme(torque, t_at), peaks,
+                          note, f.indeterminate)
 
 
 def summary(mech: SpatialMechanism, omega: float | None = None, epsilon: float | None = None) -> SpatialSummary:
