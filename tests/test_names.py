@@ -126,3 +126,93 @@ def test_every_family_is_walked():
     cases = {(family_of(linkgen.load(p.values[0])).name, p.values[1]) for p in _cases()}
     assert cases == {("planar", "kinematics"), ("planar", "forces"), ("cam", "kinematics"),
                      ("spatial", "kinematics"), ("spatial", "forces")}, cases
+
+
+# ---------------------------------------------------------------------------------------------
+# The design summary and the structure: frozen results whose attributes are their to_dict()
+# keys, all the way down (a record's fields, a table's names), with the same keys for the same
+# quantity in every family. Neither has samples, so neither writes CSV (the CLI refuses
+# --summary with -o FILE.csv, and structure has no -o).
+
+# The keys every family's summary has, and the records they hold (docs/format.md, "Conventions").
+SUMMARY_KEYS = {"model", "omega", "epsilon", "drive_range", "units", "outputs", "peak_balancing_torque"}
+OUTPUT_KEYS = {"kind", "travel", "limits", "strokes", "time_ratio"}
+EXTREME_KEYS = {"value", "phi"}
+LIMIT_KEYS = {"phi", "value", "kind"}
+# Pair reactions: in every family that computes them (planar, spatial; a stand-alone cam has
+# only its contact force).
+REACTION_FAMILIES = {"planar", "spatial"}
+# The keys every family's structure has.
+STRUCTURE_KEYS = {"model", "mobility", "crank", "drive", "lines"}
+
+
+def _whole_cases(name: str):
+    for path in MODELS:
+        desc = linkgen.load(path)
+        if name in family_of(desc).stages:
+            yield pytest.param(path, id=f"{path.stem}-{name}")
+
+
+def _walk(obj, d, path: str) -> None:
+    """``d`` (the JSON data) holds exactly ``obj``'s attributes under their names: a dataclass's
+    fields (and its ``units``), a mapping's keys, a tuple's items, the same numbers and words."""
+    if dataclasses.is_dataclass(obj):
+        names = [f.name for f in dataclasses.fields(obj)]
+        assert isinstance(d, dict) and set(d) - {"units"} == set(names), (path, sorted(set(d) ^ set(names)))
+        if "units" in d:
+            assert d["units"] == dict(obj.units), path
+        for n in names:
+            _walk(getattr(obj, n), d[n], f"{path}.{n}")
+    elif isinstance(obj, Mapping):
+        assert isinstance(d, dict) and list(d) == list(obj), (path, list(d), list(obj))
+        for k, v in obj.items():
+            _walk(v, d[k], f"{path}.{k}")
+    elif isinstance(obj, (tuple, list)):
+        assert isinstance(d, list) and len(d) == len(obj), path
+        for i, (v, x) in enumerate(zip(obj, d)):
+            _walk(v, x, f"{path}[{i}]")
+    elif obj is None or isinstance(obj, (str, bool)):
+        assert d == obj and type(d) is type(obj), (path, d, obj)
+    else:
+        assert not isinstance(d, bool) and float(d) == float(obj), (path, d, obj)
+
+
+def _keys(d) -> set[str]:
+    """Every key anywhere in the JSON data."""
+    if isinstance(d, dict):
+        return set(d).union(*(_keys(v) for v in d.values()))
+    if isinstance(d, list):
+        return set().union(*(_keys(v) for v in d))
+    return set()
+
+
+@pytest.mark.parametrize("path", list(_whole_cases("summary")))
+def test_a_summary_names_every_quantity_as_its_attribute(path):
+    desc = linkgen.load(path)
+    s = stage(desc, "summary")(desc)
+    d = json.loads(json.dumps(s.to_dict(), allow_nan=False))
+    _walk(s, d, "summary")
+    family = family_of(desc).name
+    assert set(d) >= SUMMARY_KEYS | ({"peak_reactions", "forces_note"} if family in REACTION_FAMILIES else set())
+    assert "at" not in _keys(d), "a drive angle is phi"
+    for name, o in d["outputs"].items():
+        assert set(o) == OUTPUT_KEYS and o["kind"] in ("slider", "rocker"), name
+        assert all(set(x) == LIMIT_KEYS for x in o["limits"] or ()), name
+    peaks = [d["peak_balancing_torque"], *d.get("peak_reactions", {}).values(),
+             *d.get("min_transmission_angle", {}).values()]
+    assert all(set(p) == EXTREME_KEYS for p in peaks if p is not None)
+
+
+@pytest.mark.parametrize("path", list(_whole_cases("structure")))
+def test_a_structure_names_every_quantity_as_its_attribute(path):
+    desc = linkgen.load(path)
+    s = stage(desc, "structure")(desc)
+    d = json.loads(json.dumps(s.to_dict(), allow_nan=False))
+    _walk(s, d, "structure")
+    assert set(d) >= STRUCTURE_KEYS and d["mobility"] == 1, sorted(d)
+
+
+def test_every_family_summary_and_structure_are_walked():
+    summaries = {family_of(linkgen.load(p.values[0])).name for p in _whole_cases("summary")}
+    structures = {family_of(linkgen.load(p.values[0])).name for p in _whole_cases("structure")}
+    assert summaries == {"planar", "cam", "spatial"} and structures == {"planar", "spatial"}

@@ -22,11 +22,8 @@ from hypothesis import HealthCheck, Phase, assume, given, settings
 from hypothesis import strategies as st
 
 import linkgen
-from linkgen.families.planar.assembly import assemble
 from linkgen.families.planar.kinetostatics import forces as planar_forces
-from linkgen.families.planar.summary import summarize as planar_summary
 from linkgen.families.spatial.forces import forces as spatial_forces
-from linkgen.families.spatial.summary import summarize as spatial_summary
 from linkgen.pipeline.registry import loads
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -234,25 +231,52 @@ def _check_forces(planar, spatial, p: dict, epsilon: float) -> None:
     np.testing.assert_allclose(fs.balancing_torque, expected, rtol=0, atol=FD_TOL * t_scale)
 
 
+# The summary keys only one family has: the planar one's least transmission angle of each Assur
+# group (the spatial family defines no transmission angle), the spatial one's chain kind (RSSR,
+# RSSP, ...) and its degree of static indeterminacy (a planar chain is always determinate).
+# ``model`` both have, with the names of two different files.
+PLANAR_ONLY = {"min_transmission_angle"}
+SPATIAL_ONLY = {"kind", "statically_indeterminate"}
+
+
+def _same(a, b, path: tuple) -> None:
+    """Planar summary data ``a`` and spatial ``b`` are equal: the same keys and strings, drive
+    angles equal modulo 2π and numbers equal, to the tolerances above (the peaks' own, the
+    rest — limits, travel, strokes, K, ω, the drive's range — to LIMIT_ANGLE_TOL)."""
+    if isinstance(a, dict):
+        assert isinstance(b, dict) and set(a) == set(b), (path, sorted(set(a) ^ set(b or {})))
+        for k in a:
+            _same(a[k], b[k], path + (k,))
+    elif isinstance(a, list):
+        assert isinstance(b, list) and len(a) == len(b), (path, a, b)
+        for i, (x, y) in enumerate(zip(a, b)):
+            _same(x, y, path + (i,))
+    elif isinstance(a, float) and path[-1] == "phi":
+        tol = PEAK_ANGLE_TOL if path[0].startswith("peak_") else LIMIT_ANGLE_TOL
+        assert abs(math.remainder(b - a, 2 * math.pi)) <= tol, (path, a, b)
+    elif isinstance(a, float) and path[0].startswith("peak_"):
+        assert b == pytest.approx(a, rel=PEAK_VALUE_TOL), (path, a, b)
+    elif isinstance(a, float):
+        assert b == pytest.approx(a, abs=LIMIT_ANGLE_TOL), (path, a, b)
+    else:
+        assert a == b, (path, a, b)
+
+
 def _check_summary(planar, spatial) -> None:
-    sp, ss = planar_summary(assemble(planar)), spatial_summary(spatial)
-    (out,) = sp.outputs
-    assert out.kind == "rocker" and ss.unit == "rad"
-    assert [x.kind for x in out.limits] == [kind for kind, _, _ in ss.limits]
-    for x, (_, at, value) in zip(out.limits, ss.limits):  # the same crank angles, the same absolute angles
-        assert abs(math.remainder(at - x.phi, 2 * math.pi)) <= LIMIT_ANGLE_TOL
-        assert value == pytest.approx(x.value, abs=LIMIT_ANGLE_TOL)
-    assert ss.swing == pytest.approx(out.travel, abs=LIMIT_ANGLE_TOL)
-    assert ss.strokes == pytest.approx(out.strokes, abs=LIMIT_ANGLE_TOL)
-    assert ss.time_ratio == pytest.approx(out.time_ratio, abs=LIMIT_ANGLE_TOL) and ss.time_ratio >= 1.0
-    value, at = ss.peak_torque
-    assert value == pytest.approx(sp.torque.value, rel=PEAK_VALUE_TOL)
-    assert abs(math.remainder(at - sp.torque.at, 2 * math.pi)) <= PEAK_ANGLE_TOL
-    assert set(ss.peak_pair_forces) == {p.name for p in sp.reactions}
-    for peak in sp.reactions:
-        value, at = ss.peak_pair_forces[peak.name]
-        assert value == pytest.approx(peak.value, rel=PEAK_VALUE_TOL), peak.name
-        assert abs(math.remainder(at - peak.at, 2 * math.pi)) <= PEAK_ANGLE_TOL, peak.name
+    """The two summaries' dicts are equal for every key both have (``_same``): the output under
+    the same key (the link's name), its swing, limit positions at the same crank angles with the
+    same absolute angles, strokes and K ≥ 1, the peak torque and the peak reaction at each pair."""
+    dp = linkgen.summary(planar).to_dict()
+    ds = linkgen.summary(spatial).to_dict()
+    assert set(dp) - set(ds) == PLANAR_ONLY and set(ds) - set(dp) == SPATIAL_ONLY, sorted(set(dp) ^ set(ds))
+    assert list(ds["outputs"]) == list(dp["outputs"]) == ["rocker"]
+    assert ds["forces_note"] is None and ds["statically_indeterminate"] == 0
+    for key in sorted((set(dp) & set(ds)) - {"model", "units"}):
+        _same(dp[key], ds[key], (key,))
+    for key in set(dp["units"]) & set(ds["units"]):
+        assert dp["units"][key] == ds["units"][key], key
+    (out,) = ds["outputs"].values()
+    assert out["time_ratio"] >= 1.0 and len(out["limits"]) == 2
 
 
 def test_the_bundled_fourbar_template_is_models_fourbar():
@@ -302,3 +326,19 @@ def test_generated_crank_rockers_as_rssr_agree(a, b, c, rho, omega, epsilon, fx,
     planar, spatial = (loads(t) for t in _texts(p))
     _check_forces(planar, spatial, p, epsilon)
     _check_summary(planar, spatial)
+
+
+# The structure keys only one family has: planar the structure formula and the Assur groups,
+# spatial the chain's kind, its coupler, output link and output pair. ``lines`` both have with
+# each family's own wording, ``model`` with the names of two different files.
+STRUCTURE_PLANAR_ONLY = {"formula", "groups"}
+STRUCTURE_SPATIAL_ONLY = {"kind", "coupler", "output", "pair_out"}
+
+
+def test_fourbar_as_rssr_gives_the_same_structure_keys():
+    """mobility, crank and drive pair: the same keys and the same values in both families."""
+    planar, spatial = (loads(t) for t in _texts(FOURBAR))
+    dp, ds = linkgen.structure(planar).to_dict(), linkgen.structure(spatial).to_dict()
+    assert set(dp) - set(ds) == STRUCTURE_PLANAR_ONLY and set(ds) - set(dp) == STRUCTURE_SPATIAL_ONLY
+    assert {k: dp[k] for k in set(dp) & set(ds) - {"model", "lines"}} == {"mobility": 1, "crank": "crank", "drive": "O"}
+    assert {k: ds[k] for k in set(dp) & set(ds) - {"model", "lines"}} == {"mobility": 1, "crank": "crank", "drive": "O"}

@@ -13,6 +13,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+import linkgen
 from linkgen import assemble, load
 from linkgen.pipeline.registry import loads
 from linkgen.families.planar.summary import SAMPLES, summarize
@@ -36,16 +37,16 @@ def _by_kind(output, kind):
 def test_offset_slider_crank_stroke_dead_centres_and_time_ratio():
     s = summarize(assemble(load(ROOT / "models" / "slider_crank_offset.toml")))
     l1, l2, e = 0.02, 0.035, 0.005
-    (o,) = s.outputs
+    (o,) = s.outputs.values()
     assert o.travel == pytest.approx(math.sqrt((l1 + l2) ** 2 - e**2) - math.sqrt((l2 - l1) ** 2 - e**2), abs=VALUE_TOL)
     far, near = _by_kind(o, "max"), _by_kind(o, "min")
     assert far.phi == pytest.approx(math.asin(e / (l1 + l2)), abs=ANGLE_TOL)  # crank and rod in line, extended
     assert near.phi == pytest.approx(math.pi + math.asin(e / (l2 - l1)), abs=ANGLE_TOL)  # folded
     theta = math.asin(e / (l2 - l1)) - math.asin(e / (l1 + l2))
     assert o.time_ratio == pytest.approx((math.pi + theta) / (math.pi - theta), abs=1e-10)
-    (t,) = s.transmission  # least where the rod is steepest: crank at 270°, sin β = (l1 + e)/l2
-    assert t.minimum == pytest.approx(math.pi / 2 - math.asin((l1 + e) / l2), abs=GRID_TOL)
-    assert t.at == pytest.approx(1.5 * math.pi, abs=2 * math.pi / (SAMPLES - 1))
+    (t,) = s.min_transmission_angle.values()  # least where the rod is steepest: crank at 270°, sin β = (l1 + e)/l2
+    assert t.value == pytest.approx(math.pi / 2 - math.asin((l1 + e) / l2), abs=GRID_TOL)
+    assert t.phi == pytest.approx(1.5 * math.pi, abs=2 * math.pi / (SAMPLES - 1))
 
 
 def _crank_rocker(a, b, c, d):
@@ -115,30 +116,30 @@ def _grashof_crank_rockers(n: int, seed: int = 7) -> list[tuple[float, ...]]:
 def test_crank_rocker_swing_limits_and_transmission(dims):
     a, b, c, d = dims
     s = summarize(assemble(_crank_rocker(a, b, c, d)))
-    (o,) = s.outputs
+    (o,) = s.outputs.values()
     ref = _law_of_cosines(a, b, c, d)
     for kind in ("min", "max"):
         lim = _by_kind(o, kind)
         assert lim.phi == pytest.approx(ref[kind][0], abs=1e-9)
         assert lim.value == pytest.approx(ref[kind][1], abs=1e-9)
     assert o.travel == pytest.approx(ref["max"][1] - ref["min"][1], abs=1e-9)
-    (t,) = s.transmission
-    assert t.minimum == pytest.approx(ref["mu"], abs=GRID_TOL)
+    (t,) = s.min_transmission_angle.values()
+    assert t.value == pytest.approx(ref["mu"], abs=GRID_TOL)
 
 
 def test_bundled_fourbar_matches_the_law_of_cosines():
     s = summarize(assemble(load(ROOT / "models" / "fourbar.toml")))
     ref = _law_of_cosines(0.3, 1.0, 0.7, 1.0)
-    (o,) = s.outputs
+    (o,) = s.outputs.values()
     assert _by_kind(o, "min").phi == pytest.approx(ref["min"][0], abs=1e-9)
     assert o.time_ratio == pytest.approx((ref["max"][0] - ref["min"][0]) / (2 * math.pi - ref["max"][0] + ref["min"][0]))
 
 
 def test_scotch_yoke_is_symmetric():
     s = summarize(assemble(load(ROOT / "models" / "scotch_yoke.toml")))
-    for o in s.outputs:
+    for o in s.outputs.values():
         assert o.travel == pytest.approx(0.2, abs=VALUE_TOL) and o.time_ratio == pytest.approx(1.0, abs=1e-12)
-    assert all(t.minimum == pytest.approx(math.pi / 2, abs=1e-12) for t in s.transmission)
+    assert all(t.value == pytest.approx(math.pi / 2, abs=1e-12) for t in s.min_transmission_angle.values())
 
 
 def test_a_drag_link_output_turns_fully():
@@ -165,8 +166,22 @@ length = 0.8
 joint = "O"
 omega = 2.0
 """)
-    (o,) = summarize(assemble(mech)).outputs
+    (o,) = summarize(assemble(mech)).outputs.values()
     assert o.travel is None and o.limits == () and o.time_ratio is None
+
+
+# ga32's sketch gives its points to 5 decimals: lengths taken from it are good to ~1e-5 m.
+SKETCH_TOL = 1e-5
+
+
+def test_a_slider_and_a_rocker_of_one_name_are_both_in_the_json():
+    """ga32's block turns about B (a rocker, link "block") while the rod slides through it (a
+    slider, prismatic pair "block"): the JSON keyed both "block", so the rocker hid the slider's
+    stroke. Each is now under its name and kind; the stroke is the span of |AB| = |OB| ± the crank."""
+    d = linkgen.summary(load(ROOT / "models" / "ga32.toml")).to_dict()
+    assert {k: o["kind"] for k, o in d["outputs"].items()} == {"block (slider)": "slider", "block (rocker)": "rocker"}
+    crank, ob = 0.3, math.hypot(0.44550, 0.22700)
+    assert d["outputs"]["block (slider)"]["travel"] == pytest.approx((ob + crank) - (ob - crank), abs=SKETCH_TOL)
 
 
 def test_peaks_are_maxima():
@@ -174,12 +189,12 @@ def test_peaks_are_maxima():
     s = summarize(asm)
     phi = np.random.default_rng(3).uniform(0, 2 * math.pi, 500)
     f = forces(asm, phi)
-    assert s.torque.value >= np.max(np.abs(f.balancing_torque)) * (1 - 1e-3)
-    for p in s.reactions:
-        r = np.asarray(f.reactions[p.name].force)
+    assert s.peak_balancing_torque.value >= np.max(np.abs(f.balancing_torque)) * (1 - 1e-3)
+    for name, p in s.peak_reactions.items():
+        r = np.asarray(f.reactions[name].force)
         assert p.value >= np.max(np.hypot(r[:, 0], r[:, 1])) * (1 - 1e-3)
-    at = forces(asm, s.torque.at)
-    assert abs(at.balancing_torque) == pytest.approx(s.torque.value, rel=1e-12)
+    at = forces(asm, s.peak_balancing_torque.phi)
+    assert abs(at.balancing_torque) == pytest.approx(s.peak_balancing_torque.value, rel=1e-12)
 
 
 def test_summary_cli():
@@ -188,7 +203,7 @@ def test_summary_cli():
     assert p.returncode == 0, p.stderr
     d = json.loads(p.stdout)
     assert d["outputs"]["slider"]["time_ratio"] == pytest.approx(1.1720153, rel=1e-7)
-    assert set(d) >= {"outputs", "transmission", "peak_balancing_torque", "peak_reactions", "units"}
+    assert set(d) >= {"outputs", "min_transmission_angle", "peak_balancing_torque", "peak_reactions", "units"}
     p = subprocess.run([SCRIPT, "analyze", ROOT / "models" / "fourbar.toml", "--summary"],
                        capture_output=True, text=True, timeout=120)
     assert p.returncode == 0 and "time ratio K" in p.stdout and "transmission angle" in p.stdout
@@ -275,7 +290,7 @@ def test_summary_extrema_agree_with_a_dense_independent_scan(path):
     s = summarize(asm)
     d = asm.mechanism.drive
     full = abs(d.stop - d.start - 2 * math.pi) <= 1e-12
-    outputs = {(o.name, o.kind): o for o in s.outputs}
+    outputs = {(key.removesuffix(f" ({o.kind})"), o.kind): o for key, o in s.outputs.items()}
     phi = np.linspace(d.start, d.stop, DENSE + 1)
     kin = solve(asm, phi, on_singular="mark")
     for name, kind, pick in _outputs(asm):
@@ -304,29 +319,29 @@ def test_summary_extrema_agree_with_a_dense_independent_scan(path):
                                                  abs=1e-8)
         else:
             assert o.time_ratio is None
-    for t in s.transmission:
-        mu = transmission_angles(asm, phi)[t.group]
-        least = -_dense_peak(lambda p, g=t.group: -transmission_angles(asm, p)[g], phi, -mu)
-        assert abs(t.minimum - least) <= MU_TOL, (t, least)
-        assert transmission_angles(asm, np.array([t.at]))[t.group][0] == pytest.approx(t.minimum, abs=1e-15)
-    if s.torque is None:
+    for group, t in s.min_transmission_angle.items():
+        mu = transmission_angles(asm, phi)[group]
+        least = -_dense_peak(lambda p, g=group: -transmission_angles(asm, p)[g], phi, -mu)
+        assert abs(t.value - least) <= MU_TOL, (t, least)
+        assert transmission_angles(asm, np.array([t.phi]))[group][0] == pytest.approx(t.value, abs=1e-15)
+    if s.peak_balancing_torque is None:
         return
     w, e = s.omega, s.epsilon
     from linkgen.families.planar.kinetostatics import forces as closed_forces
 
     f = closed_forces(asm, phi, w, e)
     ref = _dense_peak(lambda p: np.abs(closed_forces(asm, p, w, e).balancing_torque), phi, np.abs(f.balancing_torque))
-    assert s.torque.value == pytest.approx(ref, rel=PEAK_REL_TOL)
-    assert abs(closed_forces(asm, np.array([s.torque.at]), w, e).balancing_torque[0]) == pytest.approx(
-        s.torque.value, rel=1e-14)
-    for p in s.reactions:
-        def mag(x, n=p.name):
+    assert s.peak_balancing_torque.value == pytest.approx(ref, rel=PEAK_REL_TOL)
+    assert abs(closed_forces(asm, np.array([s.peak_balancing_torque.phi]), w, e).balancing_torque[0]) == pytest.approx(
+        s.peak_balancing_torque.value, rel=1e-14)
+    for name, p in s.peak_reactions.items():
+        def mag(x, n=name):
             r = np.asarray(closed_forces(asm, x, w, e).reactions[n])
             return np.hypot(r[:, 0], r[:, 1])
-        r = np.asarray(f.reactions[p.name])
+        r = np.asarray(f.reactions[name])
         ref = _dense_peak(mag, phi, np.hypot(r[:, 0], r[:, 1]))
-        assert p.value == pytest.approx(ref, rel=PEAK_REL_TOL), p.name
-        assert mag(np.array([p.at]))[0] == pytest.approx(p.value, rel=1e-14)
+        assert p.value == pytest.approx(ref, rel=PEAK_REL_TOL), name
+        assert mag(np.array([p.phi]))[0] == pytest.approx(p.value, rel=1e-14)
 
 
 # ---------------------------------------------------------------------------------------------
@@ -334,7 +349,7 @@ def test_summary_extrema_agree_with_a_dense_independent_scan(path):
 # and the time ratio, against geometry.
 
 def test_press_lists_both_dead_centres_and_its_time_ratio():
-    (o,) = summarize(assemble(load(ROOT / "models" / "press.toml"))).outputs
+    (o,) = summarize(assemble(load(ROOT / "models" / "press.toml"))).outputs.values()
     assert [(x.kind, x.phi, x.value) for x in o.limits] == [
         ("max", pytest.approx(0.0, abs=ANGLE_TOL), pytest.approx(0.5, abs=VALUE_TOL)),  # crank 0.1 + rod 0.4
         ("min", pytest.approx(math.pi, abs=ANGLE_TOL), pytest.approx(0.3, abs=VALUE_TOL))]  # rod − crank
@@ -379,7 +394,7 @@ omega = 1.0
 @pytest.mark.parametrize("a,b,e", [(0.02, 0.035, 0.0), (0.02, 0.035, 0.005), (0.1, 0.25, -0.04), (0.1, 0.3, 0.02)])
 def test_a_slider_crank_sketched_at_its_dead_centre(a, b, e):
     mech, psi = _offset_slider_crank_at_dead_centre(a, b, e)
-    (o,) = summarize(assemble(mech)).outputs
+    (o,) = summarize(assemble(mech)).outputs.values()
     far, near = _by_kind(o, "max"), _by_kind(o, "min")
     assert len(o.limits) == 2
     assert min(far.phi, 2 * math.pi - far.phi) == pytest.approx(0.0, abs=ANGLE_TOL)
@@ -429,7 +444,7 @@ omega = 1.0
 def test_a_crank_rocker_sketched_at_its_dead_centre(dims):
     a, b, c, d = dims
     mech, (cx, cy) = _crank_rocker_at_dead_centre(a, b, c, d)
-    (o,) = summarize(assemble(mech)).outputs
+    (o,) = summarize(assemble(mech)).outputs.values()
     assert len(o.limits) == 2
     # extended at φ = 0: B = (a + b, 0); folded: |OB| = b − a, B on the same side of OC as sketched
     theta_c = math.atan2(cy, cx)
@@ -469,7 +484,7 @@ through = "O"
 angle = 0.0
 
 [gear.mesh]""")
-    (o,) = summarize(assemble(loads(text))).outputs
+    (o,) = summarize(assemble(loads(text))).outputs.values()
     top = max(o.limits, key=lambda x: x.value)
     assert top.kind == "max" and min(top.phi, 2 * math.pi - top.phi) == pytest.approx(0.0, abs=ANGLE_TOL)
     assert top.value == pytest.approx(4.55, abs=VALUE_TOL)
@@ -495,7 +510,7 @@ from linkgen.families.cam.summary import cam_summary  # noqa: E402
 def test_cam_summary_extrema_agree_with_a_dense_independent_scan(path):
     cm = load_cam(path)
     w = cm.omega
-    s = cam_summary(cm, w)
+    s = cam_summary(cm, w).to_dict()
     th = np.linspace(0.0, 2 * math.pi, DENSE, endpoint=False)
     st = cam_state(cm, th, w)
 
@@ -509,7 +524,7 @@ def test_cam_summary_extrema_agree_with_a_dense_independent_scan(path):
         return fun, fun(th)
 
     stroke = top(*quantity("displacement")) + top(*quantity("displacement", -1.0))
-    assert s["stroke"] == pytest.approx(stroke, rel=PEAK_REL_TOL)
+    assert s["outputs"]["follower"]["travel"] == pytest.approx(stroke, rel=PEAK_REL_TOL)
     alpha = top(*quantity("pressure_angle", absolute=True))
     assert s["max_pressure_angle"]["value"] == pytest.approx(alpha, rel=PEAK_REL_TOL, abs=1e-15)
     rho = cm.follower.profile_curvature_radius
@@ -517,12 +532,12 @@ def test_cam_summary_extrema_agree_with_a_dense_independent_scan(path):
                                                                       rel=PEAK_REL_TOL)
     assert s["peak_contact_force"]["value"] == pytest.approx(top(*quantity("contact_force")), rel=PEAK_REL_TOL)
     assert s["min_contact_force"] == pytest.approx(-top(*quantity("contact_force", -1.0)), rel=PEAK_REL_TOL)
-    assert s["peak_cam_torque"]["value"] == pytest.approx(top(*quantity("cam_torque", absolute=True)),
+    assert s["peak_balancing_torque"]["value"] == pytest.approx(top(*quantity("cam_torque", absolute=True)),
                                                           rel=PEAK_REL_TOL)
-    for key in ("max_pressure_angle", "peak_contact_force", "peak_cam_torque"):  # the value is the one at "at"
+    for key in ("max_pressure_angle", "peak_contact_force", "peak_balancing_torque"):  # the value is the one at "phi"
         name = {"max_pressure_angle": "pressure_angle", "peak_contact_force": "contact_force",
-                "peak_cam_torque": "cam_torque"}[key]
-        at = getattr(cam_state(cm, [s[key]["at"]], w), name)[0]
+                "peak_balancing_torque": "cam_torque"}[key]
+        at = getattr(cam_state(cm, [s[key]["phi"]], w), name)[0]
         assert abs(at) == pytest.approx(s[key]["value"], rel=1e-14, abs=1e-15)
     # leave speed: ω² = least of (spring − weight)/(−m·q″) where q″ < 0 (st.spring is the spring force)
     mass = cm.inertia if cm.follower.kind == "oscillating" else cm.mass
@@ -613,17 +628,18 @@ def test_spatial_summary_extrema_agree_with_a_dense_independent_scan(path):
             t = spatial_solve(mech, [x]).output  # the joint variable analyze gives
             ref.append(("max" if t.d[2][0] < 0 else "min", x, float(t.d[0][0])))
     ref.sort(key=lambda r: r[1])
-    assert [kind for kind, _, _ in s.limits] == [kind for kind, _, _ in ref]
-    for (_, a, v), (_, x, w) in zip(s.limits, ref):
+    (out,) = s.outputs.values()
+    assert [lim.kind for lim in out.limits] == [kind for kind, _, _ in ref]
+    for (a, v, _), (_, x, w) in zip(((x.phi, x.value, x.kind) for x in out.limits), ref):
         assert min(abs(a - x), 2 * math.pi - abs(a - x)) <= DENSE_ANGLE_TOL
         assert v == pytest.approx(w, abs=DENSE_VALUE_TOL)
     w, e = mech.drive.omega, mech.drive.epsilon
     f = spatial_forces(mech, phi, w, e, motion=k)
     top = _dense_peak(lambda x: np.abs(spatial_forces(mech, x, w, e).balancing_torque), phi, np.abs(f.balancing_torque))
-    assert s.peak_torque[0] == pytest.approx(top, rel=PEAK_REL_TOL)  # a magnitude, as planar peaks
-    assert abs(spatial_forces(mech, [s.peak_torque[1]], w, e).balancing_torque[0]) == pytest.approx(s.peak_torque[0],
-                                                                                                     rel=1e-14)
-    for n, (value, _) in s.peak_pair_forces.items():
+    t = s.peak_balancing_torque
+    assert t.value == pytest.approx(top, rel=PEAK_REL_TOL)  # a magnitude, as planar peaks
+    assert abs(spatial_forces(mech, [t.phi], w, e).balancing_torque[0]) == pytest.approx(t.value, rel=1e-14)
+    for n, value in ((n, p.value) for n, p in s.peak_reactions.items()):
         def mag(x, n=n):
             return np.linalg.norm(spatial_forces(mech, x, w, e).reactions[n].force, axis=1)
         dense = np.linalg.norm(f.reactions[n].force, axis=1)
@@ -725,7 +741,7 @@ through = "O"
 angle = 0.0
 
 [gear.mesh]"""))
-    (o,) = summarize(assemble(loads(text))).outputs
+    (o,) = summarize(assemble(loads(text))).outputs.values()
     phi = np.linspace(0.0, 2 * math.pi, DENSE + 1)
     xb, yb = 0.75 * np.cos(phi) + 0.55 * np.cos(1.5 * phi), 0.75 * np.sin(phi) - 0.55 * np.sin(1.5 * phi)
     xd = xb + np.sqrt(9.0 - yb * yb)

@@ -126,8 +126,7 @@ def _cam(path: Path, deep: bool) -> list:
 
     cm = load_cam(path)
     theta = np.linspace(0.0, 2 * math.pi, 72, endpoint=False)
-    s = cam_summary(cm, cm.omega)
-    s.pop("leave_speed")  # inf means "never leaves": the CLI prints it as text, JSON as null
+    s = cam_summary(cm, cm.omega).to_dict()  # leave_speed None: the follower never leaves
     out = [("state", state(cm, theta, cm.omega)), ("summary", s), ("profile", cm.follower.profile(theta)),
            ("pitch", cm.follower.pitch_curve(theta)[0])]
     if deep:

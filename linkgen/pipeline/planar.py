@@ -56,9 +56,10 @@ def _forces(desc, phi, omega=None, epsilon=None, **options):
 
 
 def _summary(desc, omega=None, epsilon=None):
-    from linkgen.families.planar.texts import summary
+    from linkgen.families.planar.assembly import Assembly, assemble
+    from linkgen.families.planar.summary import summarize
 
-    return summary(desc, omega, epsilon)
+    return summarize(desc if isinstance(desc, Assembly) else assemble(desc), omega, epsilon)
 
 
 PLANAR = Family(

@@ -35,7 +35,7 @@ def _forces(desc, phi, omega=None, epsilon=None, **options):
 
 
 def _summary(desc, omega=None, epsilon=None):
-    from linkgen.families.spatial.texts import summary
+    from linkgen.families.spatial.summary import summary
 
     return summary(desc, omega, epsilon)
 

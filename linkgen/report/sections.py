@@ -129,12 +129,13 @@ def spatial_row(r: dict) -> str:
 
 
 def _summary_lines(s: dict) -> list[str]:
-    """The design summary (``DesignSummary.to_dict``) as Markdown lines."""
+    """A planar design summary (``DesignSummary.to_dict``) as Markdown lines."""
     import math
 
     deg = math.degrees
     lines = ["**Design summary** (at the drive's ω and ε)", ""]
-    for name, o in s["outputs"].items():
+    for key, o in s["outputs"].items():
+        name = key.removesuffix(f" ({o['kind']})")
         if o["travel"] is None:
             lines.append(f"- {o['kind']} `{name}`: turns fully round")
             continue
@@ -142,13 +143,14 @@ def _summary_lines(s: dict) -> list[str]:
         limits = ", ".join(f"{x['kind']} at φ = {deg(x['phi']):.4g}°" for x in o["limits"]) or "extremes at the range's ends"
         ratio = f"; time ratio K = {o['time_ratio']:.4g}" if o["time_ratio"] is not None else ""
         lines.append(f"- {o['kind']} `{name}`: {travel}; limit positions {limits}{ratio}")
-    for g, t in s["transmission"].items():
-        lines.append(f"- least transmission angle of {g}: {deg(t['minimum']):.4g}° at φ = {deg(t['at']):.4g}°")
+    for g, t in s.get("min_transmission_angle", {}).items():
+        lines.append(f"- least transmission angle of {g}: {deg(t['value']):.4g}° at φ = {deg(t['phi']):.4g}°")
     if s["peak_balancing_torque"]:
         t = s["peak_balancing_torque"]
-        lines.append(f"- peak balancing torque {t['value']:.4g} N·m at φ = {deg(t['at']):.4g}°")
+        lines.append(f"- peak balancing torque {t['value']:.4g} N·m at φ = {deg(t['phi']):.4g}°")
         worst = sorted(s["peak_reactions"].items(), key=lambda kv: -kv[1]["value"])[:3]
-        lines.append("- largest reactions: " + ", ".join(f"{k} {v['value']:.4g} N at {deg(v['at']):.4g}°" for k, v in worst))
+        lines.append("- largest reactions: " + ", ".join(f"{k} {v['value']:.4g} N at {deg(v['phi']):.4g}°"
+                                                         for k, v in worst))
     elif s["forces_note"]:
         lines.append(f"- {s['forces_note']}")
     return lines + [""]

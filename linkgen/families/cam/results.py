@@ -12,11 +12,11 @@ from typing import ClassVar, Mapping
 import numpy as np
 
 from linkgen.errors import ArgumentError
+from linkgen.families.cam.summary import FOLLOWER
 from linkgen.model.results import Record, column, plain, shaped
 
 UNITS = {"theta": "rad", "omega": "rad/s", "translating": "m, m/s, m/s², m/s³",
          "oscillating": "rad, rad/s, rad/s², rad/s³", "pressure_angle": "rad", "contact_force": "N", "cam_torque": "N·m"}
-FOLLOWER = "follower"
 
 
 @dataclass(frozen=True, repr=False)
@@ -117,57 +117,12 @@ def kinematics(cm, phi, omega=None, epsilon=None, *, on_singular: str = "raise")
     return CamKinematics(cm.name, cm.follower.kind, float(theta[0]) if scalar else theta, w, {FOLLOWER: f})
 
 
-@dataclass(frozen=True, repr=False)
-class CamSummary:
-    """The cam's design figures over a turn (``families.cam.summary.cam_summary``): ``figures``
-    the dict of SI values and the cam angles ("at") where they occur."""
-
-    figures: Mapping
-
-    def __getattr__(self, name):
-        if name.startswith("__") or name == "figures":
-            raise AttributeError(name)
-        try:
-            return self.figures[name]
-        except KeyError:
-            raise AttributeError(name) from None
-
-    def to_dict(self) -> dict:
-        s = dict(self.figures)
-        return dict(s, leave_speed=None if math.isinf(s["leave_speed"]) else s["leave_speed"])
-
-    def text(self) -> str:
-        s = self.figures
-        omega = s["omega"]
-        unit = "m" if s["kind"] == "translating" else "rad"
-        deg = math.degrees
-        a, r = s["max_pressure_angle"], s["min_profile_curvature_radius"]
-        shape = "convex" if s["convex"] else "concave in places"
-        lines = [f"{s['model']}: {s['kind']} follower, base circle {s['base_radius']:.6g} m, at ω = {omega:g} rad/s",
-                 f"  stroke {s['stroke']:.6g} {unit}" + (f" ({deg(s['stroke']):.4g}°)" if unit == "rad" else ""),
-                 f"  largest pressure angle {deg(a['value']):.4g}° at θ = {deg(a['at']):.4g}°",
-                 f"  profile {shape}; least radius of curvature {r['value']:.6g} m at θ = {deg(r['at']):.4g}°"
-                 + ("; UNDERCUT: the roller is larger than the pitch curve's radius there" if s["undercut"] else ""),
-                 f"  contact force {s['min_contact_force']:.6g}..{s['peak_contact_force']['value']:.6g} N; peak cam "
-                 f"torque {s['peak_cam_torque']['value']:.6g} N·m at θ = {deg(s['peak_cam_torque']['at']):.4g}°"]
-        if s["smallest_base_radius_for_30deg"] is not None:
-            lines.append(f"  the smallest base circle keeping the pressure angle within 30°: "
-                         f"{s['smallest_base_radius_for_30deg']:.6g} m")
-        lv = s["leave_speed"]
-        lines.append("  the follower never leaves the cam" if math.isinf(lv) else
-                     f"  the follower leaves the cam above ω = {lv:.6g} rad/s" + (" — it does at this speed"
-                                                                                  if omega > lv else ""))
-        return "\n".join(lines)
-
-    def __repr__(self) -> str:
-        return f"CamSummary({self.figures['model']!r})"
-
-
-def summary(cm, omega=None, epsilon=None) -> CamSummary:
-    """The cam family's ``summary`` stage over one turn at ω (default the description's)."""
+def summary(cm, omega=None, epsilon=None):
+    """The cam family's ``summary`` stage over one turn at ω (default the description's): a
+    ``families.cam.summary.CamSummary``."""
     from linkgen.families.cam.summary import cam_summary
 
-    return CamSummary(cam_summary(cm, _speed(cm, omega, epsilon)))
+    return cam_summary(cm, _speed(cm, omega, epsilon))
 
 
 @dataclass(frozen=True, repr=False)
@@ -197,4 +152,4 @@ def profile(cm, points: int = 720) -> CamProfile:
     return CamProfile(cm.name, theta, cm.follower.profile(theta), cm.follower.pitch_curve(theta)[0])
 
 
-__all__ = ["CamFollowerMotion", "CamKinematics", "CamProfile", "CamSummary", "kinematics", "profile", "summary"]
+__all__ = ["CamFollowerMotion", "CamKinematics", "CamProfile", "kinematics", "profile", "summary"]

@@ -16,11 +16,13 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from typing import Mapping
 
 import numpy as np
 
 from linkgen.errors import LinkgenError
 from linkgen.extrema import peak, stationary
+from linkgen.model.summary import Extreme, Limit, Output, output_table, summary_dict
 from linkgen.families.planar.description import GROUND
 from linkgen.families.planar.assembly import Assembly
 from linkgen.families.planar.groups import input_poses, solve_group
@@ -37,82 +39,36 @@ PERIODIC_TOL = 1e-9
 
 
 @dataclass(frozen=True)
-class Limit:
-    """An extreme position of an output: crank angle [rad], the output's value there (m or rad)
-    and whether it is the least ("min") or the greatest ("max")."""
-
-    phi: float
-    value: float
-    kind: str
-
-
-@dataclass(frozen=True)
-class Output:
-    """A slider (kind "slider", displacement along its guide [m]) or a ground-pivoted link
-    (kind "rocker", angle [rad]). ``travel`` is the stroke [m] or swing [rad] (max − min over
-    the range; None for a link that turns fully round), ``limits`` its interior extremes in
-    crank-angle order, and, where there are exactly two over a full turn, ``strokes`` = crank
-    angles [rad] of the min → max and max → min strokes and ``time_ratio`` = the longer over
-    the shorter (≥ 1, at constant crank speed)."""
-
-    name: str
-    kind: str
-    travel: float | None
-    limits: tuple[Limit, ...]
-    strokes: tuple[float, float] | None = None
-    time_ratio: float | None = None
-
-
-@dataclass(frozen=True)
-class Transmission:
-    """A group's least transmission angle over the range [rad] and the crank angle where [rad]."""
-
-    group: str
-    minimum: float
-    at: float
-
-
-@dataclass(frozen=True)
-class Peak:
-    """The largest magnitude of a force [N] or torque [N·m] over the range and its crank angle [rad]."""
-
-    name: str
-    value: float
-    at: float
-
-
-@dataclass(frozen=True)
 class DesignSummary:
-    """Everything above for one mechanism over its drive's range (SI units, radians).
+    """Everything above for one mechanism over its drive's range (SI units, radians), in the
+    keys every family's summary shares (``linkgen.model.summary``) and the planar family's own
+    ``min_transmission_angle``: group label → ``Extreme`` (least angle [rad], its φ).
 
-    ``peaks`` is empty and ``forces_note`` says why when the kinetostatics cannot be solved over
-    the whole range (a dead centre inside it)."""
+    ``peak_balancing_torque`` is None, ``peak_reactions`` empty and ``forces_note`` says why when
+    the kinetostatics cannot be solved over the whole range (a dead centre inside it)."""
 
     model: str
     omega: float
     epsilon: float
-    outputs: tuple[Output, ...]
-    transmission: tuple[Transmission, ...]
-    torque: Peak | None
-    reactions: tuple[Peak, ...] = field(default=())
-    forces_note: str = ""
+    drive_range: tuple[float, float]
+    outputs: Mapping[str, Output]
+    peak_balancing_torque: Extreme | None
+    peak_reactions: Mapping[str, Extreme] = field(default_factory=dict)
+    forces_note: str | None = None
+    min_transmission_angle: Mapping[str, Extreme] = field(default_factory=dict)
+
+    @property
+    def units(self) -> dict[str, str]:
+        return {"phi": "rad", "drive_range": "rad", "slider": "m", "rocker": "rad", "peak_balancing_torque": "N·m",
+                "peak_reactions": "N", "min_transmission_angle": "rad"}
 
     def to_dict(self) -> dict:
-        def lim(x: Limit) -> dict:
-            return {"phi": x.phi, "value": x.value, "kind": x.kind}
+        return summary_dict(self)
 
-        return {
-            "model": self.model, "omega": self.omega, "epsilon": self.epsilon,
-            "units": {"phi": "rad", "slider": "m", "rocker": "rad", "transmission": "rad", "torque": "N·m",
-                      "reaction": "N"},
-            "outputs": {o.name: {"kind": o.kind, "travel": o.travel, "limits": [lim(x) for x in o.limits],
-                                 "strokes": list(o.strokes) if o.strokes else None, "time_ratio": o.time_ratio}
-                        for o in self.outputs},
-            "transmission": {t.group: {"minimum": t.minimum, "at": t.at} for t in self.transmission},
-            "peak_balancing_torque": {"value": self.torque.value, "at": self.torque.at} if self.torque else None,
-            "peak_reactions": {p.name: {"value": p.value, "at": p.at} for p in self.reactions},
-            "forces_note": self.forces_note or None,
-        }
+    def text(self) -> str:
+        from linkgen.families.planar.texts import summary_text
+
+        return summary_text(self)
 
 
 def _grid(asm: Assembly) -> tuple[np.ndarray, bool]:
@@ -138,14 +94,14 @@ def _on_range(phi: np.ndarray, period: float | None, fx: np.ndarray) -> tuple[np
     return (phi[:-1], fx[:-1]) if period else (phi, fx)
 
 
-def _output(asm: Assembly, name: str, kind: str, phi: np.ndarray, full: bool, pick) -> Output:
+def _output(asm: Assembly, kind: str, phi: np.ndarray, full: bool, pick) -> Output:
     """``pick(kin)`` → (value (n,), d/dφ (n,)) of the output."""
     kin = solve(asm, phi, on_singular="mark")
     v, d1 = pick(kin)
     if kind == "rocker":
         v = np.unwrap(v)
         if full and abs(v[-1] - v[0]) > math.pi:  # turns fully round: no swing, no limits
-            return Output(name, kind, None, ())
+            return Output(kind, None, ())
     period = _period(phi, v)
     x, dx = _on_range(phi, period, d1)
     found = stationary(lambda p: pick(solve(asm, p, on_singular="mark"))[1], x, dx, period=period, xtol=XTOL)
@@ -167,7 +123,7 @@ def _output(asm: Assembly, name: str, kind: str, phi: np.ndarray, full: bool, pi
         out = (hi.phi - lo.phi) % (2 * math.pi)
         strokes = (out, 2 * math.pi - out)
         ratio = max(strokes) / min(strokes)
-    return Output(name, kind, travel, tuple(limits), strokes, ratio)
+    return Output(kind, travel, tuple(limits), strokes, ratio)
 
 
 def _peak(f, phi: np.ndarray, fx: np.ndarray, kind: str = "max") -> tuple[float, float]:
@@ -204,18 +160,19 @@ def summarize(asm: Assembly, omega: float | None = None, epsilon: float | None =
     w = mech.drive.omega if omega is None else float(omega)
     e = mech.drive.epsilon if epsilon is None else float(epsilon)
     phi, full = _grid(asm)
-    outputs = [_output(asm, name, "slider", phi, full, lambda k, n=name: (k.sliders[n].v, k.sliders[n].d1))
-               for name in asm.guides]
+    found = [(name, _output(asm, "slider", phi, full, lambda k, n=name: (k.sliders[n].v, k.sliders[n].d1)))
+             for name in asm.guides]
     pivoted = {p for r in mech.revolutes if GROUND in r.links for p in r.links if p != GROUND}
     for link in mech.links:
         if link.name in pivoted and link.name != mech.crank:
-            outputs.append(_output(asm, link.name, "rocker", phi, full,
-                                   lambda k, n=link.name: (k.links[n].angle.v, k.links[n].angle.d1)))
-    trans = []
+            found.append((link.name, _output(asm, "rocker", phi, full,
+                                             lambda k, n=link.name: (k.links[n].angle.v, k.links[n].angle.d1))))
+    outputs = output_table(found)
+    trans = {}
     for label, mu in transmission_angles(asm, phi).items():
         at, least = _peak(lambda p, n=label: transmission_angles(asm, p)[n], phi, mu, "min")
-        trans.append(Transmission(label, least, at))
-    torque, peaks, note = None, [], ""
+        trans[label] = Extreme(least, at)
+    torque, peaks, note = None, {}, None
     try:
         f = forces(asm, phi, w, e)
     except LinkgenError as exc:
@@ -223,15 +180,14 @@ def summarize(asm: Assembly, omega: float | None = None, epsilon: float | None =
     else:
         at, value = _peak(lambda p: np.abs(forces(asm, p, w, e).balancing_torque), phi,
                           np.abs(f.balancing_torque))
-        torque = Peak("balancing torque", value, at)
+        torque = Extreme(value, at)
         for name, r in f.reactions.items():
             def mag(p, n=name):
                 r = np.asarray(forces(asm, p, w, e).reactions[n])
                 return np.hypot(r[:, 0], r[:, 1])
             at, value = _peak(mag, phi, np.hypot(r[:, 0], r[:, 1]))
-            peaks.append(Peak(name, value, at))
-    return DesignSummary(mech.name, w, e, tuple(outputs), tuple(trans), torque, tuple(peaks), note)
+            peaks[name] = Extreme(value, at)
+    return DesignSummary(mech.name, w, e, (mech.drive.start, mech.drive.stop), outputs, torque, peaks, note, trans)
 
-
-__all__ = ["DesignSummary", "Limit", "Output", "Peak", "SAMPLES", "Transmission", "XTOL", "summarize",
+__all__ = ["DesignSummary", "Extreme", "Limit", "Output", "SAMPLES", "XTOL", "summarize",
            "transmission_angles"]

@@ -1,46 +1,52 @@
-"""The planar family's ``structure`` and ``summary`` stages as results with ``to_dict()`` and
-``text()`` (``linkgen structure``, ``linkgen analyze --summary``)."""
+"""The planar family's ``structure`` stage as a result with ``to_dict()`` and ``text()``
+(``linkgen structure``), and the design summary's text (``linkgen analyze --summary``)."""
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
-from linkgen.families.planar.summary import DesignSummary
 
 
 def _deg(x: float) -> str:
     return f"{math.degrees(x):.6g}°"
 
 
-@dataclass(frozen=True, repr=False)
+@dataclass(frozen=True)
+class StructureGroup:
+    """A class-II Assur group: its label ("II(2,3) RRR [coupler, rocker]"), kind (RRR, RRP, RPR,
+    PRP, RPP), its two links, its three pairs (outer, inner, outer), the known links it attaches
+    to and its assembly mode m (+1 or -1)."""
+
+    label: str
+    kind: str
+    links: tuple[str, str]
+    pairs: tuple[str, str, str]
+    known: tuple[str, str]
+    assembly_mode: int
+
+
+@dataclass(frozen=True)
 class PlanarStructure:
-    """Mobility, the Assur groups with their assembly modes, the structure formula and where the
-    crank turns; ``structure``: the ``Structure`` (its attributes are this result's too)."""
+    """Mobility (Chebyshev–Grübler), the crank and its drive pair, the Assur groups with their
+    assembly modes in attachment order, the structure formula, and the lines ``text()`` prints
+    (with where the crank turns); the attributes are the ``to_dict()`` keys."""
 
     model: str
-    structure: object
+    mobility: int
+    crank: str
+    drive: str
+    formula: str
+    groups: tuple[StructureGroup, ...]
     lines: tuple[str, ...]
-    branches: tuple[int, ...] = field(default=())
-
-    def __getattr__(self, name):  # the Structure's attributes (groups, formula, ...)
-        if name.startswith("__") or name in ("structure", "lines", "model", "branches"):
-            raise AttributeError(name)
-        return getattr(self.structure, name)
 
     def to_dict(self) -> dict:
-        s = self.structure
-        return {"model": self.model, "crank": s.crank, "formula": s.formula,
-                "groups": [{"label": g.label, "kind": g.kind.name, "links": list(g.links),
-                            "pairs": [p.name for p in g.pairs], "known": list(g.known), "assembly_mode": m}
-                           for g, m in zip(s.groups, self.branches or (None,) * len(s.groups))],
-                "lines": list(self.lines)}
+        from linkgen.model.summary import as_dict
+
+        return as_dict(self)
 
     def text(self) -> str:
         return "\n".join(self.lines)
-
-    def __repr__(self) -> str:
-        return f"PlanarStructure({self.model!r}, {self.structure.formula!r})"
 
 
 def structure(source) -> PlanarStructure:
@@ -65,7 +71,10 @@ def structure(source) -> PlanarStructure:
         pairs = ", ".join(f"{p.kind} {p.name}" for p in g.pairs)
         lines.append(f"group {g.label}: pairs {pairs}; attached to {list(g.known)}; assembly mode m = {m:+d}")
     lines.append(f"structure formula: {s.formula}")
-    return PlanarStructure(mech.name, s, tuple(lines + turn_lines(asm)), tuple(asm.branches))
+    groups = tuple(StructureGroup(g.label, g.kind.value, g.links, tuple(p.name for p in g.pairs), g.known, int(m))
+                   for g, m in zip(s.groups, asm.branches))
+    return PlanarStructure(mech.name, s.mobility, s.crank, s.drive.name, s.formula, groups,
+                           tuple(lines + turn_lines(asm)))
 
 
 def turn_lines(asm) -> list[str]:
@@ -95,64 +104,36 @@ def turn_lines(asm) -> list[str]:
     return lines
 
 
-@dataclass(frozen=True, repr=False)
-class PlanarSummary:
-    """The design summary over the drive range ``start``..``stop`` [rad] (``summary``: the
-    ``DesignSummary``, whose attributes are this result's too)."""
-
-    summary: DesignSummary
-    start: float
-    stop: float
-
-    def __getattr__(self, name):
-        if name.startswith("__") or name in ("summary", "start", "stop"):
-            raise AttributeError(name)
-        return getattr(self.summary, name)
-
-    def to_dict(self) -> dict:
-        return self.summary.to_dict()
-
-    def text(self) -> str:
-        s = self.summary
-        lines = [f"{s.model}: design summary over φ = {_deg(self.start)}..{_deg(self.stop)} at ω = {s.omega:g} rad/s, "
-                 f"ε = {s.epsilon:g} rad/s²"]
-        for o in s.outputs:
-            if o.travel is None:
-                lines.append(f"  {o.kind} {o.name}: turns fully round (no swing, no limit positions)")
-                continue
-            travel = f"stroke {o.travel:.6g} m" if o.kind == "slider" else f"swing {_deg(o.travel)} ({o.travel:.6g} rad)"
-            lines.append(f"  {o.kind} {o.name}: {travel}")
-            for lim in o.limits:
-                value = f"{lim.value:.6g} m" if o.kind == "slider" else f"{_deg(lim.value)}"
-                lines.append(f"    limit position ({lim.kind}) at φ = {_deg(lim.phi)}: {value}")
-            if not o.limits:
-                lines.append("    no limit position inside the range (its extremes are at the range's ends)")
-            if o.time_ratio is not None:
-                lines.append(f"    min→max over {_deg(o.strokes[0])} of crank turn, max→min over {_deg(o.strokes[1])}: "
-                             f"time ratio K = {o.time_ratio:.6g} (at constant ω)")
-        for t in s.transmission:
-            lines.append(f"  transmission angle of {t.group}: least {_deg(t.minimum)} at φ = {_deg(t.at)}")
-        if s.torque is not None:
-            lines.append(f"  peak balancing torque: {s.torque.value:.6g} N·m at φ = {_deg(s.torque.at)}")
-            for p in sorted(s.reactions, key=lambda p: -p.value):
-                lines.append(f"  peak reaction at {p.name}: {p.value:.6g} N at φ = {_deg(p.at)}")
-        else:
-            lines.append(f"  {s.forces_note}")
-        return "\n".join(lines)
-
-    def __repr__(self) -> str:
-        return f"PlanarSummary({self.summary.model!r})"
+def summary_text(s) -> str:
+    """The design summary as the terminal shows it (``linkgen analyze --summary``)."""
+    start, stop = s.drive_range
+    lines = [f"{s.model}: design summary over φ = {_deg(start)}..{_deg(stop)} at ω = {s.omega:g} rad/s, "
+             f"ε = {s.epsilon:g} rad/s²"]
+    for key, o in s.outputs.items():
+        name = key.removesuffix(f" ({o.kind})")
+        if o.travel is None:
+            lines.append(f"  {o.kind} {name}: turns fully round (no swing, no limit positions)")
+            continue
+        travel = f"stroke {o.travel:.6g} m" if o.kind == "slider" else f"swing {_deg(o.travel)} ({o.travel:.6g} rad)"
+        lines.append(f"  {o.kind} {name}: {travel}")
+        for lim in o.limits:
+            value = f"{lim.value:.6g} m" if o.kind == "slider" else f"{_deg(lim.value)}"
+            lines.append(f"    limit position ({lim.kind}) at φ = {_deg(lim.phi)}: {value}")
+        if not o.limits:
+            lines.append("    no limit position inside the range (its extremes are at the range's ends)")
+        if o.time_ratio is not None:
+            lines.append(f"    min→max over {_deg(o.strokes[0])} of crank turn, max→min over {_deg(o.strokes[1])}: "
+                         f"time ratio K = {o.time_ratio:.6g} (at constant ω)")
+    for group, t in s.min_transmission_angle.items():
+        lines.append(f"  transmission angle of {group}: least {_deg(t.value)} at φ = {_deg(t.phi)}")
+    if s.peak_balancing_torque is not None:
+        t = s.peak_balancing_torque
+        lines.append(f"  peak balancing torque: {t.value:.6g} N·m at φ = {_deg(t.phi)}")
+        for name, p in sorted(s.peak_reactions.items(), key=lambda kv: -kv[1].value):
+            lines.append(f"  peak reaction at {name}: {p.value:.6g} N at φ = {_deg(p.phi)}")
+    else:
+        lines.append(f"  {s.forces_note}")
+    return "\n".join(lines)
 
 
-def summary(source, omega=None, epsilon=None) -> PlanarSummary:
-    """The planar family's ``summary`` stage (``families.planar.summary.summarize``)."""
-    from linkgen.families.planar.assembly import Assembly, assemble
-    from linkgen.families.planar.summary import summarize
-
-    asm = source if isinstance(source, Assembly) else assemble(source)
-    d = asm.mechanism.drive
-    return PlanarSummary(summarize(asm, d.omega if omega is None else omega, d.epsilon if epsilon is None else epsilon),
-                         d.start, d.stop)
-
-
-__all__ = ["PlanarStructure", "PlanarSummary", "structure", "summary", "turn_lines"]
+__all__ = ["PlanarStructure", "StructureGroup", "structure", "summary_text", "turn_lines"]

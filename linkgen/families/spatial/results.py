@@ -103,7 +103,8 @@ def kinematics(mech, phi, omega=None, epsilon=None, *, on_singular: str = "raise
 class SpatialForcesResult:
     """The balancing torque [N·m] (and the same from virtual work), every pair's reaction (3-D
     force [N] and moment [N·m], on one link by another) at the crank angles ``phi`` [rad];
-    ``indeterminate``: the degree of static indeterminacy (the reactions then least-squares)."""
+    ``statically_indeterminate``: the degree of static indeterminacy (the reactions then
+    least-squares)."""
 
     model: str
     phi: np.ndarray | float
@@ -112,14 +113,15 @@ class SpatialForcesResult:
     balancing_torque: np.ndarray | float
     power_balance_torque: np.ndarray | float
     reactions: Mapping[str, Reaction]
-    indeterminate: int
+    statically_indeterminate: int
     NO_TRANSFER: ClassVar[str] = ""
 
     def to_dict(self, transfer: bool = True) -> dict:
         return {"model": self.model, "phi": plain(self.phi), "omega": self.omega, "epsilon": self.epsilon,
                 "units": {"force": "N", "moment": "N·m", "balancing_torque": "N·m", "power_balance_torque": "N·m"},
                 "balancing_torque": plain(self.balancing_torque),
-                "power_balance_torque": plain(self.power_balance_torque), "indeterminate": self.indeterminate,
+                "power_balance_torque": plain(self.power_balance_torque),
+                "statically_indeterminate": self.statically_indeterminate,
                 "reactions": {n: r.to_dict() for n, r in self.reactions.items()}}
 
     def columns(self, transfer: bool = True) -> dict[str, np.ndarray]:
@@ -140,9 +142,9 @@ class SpatialForcesResult:
         for n, r in self.reactions.items():
             lines.append(f"pair {n}: on {r.on} by {r.by}: force [{', '.join(f'{x:.6g}' for x in r.force)}] N, "
                          f"moment [{', '.join(f'{x:.6g}' for x in r.moment)}] N·m")
-        if self.indeterminate:
-            lines.append(f"statically indeterminate by {self.indeterminate}: the reactions shown are the least-squares "
-                         "(minimum-norm) ones; the balancing torque is determined")
+        if self.statically_indeterminate:
+            lines.append(f"statically indeterminate by {self.statically_indeterminate}: the reactions shown are the "
+                         "least-squares (minimum-norm) ones; the balancing torque is determined")
         return "\n".join(lines)
 
     def __repr__(self) -> str:

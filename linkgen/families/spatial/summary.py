@@ -12,7 +12,8 @@ K = (the longer stroke's crank turn) / (the shorter's) ≥ 1, and a peak is a la
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
+from typing import Mapping
 
 import numpy as np
 
@@ -20,6 +21,7 @@ from linkgen.extrema import peak, samples, stationary
 from linkgen.families.spatial.description import SpatialMechanism
 from linkgen.families.spatial.forces import forces
 from linkgen.families.spatial.kinematics import assembled_chain, solve
+from linkgen.model.summary import Extreme, Limit, Output, summary_dict
 
 # Crank angles over a turn at which the output is scanned for its limit positions (every 0.1°).
 SCAN = 3600
@@ -29,33 +31,37 @@ ANGLE_TOL = 1e-13
 
 @dataclass(frozen=True)
 class SpatialSummary:
-    """``unit`` "rad" (a rocker) or "m" (a slider); ``limits``: (kind "min"/"max", crank angle
-    [rad], the output's joint variable there: absolute angle [rad] or displacement [m]) in crank
-    order; ``swing`` = max − min; ``strokes``: the crank's turn [rad] from min to max and from max
-    to min, and ``time_ratio`` = the longer over the shorter (≥ 1 at constant crank speed; both
-    None without exactly one working and one return stroke); ``peak_torque``: (largest
-    |balancing torque| [N·m], crank angle [rad]); ``peak_pair_forces``: pair → (largest |force|
-    [N], crank angle [rad])."""
+    """The keys every family's summary shares (``linkgen.model.summary``) and the spatial ones:
+    ``kind`` (RSSR, RSSP, Bennett, ...) and ``statically_indeterminate`` (the degree of static
+    indeterminacy; the pair forces are not summarised when it is not 0, ``forces_note`` says so).
+
+    The output is keyed as in a planar linkage: a turning output by its link's name, a sliding
+    one by its prismatic pair's name (a planar four-bar written as an RSSR gives the planar
+    summary's key, e.g. "rocker")."""
 
     model: str
+    omega: float
+    epsilon: float
+    drive_range: tuple[float, float]
     kind: str
-    output: str
-    unit: str
-    limits: tuple
-    swing: float | None
-    time_ratio: float | None
-    peak_torque: tuple[float, float]
-    peak_pair_forces: dict
-    indeterminate: int
-    strokes: tuple[float, float] | None = None
+    outputs: Mapping[str, Output]
+    peak_balancing_torque: Extreme
+    peak_reactions: Mapping[str, Extreme] = field(default_factory=dict)
+    forces_note: str | None = None
+    statically_indeterminate: int = 0
+
+    @property
+    def units(self) -> dict[str, str]:
+        return {"phi": "rad", "drive_range": "rad", "slider": "m", "rocker": "rad", "peak_balancing_torque": "N·m",
+                "peak_reactions": "N"}
 
     def to_dict(self) -> dict:
-        return {"model": self.model, "kind": self.kind, "output": self.output, "unit": self.unit,
-                "limits": [{"kind": k, "phi": a, "value": v} for k, a, v in self.limits], "swing": self.swing,
-                "strokes": list(self.strokes) if self.strokes else None, "time_ratio": self.time_ratio,
-                "peak_balancing_torque": {"value": self.peak_torque[0], "phi": self.peak_torque[1]},
-                "peak_pair_forces": {n: {"value": v, "phi": a} for n, (v, a) in self.peak_pair_forces.items()},
-                "statically_indeterminate": self.indeterminate}
+        return summary_dict(self)
+
+    def text(self) -> str:
+        from linkgen.families.spatial.texts import summary_text
+
+        return summary_text(self)
 
 
 def summarize(mech: SpatialMechanism) -> SpatialSummary:
@@ -67,28 +73,43 @@ def summarize(mech: SpatialMechanism) -> SpatialSummary:
     found = stationary(lambda x: solve(mech, x, chain).turn.d[1], phi, k.turn.d[1], period=turn, xtol=ANGLE_TOL)
     ends = solve(mech, [e.x for e in found], chain) if found else None
     values = ends.output.d[0] if found else []  # the joint variable analyze gives, absolute
-    limits = [(e.kind, e.x, float(v)) for e, v in zip(found, values)]
+    limits = tuple(Limit(e.x, float(v), e.kind) for e, v in zip(found, values))
     swing = float(max(values) - min(values)) if limits else None  # None: the output turns fully
     strokes = ratio = None
     if len(limits) == 2:
-        lo = next(a for kind, a, _ in limits if kind == "min")
-        hi = next(a for kind, a, _ in limits if kind == "max")
+        lo = next(x.phi for x in limits if x.kind == "min")
+        hi = next(x.phi for x in limits if x.kind == "max")
         out = (hi - lo) % turn
         strokes = (out, turn - out)
         ratio = max(strokes) / min(strokes)
+    slides = chain.output_slides
+    output = Output("slider" if slides else "rocker", swing, limits, strokes, ratio)
     w, e = mech.drive.omega, mech.drive.epsilon
     f = forces(mech, phi, w, e, motion=k)
     t_at, _ = peak(lambda x: np.abs(forces(mech, x, w, e).balancing_torque), phi, np.abs(f.balancing_torque),
                    period=turn)
     torque = float(abs(forces(mech, [t_at], w, e).balancing_torque[0]))
-    peaks = {}
+    peaks, note = {}, None
     if f.indeterminate == 0:
         for name, r in f.reactions.items():
             at, mag = peak(lambda x, n=name: np.linalg.norm(forces(mech, x, w, e).reactions[n].force, axis=1), phi,
                            np.linalg.norm(r.force, axis=1), period=turn)
-            peaks[name] = (mag, at)
-    return SpatialSummary(mech.name, chain.kind, chain.pair_out, "m" if chain.output_slides else "rad", tuple(limits),
-                          swing, ratio, (torque, t_at), peaks, f.indeterminate, strokes)
+            peaks[name] = Extreme(mag, at)
+    else:
+        note = f"pair forces: statically indeterminate by {f.indeterminate}, not summarised"
+    name = chain.pair_out if slides else chain.output  # a slider by its pair, a rocker by its link, as planar
+    return SpatialSummary(mech.name, w, e, (0.0, turn), chain.kind, {name: output}, Extreme(torque, t_at), peaks,
+                          note, f.indeterminate)
 
 
-__all__ = ["ANGLE_TOL", "SCAN", "SpatialSummary", "summarize"]
+def summary(mech: SpatialMechanism, omega: float | None = None, epsilon: float | None = None) -> SpatialSummary:
+    """The spatial family's ``summary`` stage over one turn at ω and ε (default the drive's)."""
+    from dataclasses import replace
+
+    d = mech.drive
+    drive = replace(d, omega=d.omega if omega is None else float(omega),
+                    epsilon=d.epsilon if epsilon is None else float(epsilon))
+    return summarize(mech if drive == d else replace(mech, drive=drive))
+
+
+__all__ = ["ANGLE_TOL", "SCAN", "SpatialSummary", "summarize", "summary"]

@@ -1,5 +1,5 @@
-"""The spatial four-bar's ``structure`` and ``summary`` stages as results with ``to_dict()`` and
-``text()`` (``linkgen structure``, ``linkgen analyze --summary``)."""
+"""The spatial four-bar's ``structure`` stage as a result with ``to_dict()`` and ``text()``
+(``linkgen structure``), and the design summary's text (``linkgen analyze --summary``)."""
 
 from __future__ import annotations
 
@@ -8,33 +8,32 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from linkgen.families.spatial.summary import SpatialSummary
 
-
-@dataclass(frozen=True, repr=False)
+@dataclass(frozen=True)
 class SpatialStructure:
-    """The chain's kind and links, its mobility by the spatial formula (and why a lower one
-    holds), its pairs and where it assembles; ``chain``: the assembled ``Chain``."""
+    """The chain's mobility (the true one: the spatial formula's, less an idle freedom, or the
+    planar/spherical/Bennett one of an overconstrained chain), its kind (RSSR, RSSP, ...), its
+    links (crank, coupler, output), the drive pair and the output pair, and the lines ``text()``
+    prints (the formula, the pairs, where it assembles); the attributes are the ``to_dict()``
+    keys."""
 
     model: str
-    chain: object
+    mobility: int
+    crank: str
+    drive: str
+    kind: str
+    coupler: str
+    output: str
+    pair_out: str
     lines: tuple[str, ...]
 
-    def __getattr__(self, name):  # the chain's attributes (kind, crank, coupler, output, ...)
-        if name.startswith("__") or name in ("model", "chain", "lines"):
-            raise AttributeError(name)
-        return getattr(self.chain, name)
-
     def to_dict(self) -> dict:
-        c = self.chain
-        return {"model": self.model, "kind": c.kind, "crank": c.crank, "coupler": c.coupler, "output": c.output,
-                "drive": c.drive, "pair_out": c.pair_out, "mobility": c.mobility, "lines": list(self.lines)}
+        from linkgen.model.summary import as_dict
+
+        return as_dict(self)
 
     def text(self) -> str:
         return "\n".join(self.lines)
-
-    def __repr__(self) -> str:
-        return f"SpatialStructure({self.model!r}, {self.chain.kind})"
 
 
 def structure(mech) -> SpatialStructure:
@@ -60,7 +59,8 @@ def structure(mech) -> SpatialStructure:
     lines.append("pairs: " + ", ".join(f"{j.kind} {j.name} [{j.links[0]}, {j.links[1]}]" for j in mech.joints)
                  + "".join(f", prismatic {s.name} [{s.guide}, {s.slider}]" for s in mech.slides))
     lines.append(_assembly_range(mech, c))
-    return SpatialStructure(mech.name, c, tuple(lines))
+    return SpatialStructure(mech.name, int(c.mobility), c.crank, c.drive, c.kind, c.coupler, c.output, c.pair_out,
+                            tuple(lines))
 
 
 def _status(mech, chain):
@@ -105,60 +105,28 @@ def _assembly_range(mech, chain) -> str:
     return "assembly: over the whole turn of the crank (checked every 0.1°)"
 
 
-@dataclass(frozen=True, repr=False)
-class SpatialSummaryResult:
-    """The design summary over one turn (``summary``: the ``SpatialSummary``, whose attributes
-    are this result's too)."""
-
-    summary: SpatialSummary
-
-    def __getattr__(self, name):
-        if name.startswith("__") or name == "summary":
-            raise AttributeError(name)
-        return getattr(self.summary, name)
-
-    def to_dict(self) -> dict:
-        return self.summary.to_dict()
-
-    def text(self) -> str:
-        sm = self.summary
-        rad = sm.unit != "m"
-        show = (lambda v: f"{math.degrees(v):.6g}°") if rad else (lambda v: f"{v:.6g} m")
-        if sm.swing is None:
-            lines = [f"{sm.model}: spatial {sm.kind}, output {sm.output!r} turns fully with the crank (no limit "
-                     "positions)"]
-        else:
-            lines = [f"{sm.model}: spatial {sm.kind}, output {sm.output!r}: {'swing' if rad else 'stroke'} "
-                     f"{show(sm.swing)} (positions measured from the sketch)"]
-        for kind, a, v in sm.limits:
-            lines.append(f"  limit position ({kind}) at φ = {math.degrees(a):.6g}°: {show(v)}")
-        if sm.time_ratio is not None:
-            work = 360.0 * sm.time_ratio / (1.0 + sm.time_ratio)
-            lines.append(f"  min→max over {work:.6g}° of crank turn, max→min over {360.0 - work:.6g}°: time ratio "
-                         f"K = {sm.time_ratio:.6g} (at constant ω)")
-        t, a = sm.peak_torque
-        lines.append(f"  peak balancing torque: {t:.6g} N·m at φ = {math.degrees(a):.4g}°")
-        for name, (v, a) in sm.peak_pair_forces.items():
-            lines.append(f"  peak force at pair {name}: {v:.6g} N at φ = {math.degrees(a):.4g}°")
-        if sm.indeterminate:
-            lines.append(f"  pair forces: statically indeterminate by {sm.indeterminate}, not summarised")
-        return "\n".join(lines)
-
-    def __repr__(self) -> str:
-        return f"SpatialSummaryResult({self.summary.model!r})"
+def summary_text(sm) -> str:
+    """The design summary as the terminal shows it (``linkgen analyze --summary``)."""
+    ((name, out),) = sm.outputs.items()
+    rad = out.kind == "rocker"
+    show = (lambda v: f"{math.degrees(v):.6g}°") if rad else (lambda v: f"{v:.6g} m")
+    if out.travel is None:
+        lines = [f"{sm.model}: spatial {sm.kind}, output {name!r} turns fully with the crank (no limit positions)"]
+    else:
+        lines = [f"{sm.model}: spatial {sm.kind}, output {name!r}: {'swing' if rad else 'stroke'} {show(out.travel)}"]
+    for lim in out.limits:
+        lines.append(f"  limit position ({lim.kind}) at φ = {math.degrees(lim.phi):.6g}°: {show(lim.value)}")
+    if out.time_ratio is not None:
+        up, down = (math.degrees(x) for x in out.strokes)
+        lines.append(f"  min→max over {up:.6g}° of crank turn, max→min over {down:.6g}°: time ratio "
+                     f"K = {out.time_ratio:.6g} (at constant ω)")
+    t = sm.peak_balancing_torque
+    lines.append(f"  peak balancing torque: {t.value:.6g} N·m at φ = {math.degrees(t.phi):.4g}°")
+    for pair, p in sm.peak_reactions.items():
+        lines.append(f"  peak force at pair {pair}: {p.value:.6g} N at φ = {math.degrees(p.phi):.4g}°")
+    if sm.forces_note:
+        lines.append(f"  {sm.forces_note}")
+    return "\n".join(lines)
 
 
-def summary(mech, omega=None, epsilon=None) -> SpatialSummaryResult:
-    """The spatial family's ``summary`` stage over one turn at ω and ε (default the drive's;
-    ``families.spatial.summary`` reads them from the description's drive)."""
-    from dataclasses import replace
-
-    from linkgen.families.spatial.summary import summarize
-
-    d = mech.drive
-    drive = replace(d, omega=d.omega if omega is None else float(omega),
-                    epsilon=d.epsilon if epsilon is None else float(epsilon))
-    return SpatialSummaryResult(summarize(mech if drive == d else replace(mech, drive=drive)))
-
-
-__all__ = ["SpatialStructure", "SpatialSummaryResult", "structure", "summary"]
+__all__ = ["SpatialStructure", "structure", "summary_text"]
