@@ -109,7 +109,7 @@ def test_forces_cli_names_the_links_of_each_reaction():
     p = _cli("forces", RSSR, "--angle", "30deg", "--json")
     assert p.returncode == 0, p.stderr
     d = json.loads(p.stdout)
-    assert d["indeterminate"] == 0
+    assert d["statically_indeterminate"] == 0
     # the planar convention: on the pair's first link by its second, in the order of [links.*]
     assert d["reactions"]["A"]["on"] == "crank" and d["reactions"]["A"]["by"] == "coupler"
 
