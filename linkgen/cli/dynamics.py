@@ -134,10 +134,10 @@ def cmd_dynamics(args) -> int:
               if run.startup_time is not None else "  start-up: ω had not settled into the steady band by the end")
     print(f"  peak motor torque {out['peak_motor_torque']:.6g} N·m at t = {out['peak_motor_torque_at']:.4g} s")
     if forces:
-        print(f"  along the real motion: peak balancing torque {forces.balancing_torque:.6g} N·m at "
-              f"{math.degrees(forces.balancing_torque_at) % 360:.1f}°")
-        for k, (f, a) in forces.reactions.items():
-            print(f"    reaction {k}: {f:.6g} N at {math.degrees(a) % 360:.1f}°")
+        t = forces.peak_balancing_torque
+        print(f"  along the real motion: peak balancing torque {t.value:.6g} N·m at {math.degrees(t.phi):.1f}°")
+        for k, r in forces.peak_reactions.items():
+            print(f"    reaction {k}: {r.value:.6g} N at {math.degrees(r.phi):.1f}°")
     if compared is not None:
         m = compared
         e = {k: v for k, v in m["errors_relative"].items() if v is not None}

@@ -5,7 +5,7 @@ flywheel sizing. (Its MuJoCo comparison: ``linkgen.crosscheck.machine``.)"""
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, replace
+from dataclasses import asdict, dataclass, replace
 from pathlib import Path
 
 import numpy as np
@@ -15,6 +15,7 @@ from linkgen.machine.machine import MachineRun, run_machine, speed_range
 from linkgen.machine.reduced import Reduced, reduce
 from linkgen.errors import DescriptionError, SimulationError
 from linkgen.extrema import peak, samples as grid
+from linkgen.model.summary import Extreme
 from linkgen.model.machine import Machine, Motor, machine_from_dict
 from linkgen.families.planar.reader import load
 from linkgen.model.toml_file import read_toml
@@ -39,18 +40,18 @@ def load_machine(path: str | Path) -> tuple[Assembly, Machine]:
 
 @dataclass(frozen=True)
 class CycleForces:
-    """Peak balancing torque [N·m] and peak reaction per revolute [N] over the steady cycle,
-    with the crank angles [rad] where they occur."""
+    """Over the steady cycle, in the design summary's vocabulary (``linkgen.model.summary``): the
+    peak balancing torque's magnitude [N·m] and each revolute's peak reaction [N], each with the
+    crank angle φ [rad, in [0, 2π)] where it occurs."""
 
-    balancing_torque: float
-    balancing_torque_at: float
-    reactions: dict[str, tuple[float, float]]
+    peak_balancing_torque: Extreme
+    peak_reactions: dict[str, Extreme]
 
-    def to_json(self) -> dict:
-        return {"peak_balancing_torque": self.balancing_torque,
-                "peak_balancing_torque_at_deg": math.degrees(self.balancing_torque_at) % 360.0,
-                "peak_reactions": {k: {"force": f, "at_deg": math.degrees(a) % 360.0}
-                                   for k, (f, a) in self.reactions.items()}}
+    def to_dict(self) -> dict:
+        return {"peak_balancing_torque": asdict(self.peak_balancing_torque),
+                "peak_reactions": {k: asdict(v) for k, v in self.peak_reactions.items()}}
+
+    to_json = to_dict
 
 
 def cycle_forces(asm: Assembly, run: MachineRun, samples: int = CYCLE_SAMPLES) -> CycleForces | None:
@@ -71,13 +72,13 @@ def cycle_forces(asm: Assembly, run: MachineRun, samples: int = CYCLE_SAMPLES) -
     _, f = at(t)
     k_at, torque = peak(lambda tt: np.abs(at(tt)[1].balancing_torque), t, np.abs(f.balancing_torque),
                         period=s.period)
-    sign = math.copysign(1.0, float(at(np.array([k_at]))[1].balancing_torque[0]))
     reactions = {}
     for name, r in f.reactions.items():
         j_at, mag = peak(lambda tt, n=name: np.linalg.norm(at(tt)[1].reactions[n], axis=1), t,
                          np.linalg.norm(r, axis=1), period=s.period)
-        reactions[name] = (mag, float(run.solution(np.array([j_at]))[0][0]))
-    return CycleForces(sign * torque, float(run.solution(np.array([k_at]))[0][0]), reactions)
+        reactions[name] = Extreme(float(mag), float(run.solution(np.array([j_at]))[0][0]) % (2 * math.pi))
+    return CycleForces(Extreme(float(abs(torque)), float(run.solution(np.array([k_at]))[0][0]) % (2 * math.pi)),
+                       reactions)
 
 
 def constant_drive(machine: Machine, torque: float, flywheel: float, start_speed: float) -> Machine:
