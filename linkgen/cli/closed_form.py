@@ -8,7 +8,6 @@ One output option: ``-o/--out FILE``, the format from its extension: ``.csv`` th
 
 from __future__ import annotations
 
-import argparse
 import json
 import sys
 from pathlib import Path
@@ -21,30 +20,21 @@ FORCES_HELP = ("Closed-form joint reactions, balancing torque and reduced inerti
                "frame; prismatic[P].normal_force [N] is the guide's force on the slider along the guide's left normal, "
                "and moment [N·m] the couple it carries about the slider's point; balancing_torque [N·m] is the torque "
                "the drive applies to the crank, about +z.")
-FORMATS = {".csv": "csv", ".json": "json"}
+# What -o/--out writes, by extension (``common.output_kind``).
+SAMPLES = {".csv": "the samples over the drive range", ".json": "the JSON object, as --json prints it"}
+SUMMARY = {".json": "the summary's JSON object, as --json prints it"}
+PROFILE = {".csv": "the points", ".json": "the JSON object"}
 
 
-def out_format(path: Path | None, spelled: str = "-o/--out") -> str | None:
-    """"csv" or "json" from the extension of ``path`` (None: no file); OptionError for another."""
-    if path is None:
-        return None
-    fmt = FORMATS.get(path.suffix.lower())
-    if fmt is None:
-        raise OptionError(f"{spelled} {path}: the format comes from the extension: .csv (the samples) or .json (the "
-                          f"JSON object), got {path.suffix or 'no extension'!r}")
-    return fmt
-
-
-def _output(args) -> tuple[Path | None, str, str | None]:
+def _output(args, kinds: dict[str, str], command: str | None = None) -> tuple[Path | None, str, str | None]:
     """The file the command writes (-o/--out, or a hidden old spelling), how the user named it
     and its format ("csv", "json"; None: no file)."""
-    old = [(o, getattr(args, d)) for o, d in (("--csv", "csv"), ("--output", "output")) if getattr(args, d, None)]
-    if old and args.out is not None:
-        raise OptionError(f"-o/--out and {old[0][0]} both name the output; give -o/--out only")
-    if old and old[0][0] == "--csv":  # the old spelling writes CSV whatever the name
-        return old[0][1], "--csv", "csv"
-    path, spelled = (old[0][1], old[0][0]) if old else (args.out, "-o/--out")
-    return path, spelled, out_format(path, spelled)
+    from linkgen.cli.common import output_kind, spelling
+
+    path = args.out
+    if path is None:
+        return None, "-o/--out", None
+    return path, spelling(args, path), output_kind(args, path, kinds, command).lstrip(".")
 
 
 def write_json(obj, path: Path | None) -> None:
@@ -75,17 +65,17 @@ def cmd_structure(args) -> int:
 
 
 def _check(args, path: Path | None, fmt: str | None, spelled: str) -> bool:
-    """Whether the command evaluates samples; OptionError for options that exclude each other."""
-    sampled = [o for o, v in (("--samples", args.samples), (spelled if fmt == "csv" else None, path if fmt == "csv"
-                                                                                           else None)) if v is not None]
-    single = [o for o, v in (("--angle", args.angle), ("--json", args.json or None)) if v is not None]
-    if sampled and single:
-        raise OptionError(f"{single[0]} cannot be combined with {sampled[0]}: {single[0]} is for one crank "
-                          f"angle, {sampled[0]} for samples over the drive range")
+    """Whether the command evaluates samples (--samples N, or -o FILE.csv: 360 by default);
+    OptionError for options that exclude each other, saying what is allowed."""
+    sampled = [o for o, v in (("--samples", args.samples), (f"{spelled} {path}", path if fmt == "csv" else None))
+               if v is not None]
+    if sampled and args.angle is not None:
+        raise OptionError(f"--angle cannot be combined with {sampled[0]}: --angle evaluates one crank angle (printed, "
+                          "--json, or -o FILE.json); --samples N and -o FILE.csv evaluate samples over the drive range")
     if args.json and path is not None:
-        raise OptionError(f"--json prints the JSON object; {spelled} {path} writes it to a file: give one of them")
+        raise OptionError(f"--json prints what {spelled} {path} writes: give one of them")
     if args.keep_singular and not sampled:
-        raise OptionError("--keep-singular is for samples (--samples, -o FILE.csv); at one crank angle a singular "
+        raise OptionError("--keep-singular is for samples (--samples N, or -o FILE.csv); at one crank angle a singular "
                           "position is an error")
     return bool(sampled)
 
@@ -95,7 +85,7 @@ def _closed_form(args, name: str) -> int:
     from linkgen.cli.singular import report_singular
     from linkgen.pipeline.registry import stage
 
-    path, spelled, fmt = _output(args)
+    path, spelled, fmt = _output(args, SAMPLES)
     sampled = _check(args, path, fmt, spelled)
     desc = _load(args)
     fn = stage(desc, name)
@@ -105,9 +95,7 @@ def _closed_form(args, name: str) -> int:
         r = fn(desc, angles(desc, args.samples or 360), args.omega, args.epsilon, on_singular="mark")
     else:
         r = fn(desc, angles(desc) if args.angle is None else args.angle, args.omega, args.epsilon)
-    if (transfer or args.keep_singular) and r.NO_TRANSFER:
-        raise OptionError(r.NO_TRANSFER)
-    if fmt == "json" or (args.json and not sampled):
+    if fmt == "json" or args.json:
         write_json(r.to_dict(transfer=transfer), path)
     elif sampled:
         cols = r.columns(transfer=transfer)
@@ -132,14 +120,14 @@ def cmd_summary(args) -> int:
     """``analyze --summary``: the family's design summary as text or JSON."""
     from linkgen.pipeline.registry import stage
 
-    path, spelled, fmt = _output(args)
-    used = [o for o, v in (("--angle", args.angle), ("--samples", args.samples), (spelled, path if fmt == "csv" else None),
-                           ("--transfer", args.transfer or None), ("--keep-singular", args.keep_singular or None))
-            if v is not None]
+    path, spelled, fmt = _output(args, SUMMARY, "analyze --summary")
+    used = [o for o, v in (("--angle", args.angle), ("--samples", args.samples), ("--transfer", args.transfer or None),
+                           ("--keep-singular", args.keep_singular or None)) if v is not None]
     if used:
-        raise OptionError(f"--summary covers the whole drive range; it cannot be combined with {used[0]}")
+        raise OptionError(f"--summary covers the whole drive range; it cannot be combined with {used[0]} (it is "
+                          "printed, or given as JSON by --json or -o FILE.json)")
     if args.json and path is not None:
-        raise OptionError(f"--json prints the JSON object; {spelled} {path} writes it to a file: give one of them")
+        raise OptionError(f"--json prints what {spelled} {path} writes: give one of them")
     desc = _load(args)
     s = stage(desc, "summary")(desc, args.omega, args.epsilon)
     result = s.to_dict()
@@ -154,7 +142,7 @@ def cmd_summary(args) -> int:
 def cmd_profile(args) -> int:
     from linkgen.pipeline.registry import stage
 
-    path, spelled, fmt = _output(args)
+    path, spelled, fmt = _output(args, PROFILE)
     desc = _load(args)
     p = stage(desc, "profile")(desc, args.points)
     if fmt == "json":
@@ -165,9 +153,11 @@ def cmd_profile(args) -> int:
     return 0
 
 
-def _out_argument(parser, what: str) -> None:
-    parser.add_argument("-o", "--out", type=Path, metavar="FILE",
-                        help=f"write to FILE, the format from its extension: .csv {what}, .json the JSON object")
+def _out_argument(parser, kinds: dict[str, str], old: tuple[str, ...] = (), default: str = "") -> None:
+    from linkgen.cli.common import add_out_argument, allowed_text
+
+    add_out_argument(parser, f"write to FILE, the format from its extension: {allowed_text(kinds)}{default}",
+                     old=old, metavar="FILE")
 
 
 def add_commands(sub) -> None:
@@ -178,8 +168,7 @@ def add_commands(sub) -> None:
 
     a = sub.add_parser("analyze", help="closed-form positions, velocities, accelerations and jerks")
     add_crank_arguments(a, "38.117deg")
-    _out_argument(a, "the samples (over the drive range; --samples N, default 360)")
-    a.add_argument("--csv", type=Path, help=argparse.SUPPRESS)  # the old spelling of -o FILE.csv
+    _out_argument(a, SAMPLES, ("--csv",), " (--samples N, default 360)")
     a.add_argument("--transfer", action="store_true",
                    help="also the transfer functions d1, d2, d3 = d/dφ, d²/dφ², d³/dφ³ (m/rad, rad/rad; in the table, "
                         "JSON or CSV)")
@@ -192,8 +181,7 @@ def add_commands(sub) -> None:
     f = sub.add_parser("forces", help="joint reactions, balancing torque and reduced inertia (closed form)",
                        description=FORCES_HELP)
     add_crank_arguments(f, "30deg")
-    _out_argument(f, "the samples (over the drive range; --samples N, default 360)")
-    f.add_argument("--csv", type=Path, help=argparse.SUPPRESS)  # the old spelling of -o FILE.csv
+    _out_argument(f, SAMPLES, ("--csv",), " (--samples N, default 360)")
     f.set_defaults(func=cmd_forces)
 
 
@@ -203,12 +191,10 @@ def add_profile(sub) -> None:
 
     p = sub.add_parser("profile", help="a cam's profile and pitch curve as point coordinates (CSV or JSON)")
     p.add_argument("model", type=Path, help="cam description file (.toml)")
-    p.add_argument("-o", "--out", type=Path, metavar="FILE",
-                   help="write to FILE, the format from its extension: .csv or .json (default: CSV on stdout)")
-    p.add_argument("--output", type=Path, help=argparse.SUPPRESS)  # the old spelling of -o/--out
+    _out_argument(p, PROFILE, ("--output",), " (default: CSV on stdout)")
     p.add_argument("--points", type=_positive_int, default=720, help="points over the turn (no unit; default 720)")
     p.set_defaults(func=cmd_profile)
 
 
 __all__ = ["FORCES_HELP", "add_commands", "add_profile", "cmd_analyze", "cmd_forces", "cmd_profile", "cmd_structure", "cmd_summary",
-           "out_format", "write_json"]
+           "write_json"]

@@ -195,7 +195,8 @@ def add_crank_arguments(parser: argparse.ArgumentParser, example_angle: str) -> 
                         help="crank speed [rad/s], or with a unit, e.g. 100rpm (default: the description's)")
     parser.add_argument("--epsilon", type=rate_arg(limits.MAX_EPSILON, "rad/s²"),
                         help="crank acceleration [rad/s²], or with a unit, e.g. 60rpm/s (default: the description's)")
-    parser.add_argument("--json", action="store_true", help="print one JSON object (not with --samples)")
+    parser.add_argument("--json", action="store_true", help="print the JSON object -o FILE.json writes: of one crank angle, or of the samples "
+                             "with --samples N")
     parser.add_argument("--samples", type=_positive_int,
                         help="evaluate this many angles over the drive range (no unit): CSV on stdout, or to -o FILE")
     parser.add_argument("--keep-singular", action="store_true",
@@ -205,13 +206,77 @@ def add_crank_arguments(parser: argparse.ArgumentParser, example_angle: str) -> 
 
 
 
+# The kind of an output folder among an output's kinds (``output_kind``): an existing folder, or
+# a name without an extension (a name with one is a file's).
+FOLDER = "folder"
+
+# Hidden earlier spellings of -o/--out that named one kind of output: they write that kind only
+# (``--csv x.json`` is refused, never CSV in a .json file); --output names any, as -o does.
+ALIAS_KINDS = {"--csv": ".csv", "--mjcf": ".xml", "--report": FOLDER}
+
+
+class _OutAction(argparse.Action):
+    """``-o/--out`` and its hidden aliases: the path in ``out`` (a list when given once per
+    output), and how the user spelled it in ``out_spelling`` (path → option), for the messages."""
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        if self.const == "append":
+            setattr(namespace, self.dest, [*(getattr(namespace, self.dest, None) or []), values])
+        else:
+            setattr(namespace, self.dest, values)
+        spelling = dict(getattr(namespace, "out_spelling", None) or {})
+        spelling[str(values)] = "-o/--out" if option_string in ("-o", "--out") else option_string
+        namespace.out_spelling = spelling
+
+
 def add_out_argument(parser: argparse.ArgumentParser, help: str, old: tuple[str, ...] = (), required: bool = False,
-                     append: bool = False) -> None:
+                     append: bool = False, metavar: str | None = None) -> None:
     """``-o/--out``, the one output option of every command that writes (a file, its format from
-    the extension, or a folder for a report); ``old``: earlier spellings kept as hidden aliases
+    the extension, or a folder: ``output_kind``); ``old``: earlier spellings kept as hidden aliases
     (``args.out`` either way). ``append``: given once per output (a list)."""
-    kind = {"action": "append"} if append else {}
+    kind = {"const": "append", "nargs": None} if append else {}
     group = parser.add_mutually_exclusive_group(required=required) if old and not append else parser
-    group.add_argument("-o", "--out", type=Path, help=help, **kind)
+    group.add_argument("-o", "--out", type=Path, action=_OutAction, help=help, metavar=metavar,
+                       required=required and not (old and not append), **kind)
     for option in old:
-        group.add_argument(option, dest="out", type=Path, help=argparse.SUPPRESS, **kind)
+        group.add_argument(option, dest="out", type=Path, action=_OutAction, help=argparse.SUPPRESS, **kind)
+
+
+def spelling(args, path: Path) -> str:
+    """How the user named the output ``path`` (-o/--out, or a hidden old spelling)."""
+    return (getattr(args, "out_spelling", None) or {}).get(str(path), "-o/--out")
+
+
+def _kind_text(kind: str, what: str) -> str:
+    return f"a folder ({what}; an existing folder or a name without an extension)" if kind == FOLDER else \
+        f"{kind} ({what})"
+
+
+def allowed_text(kinds: dict[str, str]) -> str:
+    """``kinds`` (extension or FOLDER → what it holds) as the messages and help texts list them."""
+    parts = [_kind_text(k, w) for k, w in kinds.items()]
+    return parts[0] if len(parts) == 1 else ", ".join(parts[:-1]) + " or " + parts[-1]
+
+
+def output_kind(args, path: Path, kinds: dict[str, str], command: str | None = None) -> str:
+    """The kind of output ``path`` names for ``args.command``: its extension (lower case) when in
+    ``kinds`` (extension → what the command writes there; FOLDER for a folder), else FOLDER when
+    the command writes one and ``path`` is a folder or has no extension. OptionError, one line in
+    one style for every command, naming the option as spelled, the path, what the command writes
+    and what was given (``command``: how to name the command, default ``args.command``); a hidden
+    old spelling that named one kind (ALIAS_KINDS) takes only that."""
+    spelled = spelling(args, path)
+    suffix = path.suffix.lower()
+    if FOLDER in kinds and (path.is_dir() or not suffix):
+        kind = FOLDER
+    elif suffix in kinds:
+        kind = suffix
+    else:
+        got = "a folder" if path.is_dir() else suffix or "no extension"
+        raise OptionError(f"{spelled} {path}: `linkgen {command or args.command}` writes {allowed_text(kinds)}; got {got}")
+    named = ALIAS_KINDS.get(spelled)
+    if named is not None and named != kind:
+        raise OptionError(f"{spelled} {path}: {spelled} (the earlier spelling of -o/--out) writes "
+                          f"{_kind_text(named, kinds.get(named, 'its output'))} only; give -o {path} to write "
+                          f"{_kind_text(kind, kinds[kind])}")
+    return kind
