@@ -247,15 +247,24 @@ def spelling(args, path: Path) -> str:
     return (getattr(args, "out_spelling", None) or {}).get(str(path), "-o/--out")
 
 
-def _kind_text(kind: str, what: str) -> str:
-    return f"a folder ({what}; an existing folder or a name without an extension)" if kind == FOLDER else \
-        f"{kind} ({what})"
+def _kind_text(kinds: list[str], what: str) -> str:
+    if kinds == [FOLDER]:
+        return f"a folder ({what}; an existing folder or a name without an extension)"
+    names = kinds[0] if len(kinds) == 1 else ", ".join(kinds[:-1]) + " or " + kinds[-1]
+    return f"{names} ({what})"
+
+
+def _or(parts: list[str]) -> str:
+    return parts[0] if len(parts) == 1 else ", ".join(parts[:-1]) + " or " + parts[-1]
 
 
 def allowed_text(kinds: dict[str, str]) -> str:
-    """``kinds`` (extension or FOLDER → what it holds) as the messages and help texts list them."""
-    parts = [_kind_text(k, w) for k, w in kinds.items()]
-    return parts[0] if len(parts) == 1 else ", ".join(parts[:-1]) + " or " + parts[-1]
+    """``kinds`` (extension or FOLDER → what it holds) as the messages and help texts list them:
+    ".png, .svg or .pdf (the drawing)"."""
+    groups: dict[str, list[str]] = {}
+    for k, w in kinds.items():
+        groups.setdefault(w, []).append(k)
+    return _or([_kind_text(ks, w) for w, ks in groups.items()])
 
 
 def output_kind(args, path: Path, kinds: dict[str, str], command: str | None = None) -> str:
@@ -277,6 +286,6 @@ def output_kind(args, path: Path, kinds: dict[str, str], command: str | None = N
     named = ALIAS_KINDS.get(spelled)
     if named is not None and named != kind:
         raise OptionError(f"{spelled} {path}: {spelled} (the earlier spelling of -o/--out) writes "
-                          f"{_kind_text(named, kinds.get(named, 'its output'))} only; give -o {path} to write "
-                          f"{_kind_text(kind, kinds[kind])}")
+                          f"{_kind_text([named], kinds.get(named, 'its output'))} only; give -o {path} to write "
+                          f"{_kind_text([kind], kinds[kind])}")
     return kind

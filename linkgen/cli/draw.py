@@ -9,7 +9,7 @@ from pathlib import Path
 
 import numpy as np
 
-from linkgen.cli.common import OptionError, _angle_arg, _positive_int, add_out_argument
+from linkgen.cli.common import OptionError, _angle_arg, _positive_int, add_out_argument, allowed_text, output_kind
 from linkgen.draw.limits import MAX_FRAMES, MAX_HEIGHT, MAX_WIDTH, MIN_FRAMES, MIN_SIDE
 
 
@@ -67,11 +67,10 @@ def angles_arg(text: str) -> np.ndarray:
     return phi
 
 
-def _suffix(path: Path, allowed: tuple[str, ...], what: str) -> None:
-    kind = path.suffix.lstrip(".").lower()
-    if kind not in allowed:
-        raise OptionError(f"{path}: {what} is written as {', '.join('.' + a for a in allowed)}; "
-                          f"got {'.' + kind if kind else 'no suffix'}")
+# What -o/--out writes, by extension (``common.output_kind``).
+DRAWING = {f".{f}": "the drawing" for f in FIGURE_FORMATS}
+ANIMATION = {".gif": "the animation", ".mp4": "the animation, with the video extra: pip install 'linkgen[video]'"}
+FRAME = {".png": "MuJoCo's frame"}
 
 
 def _progress(label: str):
@@ -86,7 +85,7 @@ def cmd_draw(args) -> int:
     from linkgen.cli.files import atomic_output
     from linkgen.pipeline.registry import load, stage
 
-    _suffix(args.out, FIGURE_FORMATS, "a drawing")
+    output_kind(args, args.out, DRAWING)
     if args.angle is not None and args.angles is not None:
         raise OptionError("--angle cannot be combined with --angles: --angle draws one position, --angles a plan")
     desc = load(args.model)
@@ -102,7 +101,7 @@ def cmd_animate(args) -> int:
     from linkgen.draw.animate import save_animation
     from linkgen.pipeline.registry import load, stage
 
-    _suffix(args.out, ("gif", "mp4"), "an animation")
+    output_kind(args, args.out, ANIMATION)
     desc = load(args.model)
     frames, how = stage(desc, "animate")(desc, args.frames, progress=_progress(f"drawing {args.out.name}"),
                                          mujoco=args.mujoco,
@@ -120,7 +119,7 @@ def cmd_render(args) -> int:
     from linkgen.cli.files import atomic_output
     from linkgen.pipeline.registry import load, stage
 
-    _suffix(args.out, ("png",), "a MuJoCo frame")
+    output_kind(args, args.out, FRAME)
     desc = load(args.model)
     frame, what = stage(desc, "render")(desc, args.angle, args.width, args.height)
     with atomic_output(args.out) as tmp:
@@ -132,7 +131,7 @@ def cmd_render(args) -> int:
 def add_commands(sub) -> None:
     d = sub.add_parser("draw", help="the mechanism's skeleton at one crank angle, or a position plan")
     d.add_argument("model", type=Path, help="description file (.toml)")
-    add_out_argument(d, "figure file: .png, .svg or .pdf", old=("--output",), required=True)
+    add_out_argument(d, f"write {allowed_text(DRAWING)}", old=("--output",), required=True)
     d.add_argument("--angle", type=_angle_arg, help="crank angle with its unit, e.g. 30deg (default: the range's start)")
     d.add_argument("--angles", type=angles_arg,
                    help="a position plan at START:STOP:STEP, degrees unless a unit is given, e.g. 0:360:30 "
@@ -141,8 +140,7 @@ def add_commands(sub) -> None:
 
     a = sub.add_parser("animate", help="the mechanism moving over its drive range, with its point paths")
     a.add_argument("model", type=Path, help="description file (.toml)")
-    add_out_argument(a, "animation file: .gif, or .mp4 with the video extra (pip install 'linkgen[video]')",
-                     old=("--output",), required=True)
+    add_out_argument(a, f"write {allowed_text(ANIMATION)}", old=("--output",), required=True)
     a.add_argument("--frames", type=_whole_in(MIN_FRAMES, MAX_FRAMES), default=72,
                    help=f"frames over the range (no unit; default 72, {MIN_FRAMES} to {MAX_FRAMES})")
     a.add_argument("--fps", type=_positive_int, default=24, help="frames per second of the file (default 24)")
@@ -153,7 +151,7 @@ def add_commands(sub) -> None:
 
     r = sub.add_parser("render", help="a MuJoCo offscreen frame of the generated model at one crank angle")
     r.add_argument("model", type=Path, help="description file (.toml)")
-    add_out_argument(r, "image file (.png)", old=("--output",), required=True)
+    add_out_argument(r, f"write {allowed_text(FRAME)}", old=("--output",), required=True)
     r.add_argument("--angle", type=_angle_arg, help="crank angle with its unit, e.g. 30deg (default: the range's start)")
     r.add_argument("--width", type=_whole_in(MIN_SIDE, MAX_WIDTH), default=800,
                    help=f"image width [px] (default 800, {MIN_SIDE} to {MAX_WIDTH})")

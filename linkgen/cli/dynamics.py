@@ -9,7 +9,8 @@ from pathlib import Path
 
 import numpy as np
 
-from linkgen.cli.common import _float_arg, print_json, write_rows
+from linkgen.cli.common import FOLDER, _float_arg, add_out_argument, print_json, rate_arg, write_rows
+from linkgen.model import limits
 from linkgen.outputs import output_folder
 
 
@@ -17,6 +18,14 @@ def _positive(text: str) -> float:
     x = _float_arg(text)
     if not x > 0:
         raise argparse.ArgumentTypeError(f"expected a finite number > 0, got {text!r}")
+    return x
+
+
+def _positive_rate(text: str) -> float:
+    """A crank speed > 0 [rad/s], or with its unit (120rpm): the parser of every --omega."""
+    x = rate_arg(limits.MAX_OMEGA, "rad/s")(text)
+    if not x > 0:
+        raise argparse.ArgumentTypeError(f"expected a speed > 0, got {text!r}")
     return x
 
 
@@ -39,31 +48,36 @@ def integration_progress(name: str):
     return report
 
 
-# What ``-o/--out`` writes, told by the path: (key, what it is, how it is recognised).
-_OUT_KINDS = (("csv", "the time samples", ".csv"), ("mjcf", "the machine's MuJoCo file", ".xml"),
-              ("report", "the figure's folder", "a folder"))
+# What -o/--out writes, by extension (``common.output_kind``): a figure is a file by its
+# extension, or a folder that receives it as NAME_machine.png / NAME_flywheel.png.
+FIGURE = {".png": "the figure", ".svg": "the figure", ".pdf": "the figure"}
+DYNAMICS = {".csv": "the time samples", ".xml": "the machine's MuJoCo file", **FIGURE,
+            FOLDER: "the figure, as NAME_machine.png"}
+FLYWHEEL = {**FIGURE, FOLDER: "the figure, as NAME_flywheel.png"}
 
 
-def _outputs(args, kinds: tuple[str, ...]) -> dict:
-    """The files and folder ``-o/--out`` names (each told by its extension: .csv the samples, .xml
-    the MJCF, a folder — existing or without an extension — the figure), with the earlier
-    spellings (--csv, --mjcf, --report) kept as hidden aliases: key → Path or None."""
-    from linkgen.cli.common import OptionError
+def _outputs(args, kinds: dict[str, str]) -> dict:
+    """What each -o/--out (or a hidden earlier spelling: --csv, --mjcf, --report) names, told by
+    its extension (``common.output_kind``): "csv", "mjcf", "figure" → Path or None; a folder
+    gives the figure's file inside it (named by ``_figure``)."""
+    from linkgen.cli.common import OptionError, output_kind
 
-    out = {k: getattr(args, f"old_{k}", None) for k in kinds}
-    allowed = " or ".join(w for k, _, w in _OUT_KINDS if k in kinds)
+    out: dict = {"csv": None, "mjcf": None, "figure": None}
     for path in args.out or []:
-        suffix = path.suffix.lower()
-        key = ("csv" if suffix == ".csv" else "mjcf" if suffix == ".xml" else
-               "report" if path.is_dir() or not suffix else None)
-        if key not in kinds:
-            raise OptionError(f"-o/--out: {str(path)!r} is not {allowed}; `linkgen {args.command}` writes "
-                              + ", ".join(f"{what} ({w})" for k, what, w in _OUT_KINDS if k in kinds))
+        kind = output_kind(args, path, kinds)
+        key = {".csv": "csv", ".xml": "mjcf"}.get(kind, "figure")
         if out[key] is not None:
-            what = next(what for k, what, _ in _OUT_KINDS if k == key)
-            raise OptionError(f"-o/--out: {what} given twice ({out[key]} and {path})")
+            raise OptionError(f"-o/--out: {kinds[kind].split(',')[0]} given twice ({out[key]} and {path})")
         out[key] = path
     return out
+
+
+def _figure(path: Path, name: str) -> Path:
+    """The figure's file: ``path`` itself (its format from the extension), or inside the folder
+    ``path`` (made if missing) as ``name``.png."""
+    if path.suffix.lower() in FIGURE and not path.is_dir():
+        return path
+    return output_folder(path) / f"{name}.png"
 
 
 def cmd_dynamics(args) -> int:
@@ -72,7 +86,7 @@ def cmd_dynamics(args) -> int:
     from linkgen.machine.reduced import reduce
     from linkgen.machine.study import cycle_forces, load_machine
 
-    outs = _outputs(args, ("csv", "report", "mjcf"))
+    outs = _outputs(args, DYNAMICS)
     asm, machine = load_machine(args.model)
     name = asm.mechanism.name
     duration = args.duration if args.duration is not None else machine.duration
@@ -104,9 +118,8 @@ def cmd_dynamics(args) -> int:
 
         atomic_write_text(outs["mjcf"], machine_mjcf(asm, machine))
         out["mjcf"] = str(outs["mjcf"])
-    if outs["report"] is not None:
-        output_folder(outs["report"])
-        fig = outs["report"] / f"{name}_machine.png"
+    if outs["figure"] is not None:
+        fig = _figure(outs["figure"], f"{name}_machine")
         plot_run(name, mj_run if mj_run is not None else run, fig, mj)
         out["figure"] = str(fig)
     if outs["csv"] is not None:
@@ -166,7 +179,7 @@ def cmd_flywheel(args) -> int:
     from linkgen.machine.reduced import reduce
     from linkgen.machine.study import flywheel_study, load_machine
 
-    outs = _outputs(args, ("report",))
+    outs = _outputs(args, FLYWHEEL)
     asm, machine = load_machine(args.model)
     fw, delta_check = flywheel_study(asm, machine, args.delta, args.omega)
     out = {"model": asm.mechanism.name, "delta": args.delta, "omega_mean": fw.omega_mean,
@@ -174,13 +187,12 @@ def cmd_flywheel(args) -> int:
            "delta_integrated": delta_check,
            "units": {"inertia_required": "kg·m² at the crank, beyond the mechanism and the rotor",
                      "driving_torque": "N·m", "energy_swing": "J", "omega_mean": "rad/s"}}
-    if outs["report"] is not None:
-        output_folder(outs["report"])
+    if outs["figure"] is not None:
+        fig = _figure(outs["figure"], f"{asm.mechanism.name}_flywheel")
         red = reduce(asm, machine.process_load)
         added = machine.rotor_inertia * machine.gear_ratio**2
         js = np.geomspace(max(fw.inertia, 1e-6) / 30, max(fw.inertia, 1e-6) * 30, 40)
         ds = np.array([fluctuation(red, j, fw.omega_mean, added) for j in js])
-        fig = outs["report"] / f"{asm.mechanism.name}_flywheel.png"
         plot_flywheel(asm.mechanism.name, js, ds, (fw.inertia, args.delta), fig)
         out["figure"] = str(fig)
     if args.json:
@@ -199,19 +211,16 @@ def add_command(sub) -> None:
     d.add_argument("model", type=Path, help="description with a [machine] table")
     d.add_argument("--duration", type=_positive, help="seconds of machine time (default: [machine] duration)")
     d.add_argument("--samples", type=_samples, default=2000, help="time samples in the output (no unit; default 2000)")
-    d.add_argument("-o", "--out", type=Path, action="append",
-                   help="an output, told by its extension (give -o once per output): FILE.csv the time samples — "
+    add_out_argument(d, "an output, told by its extension (give -o once per output): FILE.csv the time samples — "
                         "t [s], phi [rad], omega [rad/s], epsilon [rad/s²], motor_torque [N·m] (and current [A], "
                         "twist [rad], shaft_torque [N·m]); FILE.xml the machine as a MuJoCo file (the linkage, rotor, "
-                        "flywheel, shaft and the motor as MuJoCo's own element where it has one); a folder for the "
-                        "figure ω(t), M(t), ω(M)")
-    d.add_argument("--csv", dest="old_csv", type=Path, help=argparse.SUPPRESS)
+                        "flywheel, shaft and the motor as MuJoCo's own element where it has one); FILE.png, .svg or "
+                        ".pdf the figure ω(t), M(t), ω(M), or a folder for it (NAME_machine.png)",
+                     old=("--csv", "--report", "--mjcf"), append=True)
     d.add_argument("--json", action="store_true", help="print one JSON object")
-    d.add_argument("--report", dest="old_report", type=Path, help=argparse.SUPPRESS)
     d.add_argument("--mujoco", action="store_true",
                    help="also run the full linkage in MuJoCo over the start-up and --cycles steady cycles and compare "
                         "ω(t), φ(t), the motor torque and the shaft twist")
-    d.add_argument("--mjcf", dest="old_mjcf", type=Path, help=argparse.SUPPRESS)
     d.add_argument("--cycles", type=_samples, default=10,
                    help="steady cycles compared with --mujoco (no unit; default 10)")
     d.set_defaults(func=cmd_dynamics)
@@ -219,10 +228,11 @@ def add_command(sub) -> None:
                                         "checked by integration")
     f.add_argument("model", type=Path, help="description with a [machine] table")
     f.add_argument("--delta", type=_positive, required=True, help="coefficient of speed fluctuation (no unit), e.g. 0.02")
-    f.add_argument("--omega", type=_positive, help="mean crank speed [rad/s] (default: the drive's omega)")
+    f.add_argument("--omega", type=_positive_rate,
+                   help="mean crank speed [rad/s], or with a unit, e.g. 120rpm (default: the drive's omega)")
     f.add_argument("--json", action="store_true", help="print one JSON object")
-    f.add_argument("-o", "--out", type=Path, action="append", help="folder for the figure δ against flywheel inertia")
-    f.add_argument("--report", dest="old_report", type=Path, help=argparse.SUPPRESS)
+    add_out_argument(f, "the figure δ against flywheel inertia: FILE.png, .svg or .pdf, or a folder for it "
+                        "(NAME_flywheel.png)", old=("--report",), append=True)
     f.set_defaults(func=cmd_flywheel)
 
 

@@ -55,20 +55,33 @@ def _build_one(path: Path, out: Path, practical: bool = False) -> Path:
     return out
 
 
-def cmd_build(args) -> int:
-    """One file (to -o or next to it), or every *.toml of a folder next to itself: a bad file
-    is reported as ``FILE: message`` and the others are still built; status 2 if any failed."""
-    from linkgen.cli.common import OptionError
-    from linkgen.cli.files import run_each
+# What -o/--out writes, by extension (``common.output_kind``).
+BUILD = {".xml": "the MJCF of one description", "folder": "each description's MJCF, NAME.xml"}
+SIMULATE = {".npz": "the sampled arrays", ".csv": "the samples as columns with their units"}
+VALIDATE = {"folder": "the report: README.md and the figures"}
 
-    if args.out is not None and args.model.is_dir():
-        raise OptionError(f"-o/--out writes one model, but {str(args.model)!r} is a folder (a folder's models "
-                          "are written next to their descriptions)")
+
+def cmd_build(args) -> int:
+    """One file (to -o FILE.xml, into -o DIR, or next to it), or every *.toml of a folder (into -o
+    DIR, or each next to itself): a bad file is reported as ``FILE: message`` and the others are
+    still built; status 2 if any failed."""
+    from linkgen.cli.common import FOLDER, OptionError, output_kind
+    from linkgen.cli.files import output_folder, run_each
+
+    kind = None if args.out is None else output_kind(args, args.out, BUILD)
+    if kind is not None and kind != FOLDER and args.model.is_dir():
+        raise OptionError(f"-o/--out {args.out}: {str(args.model)!r} is a folder of descriptions; its models are "
+                          "written into a folder (-o DIR), or each beside its description (no -o)")
     paths = _models(args.model)
+    folder = output_folder(args.out) if kind == FOLDER else None
+
+    def target(p: Path) -> Path:
+        return folder / f"{p.stem}.xml" if folder is not None else p.with_suffix(".xml")
+
     if len(paths) == 1 and not args.model.is_dir():
-        _build_one(paths[0], args.out or paths[0].with_suffix(".xml"), args.practical)
+        _build_one(paths[0], args.out if kind == ".xml" else target(paths[0]), args.practical)
         return 0
-    outcomes = run_each(paths, lambda p: _build_one(p, p.with_suffix(".xml"), args.practical))
+    outcomes = run_each(paths, lambda p: _build_one(p, target(p), args.practical))
     bad = [o for o in outcomes if not o.ok]
     if bad:
         print(f"linkgen: {len(bad)} of {len(outcomes)} descriptions failed", file=sys.stderr)
@@ -83,12 +96,12 @@ def _progress(name: str):
 
 
 def cmd_simulate(args) -> int:
-    from linkgen.cli.common import OptionError, check_finite_columns
+    from linkgen.cli.common import check_finite_columns, output_kind
     from linkgen.mujoco.simulate import steps_per_revolution
     from linkgen.pipeline.registry import load, stage
 
-    if args.out is not None and args.out.suffix not in (".npz", ".csv"):
-        raise OptionError(f"-o/--out: must end in .npz or .csv, got {str(args.out)!r}")  # about the option, not the file
+    if args.out is not None:
+        output_kind(args, args.out, SIMULATE)  # about the option, not the file
     if args.out is not None:  # a symlink or a folder refused before the run, not after it
         from linkgen.outputs import check_output
 
@@ -115,7 +128,7 @@ def _write_samples(out: Path, arrays: dict[str, np.ndarray]) -> None:
     from linkgen.outputs import atomic_output
 
     with atomic_output(out) as tmp:
-        if out.suffix == ".npz":
+        if out.suffix.lower() == ".npz":
             np.savez(tmp, **arrays)
             return
         header, data = [], []
@@ -210,7 +223,7 @@ def cmd_validate(args) -> int:
     if report is not None:  # refused before the runs (a symlink, a file), not after them
         from linkgen.outputs import output_folder
 
-        from linkgen.cli.common import OptionError
+        from linkgen.cli.common import OptionError, output_kind
         from linkgen.cli.files import same_name
 
         twins = same_name(paths)  # the report names figures and sections after the mechanism: one would overwrite the other's
@@ -218,6 +231,7 @@ def cmd_validate(args) -> int:
             raise OptionError(f"{twins[1]} and {twins[2]} both name their mechanism {twins[0]!r}: the report names its "
                               "figures and sections after it, so one would overwrite the other's; give them different "
                               "[mechanism] names, or validate them into separate -o/--out folders")
+        output_kind(args, report, VALIDATE)  # a folder: "rep.md" is a file's name
         output_folder(report)
     practical = not args.no_practical
     t0 = time.perf_counter()
@@ -264,14 +278,13 @@ def _json_default(x):
 
 def add_commands(sub) -> None:
     from linkgen.model import limits
-    from linkgen.cli.common import _float_arg, _positive_int, add_out_argument, rate_arg
+    from linkgen.cli.common import _float_arg, _positive_int, add_out_argument, allowed_text, rate_arg
     from linkgen.mujoco.options import MAX_STEPS
 
     b = sub.add_parser("build", help="write the MJCF of a model, or of every model in a folder")
     b.add_argument("model", type=Path, help="description file (.toml), or a folder whose every description is "
                                             "written beside itself as .xml")
-    add_out_argument(b, "MJCF file (.xml; one model file only, not a folder; default: beside the description)",
-                     old=("--output",))
+    add_out_argument(b, f"write {allowed_text(BUILD)} (default: beside the description)", old=("--output",))
     b.add_argument("--practical", action="store_true",
                    help="write MuJoCo's usual settings (timestep 2 ms, Euler, default solref/solimp) instead of "
                         "the validation's; validate reports what they cost in accuracy")
@@ -286,14 +299,13 @@ def add_commands(sub) -> None:
     s.add_argument("--epsilon", type=rate_arg(limits.MAX_EPSILON, "rad/s²"),
                    help="crank acceleration [rad/s²] (default: the description's)")
     s.add_argument("--samples", type=_positive_int, default=360, help="sampled states over the range (no unit; default 360)")
-    add_out_argument(s, "write the samples to FILE.npz or FILE.csv (SI units)")
+    add_out_argument(s, f"write {allowed_text(SIMULATE)}; the names and units of analyze and forces")
     s.set_defaults(func=cmd_simulate)
 
     v = sub.add_parser("validate", help="closed form against MuJoCo, for a file or every file of a folder")
     v.add_argument("model", type=Path, help="description file (.toml) or a folder of them")
     v.add_argument("--json", action="store_true", help="print the results as JSON")
-    add_out_argument(v, "write the report (README.md and the figures) into this folder (default: no report)",
-                     old=("--report",))
+    add_out_argument(v, f"write {allowed_text(VALIDATE)} (default: no report)", old=("--report",))
     v.add_argument("--no-practical", action="store_true",
                    help="skip the runs at MuJoCo's usual settings (the practical-settings table)")
     v.add_argument("--max-steps", type=_positive_int, default=MAX_STEPS,
