@@ -14,12 +14,15 @@ from pathlib import Path
 
 from linkgen.cli.common import OptionError, add_crank_arguments, check_finite, print_json, write_rows
 
-# Conventions of ``linkgen forces`` (see ``linkgen.families.planar.kinetostatics``), its --help.
-FORCES_HELP = ("Closed-form joint reactions, balancing torque and reduced inertia. Conventions: reactions[J].force is "
-               "the force [N] the second link of pair J (in the description's order) exerts on the first, in the world "
-               "frame; prismatic[P].normal_force [N] is the guide's force on the slider along the guide's left normal, "
-               "and moment [N·m] the couple it carries about the slider's point; balancing_torque [N·m] is the torque "
-               "the drive applies to the crank, about +z.")
+# Conventions of ``linkgen forces`` in every family (docs/format.md, "Conventions"), its --help.
+FORCES_HELP = ("Closed-form joint reactions and balancing torque; planar linkages also the reduced inertia and the "
+               "reduced moment of the loads. Conventions (docs/format.md, \"Conventions\"), the same in every family: "
+               "at a revolute or spherical pair J, reactions[J].force [N] (in space also its moment [N·m]) is what the "
+               "pair's second link (in the order of the [links.NAME] tables) exerts on its first, in world axes; each "
+               "result names them (on, by). At a prismatic pair the guide acts on the slider: in the plane "
+               "normal_force [N] along the guide's left normal and moment [N·m] about the slider's point, in space a "
+               "force square to the line and a moment. balancing_torque [N·m] is the torque the drive applies to the "
+               "crank about its axis (+z in the plane), positive when it turns the crank the positive way.")
 # What -o/--out writes, by extension (``common.output_kind``).
 SAMPLES = {".csv": "the samples over the drive range", ".json": "the JSON object, as --json prints it"}
 SUMMARY = {".json": "the summary's JSON object, as --json prints it"}
@@ -178,7 +181,8 @@ def add_commands(sub) -> None:
                         "angles, peak torque and reactions")
     a.set_defaults(func=cmd_analyze)
 
-    f = sub.add_parser("forces", help="joint reactions, balancing torque and reduced inertia (closed form)",
+    f = sub.add_parser("forces", help="joint reactions and balancing torque (closed form; planar linkages also the "
+                                      "reduced inertia)",
                        description=FORCES_HELP)
     add_crank_arguments(f, "30deg")
     _out_argument(f, SAMPLES, ("--csv",), " (--samples N, default 360)")

@@ -10,12 +10,6 @@ stopped by SIGPIPE would.
 
 from __future__ import annotations
 
-DESCRIPTION = ("Mechanisms from their descriptions (models/*.toml): closed-form kinematics and kinetostatics "
-               "from Assur groups, MuJoCo models and runs checked against them. Planar linkages take every "
-               "command; machines with a [machine] table also dynamics and flywheel; cam files and spatial "
-               "four-bars ([mechanism] space = \"spatial\") take structure (spatial), analyze, forces (spatial), "
-               "draw, animate, render, build, validate and profile (cams). docs/ has the formats.")
-
 import argparse
 import contextlib
 import os
@@ -54,8 +48,19 @@ class _Parser(argparse.ArgumentParser):
         self.exit(2, f"{self.prog}: error: {message} (see {self.prog} --help)\n")
 
 
+def description() -> str:
+    """What ``linkgen --help`` says first: every family with its commands, from the registry
+    (``Family.commands``), so that it says what ``check_command`` accepts."""
+    from linkgen.pipeline.registry import FAMILIES
+
+    takes = "; ".join(f"{f.plural} ({f.doc}) take {', '.join(f.commands[:-1])} and {f.commands[-1]}" for f in FAMILIES)
+    return ("Mechanisms from their descriptions (models/*.toml): closed-form kinematics and kinetostatics from "
+            f"Assur groups, MuJoCo models and runs checked against them. {takes[0].upper()}{takes[1:]} "
+            "(dynamics and flywheel: a planar linkage with a [machine] table, docs/machine.md).")
+
+
 def build_parser() -> argparse.ArgumentParser:
-    p = _Parser(prog="linkgen", description=DESCRIPTION)
+    p = _Parser(prog="linkgen", description=description())
     p.add_argument("--version", action=_VersionAction, nargs=0, help="show the program's version number and exit")
     sub = p.add_subparsers(dest="command", required=True)
 
@@ -113,6 +118,7 @@ def main(argv: list[str] | None = None) -> int:
         return 2
     try:
         from linkgen.outputs import forget_inputs
+        from linkgen.pipeline.family import FAMILY_OPTIONS
         from linkgen.pipeline.registry import check_command
 
         forget_inputs()  # the descriptions this command reads are the ones no output may replace
@@ -122,7 +128,8 @@ def main(argv: list[str] | None = None) -> int:
 
                 stack.enter_context(no_log_file())
             if getattr(args, "model", None) is not None:
-                check_command(args.command, args.model)  # a command the file's family does not take: one line
+                given = tuple(o for o in FAMILY_OPTIONS if getattr(args, o[2:].replace("-", "_"), False))
+                check_command(args.command, args.model, given)  # a command or option the family does not take
             status = args.func(args)
         sys.stdout.flush()  # a closed pipe shows here, not in the interpreter's exit
         return status

@@ -113,7 +113,7 @@ def cmd_simulate(args) -> int:
     arrays = run.samples.arrays()
     if args.out is not None:
         check_finite_columns(list(arrays), list(arrays.values()))  # nothing non-finite is written
-        _write_samples(args.out, arrays)
+        _write_samples(args.out, run.samples)
     st = run.settings
     print(f"{desc.name}: {run.steps} steps ({steps_per_revolution(run):.0f} per revolution) in {run.wall:.2f} s "
           f"on {run.segments} thread(s); timestep {st.timestep:g} s, loop time constant {st.timeconst:g} s; "
@@ -122,26 +122,20 @@ def cmd_simulate(args) -> int:
     return 0
 
 
-def _write_samples(out: Path, arrays: dict[str, np.ndarray]) -> None:
-    """``simulate -o``: the sampled arrays as NPZ, or as CSV (2-D arrays as .x/.y columns;
-    not qpos, qvel), written atomically and never through a symlink."""
-    from linkgen.outputs import atomic_output
+def _write_samples(out: Path, samples) -> None:
+    """``simulate -o``: the sampled arrays as NPZ (``Samples.arrays``), or as CSV with the names
+    and units of ``analyze`` and ``forces`` (``Samples.columns``), written atomically and never
+    through a symlink."""
+    from linkgen.cli.common import _write_csv
+    from linkgen.outputs import atomic_open, atomic_output
 
-    with atomic_output(out) as tmp:
-        if out.suffix.lower() == ".npz":
-            np.savez(tmp, **arrays)
-            return
-        header, data = [], []
-        for k, v in arrays.items():
-            if k in ("qpos", "qvel"):
-                continue
-            if v.ndim == 2:
-                header += [f"{k}.x", f"{k}.y"]
-                data += [v[:, 0], v[:, 1]]
-            else:
-                header.append(k)
-                data.append(v)
-        np.savetxt(tmp, np.column_stack(data), delimiter=",", header=",".join(header), comments="", fmt="%.17g")
+    if out.suffix.lower() == ".npz":
+        with atomic_output(out) as tmp:
+            np.savez(tmp, **samples.arrays())
+        return
+    cols = samples.columns()
+    with atomic_open(out) as f:
+        _write_csv(f, list(cols), list(cols.values()))
 
 
 def wall_text(seconds: float) -> str:
@@ -295,9 +289,9 @@ def add_commands(sub) -> None:
     s.add_argument("--revolutions", type=_float_arg, default=1.0,
                    help="turns of the crank for a full-turn range (default 1)")
     s.add_argument("--omega", type=rate_arg(limits.MAX_OMEGA, "rad/s"),
-                   help="crank speed at the start [rad/s] (default: the description's)")
+                   help="crank speed at the start [rad/s], or with a unit, e.g. 120rpm (default: the description's)")
     s.add_argument("--epsilon", type=rate_arg(limits.MAX_EPSILON, "rad/s²"),
-                   help="crank acceleration [rad/s²] (default: the description's)")
+                   help="crank acceleration [rad/s²], or with a unit, e.g. 60rpm/s (default: the description's)")
     s.add_argument("--samples", type=_positive_int, default=360, help="sampled states over the range (no unit; default 360)")
     add_out_argument(s, f"write {allowed_text(SIMULATE)}; the names and units of analyze and forces")
     s.set_defaults(func=cmd_simulate)

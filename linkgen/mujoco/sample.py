@@ -43,24 +43,48 @@ class Samples:
     reduced_inertia: np.ndarray
 
     def arrays(self) -> dict[str, np.ndarray]:
-        """Every sampled quantity by name (``linkgen simulate -o``'s NPZ keys; SI units): time,
-        qpos, qvel, loop_gap, phi, omega, epsilon, drive_torque, points.P.position|velocity|
-        acceleration (m, 2), links.L.angle|…, sliders.S.displacement|…, the forward route's
-        reactions.J.force, prismatic.S.normal_force|moment, reduced_inertia."""
-        out = {"time": self.time, "qpos": self.qpos, "qvel": self.qvel, "loop_gap": self.violation,
-               "phi": self.crank[0], "omega": self.crank[1], "epsilon": self.crank[2], "drive_torque": self.drive_torque}
-        for p, (x, v, a) in self.points.items():
-            out |= {f"points.{p}.position": x, f"points.{p}.velocity": v, f"points.{p}.acceleration": a}
-        for n, (x, v, a) in self.links.items():
-            out |= {f"links.{n}.angle": x, f"links.{n}.angular_velocity": v, f"links.{n}.angular_acceleration": a}
-        for n, (x, v, a) in self.sliders.items():
-            out |= {f"sliders.{n}.displacement": x, f"sliders.{n}.velocity": v, f"sliders.{n}.acceleration": a}
+        """Every sampled quantity by name, in SI units (``linkgen simulate -o``'s NPZ keys), named
+        as ``analyze`` and ``forces`` name them: t, qpos, qvel, loop_gap, phi, omega, epsilon,
+        drive_torque (the actuator's), balancing_torque and reduced_inertia (as ``forces``),
+        P.position|velocity|acceleration (m, 2), L.angle|angular_velocity|angular_acceleration,
+        S.displacement|velocity|acceleration, the forward route's J.force (m, 2) and, for a
+        prismatic pair S, S.normal_force and S.moment."""
         f = self.forces  # forward route, the kinetostatics' sign conventions
-        out |= {f"reactions.{k}.force": v for k, v in f.reactions.items()}
-        out |= {f"prismatic.{k}.normal_force": v for k, v in f.normal_force.items()}
-        out |= {f"prismatic.{k}.moment": v for k, v in f.moment.items()}
-        out["reduced_inertia"] = self.reduced_inertia
+        out = {"t": self.time, "qpos": self.qpos, "qvel": self.qvel, "loop_gap": self.violation,
+               "phi": self.crank[0], "omega": self.crank[1], "epsilon": self.crank[2], "drive_torque": self.drive_torque,
+               "balancing_torque": f.balancing_torque, "reduced_inertia": self.reduced_inertia}
+        for p, (x, v, a) in self.points.items():
+            out |= {f"{p}.position": x, f"{p}.velocity": v, f"{p}.acceleration": a}
+        for n, (x, v, a) in self.links.items():
+            out |= {f"{n}.angle": x, f"{n}.angular_velocity": v, f"{n}.angular_acceleration": a}
+        for n, (x, v, a) in self.sliders.items():
+            out |= {f"{n}.displacement": x, f"{n}.velocity": v, f"{n}.acceleration": a}
+        out |= {f"{k}.force": v for k, v in f.reactions.items()}
+        out |= {f"{k}.normal_force": v for k, v in f.normal_force.items()}
+        out |= {f"{k}.moment": v for k, v in f.moment.items()}
         return out
+
+    def columns(self) -> dict[str, np.ndarray]:
+        """``arrays()`` as CSV columns (``linkgen simulate -o FILE.csv``), the headers as
+        ``analyze`` and ``forces`` write them: "name [unit]", a vector's components as .x, .y;
+        qpos and qvel (MuJoCo's own coordinates) only in the NPZ."""
+        cols = {}
+        for k, v in self.arrays().items():
+            if k in ("qpos", "qvel"):
+                continue
+            unit = SAMPLE_UNITS[k.rsplit(".", 1)[-1]]
+            if v.ndim == 2:
+                cols |= {f"{k}.{axis} [{unit}]": v[:, i] for i, axis in enumerate("xy")}
+            else:
+                cols[f"{k} [{unit}]"] = v
+        return cols
+
+
+# The unit of each quantity ``Samples.arrays`` names (the last part of its key).
+SAMPLE_UNITS = {"t": "s", "loop_gap": "m", "phi": "rad", "omega": "rad/s", "epsilon": "rad/s²", "drive_torque": "N·m",
+                "balancing_torque": "N·m", "reduced_inertia": "kg·m²", "position": "m", "velocity": "m/s",
+                "acceleration": "m/s²", "angle": "rad", "angular_velocity": "rad/s", "angular_acceleration": "rad/s²",
+                "displacement": "m", "force": "N", "normal_force": "N", "moment": "N·m"}
 
 
 def moving_points(mech) -> list[str]:

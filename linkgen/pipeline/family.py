@@ -27,6 +27,9 @@ class Family:
     from_dict:   (parsed TOML, source or None) → validated description; DescriptionError names
                  the field, and the file when a source is given.
     commands:    the CLI commands it takes, in the order help lists them.
+    options:     the command-line options only some families take (``FAMILY_OPTIONS``) that
+                 this one takes; the CLI refuses the others naming the file and the families
+                 that take them (``registry.check_command``).
     stages:      stage name → callable(description, ...): structure, kinematics, forces, summary,
                  mjcf, validate, draw, ... (see ``STAGES``).
     """
@@ -40,10 +43,15 @@ class Family:
     from_dict: Callable[[Mapping, str | None], Any]
     commands: tuple[str, ...]
     stages: Mapping[str, Callable]
+    options: tuple[str, ...] = ()
 
     def __repr__(self) -> str:
         return f"Family({self.name!r})"
 
+
+# The command-line options that depend on the family: --transfer (transfer functions d/dφ…),
+# --keep-singular (samples marked singular), --practical (MuJoCo's usual settings in build).
+FAMILY_OPTIONS = ("--transfer", "--keep-singular", "--practical")
 
 # The stages of the interface, in the order data flows through them.
 STAGES = ("angles", "structure", "kinematics", "forces", "summary", "profile", "mjcf", "simulate", "validate",
@@ -58,4 +66,4 @@ STAGES = ("angles", "structure", "kinematics", "forces", "summary", "profile", "
 # animate(desc, frames, progress, mujoco, notice) → (frames, how); render(desc, angle, width, height)
 # → (frame, what).
 
-__all__ = ["Family", "STAGES"]
+__all__ = ["FAMILY_OPTIONS", "Family", "STAGES"]

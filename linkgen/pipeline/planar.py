@@ -68,6 +68,7 @@ PLANAR = Family(
     commands=("structure", "analyze", "forces", "assemble", "build", "simulate", "validate", "draw", "animate",
               "render", "dynamics", "flywheel"),
     stages={"angles": _angles, "structure": _structure, "kinematics": _kinematics, "forces": _forces,
-            "summary": _summary, **MUJOCO_STAGES})
+            "summary": _summary, **MUJOCO_STAGES},
+    options=("--transfer", "--keep-singular", "--practical"))
 
 __all__ = ["PLANAR"]

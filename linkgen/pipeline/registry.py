@@ -107,12 +107,19 @@ def report_parts(entry: Mapping):
     return family.stages["report"](entry)
 
 
-def check_command(command: str, path: str | Path) -> Family | None:
-    """The family of the file ``path`` if it takes ``command``; UnsupportedError if not; None
-    when the file cannot be read (the command reports that)."""
+def check_command(command: str, path: str | Path, options: tuple[str, ...] = ()) -> Family | None:
+    """The family of the file ``path`` if it takes ``command`` and the family-dependent
+    ``options`` given (``FAMILY_OPTIONS``: "--transfer", …); UnsupportedError naming the file and
+    the families that do if not; None when the file cannot be read (the command reports that)."""
     family = family_of_file(path)
     if family is not None and command not in family.commands:
         raise unsupported(family, command, path)
+    for option in options if family is not None else ():
+        if option not in family.options:
+            others = [f.plural for f in FAMILIES if option in f.options]
+            article = "an" if family.title[0] in "aeiou" else "a"
+            raise UnsupportedError(f"{path}: {article} {family.title} ({family.doc}) takes no {option}; {option} is "
+                                   f"for {' and '.join(others)}")
     return family
 
 

@@ -45,6 +45,7 @@ SPATIAL = Family(
     detects=is_spatial, from_dict=spatial_from_dict,
     commands=("structure", "analyze", "forces", "build", "validate", "draw", "animate", "render"),
     stages={"angles": _angles, "structure": _structure, "kinematics": _kinematics, "forces": _forces,
-            "summary": _summary, **MUJOCO_STAGES})
+            "summary": _summary, **MUJOCO_STAGES},
+    options=("--transfer", "--keep-singular"))
 
 __all__ = ["SPATIAL"]
