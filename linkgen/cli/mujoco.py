@@ -81,7 +81,13 @@ def cmd_build(args) -> int:
     if len(paths) == 1 and not args.model.is_dir():
         _build_one(paths[0], args.out if kind == ".xml" else target(paths[0]), args.practical)
         return 0
-    outcomes = run_each(paths, lambda p: _build_one(p, target(p), args.practical))
+    from linkgen.pipeline.registry import check_command
+
+    def build(p: Path) -> Path:  # each file of a folder refused as a file given alone would be
+        check_command("build", p, ("--practical",) if args.practical else ())
+        return _build_one(p, target(p), args.practical)
+
+    outcomes = run_each(paths, build)
     bad = [o for o in outcomes if not o.ok]
     if bad:
         print(f"linkgen: {len(bad)} of {len(outcomes)} descriptions failed", file=sys.stderr)
