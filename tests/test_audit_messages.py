@@ -169,9 +169,10 @@ def test_a_slow_cam_builds_or_is_refused_at_load(tmp_path, capsys, omega, ok):
     ("rssr.toml", ["build", "{m}", "-o", "{m}"])], ids=lambda v: v if isinstance(v, str) else " ".join(v[:1]))
 def test_no_output_replaces_the_description(tmp_path, capsys, model, args):
     # before: each of these replaced the user's description by the output (exit 0)
-    path = tmp_path / "m.toml"
+    suffix = ".xml" if args[0] == "build" else ".csv"  # named as the output's kind: the extension allows it
+    path = tmp_path / f"m{suffix}"
     shutil.copy(MODELS / model, path)
-    link = tmp_path / "hard.toml"  # the same file under another name
+    link = tmp_path / f"hard{suffix}"  # the same file under another name
     link.hardlink_to(path)
     before = path.read_bytes()
     out = link if "{link}" in args else path
@@ -225,8 +226,9 @@ def test_a_file_name_with_control_characters_is_shown_by_their_codes(tmp_path, c
 def test_simulate_out_names_the_option_not_the_description(tmp_path, capsys):
     # before: "linkgen: error: …/fourbar.toml: --out: …" — the description blamed for an option
     assert main(["simulate", str(MODELS / "fourbar.toml"), "--out", str(tmp_path / "run.txt")]) == 2
-    assert capsys.readouterr().err == (f"linkgen simulate: error: -o/--out: must end in .npz or .csv, got "
-                                       f"{str(tmp_path / 'run.txt')!r}\n")
+    assert capsys.readouterr().err == (f"linkgen simulate: error: -o/--out {tmp_path / 'run.txt'}: `linkgen simulate` "
+                                       "writes .npz (the sampled arrays) or .csv (the samples as columns with their "
+                                       "units); got .txt\n")
 
 
 @pytest.mark.parametrize("args,message", [

@@ -63,7 +63,7 @@ def test_draw_cli_formats_and_plan(tmp_path):
 def test_draw_cli_errors_are_one_line():
     seven = ROOT / "models" / "seven_link.toml"
     for args, words in ((("--angles", "0:360:30", "-o", "/tmp/x.png"), "outside the drive's range"),
-                        (("--angle", "0deg", "-o", "/tmp/x.jpg"), ".png, .svg, .pdf"),
+                        (("--angle", "0deg", "-o", "/tmp/x.jpg"), ".png, .svg or .pdf"),
                         (("--angles", "0:360", "-o", "/tmp/x.png"), "START:STOP:STEP"),
                         (("--angle", "0deg", "--angles", "-60:40:10", "-o", "/tmp/x.png"), "cannot be combined")):
         p = run("draw", seven, *args)

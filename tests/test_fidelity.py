@@ -170,7 +170,7 @@ def test_practical_settings_show_what_mujoco_defaults_cost():
 def test_simulate_checks_the_output_name_before_running(tmp_path, capsys):
     assert main(["simulate", str(ROOT / "models" / "seven_link.toml"), "--out", str(tmp_path / "run.txt")]) == 2
     err = capsys.readouterr()
-    assert "must end in .npz or .csv" in err.err and "steps" not in err.out
+    assert "`linkgen simulate` writes .npz" in err.err and "steps" not in err.out
 
 
 def test_slow_runs_report_progress(monkeypatch, capsys):

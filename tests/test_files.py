@@ -113,31 +113,35 @@ def test_build_does_not_write_through_a_symlink(tmp_path, capsys):
 def test_build_output_option_with_a_folder(tmp_path, capsys):
     assert main(["build", str(MODELS), "-o", str(tmp_path / "x.xml")]) == 2
     assert capsys.readouterr().err == (
-        f"linkgen build: error: -o/--out writes one model, but {str(MODELS)!r} is a folder (a folder's models "
-        "are written next to their descriptions)\n")
+        f"linkgen build: error: -o/--out {tmp_path / 'x.xml'}: {str(MODELS)!r} is a folder of descriptions; its models "
+        "are written into a folder (-o DIR), or each beside its description (no -o)\n")
     assert not (tmp_path / "x.xml").exists()
 
 
 def test_output_pointing_at_a_folder(tmp_path, capsys):
-    assert main(["build", str(FOURBAR), "-o", str(tmp_path)]) == 2
-    assert capsys.readouterr().err == (
-        f"linkgen: error: {tmp_path}: is a folder; give a file name to write\n")
-    assert main(["analyze", str(FOURBAR), "--samples", "4", "--csv", str(tmp_path)]) == 2
-    assert capsys.readouterr().err == (
-        f"linkgen: error: {tmp_path}: is a folder; give a file name to write\n")
-    assert list(tmp_path.iterdir()) == []
+    folder = tmp_path / "out.csv"  # a folder named like a file: never replaced
+    folder.mkdir()
+    assert main(["analyze", str(FOURBAR), "--samples", "4", "--csv", str(folder)]) == 2
+    assert capsys.readouterr().err == (f"linkgen: error: {folder}: is a folder; give a file name to write\n")
+    assert main(["analyze", str(FOURBAR), "--samples", "4", "-o", str(tmp_path)]) == 2
+    assert capsys.readouterr().err.endswith(f"writes .csv (the samples over the drive range) or .json (the JSON "
+                                            "object, as --json prints it); got a folder\n")
+    assert list(folder.iterdir()) == []
+    assert main(["build", str(FOURBAR), "-o", str(tmp_path)]) == 0  # build writes into a folder: NAME.xml
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["fourbar.xml", "out.csv"]
 
 
 @pytest.mark.parametrize("command", ["analyze", "forces"])
 @pytest.mark.parametrize("options, message", [
-    (["--angle", "1rad", "--samples", "3"], "--angle cannot be combined with --samples: --angle is for one crank "
-                                         "angle, --samples for samples over the drive range"),
-    (["--angle", "1rad", "--csv", "x.csv"], "--angle cannot be combined with --csv: --angle is for one crank angle, "
-                                         "--csv for samples over the drive range"),
-    (["--json", "--samples", "3"], "--json cannot be combined with --samples: --json is for one crank angle, "
-                                   "--samples for samples over the drive range"),
-    (["--json", "--csv", "x.csv"], "--json cannot be combined with --csv: --json is for one crank angle, "
-                                   "--csv for samples over the drive range"),
+    (["--angle", "1rad", "--samples", "3"], "--angle cannot be combined with --samples: --angle evaluates one crank "
+                                         "angle (printed, --json, or -o FILE.json); --samples N and -o FILE.csv "
+                                         "evaluate samples over the drive range"),
+    (["--angle", "1rad", "--csv", "x.csv"], "--angle cannot be combined with --csv x.csv: --angle evaluates one crank "
+                                         "angle (printed, --json, or -o FILE.json); --samples N and -o FILE.csv "
+                                         "evaluate samples over the drive range"),
+    (["--json", "--csv", "x.csv"], "--json prints what --csv x.csv writes: give one of them"),
+    (["--keep-singular"], "--keep-singular is for samples (--samples N, or -o FILE.csv); at one crank angle a "
+                          "singular position is an error"),
 ])
 def test_conflicting_options(tmp_path, capsys, monkeypatch, command, options, message):
     monkeypatch.chdir(tmp_path)

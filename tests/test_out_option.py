@@ -43,8 +43,13 @@ def test_another_extension_is_refused_in_one_line(tmp_path, capsys, args):
     assert main(argv) == 2
     err = capsys.readouterr().err
     target = Path(argv[-1])
-    assert err == (f"linkgen {argv[0]}: error: -o/--out {target}: the format comes from the extension: .csv (the "
-                   f"samples) or .json (the JSON object), got {target.suffix or 'no extension'!r}\n")
+    writes = {"analyze": ".csv (the samples over the drive range) or .json (the JSON object, as --json prints it)",
+              "forces": ".csv (the samples over the drive range) or .json (the JSON object, as --json prints it)",
+              "profile": ".csv (the points) or .json (the JSON object)"}
+    command = "analyze --summary" if "--summary" in argv else argv[0]
+    allowed = ".json (the summary's JSON object, as --json prints it)" if "--summary" in argv else writes[argv[0]]
+    assert err == (f"linkgen {argv[0]}: error: -o/--out {target}: `linkgen {command}` writes {allowed}; got "
+                   f"{target.suffix or 'no extension'}\n")
     assert list(tmp_path.iterdir()) == []
 
 

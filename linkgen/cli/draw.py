@@ -131,7 +131,7 @@ def cmd_render(args) -> int:
 def add_commands(sub) -> None:
     d = sub.add_parser("draw", help="the mechanism's skeleton at one crank angle, or a position plan")
     d.add_argument("model", type=Path, help="description file (.toml)")
-    add_out_argument(d, f"write {allowed_text(DRAWING)}", old=("--output",), required=True)
+    add_out_argument(d, f"write {allowed_text(DRAWING)}", old=("--output",), required=True, metavar="FILE")
     d.add_argument("--angle", type=_angle_arg, help="crank angle with its unit, e.g. 30deg (default: the range's start)")
     d.add_argument("--angles", type=angles_arg,
                    help="a position plan at START:STOP:STEP, degrees unless a unit is given, e.g. 0:360:30 "
@@ -140,7 +140,7 @@ def add_commands(sub) -> None:
 
     a = sub.add_parser("animate", help="the mechanism moving over its drive range, with its point paths")
     a.add_argument("model", type=Path, help="description file (.toml)")
-    add_out_argument(a, f"write {allowed_text(ANIMATION)}", old=("--output",), required=True)
+    add_out_argument(a, f"write {allowed_text(ANIMATION)}", old=("--output",), required=True, metavar="FILE")
     a.add_argument("--frames", type=_whole_in(MIN_FRAMES, MAX_FRAMES), default=72,
                    help=f"frames over the range (no unit; default 72, {MIN_FRAMES} to {MAX_FRAMES})")
     a.add_argument("--fps", type=_positive_int, default=24, help="frames per second of the file (default 24)")
@@ -151,7 +151,7 @@ def add_commands(sub) -> None:
 
     r = sub.add_parser("render", help="a MuJoCo offscreen frame of the generated model at one crank angle")
     r.add_argument("model", type=Path, help="description file (.toml)")
-    add_out_argument(r, f"write {allowed_text(FRAME)}", old=("--output",), required=True)
+    add_out_argument(r, f"write {allowed_text(FRAME)}", old=("--output",), required=True, metavar="FILE")
     r.add_argument("--angle", type=_angle_arg, help="crank angle with its unit, e.g. 30deg (default: the range's start)")
     r.add_argument("--width", type=_whole_in(MIN_SIDE, MAX_WIDTH), default=800,
                    help=f"image width [px] (default 800, {MIN_SIDE} to {MAX_WIDTH})")

@@ -299,13 +299,14 @@ def add_commands(sub) -> None:
     s.add_argument("--epsilon", type=rate_arg(limits.MAX_EPSILON, "rad/s²"),
                    help="crank acceleration [rad/s²], or with a unit, e.g. 60rpm/s (default: the description's)")
     s.add_argument("--samples", type=_positive_int, default=360, help="sampled states over the range (no unit; default 360)")
-    add_out_argument(s, f"write {allowed_text(SIMULATE)}; the names and units of analyze and forces")
+    add_out_argument(s, f"write {allowed_text(SIMULATE)}; the names and units of analyze and forces",
+                     metavar="FILE")
     s.set_defaults(func=cmd_simulate)
 
     v = sub.add_parser("validate", help="closed form against MuJoCo, for a file or every file of a folder")
     v.add_argument("model", type=Path, help="description file (.toml) or a folder of them")
     v.add_argument("--json", action="store_true", help="print the results as JSON")
-    add_out_argument(v, f"write {allowed_text(VALIDATE)} (default: no report)", old=("--report",))
+    add_out_argument(v, f"write {allowed_text(VALIDATE)} (default: no report)", old=("--report",), metavar="DIR")
     v.add_argument("--no-practical", action="store_true",
                    help="skip the runs at MuJoCo's usual settings (the practical-settings table)")
     v.add_argument("--max-steps", type=_positive_int, default=MAX_STEPS,
