@@ -140,7 +140,7 @@ def test_output_pointing_at_a_folder(tmp_path, capsys):
                                          "angle (printed, --json, or -o FILE.json); --samples N and -o FILE.csv "
                                          "evaluate samples over the drive range"),
     (["--json", "--csv", "x.csv"], "--json prints what --csv x.csv writes: give one of them"),
-    (["--keep-singular"], "--keep-singular is for samples (--samples N, or -o FILE.csv); at one crank angle a "
+    (["--keep-singular"], "--keep-singular is for samples (--samples, -o FILE.csv); at one crank angle a "
                           "singular position is an error"),
 ])
 def test_conflicting_options(tmp_path, capsys, monkeypatch, command, options, message):

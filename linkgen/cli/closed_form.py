@@ -78,7 +78,7 @@ def _check(args, path: Path | None, fmt: str | None, spelled: str) -> bool:
     if args.json and path is not None:
         raise OptionError(f"--json prints what {spelled} {path} writes: give one of them")
     if args.keep_singular and not sampled:
-        raise OptionError("--keep-singular is for samples (--samples N, or -o FILE.csv); at one crank angle a singular "
+        raise OptionError("--keep-singular is for samples (--samples, -o FILE.csv); at one crank angle a singular "
                           "position is an error")
     return bool(sampled)
 
