@@ -171,7 +171,7 @@ def add_commands(sub) -> None:
 
     a = sub.add_parser("analyze", help="closed-form positions, velocities, accelerations and jerks")
     add_crank_arguments(a, "38.117deg")
-    _out_argument(a, SAMPLES, ("--csv",), " (--samples N, default 360)")
+    _out_argument(a, SAMPLES, ("--csv",), "; CSV writes --samples N angles (default 360)")
     a.add_argument("--transfer", action="store_true",
                    help="also the transfer functions d1, d2, d3 = d/dφ, d²/dφ², d³/dφ³ (m/rad, rad/rad; in the table, "
                         "JSON or CSV)")
@@ -185,7 +185,7 @@ def add_commands(sub) -> None:
                                       "reduced inertia)",
                        description=FORCES_HELP)
     add_crank_arguments(f, "30deg")
-    _out_argument(f, SAMPLES, ("--csv",), " (--samples N, default 360)")
+    _out_argument(f, SAMPLES, ("--csv",), "; CSV writes --samples N angles (default 360)")
     f.set_defaults(func=cmd_forces)
 
 

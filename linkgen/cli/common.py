@@ -94,33 +94,6 @@ def _write_csv(out, cols: list[str], data: list[np.ndarray]) -> int:
     return n
 
 
-# Units of the columns ``analyze`` and ``forces`` write, by the quantity in the column's name.
-_COLUMN_UNITS = (("angular_velocity", "rad/s"), ("angular_acceleration", "rad/s²"), ("angular_jerk", "rad/s³"),
-                 ("velocity", "m/s"), ("acceleration", "m/s²"), ("jerk", "m/s³"), ("normal_force", "N"),
-                 ("tooth_force", "N"), ("moment", "N·m"), ("force", "N"),
-                 ("balancing_torque", "N·m"), ("power_balance_torque", "N·m"), ("reduced_inertia_derivative",
-                 "kg·m²/rad"), ("reduced_inertia", "kg·m²"), ("reduced_moment", "N·m"), ("angle", "rad"),
-                 ("position", "m"), ("displacement", "m"))
-
-
-def with_unit(col: str) -> str:
-    """A column name with its unit in brackets (``phi [rad]``, ``B.velocity.x [m/s]``,
-    ``B.position.d1.x [m/rad]``); ``singular`` (0 or 1) has none."""
-    if col == "phi":
-        return "phi [rad]"
-    parts = col.split(".")
-    unit = next((u for q, u in _COLUMN_UNITS if q in parts), None)
-    if unit is None:
-        return col
-    if "d1" in parts:
-        unit += "/rad"
-    elif "d2" in parts:
-        unit += "/rad²"
-    elif "d3" in parts:
-        unit += "/rad³"
-    return f"{col} [{unit}]"
-
-
 def check_finite_columns(cols: list[str], data: list[np.ndarray]) -> None:
     """Raise LinkgenError naming the first column and row holding a NaN or an infinity: such a
     number is never written (a CSV reader would take it for a result). Columns of shape (n,) or
@@ -133,13 +106,10 @@ def check_finite_columns(cols: list[str], data: list[np.ndarray]) -> None:
                                "overflowed or hit a singular position); nothing was written")
 
 
-def write_rows(cols: list[str], data: list[np.ndarray], path: Path | None, units: bool = False,
-               rows: str = "crank angles") -> None:
-    """Columns (each (n,)) as CSV with a header, full precision, to ``path`` (written
-    atomically) or stdout; ``units``: each header with its unit (``with_unit``); ``rows``: what
-    a row is, for the line that reports the write (a cam's rows are cam angles)."""
-    if units:
-        cols = [with_unit(c) for c in cols]
+def write_rows(cols: list[str], data: list[np.ndarray], path: Path | None, rows: str = "crank angles") -> None:
+    """Columns (each (n,)) as CSV with a header (each name with its unit, as the results'
+    ``columns()`` give them), full precision, to ``path`` (written atomically) or stdout;
+    ``rows``: what a row is, for the line that reports the write (a cam's rows are cam angles)."""
     check_finite_columns(cols, data)
     if path is None:
         _write_csv(sys.stdout, cols, data)
@@ -198,7 +168,8 @@ def add_crank_arguments(parser: argparse.ArgumentParser, example_angle: str) -> 
     parser.add_argument("--json", action="store_true", help="print the JSON object -o FILE.json writes: of one crank angle, or of the samples "
                              "with --samples N")
     parser.add_argument("--samples", type=_positive_int,
-                        help="evaluate this many angles over the drive range (no unit): CSV on stdout, or to -o FILE")
+                        help="evaluate this many angles over the drive range (no unit): CSV on stdout (the JSON "
+                             "object with --json), or to -o FILE")
     parser.add_argument("--keep-singular", action="store_true",
                         help="with samples: exit 0 even if some are singular (by default such samples are "
                              f"written marked, singular = 1, and the exit status is {SINGULAR_STATUS}); at one "

@@ -202,6 +202,8 @@ def cmd_flywheel(args) -> int:
           f"{fw.inertia:.6g} kg·m² at the crank (beyond the mechanism and the rotor)")
     print(f"  driving torque (mean resisting) {fw.driving_torque:.6g} N·m, largest energy swing {fw.energy_swing:.6g} J")
     print(f"  integrated with it: δ = {delta_check:.6g}")
+    if "figure" in out:
+        print(f"  figure: {out['figure']}")
     return 0
 
 

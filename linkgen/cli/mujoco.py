@@ -283,7 +283,7 @@ def add_commands(sub) -> None:
 
     b = sub.add_parser("build", help="write the MJCF of a model, or of every model in a folder")
     b.add_argument("model", type=Path, help="description file (.toml), or a folder whose every description is "
-                                            "written beside itself as .xml")
+                                            "written beside itself as .xml (or into -o DIR)")
     add_out_argument(b, f"write {allowed_text(BUILD)} (default: beside the description)", old=("--output",))
     b.add_argument("--practical", action="store_true",
                    help="write MuJoCo's usual settings (timestep 2 ms, Euler, default solref/solimp) instead of "
