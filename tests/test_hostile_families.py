@@ -229,7 +229,7 @@ def test_no_command_writes_a_non_finite_number(tmp_path, capsys, bad, to_file):
 
     out = tmp_path / "out.csv" if to_file else None
     with pytest.raises(LinkgenError) as info:
-        write_rows(["theta", "x"], [np.array([0.0, 1.0, 2.0]), np.array([0.0, 1.0, bad])], out, units=False)
+        write_rows(["theta", "x"], [np.array([0.0, 1.0, 2.0]), np.array([0.0, 1.0, bad])], out)
     assert str(info.value) == ("the result is not finite in column 'x' at row 3 (the computation overflowed or hit a "
                                "singular position); nothing was written")
     assert capsys.readouterr().out == ""
