@@ -23,6 +23,8 @@ from linkgen.pipeline.registry import FAMILIES
 ROOT = Path(__file__).resolve().parents[1]
 MODELS = ROOT / "models"
 FOURBAR = str(MODELS / "fourbar.toml")
+# 120 rpm → rad/s: a product and a quotient in float64, each within half an ulp (1.1e-16 relative).
+RPM_TOL = 1e-15
 
 # (command and its options, the -o value, the extension as the message gives it)
 REFUSED = [
@@ -89,7 +91,7 @@ def test_flywheel_omega_takes_a_unit_as_every_omega(capsys):
     model = str(MODELS / "flywheel_sine.toml")
     assert main(["flywheel", model, "--delta", "0.02", "--omega", "120rpm", "--json"]) == 0
     given = json.loads(capsys.readouterr().out)
-    assert given["omega_mean"] == pytest.approx(120 * 2 * math.pi / 60, rel=1e-15)  # rpm → rad/s by definition
+    assert given["omega_mean"] == pytest.approx(120 * 2 * math.pi / 60, rel=RPM_TOL)  # rpm → rad/s by definition
     assert main(["flywheel", model, "--delta", "0.02", "--omega", repr(4 * math.pi), "--json"]) == 0
     assert json.loads(capsys.readouterr().out) == given
 
