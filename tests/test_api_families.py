@@ -186,3 +186,33 @@ def test_the_stages_are_the_interfaces_names():
 
         stage(MODELS["fourbar"], "kinematic")
     assert re.match(r"^fourbar: 'kinematic' is not a stage; the stages are angles, structure, kinematics", str(info.value))
+
+
+# -- only the registry tells one kind of description from another -----------------------------
+
+# What telling the families apart looks like outside the registry: the removed file helpers, the
+# families' detectors, an isinstance on a family's description type, a peek at the text.
+KIND_TESTS = re.compile(r"is_cam_file|is_spatial_file|load_cam\b|is_cam_data|is_spatial\(|"
+                        r"isinstance\([^)]*\b(SpatialMechanism|CamMechanism)\b|\[machine\" in|"
+                        r"get\(\"space\"\)|'space = \"spatial\"' in|\"\\n\[cam[.\]]\" (not )?in")
+
+
+def test_nothing_outside_the_registry_tells_the_families_apart():
+    """Every kind of file goes through ``linkgen.load`` and ``registry.family_of``: in the package
+    the detectors live in their family's description module and are called by the registry only;
+    validation/ and tests/ ask the registry too."""
+    pkg = ROOT / "linkgen"
+    own = {pkg / "families" / "cam" / "description.py", pkg / "families" / "spatial" / "description.py"}
+    files = [p for p in pkg.rglob("*.py") if "pipeline" not in p.relative_to(pkg).parts and p not in own]
+    files += sorted((ROOT / "validation").glob("*.py")) + [p for p in sorted((ROOT / "tests").glob("*.py"))
+                                                            if p.name != Path(__file__).name]
+    found = [f"{p.relative_to(ROOT)}:{i}: {line.strip()}" for p in files
+             for i, line in enumerate(p.read_text(encoding="utf-8").splitlines(), 1) if KIND_TESTS.search(line)]
+    assert not found, "\n".join(found)
+
+
+def test_a_non_finite_entry_is_shown_as_the_number_it_is():
+    # before: "phi: expected finite numbers, got np.float64(nan) at index 1"
+    with pytest.raises(linkgen.ArgumentError) as info:
+        linkgen.kinematics(MODELS["rssr"], np.array([0.0, np.nan]))
+    assert str(info.value) == "phi: expected finite numbers, got nan at index 1"

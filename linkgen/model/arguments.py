@@ -86,7 +86,7 @@ def argument(value, name: str, unit: str):
         x = value.astype(float)
         bad = ~np.isfinite(x)
         if bad.any():
-            raise ArgumentError(f"{name}: expected finite numbers, got {x[bad][0]!r} at index "
+            raise ArgumentError(f"{name}: expected finite numbers, got {float(x[bad][0])!r} at index "
                                 f"{int(np.argwhere(bad)[0][0])}")
         if x.ndim > 1:
             raise ArgumentError(f"{name}: expected a number or a 1-D array of them, got shape {x.shape}")
