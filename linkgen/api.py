@@ -35,6 +35,8 @@ from __future__ import annotations
 
 import inspect
 
+import numpy as np
+
 from linkgen.errors import ArgumentError
 from linkgen.families.planar.assembly import SKETCH_TOLERANCE, Assembly
 from linkgen.families.planar.forces_result import PlanarForces
@@ -107,10 +109,13 @@ def summary(source, omega=None, epsilon=None):
 def profile(source, points: int = 720):
     """A stand-alone cam's profile and pitch curve at ``points`` cam angles over one turn
     (``linkgen profile``)."""
+    from linkgen.cli.common import MAX_SAMPLES
+
     fn = _stage(source, "profile")
-    if isinstance(points, bool) or not isinstance(points, int) or points < 3:
-        raise ArgumentError(f"points: expected a whole number of cam angles, at least 3, got {points!r}")
-    return fn(source, points)
+    if isinstance(points, bool) or not isinstance(points, (int, np.integer)) or not 1 <= points <= MAX_SAMPLES:
+        raise ArgumentError(f"points: expected a whole number from 1 to {MAX_SAMPLES} (as `linkgen profile "
+                            f"--points`), got {points!r}")
+    return fn(source, int(points))
 
 
 def write_mjcf(source, settings=None) -> str:

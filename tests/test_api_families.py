@@ -216,3 +216,14 @@ def test_a_non_finite_entry_is_shown_as_the_number_it_is():
     with pytest.raises(linkgen.ArgumentError) as info:
         linkgen.kinematics(MODELS["rssr"], np.array([0.0, np.nan]))
     assert str(info.value) == "phi: expected finite numbers, got nan at index 1"
+
+
+def test_profile_for_the_cam_and_a_one_line_refusal_for_the_others():
+    p = linkgen.profile(MODELS["cam_translating"], 36)
+    assert p.profile.shape == (36, 2) and p.pitch.shape == (36, 2)
+    with pytest.raises(linkgen.UnsupportedError) as info:
+        linkgen.profile(MODELS["fourbar"])
+    assert str(info.value) == "fourbar: planar linkages have no profile stage; it is for stand-alone cams"
+    with pytest.raises(linkgen.ArgumentError) as info:
+        linkgen.profile(MODELS["cam_translating"], 0)
+    assert str(info.value) == "points: expected a whole number from 1 to 1000000 (as `linkgen profile --points`), got 0"
