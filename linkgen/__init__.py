@@ -49,8 +49,9 @@ from linkgen.api import (ForcesResult, KinematicsResult, assemble, decompose, fo
 __all__ = [
     "Drive", "Link", "LinkTorque", "MassProperties", "Mechanism", "PointForce", "Prismatic", "Revolute",
     "ArgumentError", "AssemblyError", "DescriptionError", "LinkgenError", "SimulationError", "SingularityError",
-    "StructureError", "UnsupportedError", "ValidationError", "BalanceError", "MagnitudeError", "RenderError", "Assembly", "Kinematics",
-    "Motion", "assemble", "solve", "solve_motion", "from_dict", "load", "Group", "GroupKind", "Structure", "decompose",
+    "StructureError", "UnsupportedError", "ValidationError", "BalanceError", "MagnitudeError", "RenderError",
+    "Assembly", "Kinematics", "Motion", "assemble", "solve", "solve_motion", "from_dict", "load", "Group", "GroupKind",
+    "Structure", "decompose",
     "ForcesResult", "KinematicsResult", "forces", "kinematics", "profile", "simulate", "structure", "summary",
     "validate", "write_mjcf",
 ]
