@@ -133,11 +133,35 @@ def write_mjcf(source, settings=None) -> str:
     return fn(source, settings)
 
 
+def _counts(options: dict) -> dict:
+    """``options`` with ω and ε read as everywhere in the API and the counts and sizes checked:
+    whole numbers ≥ 1 (samples at most the CLI's --samples), revolutions a positive number."""
+    from linkgen.cli.common import MAX_SAMPLES
+
+    out = dict(options)
+    for name, unit in (("omega", "rad/s"), ("epsilon", "rad/s²")):
+        if name in out:
+            out[name] = one_rate(out[name], name, unit)
+    for name, high in (("samples", MAX_SAMPLES), ("nthread", None), ("max_steps", None)):
+        v = out.get(name)
+        if v is not None and (isinstance(v, bool) or not isinstance(v, (int, np.integer)) or v < 1
+                              or (high is not None and v > high)):
+            raise ArgumentError(f"{name}: expected a whole number from 1" + (f" to {high}" if high else "")
+                                + f" (or None), got {v!r}")
+    v = out.get("revolutions")
+    if v is not None and (isinstance(v, bool) or not isinstance(v, (int, float, np.integer, np.floating))
+                          or not 0 < v < float("inf")):
+        raise ArgumentError(f"revolutions: expected a positive number (or None), got {v!r}")
+    return out
+
+
 def simulate(source, **options):
     """A MuJoCo run over the drive range (``linkgen simulate``; planar linkages); options as the
-    ``simulate`` stage (``pipeline.family.STAGES``): revolutions, omega, epsilon, settings,
-    samples, nthread, progress, max_steps, settle, notice — None or left out: the run's default."""
-    return _with_options(source, "simulate", options)(source, **options)
+    ``simulate`` stage (``pipeline.family.STAGES``): revolutions, omega and epsilon (one value
+    each, as ``kinematics``), settings, samples, nthread, progress, max_steps, settle, notice —
+    None or left out: the run's default."""
+    fn = _with_options(source, "simulate", options)
+    return fn(source, **_counts(options))
 
 
 def validate(source, **options):
@@ -148,7 +172,8 @@ def validate(source, **options):
     ``SpatialCheck`` (``linkgen.crosscheck.spatial``) for a spatial four-bar. Options, the same
     in every family: practical, nthread, max_steps, progress, source, machine_progress (the
     ones that concern planar linkages only are ignored by the other families)."""
-    return _with_options(source, "validate", options)(source, **options)
+    fn = _with_options(source, "validate", options)
+    return fn(source, **_counts(options))
 
 
 def _planar(source, what: str) -> None:

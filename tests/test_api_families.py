@@ -227,3 +227,25 @@ def test_profile_for_the_cam_and_a_one_line_refusal_for_the_others():
     with pytest.raises(linkgen.ArgumentError) as info:
         linkgen.profile(MODELS["cam_translating"], 0)
     assert str(info.value) == "points: expected a whole number from 1 to 1000000 (as `linkgen profile --points`), got 0"
+
+
+@pytest.mark.parametrize("options, message", [
+    # before: "ValueError: could not convert string to float: '120rpm'" (every other function takes it)
+    ({"omega": "fast"}, "omega: expected a number in rad/s or one with its unit (e.g. 100rpm), got 'fast'"),
+    ({"omega": [1.0, 2.0]}, OMEGA),
+    # before: "TypeError: must be real number, not str"
+    ({"revolutions": "2"}, "revolutions: expected a positive number (or None), got '2'"),
+    ({"samples": 0}, "samples: expected a whole number from 1 to 1000000 (or None), got 0"),
+    ({"nthread": 1.5}, "nthread: expected a whole number from 1 (or None), got 1.5"),
+])
+def test_simulate_reads_its_options_as_the_api_does(options, message):
+    with pytest.raises(linkgen.ArgumentError) as info:
+        linkgen.simulate(MODELS["fourbar"], **options)
+    assert str(info.value) == message
+
+
+def test_simulate_takes_a_speed_with_its_unit():
+    # 2 rad/s as "2rad/s": the same run; a few samples keep it cheap
+    a = linkgen.simulate(MODELS["fourbar"], omega="2rad/s", samples=4)
+    b = linkgen.simulate(MODELS["fourbar"], omega=2.0, samples=4)
+    np.testing.assert_array_equal(a.samples.time, b.samples.time)
