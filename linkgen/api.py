@@ -1,12 +1,13 @@
-"""The Python API. Its way in, for every family: one function per stage of the family interface
-(``linkgen.pipeline.family.STAGES``) that computes rather than draws, each taking any
+"""The Python API. Its way in, for every family: one function for each CLI command that
+computes a result (the command in brackets): ``structure`` (structure), ``kinematics``
+(analyze), ``forces`` (forces), ``summary`` (analyze --summary), ``profile`` (profile),
+``write_mjcf`` (build), ``simulate`` (simulate), ``validate`` (validate). Each takes any
 description ``linkgen.load`` returns (a planar ``Mechanism`` or an assembled one, a
-``CamMechanism``, a ``SpatialMechanism``) and returning its family's frozen result through the
-registry of families — the CLI command it stands for in brackets: ``structure`` (structure),
-``kinematics`` (analyze), ``forces`` (forces), ``summary`` (analyze --summary), ``profile``
-(profile), ``write_mjcf`` (build), ``simulate`` (simulate), ``validate`` (validate). A function
-whose stage the description's family lacks raises UnsupportedError in one line. The pictures
-(draw, animate, render) and the machine studies (dynamics, flywheel) are the CLI's.
+``CamMechanism``, a ``SpatialMechanism``), calls its family's stage of that name
+(``linkgen.pipeline.family.STAGES``; ``write_mjcf`` the ``mjcf`` stage) through the registry and
+returns its frozen result; a family without the stage is refused with UnsupportedError in one
+line. The commands that draw (draw, animate, render), place a sketch (assemble) or study a
+machine (dynamics, flywheel) are the CLI's only.
 
     mech = linkgen.load("models/fourbar.toml")
     k = linkgen.kinematics(mech, "30deg")        # k.points["B"].position has shape (2,)

@@ -249,3 +249,11 @@ def test_simulate_takes_a_speed_with_its_unit():
     a = linkgen.simulate(MODELS["fourbar"], omega="2rad/s", samples=4)
     b = linkgen.simulate(MODELS["fourbar"], omega=2.0, samples=4)
     np.testing.assert_array_equal(a.samples.time, b.samples.time)
+
+
+def test_each_api_function_calls_a_stage_of_the_interface_and_is_exported():
+    from linkgen.api import FUNCTIONS
+
+    assert set(FUNCTIONS.values()) <= set(BY_STAGE)
+    assert set(FUNCTIONS) <= set(linkgen.__all__)
+    assert all(f"``{name}``" in linkgen.api.__doc__ for name in FUNCTIONS)
