@@ -2,19 +2,22 @@ from pathlib import Path
 
 import pytest
 
+import linkgen
+from linkgen.pipeline.registry import family_of_file
+
 ROOT = Path(__file__).resolve().parent.parent
 
 
-def _spatial(p) -> bool:
-    return 'space = "spatial"' in p.read_text(encoding="utf-8")
+def _models(family: str) -> list[Path]:
+    """The bundled models of one family, as the registry tells them apart."""
+    return [p for p in sorted((ROOT / "models").glob("*.toml")) if family_of_file(p).name == family]
 
 
-MODELS = sorted(p for p in (ROOT / "models").glob("*.toml")
-                if "\n[cam]" not in p.read_text(encoding="utf-8") and not _spatial(p))
-CAM_MODELS = sorted(p for p in (ROOT / "models").glob("*.toml") if "\n[cam]" in p.read_text(encoding="utf-8"))
-SPATIAL_MODELS = sorted(p for p in (ROOT / "models").glob("*.toml") if _spatial(p))
+MODELS = _models("planar")
+CAM_MODELS = _models("cam")
+SPATIAL_MODELS = _models("spatial")
 # Linkages whose crank carries a cam: MuJoCo holds them to the cam contact's tolerances, not 1e-6.
-CAM_LINKAGE_MODELS = [p for p in MODELS if "\n[cam." in p.read_text(encoding="utf-8")]
+CAM_LINKAGE_MODELS = [p for p in MODELS if linkgen.load(p).cams]
 RIGID_MODELS = [p for p in MODELS if p not in CAM_LINKAGE_MODELS]
 
 

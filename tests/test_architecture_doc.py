@@ -1,6 +1,7 @@
 """docs/architecture.md says what the code does: its table of stages is the layout test's order
 and every stage package exists; its table of families is the registry's (title, description
-type, commands), in the registry's order."""
+type, commands), in the registry's order; its table of the family interface is
+pipeline/family.py's STAGES (every stage, its call, what it returns, when it is required)."""
 
 from __future__ import annotations
 
@@ -8,6 +9,8 @@ import re
 from pathlib import Path
 
 import linkgen
+from linkgen.api import FUNCTIONS
+from linkgen.pipeline.family import STAGES
 from linkgen.pipeline.registry import FAMILIES
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -40,3 +43,17 @@ def test_the_family_table_is_the_registry():
         assert description == f"`{fam.description.__name__}` ({fam.doc})"
         assert [c.strip() for c in commands.split(",")] == list(fam.commands)
         assert (ROOT / fam.doc).is_file(), fam.doc
+
+
+def test_the_interface_table_is_every_stage_of_the_interface():
+    # before: the doc listed ten stage names and no calls; angles, figures, report and profile,
+    # which a new family needs, were missing
+    rows = _rows("interface")
+    want = [[f"`{s.name}`", f"`{s.name}{s.call}`", s.returns.replace("``", "`"), ", ".join(s.needed_by)]
+            for s in STAGES]
+    assert rows == want
+
+
+def test_the_doc_names_every_function_of_the_api():
+    for name in FUNCTIONS:
+        assert f"`linkgen.{name}`" in DOC, name

@@ -6,8 +6,11 @@ import numpy as np
 import pytest
 
 from conftest import MODELS
-from linkgen import ArgumentError, AssemblyError, LinkgenError, assemble, load, solve, solve_motion
+from linkgen import ArgumentError, AssemblyError, LinkgenError, assemble, load
 from linkgen.families.planar import blocks
+# The family's own functions: their messages on arrays are the closed form's (``linkgen.solve``
+# reads its arguments as the API does, tests/test_api_families.py).
+from linkgen.families.planar.kinematics import solve, solve_motion
 from linkgen.cli.common import crank_grid
 
 # A block size that divides nothing in sight, so the last block is short.

@@ -13,7 +13,6 @@ import numpy as np
 import pytest
 
 import linkgen
-from linkgen.families.cam.description import load_cam
 from linkgen.families.cam.kinetics import state
 from linkgen.errors import DescriptionError, SimulationError
 from linkgen.families.planar.assembly import assemble
@@ -157,7 +156,7 @@ def test_the_linkage_form_of_a_cam_equals_the_stand_alone_cam(tmp_path, kind):
     the torque on the cam agree with the stand-alone cam's closed form."""
     text = _oscillating_text() if kind == "oscillating" else _translating_text()
     mech, _ = _load(tmp_path, text)
-    cm = load_cam(ROOT / "models" / f"cam_{kind}.toml")
+    cm = linkgen.load(ROOT / "models" / f"cam_{kind}.toml")
     ref = state(cm, TURN)
     asm = assemble(mech)
     kin = solve(asm, TURN)

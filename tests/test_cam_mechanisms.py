@@ -14,7 +14,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from linkgen.families.cam.description import cam_from_dict, load_cam
+from linkgen.families.cam.description import cam_from_dict
+from linkgen.pipeline.registry import load
 from linkgen.families.cam.kinetics import leave_speed, state
 from linkgen.errors import DescriptionError
 from independent_checks import zoomed_peak
@@ -30,7 +31,7 @@ FD_TOL = 1e-6
 
 @pytest.mark.parametrize("name", CAMS)
 def test_motion_against_finite_differences(name):
-    cm = load_cam(MODELS / f"{name}.toml")
+    cm = load(MODELS / f"{name}.toml")
     w, h = 3.0, 1e-5
     th = np.linspace(0.05, 2 * math.pi - 0.05, 97)
     joints = np.cumsum([seg.span for seg in getattr(cm.follower.program, "segments", ())])
@@ -48,7 +49,7 @@ def test_motion_against_finite_differences(name):
 
 @pytest.mark.parametrize("name", CAMS)
 def test_the_roller_touches_the_profile_and_the_arm_keeps_its_length(name):
-    cm = load_cam(MODELS / f"{name}.toml")
+    cm = load(MODELS / f"{name}.toml")
     f = cm.follower
     th = np.linspace(0, 2 * math.pi, 721)
     pitch, profile = f.pitch_curve(th)[0], f.profile(th)
@@ -71,7 +72,7 @@ def test_the_roller_touches_the_profile_and_the_arm_keeps_its_length(name):
 
 @pytest.mark.parametrize("name", CAMS)
 def test_cam_torque_by_power_equals_the_contact_forces_moment(name):
-    cm = load_cam(MODELS / f"{name}.toml")
+    cm = load(MODELS / f"{name}.toml")
     th = np.linspace(0, 2 * math.pi, 1441)
     st = state(cm, th)
     c, n = cm.follower.centre(th)[0], cm.follower.normal(th)
@@ -81,7 +82,7 @@ def test_cam_torque_by_power_equals_the_contact_forces_moment(name):
 
 @pytest.mark.parametrize("name", CAMS)
 def test_leave_speed_is_where_the_contact_force_reaches_zero(name):
-    cm = load_cam(MODELS / f"{name}.toml")
+    cm = load(MODELS / f"{name}.toml")
     w = leave_speed(cm)
     th = np.linspace(0, 2 * math.pi, 3600, endpoint=False)
     assert state(cm, th, 0.999 * w).contact_force.min() > 0
@@ -129,7 +130,7 @@ def test_cam_command_line(tmp_path):
 def test_a_flat_face_touches_its_profile_at_ds_dtheta():
     """A flat face's height at every cam angle is the profile's support function in its
     direction (the envelope), reached at the point x = ds/dθ from the follower's axis."""
-    cm = load_cam(MODELS / "cam_flat_face.toml")
+    cm = load(MODELS / "cam_flat_face.toml")
     f = cm.follower
     th = np.linspace(0, 2 * math.pi, 2001)
     prof = f.profile(np.linspace(0, 2 * math.pi, 20001))
@@ -158,7 +159,7 @@ def test_modified_trapezoid_meets_its_textbook_figures():
 def test_cam_in_mujoco_within_its_measured_tolerance():
     from linkgen.mujoco.cam import CAM_TOLERANCES, compare_cam
 
-    r = compare_cam(load_cam(MODELS / "cam_translating.toml"))
+    r = compare_cam(load(MODELS / "cam_translating.toml"))
     for k, tol in CAM_TOLERANCES.items():
         assert r["errors_relative"][k] <= tol, (k, r["errors_relative"])
 
@@ -171,7 +172,7 @@ def test_smallest_base_circle_meets_the_pressure_angle():
     from linkgen.families.cam.follower import smallest_base_radius
     from linkgen.families.cam.profile import min_base_radius
 
-    f = load_cam(MODELS / "cam_translating.toml").follower
+    f = load(MODELS / "cam_translating.toml").follower
     limit = math.radians(30.0)
     rb = smallest_base_radius(f, limit)
     assert rb == pytest.approx(min_base_radius(f.program, limit, f.roller_radius, f.offset), rel=1e-6)
@@ -185,7 +186,7 @@ def test_smallest_base_circle_meets_the_pressure_angle():
     assert worst(replace(f, base_radius=rb)) == pytest.approx(limit, abs=1e-12)
     # the textbook's oscillating follower (pivot and arm 0.25 m) reaches 40.8°; at 45° a smaller
     # base circle still holds, and at it the largest pressure angle is the limit
-    osc = load_cam(MODELS / "cam_oscillating.toml").follower
+    osc = load(MODELS / "cam_oscillating.toml").follower
     rb = smallest_base_radius(osc, math.radians(45.0))
     assert rb < osc.base_radius
     assert worst(replace(osc, base_radius=rb)) == pytest.approx(math.radians(45.0), abs=1e-12)

@@ -5,7 +5,7 @@ import textwrap
 
 import pytest
 
-from linkgen import DescriptionError, StructureError, analyze, from_dict, load
+from linkgen import DescriptionError, StructureError, decompose, from_dict, load
 
 FOURBAR = """
 [mechanism]
@@ -126,4 +126,4 @@ def test_higher_class_group_is_not_supported():
         "drive": {"joint": "O", "omega": 1.0},
     }
     with pytest.raises(StructureError, match=r"links \['l1', 'tri', 'l2', 'l3'\] do not decompose"):
-        analyze(from_dict(data))
+        decompose(from_dict(data))

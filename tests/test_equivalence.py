@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from conftest import ROOT
-from linkgen import analyze, assemble, from_dict, solve
+from linkgen import assemble, decompose, from_dict, solve
 from linkgen.families.planar.kinetostatics import forces
 
 G = 9.81
@@ -196,7 +196,7 @@ def test_compound_hinge_decomposes_in_every_table_order():
     seen = set()
     for order in itertools.permutations(names):
         mech = from_dict(_with_order(SIX_BAR, order))
-        s = analyze(mech)
+        s = decompose(mech)
         assert s.formula == "I(0,1) → II(2,3) → II(4,5)"
         groups = frozenset(frozenset(g.links) for g in s.groups)
         assert groups == {frozenset({"coupler", "rocker"}), frozenset({"link4", "link5"})}
@@ -234,7 +234,7 @@ def test_compound_hinge_at_the_drive_pivot_keeps_its_name():
         names = {j.name: set(j.links) for j in mech.revolutes if j.point == "O"}
         rocker = "O:ground-rocker" if order.index("ground") < order.index("rocker") else "O:rocker-ground"
         assert names == {"O:ground-crank": {"ground", "crank"}, rocker: {"ground", "rocker"}}
-        assert analyze(mech).formula == "I(0,1) → II(2,3)"
+        assert decompose(mech).formula == "I(0,1) → II(2,3)"
 
 
 def test_reversed_slot_coulisse_agrees_with_mujoco():

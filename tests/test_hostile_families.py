@@ -75,10 +75,8 @@ def test_not_a_regular_file_is_refused_by_every_command(tmp_path, capsys, kind, 
 
 def _load_error(path) -> str:
     from linkgen import load
-    from linkgen.families.cam.description import is_cam_file, load_cam
-
     with pytest.raises(DescriptionError) as info:
-        (load_cam if is_cam_file(path) else load)(path)
+        load(path)
     return str(info.value)
 
 
@@ -134,11 +132,11 @@ def test_any_title_makes_a_valid_cam_mjcf(tmp_path, title):
     import mujoco
     from lxml import etree
 
-    from linkgen.families.cam.description import load_cam
+    from linkgen import load
     from linkgen.mujoco.cam import cam_mjcf
 
     path = _mutant(tmp_path, "cam_translating.toml", 'title = "Disc cam', f'title = "{title}" # "Disc cam')
-    xml = cam_mjcf(load_cam(path))
+    xml = cam_mjcf(load(path))
     mujoco.MjModel.from_xml_string(xml)
     first = etree.fromstring(xml.encode()).xpath("//comment()")[0].text
     assert first.startswith(f" {title.replace('--', '- -').replace('--', '- -')}: written by linkgen")
@@ -149,10 +147,10 @@ def test_a_title_given_in_python_is_written_safely():
     character codes."""
     from dataclasses import replace
 
-    from linkgen.families.cam.description import load_cam
+    from linkgen import load
     from linkgen.mujoco.cam import cam_mjcf
 
-    cm = replace(load_cam(MODELS / "cam_translating.toml"), title="bell\x07 -- end-")
+    cm = replace(load(MODELS / "cam_translating.toml"), title="bell\x07 -- end-")
     assert "<!-- bellU+0007 - - end-: written by linkgen" in cam_mjcf(cm)
 
 
@@ -361,11 +359,10 @@ def test_a_title_with_dollar_signs_is_drawn_as_written(tmp_path, capsys, model):
     assert main(["draw", str(path), "-o", str(tmp_path / "m.svg")]) == 0
     assert (tmp_path / "m.svg").stat().st_size > 0
     from linkgen import load
-    from linkgen.families.cam.description import is_cam_file, load_cam
     from linkgen.draw.plan import title_of
 
     # what matplotlib is given: every '$' escaped, so it draws the text as written
-    assert title_of((load_cam if is_cam_file(path) else load)(path)) == r"a \$\frac{\$ b \$\$"
+    assert title_of(load(path)) == r"a \$\frac{\$ b \$\$"
 
 
 def test_a_non_finite_vector_column_is_named_by_its_row():
@@ -390,7 +387,7 @@ def test_a_cam_that_cannot_drive_its_follower_is_refused_not_infinite():
 
     import numpy as np
 
-    from linkgen.families.cam.description import load_cam
+    from linkgen import load
     from linkgen.families.cam.kinetics import state
     from linkgen.errors import SingularityError
 
@@ -399,7 +396,7 @@ def test_a_cam_that_cannot_drive_its_follower_is_refused_not_infinite():
     with tempfile.TemporaryDirectory() as d:
         path = Path(d) / "c.toml"
         path.write_text(text.replace("pivot_distance = 0.25", "pivot_distance = 2.5e-101"))
-        cm = load_cam(path)
+        cm = load(path)
         with pytest.raises(SingularityError, match="square to the follower's motion"):
             state(cm, np.linspace(0.0, 2 * np.pi, 72, endpoint=False))
 

@@ -174,10 +174,13 @@ def test_overflow_is_named_as_overflow():
     # transfer functions are fine, so the message must speak of overflow, not of a dead centre.
     mech = load(MODELS[0].parent / "fourbar.toml")
     phi = np.radians([10.0, 20.0])
+    # the family's own function: linkgen.solve_motion refuses ω past linkgen's limits first
+    from linkgen.families.planar.kinematics import solve_motion
+
     with pytest.raises(linkgen.MagnitudeError, match=r"^the acceleration of point .* overflows float64 .* at crank "
                                                      r"angles 10.000°..20.000°: the description's lengths or the "
                                                      r"crank rates are too large"):
-        linkgen.solve_motion(mech, phi, 1e160)
+        solve_motion(mech, phi, 1e160)
     with pytest.raises(linkgen.MagnitudeError, match="overflows float64"):
         solve(mech, phi).motion(1e160)
     from linkgen.families.planar.kinetostatics import forces
@@ -200,8 +203,12 @@ def test_overflowing_sketch_is_refused_at_load_and_overflow_is_named():
         linkgen.from_dict(data)
     # from Python, rates past float64's range through ω² are named as overflow, not as a dead centre
     mech = linkgen.load(MODELS[0].parent / "fourbar.toml")
+    from linkgen.families.planar.kinematics import solve_motion
+
     with pytest.raises(linkgen.MagnitudeError, match="overflow"):
-        linkgen.solve_motion(mech, np.array([0.3]), 1e160)
+        solve_motion(mech, np.array([0.3]), 1e160)
+    with pytest.raises(linkgen.ArgumentError, match=r"^omega: expected a number within ±1e\+30 rad/s"):
+        linkgen.solve_motion(mech, np.array([0.3]), 1e160)  # the API's limits
 
 
 def test_parallel_guides_are_named_in_the_description():

@@ -80,7 +80,7 @@ def test_corpus_is_deterministic_round_trips_and_covers_what_it_documents():
         assert d == random_description(np.random.default_rng(seed))
         assert tomllib.loads(to_toml(d)) == d
         mech = linkgen.from_dict(d)
-        for g in linkgen.analyze(mech).groups:
+        for g in linkgen.decompose(mech).groups:
             seen[g.kind.value] += 1
         carriers = {}
         for name, spec in d["links"].items():

@@ -5,12 +5,13 @@ from matplotlib's figure size and dpi, and the crank and coupler drawn in their 
 
 from __future__ import annotations
 
-import tomllib
 from pathlib import Path
 
 import numpy as np
 import pytest
 from PIL import Image
+
+from conftest import SPATIAL_MODELS
 
 from linkgen.draw.plan import DPI
 from linkgen.draw.skeleton import CRANK, LINK
@@ -26,15 +27,7 @@ PLAN = np.radians(np.arange(0.0, 360.0, 30.0))  # 0:360:30, as `linkgen draw --a
 COLOUR_TOL = 12.0
 
 
-def _spatial(path: Path) -> bool:
-    """A model file whose [mechanism] space is "spatial" (a file that does not parse is not one)."""
-    try:
-        return tomllib.loads(path.read_text(encoding="utf-8")).get("mechanism", {}).get("space") == "spatial"
-    except (tomllib.TOMLDecodeError, UnicodeDecodeError):
-        return False
-
-
-SPATIAL = sorted(p for p in (ROOT / "models").glob("*.toml") if _spatial(p))
+SPATIAL = SPATIAL_MODELS  # every bundled spatial model, as the registry tells them apart
 
 
 def _pixels(path: Path, size: tuple[int, int] | None = None) -> np.ndarray:

@@ -501,14 +501,13 @@ angle = 0.0
 
 from conftest import CAM_MODELS  # noqa: E402
 
-from linkgen.families.cam.description import load_cam  # noqa: E402
 from linkgen.families.cam.kinetics import state as cam_state  # noqa: E402
 from linkgen.families.cam.summary import cam_summary  # noqa: E402
 
 
 @pytest.mark.parametrize("path", CAM_MODELS, ids=[p.stem for p in CAM_MODELS])
 def test_cam_summary_extrema_agree_with_a_dense_independent_scan(path):
-    cm = load_cam(path)
+    cm = load(path)
     w = cm.omega
     s = cam_summary(cm, w).to_dict()
     th = np.linspace(0.0, 2 * math.pi, DENSE, endpoint=False)

@@ -1,8 +1,8 @@
-"""Time the structure analysis (``linkgen.analyze``) on chains of class-II groups.
+"""Time the structure analysis (``linkgen.decompose``) on chains of class-II groups.
 
 Each group k is an RRR dyad: a coupler from a point of the previous rocker (the crank for the
 first) to a rocker pivoted on ground. Prints, per chain length, the time to build the
-description (validation included) and the time of ``analyze`` alone, best of three.
+description (validation included) and the time of ``decompose`` alone, best of three.
 
     .venv/bin/python validation/bench_structure.py [N ...]     (default 100 1000 5000)
 """
@@ -12,7 +12,7 @@ from __future__ import annotations
 import sys
 import time
 
-from linkgen import analyze, assemble
+from linkgen import assemble, decompose
 from linkgen.families.planar.description import Drive, Link, Mechanism
 
 
@@ -40,13 +40,13 @@ def best_of(fn, repeat: int = 3) -> tuple[float, object]:
 
 
 def main(sizes: list[int]) -> None:
-    print(f"{'groups':>7} {'build+validate [s]':>19} {'analyze [s]':>12} {'assemble [s]':>13}")
+    print(f"{'groups':>7} {'build+validate [s]':>19} {'decompose [s]':>14} {'assemble [s]':>13}")
     for n in sizes:
         t_build, mech = best_of(lambda: chain(n))
-        t_an, s = best_of(lambda: analyze(mech))
+        t_an, s = best_of(lambda: decompose(mech))
         assert len(s.groups) == n, (len(s.groups), n)
         t_asm, _ = best_of(lambda: assemble(mech), repeat=1)
-        print(f"{n:>7} {t_build:>19.4f} {t_an:>12.4f} {t_asm:>13.3f}")
+        print(f"{n:>7} {t_build:>19.4f} {t_an:>14.4f} {t_asm:>13.3f}")
 
 
 if __name__ == "__main__":

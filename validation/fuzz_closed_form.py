@@ -109,7 +109,7 @@ def main(argv=None) -> int:
     t0 = time.perf_counter()
     for i in range(args.n):
         desc = random_description(np.random.default_rng([args.seed, i]))
-        for g in linkgen.analyze(linkgen.from_dict(desc)).groups:
+        for g in linkgen.decompose(linkgen.from_dict(desc)).groups:
             kinds[g.kind.value] += 1
         failed = False
         for check, fig, tol in check_mechanism(desc, i):

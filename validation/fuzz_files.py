@@ -18,11 +18,10 @@ import numpy as np
 
 from linkgen import DescriptionError, LinkgenError, load, solve
 from linkgen.families.planar.kinetostatics import forces
-from linkgen.families.cam.description import CamMechanism
 from linkgen.families.cam.kinetics import state as cam_state
-from linkgen.families.spatial.description import SpatialMechanism
 from linkgen.families.spatial.forces import forces as spatial_forces
 from linkgen.families.spatial.kinematics import solve as spatial_solve
+from linkgen.pipeline.registry import family_of
 
 MODELS = sorted((Path(__file__).resolve().parent.parent / "models").glob("*.toml"))
 _NUMBER = re.compile(rb"-?\d+\.?\d*(?:e-?\d+)?")
@@ -66,10 +65,11 @@ def check(path: Path) -> str:
     except DescriptionError as exc:
         assert str(exc).startswith(f"{path}: "), f"message does not name the file: {exc}"
         return "DescriptionError on load"
-    if isinstance(mech, SpatialMechanism):
-        return _check_spatial(mech)
-    if isinstance(mech, CamMechanism):
-        return _check_cam(mech)
+    return CHECKS[family_of(mech).name](mech)
+
+
+def _check_planar(mech) -> str:
+    """A planar linkage over its drive range: finite forces, or a LinkgenError."""
     phi = np.linspace(mech.drive.start, mech.drive.stop, 16)
     try:
         f = forces(mech, phi, mech.drive.omega, mech.drive.epsilon)
@@ -81,7 +81,7 @@ def check(path: Path) -> str:
     return "solved"
 
 
-def _check_cam(cm: CamMechanism) -> str:
+def _check_cam(cm) -> str:
     """A stand-alone cam over a whole turn: finite follower motion and forces, or a LinkgenError."""
     theta = np.linspace(0.0, 2 * np.pi, 16)
     try:
@@ -93,7 +93,7 @@ def _check_cam(cm: CamMechanism) -> str:
     return "solved"
 
 
-def _check_spatial(mech: SpatialMechanism) -> str:
+def _check_spatial(mech) -> str:
     """A spatial four-bar over a whole turn of its crank: finite motion and forces, or a LinkgenError."""
     phi = np.linspace(0.0, 2 * np.pi, 16)
     try:
@@ -105,6 +105,10 @@ def _check_spatial(mech: SpatialMechanism) -> str:
     for name, r in f.reactions.items():
         assert np.all(np.isfinite(r.force)) and np.all(np.isfinite(r.moment)), f"non-finite {name}"
     return "solved"
+
+
+# The check of each family (by the registry's name for it).
+CHECKS = {"planar": _check_planar, "cam": _check_cam, "spatial": _check_spatial}
 
 
 def main(count: int = 2000, seed: int = 1) -> int:

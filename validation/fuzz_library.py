@@ -75,56 +75,54 @@ def _compile(xml: str) -> None:
         raise RuntimeError(f"MuJoCo rejects the MJCF: {str(exc).strip()[:200]}") from None
 
 
-def _planar(path: Path, deep: bool) -> list:
+def _planar(mech, path: Path, deep: bool) -> list:
     import linkgen
     from linkgen.families.planar.kinetostatics import forces
     from linkgen.families.planar.summary import summarize
+    from linkgen.model.machine import machine_from_dict
+    from linkgen.model.toml_file import read_toml
     from linkgen.mujoco.mjcf import write_mjcf
 
-    mech = linkgen.load(path)
     asm = linkgen.assemble(mech)
     d = mech.drive
     phi = np.linspace(d.start, d.stop, SAMPLES)
     kin = linkgen.solve(asm, phi, on_singular="mark")  # singular rows: finite by contract, not an error
     ok = ~np.asarray(kin.singular, bool)
-    out = [("structure", linkgen.analyze(mech).formula), ("points", kin.points), ("sliders", kin.sliders),
+    out = [("structure", linkgen.decompose(mech).formula), ("points", kin.points), ("sliders", kin.sliders),
            ("links", kin.links)]
     if np.any(ok):
         out.append(("forces", forces(asm, phi[ok], d.omega, d.epsilon)))
     out.append(("summary", summarize(asm, d.omega, d.epsilon).to_dict()))
     if deep:
         _compile(write_mjcf(asm))
+        if machine_from_dict(read_toml(path)) is not None:  # the machine layer over the linkage
+            out += _machine(path)
     return out
 
 
-def _machine(path: Path, deep: bool) -> list:
+def _machine(path: Path) -> list:
     from linkgen.machine.machine import run_machine
     from linkgen.machine.reduced import reduce
     from linkgen.machine.study import cycle_forces, flywheel_study, load_machine
     from linkgen.mujoco.machine_mjcf import machine_mjcf
 
-    out = _planar(path, deep)
-    if not deep:
-        return out
     asm, machine = load_machine(path)
     run = run_machine(machine, reduce(asm, machine.process_load), samples=400,
                       duration=min(machine.duration, MACHINE_DURATION))
     f = cycle_forces(asm, run)
-    out += [("run.omega", run.omega), ("run.motor_torque", run.motor_torque),
-            ("steady", run.steady.to_json() if run.steady else None), ("cycle_forces", f.to_json() if f else None)]
+    out = [("run.omega", run.omega), ("run.motor_torque", run.motor_torque),
+           ("steady", run.steady.to_json() if run.steady else None), ("cycle_forces", f.to_json() if f else None)]
     fw, delta = flywheel_study(asm, machine, 0.02)
     out += [("flywheel", fw), ("delta_integrated", delta)]
     _compile(machine_mjcf(asm, machine))
     return out
 
 
-def _cam(path: Path, deep: bool) -> list:
-    from linkgen.families.cam.description import load_cam
+def _cam(cm, path: Path, deep: bool) -> list:
     from linkgen.families.cam.kinetics import state
     from linkgen.families.cam.summary import cam_summary
     from linkgen.mujoco.cam import cam_mjcf
 
-    cm = load_cam(path)
     theta = np.linspace(0.0, 2 * math.pi, 72, endpoint=False)
     s = cam_summary(cm, cm.omega).to_dict()  # leave_speed None: the follower never leaves
     out = [("state", state(cm, theta, cm.omega)), ("summary", s), ("profile", cm.follower.profile(theta)),
@@ -134,15 +132,13 @@ def _cam(path: Path, deep: bool) -> list:
     return out
 
 
-def _spatial(path: Path, deep: bool) -> list:
-    from linkgen.pipeline.registry import load
+def _spatial(mech, path: Path, deep: bool) -> list:
     from linkgen.crosscheck.spatial import derived_settings
     from linkgen.families.spatial.forces import forces
     from linkgen.families.spatial.kinematics import assembled_chain, solve
     from linkgen.mujoco.spatial_mjcf import write_spatial_mjcf
     from linkgen.families.spatial.summary import summarize
 
-    mech = load(path)
     assembled_chain(mech)
     phi = np.linspace(0.0, 2 * math.pi, SAMPLES, endpoint=False)
     motion = solve(mech, phi)
@@ -155,16 +151,15 @@ def _spatial(path: Path, deep: bool) -> list:
     return out
 
 
-def _dispatch(path: Path, deep: bool) -> list:
-    from linkgen.families.cam.description import is_cam_file
-    from linkgen.families.spatial.description import is_spatial_file
+# The library path of each family (by the registry's name for it).
+PATHS = {"planar": _planar, "cam": _cam, "spatial": _spatial}
 
-    if is_spatial_file(path):
-        return _spatial(path, deep)
-    if is_cam_file(path):
-        return _cam(path, deep)
-    text = path.read_text(encoding="utf-8", errors="replace") if path.is_file() else ""
-    return _machine(path, deep) if "[machine" in text else _planar(path, deep)
+
+def _dispatch(path: Path, deep: bool) -> list:
+    from linkgen.pipeline.registry import family_of, load
+
+    desc = load(path)
+    return PATHS[family_of(desc).name](desc, path, deep)
 
 
 def run_library(path: Path, timeout: float, deep: bool = True, wall: float | None = None) -> tuple[str, str]:

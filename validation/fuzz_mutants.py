@@ -25,19 +25,15 @@ SPECIAL = ("dev_zero", "fifo", "folder", "empty", "binary")
 
 
 def family_of(data: dict) -> str:
-    """The family of a parsed description (the bundled models' classification)."""
-    mech = data.get("mechanism", {})
-    if isinstance(mech, dict) and mech.get("space") == "spatial":
-        return "spatial"
-    if "follower" in data:
-        return "cam"
-    if "machine" in data:
-        return "machine"
-    if "gear" in data:
-        return "gears"
-    if "cam" in data:
-        return "cam_linkage"
-    return "planar"
+    """The family of a parsed description (the registry's), a planar one told apart further by
+    the layers over it (the bundled models' classification)."""
+    from linkgen.pipeline.registry import family_of_data
+
+    family = family_of_data(data).name
+    if family != "planar":
+        return family
+    return next((kind for key, kind in (("machine", "machine"), ("gear", "gears"), ("cam", "cam_linkage"))
+                 if key in data), "planar")
 
 
 def bundled() -> list[tuple[str, str, bytes]]:

@@ -77,13 +77,16 @@ def _value(value, name: str, unit: str):
 
 
 def argument(value, name: str, unit: str):
-    """``value`` (a number in SI, a string with its unit, or an array/list of them) in SI: a
-    float for a scalar, an array (n,) for a sequence. ``unit``: "rad", "rad/s" or "rad/s²"."""
+    """``value`` (a number in SI, a string with its unit, or a non-empty array/list of them) in
+    SI: a float for a scalar, an array (n,) for a sequence. ``unit``: "rad", "rad/s" or "rad/s²"."""
+    if isinstance(value, (list, tuple, np.ndarray)) and np.size(value) == 0:
+        raise ArgumentError(f"{name}: expected a number or a non-empty 1-D array of them, got an empty "
+                            f"{type(value).__name__}")
     if isinstance(value, np.ndarray) and value.dtype.kind in "iuf":
         x = value.astype(float)
         bad = ~np.isfinite(x)
         if bad.any():
-            raise ArgumentError(f"{name}: expected finite numbers, got {x[bad][0]!r} at index "
+            raise ArgumentError(f"{name}: expected finite numbers, got {float(x[bad][0])!r} at index "
                                 f"{int(np.argwhere(bad)[0][0])}")
         if x.ndim > 1:
             raise ArgumentError(f"{name}: expected a number or a 1-D array of them, got shape {x.shape}")
@@ -103,8 +106,21 @@ def angle_argument(value, name: str = "phi"):
 
 
 def rate_argument(value, name: str, unit: str):
-    """ω [rad/s] (``unit`` "rad/s") or ε [rad/s²] from the API; None stays None (the drive's)."""
+    """ω [rad/s] (``unit`` "rad/s") or ε [rad/s²] from the API, or arrays of them; None stays
+    None (the drive's)."""
     return None if value is None else argument(value, name, unit)
 
 
-__all__ = ["angle_argument", "angle_text", "argument", "rate_argument", "rate_text"]
+def one_rate(value, name: str, unit: str) -> float | None:
+    """One ω [rad/s] (``unit`` "rad/s") or ε [rad/s²] for every drive angle of a call, as the
+    registry's API takes them in every family; None stays None (the drive's). A sequence is an
+    ArgumentError naming the argument."""
+    if isinstance(value, (list, tuple, np.ndarray)) and np.ndim(value) > 0:
+        example = "120rpm" if unit == "rad/s" else "60rpm/s"
+        raise ArgumentError(f"{name}: expected one value for every drive angle (a number in {unit} or a string "
+                            f"like {example}), got a sequence of {np.size(value)}; for values that vary with the "
+                            f"angle, call once per angle")
+    return rate_argument(value, name, unit)
+
+
+__all__ = ["angle_argument", "angle_text", "argument", "one_rate", "rate_argument", "rate_text"]

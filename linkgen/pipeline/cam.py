@@ -20,7 +20,7 @@ def _from_dict(data: Mapping, source: str | None = None) -> CamMechanism:
         raise (exc.in_file(source) if source else exc) from None
 
 
-def _angles(cm, samples: int | None = None):
+def _angles(desc, samples: int | None = None):
     """The default cam angle (0), or ``samples`` cam angles over one turn (its end excluded)."""
     import math
 
@@ -29,10 +29,10 @@ def _angles(cm, samples: int | None = None):
     return 0.0 if samples is None else np.linspace(0.0, 2 * math.pi, samples, endpoint=False)
 
 
-def _kinematics(desc, phi, omega=None, epsilon=None, **options):
+def _kinematics(desc, phi, omega=None, epsilon=None, *, on_singular: str = "raise"):
     from linkgen.families.cam.results import kinematics
 
-    return kinematics(desc, phi, omega, epsilon, **options)
+    return kinematics(desc, phi, omega, epsilon, on_singular=on_singular)
 
 
 def _summary(desc, omega=None, epsilon=None):

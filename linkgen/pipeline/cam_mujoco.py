@@ -13,14 +13,19 @@ def mjcf(desc, settings=None, practical: bool = False) -> str:
     from linkgen.errors import ArgumentError
     from linkgen.mujoco.cam import cam_mjcf
 
-    if practical or settings is not None:
+    if practical:
         raise ArgumentError("--practical is for linkages; a cam's MJCF carries its own contact settings")
+    if settings is not None:
+        raise ArgumentError("settings: a stand-alone cam's MJCF carries its own contact settings, derived from its "
+                            "motion; leave settings out (None)")
     return cam_mjcf(desc)
 
 
-def validate(desc, *, progress=None, max_steps: int | None = None, **_options):
+def validate(desc, *, practical: bool = True, nthread: int | None = None, max_steps: int | None = None, progress=None,
+             source=None, machine_progress=None):
     """One turn in MuJoCo against the closed form, diagnosed: a ``crosscheck.cam.CamCheck``
-    (the linkage options — practical settings, threads, the description's file — do not apply)."""
+    (``practical``, ``nthread``, ``source`` and ``machine_progress`` are planar linkages' options:
+    they do not apply here)."""
     from linkgen.crosscheck.cam import check_cam
 
     return check_cam(desc, progress=progress, max_steps=max_steps)

@@ -30,8 +30,8 @@ class Family:
     options:     the command-line options only some families take (``FAMILY_OPTIONS``) that
                  this one takes; the CLI refuses the others naming the file and the families
                  that take them (``registry.check_command``).
-    stages:      stage name → callable(description, ...): structure, kinematics, forces, summary,
-                 mjcf, validate, draw, ... (see ``STAGES``).
+    stages:      stage name → callable(description, ...), each with the call ``STAGES`` gives;
+                 a stage that one of its commands needs is required (see ``Stage``).
     """
 
     name: str
@@ -45,6 +45,15 @@ class Family:
     stages: Mapping[str, Callable]
     options: tuple[str, ...] = ()
 
+    def __post_init__(self) -> None:
+        unknown = sorted(set(self.stages) - set(BY_STAGE))
+        missing = [s.name for s in STAGES if s.name not in self.stages and set(s.needed_by) & set(self.commands)]
+        if unknown or missing:
+            raise TypeError(f"Family({self.name!r}): " + (f"unknown stages {unknown} (the interface's are "
+                            f"{[s.name for s in STAGES]})" if unknown else
+                            f"takes {', '.join(c for s in missing for c in BY_STAGE[s].needed_by)} but has no "
+                            f"{', '.join(missing)} stage (pipeline/family.py STAGES)"))
+
     def __repr__(self) -> str:
         return f"Family({self.name!r})"
 
@@ -53,17 +62,54 @@ class Family:
 # --keep-singular (samples marked singular), --practical (MuJoCo's usual settings in build).
 FAMILY_OPTIONS = ("--transfer", "--keep-singular", "--practical")
 
-# The stages of the interface, in the order data flows through them.
-STAGES = ("angles", "structure", "kinematics", "forces", "summary", "profile", "mjcf", "simulate", "validate",
-          "figures", "report", "draw", "animate", "render")
-# The closed-form stages: angles(desc, samples=None) → the default crank angle or a sample grid;
-# structure(desc), kinematics(desc, phi, omega=None, epsilon=None), forces(...), summary(desc,
-# omega=None, epsilon=None), profile(desc, points) → results with to_dict(), columns(), text().
-# The MuJoCo and picture stages (pipeline/*_mujoco.py): mjcf(desc, settings=None, practical=False) → MJCF
-# text; simulate(desc, **options) → a run; validate(desc, **options) → a result with ok, summary(wall),
-# to_dict() and diagnosis; figures(desc, result, folder) → the report's entries (figures, …);
-# report(entry) → the report's (row, section) writers; draw(desc, angles, out) → what was drawn;
-# animate(desc, frames, progress, mujoco, notice) → (frames, how); render(desc, angle, width, height)
-# → (frame, what).
+@dataclass(frozen=True)
+class Stage:
+    """One stage of the family interface: its call (every family's implementation has exactly
+    these parameters, the description first), what it returns, and the CLI commands that call
+    it: a family taking one of ``needed_by`` must have the stage (``Family`` refuses to be built
+    without it); any other stage is optional, and asking a family for one it lacks is a one-line
+    UnsupportedError (``registry.stage``)."""
 
-__all__ = ["FAMILY_OPTIONS", "Family", "STAGES"]
+    name: str
+    call: str
+    returns: str
+    needed_by: tuple[str, ...]
+
+
+# The stages of the interface, in the order data flows through them (docs/architecture.md's
+# table of stages is generated from this one and checked by tests/test_architecture_doc.py).
+STAGES: tuple[Stage, ...] = (
+    Stage("angles", "(desc, samples=None)",
+          "the default drive angle [rad], or ``samples`` angles (n,) over the drive range", ("analyze", "forces")),
+    Stage("structure", "(desc)", "a structure result: mobility, the drive, the groups or chain; "
+          "``to_dict()``, ``text()``", ("structure",)),
+    Stage("kinematics", "(desc, phi, omega=None, epsilon=None, *, on_singular='raise')",
+          "positions, velocities, accelerations, jerks (and transfer functions) at φ [rad], scalar or (n,); "
+          "``to_dict()``, ``columns()``, ``text()``", ("analyze",)),
+    Stage("forces", "(desc, phi, omega=None, epsilon=None, *, on_singular='raise')",
+          "the balancing torque and every pair's reaction at φ, as ``kinematics``", ("forces",)),
+    Stage("summary", "(desc, omega=None, epsilon=None)",
+          "the design summary over the drive range (``model.summary``); ``to_dict()``, ``text()``", ("analyze",)),
+    Stage("profile", "(desc, points=720)", "a cam's profile and pitch curve; ``to_dict()``, ``columns()``",
+          ("profile",)),
+    Stage("mjcf", "(desc, settings=None, practical=False)", "the MJCF text", ("build",)),
+    Stage("simulate", "(desc, *, revolutions=None, omega=None, epsilon=None, settings=None, samples=None, "
+          "nthread=None, progress=None, max_steps=None, settle=None, notice=None)",
+          "a MuJoCo run over the drive range (None: the run's default)", ("simulate",)),
+    Stage("validate", "(desc, *, practical=True, nthread=None, max_steps=None, progress=None, source=None, "
+          "machine_progress=None)",
+          "MuJoCo against the closed form: ``ok``, ``summary(wall)``, ``to_dict()``, ``diagnosis`` (options that do "
+          "not apply to a family are ignored by it)", ("validate",)),
+    Stage("figures", "(desc, check, out)", "the report's entries (``figures``: file names drawn into the folder "
+          "``out``, ``summary``, …) of a validated description", ("validate",)),
+    Stage("report", "(entry)", "the report's (row, section) writers of one ``validate --json`` entry",
+          ("validate",)),
+    Stage("draw", "(desc, angles, out)", "what was drawn into ``out``: one position (a number, None: the "
+          "default) or a position plan (an array)", ("draw",)),
+    Stage("animate", "(desc, frames, progress=None, mujoco=False, notice=None)", "(frames, how they were made)",
+          ("animate",)),
+    Stage("render", "(desc, angle, width, height)", "(a MuJoCo frame (h, w, 3), what it shows)", ("render",)),
+)
+BY_STAGE: Mapping[str, Stage] = {s.name: s for s in STAGES}
+
+__all__ = ["BY_STAGE", "FAMILY_OPTIONS", "Family", "STAGES", "Stage"]

@@ -23,14 +23,14 @@ def _from_dict(data: Mapping, source: str | None = None) -> Mechanism:
         raise (exc.in_file(source) if source else exc) from None
 
 
-def _angles(mech, samples: int | None = None):
+def _angles(desc, samples: int | None = None):
     """The default crank angle (the drive range's start), or ``samples`` angles over the drive
     range (a full turn excludes its end)."""
     import math
 
     import numpy as np
 
-    d = (mech.mechanism if hasattr(mech, "structure") else mech).drive
+    d = (desc.mechanism if hasattr(desc, "structure") else desc).drive
     if samples is None:
         return d.start
     full = d.stop - d.start >= 2 * math.pi - 1e-12
@@ -43,16 +43,16 @@ def _structure(desc):
     return structure(desc)
 
 
-def _kinematics(desc, phi, omega=None, epsilon=None, **options):
+def _kinematics(desc, phi, omega=None, epsilon=None, *, on_singular: str = "raise"):
     from linkgen.families.planar.motion_result import kinematics
 
-    return kinematics(desc, phi, omega, epsilon, **options)
+    return kinematics(desc, phi, omega, epsilon, on_singular=on_singular)
 
 
-def _forces(desc, phi, omega=None, epsilon=None, **options):
+def _forces(desc, phi, omega=None, epsilon=None, *, on_singular: str = "raise"):
     from linkgen.families.planar.forces_result import forces
 
-    return forces(desc, phi, omega, epsilon, **options)
+    return forces(desc, phi, omega, epsilon, on_singular=on_singular)
 
 
 def _summary(desc, omega=None, epsilon=None):

@@ -56,12 +56,17 @@ def mjcf(desc, settings=None, practical: bool = False) -> str:
     return write_mjcf(source, settings)
 
 
-def simulate(desc, notice=None, **options):
-    """A MuJoCo run over the drive range (``mujoco.simulate.simulate``'s options); ``notice(text)``
-    hears that the closed form does not cover the mechanism and the run starts from the numeric
-    pose."""
+def simulate(desc, *, revolutions=None, omega=None, epsilon=None, settings=None, samples=None, nthread=None,
+             progress=None, max_steps=None, settle=None, notice=None):
+    """A MuJoCo run over the drive range (``mujoco.simulate.simulate``; an option left None takes
+    its default there); ``notice(text)`` hears that the closed form does not cover the mechanism
+    and the run starts from the numeric pose."""
     from linkgen.mujoco.simulate import simulate as run
 
+    options = {k: v for k, v in (("revolutions", revolutions), ("omega", omega), ("epsilon", epsilon),
+                                 ("settings", settings), ("samples", samples), ("nthread", nthread),
+                                 ("progress", progress), ("max_steps", max_steps), ("settle", settle))
+               if v is not None}
     source, why = _source(desc)
     if why is not None and notice is not None:
         notice(f"the closed form does not cover this mechanism ({why}); MuJoCo runs it from the numeric pose, "

@@ -12,7 +12,7 @@ from typing import Any, Mapping
 
 from linkgen.errors import ArgumentError, DescriptionError, UnsupportedError
 from linkgen.pipeline.cam import CAM
-from linkgen.pipeline.family import Family
+from linkgen.pipeline.family import BY_STAGE, Family
 from linkgen.pipeline.planar import PLANAR
 from linkgen.pipeline.spatial import SPATIAL
 
@@ -85,14 +85,32 @@ def unsupported(family: Family, what: str, path: str | Path | None = None) -> Un
 def stage(description: Any, name: str):
     """The stage ``name`` of the description's family (a callable taking the description first);
     UnsupportedError, naming the families that have it, if its family has none."""
-    family = family_of(description)
+    return family_stage(family_of(description), name, getattr(description, "name", "?"))
+
+
+def family_stage(family: Family, name: str, model: str):
+    """The stage ``name`` of ``family``; UnsupportedError naming the model, the families that
+    have the stage, or the interface's stages for a name that is none of them."""
     fn = family.stages.get(name)
-    if fn is None:
-        others = [f.plural for f in FAMILIES if name in f.stages]
-        has = f"it is for {' and '.join(others)}" if others else "no family has it yet"
-        raise UnsupportedError(f"{getattr(description, 'name', '?')}: {family.plural} have no {name.replace('_', ' ')} "
-                               f"stage; {has}")
-    return fn
+    if fn is not None:
+        return fn
+    if name not in BY_STAGE:
+        raise UnsupportedError(f"{model}: {name!r} is not a stage; the stages are {', '.join(BY_STAGE)}")
+    others = [f.plural for f in FAMILIES if name in f.stages]
+    has = f"it is for {' and '.join(others)}" if others else "no family has it yet"
+    raise UnsupportedError(f"{model}: {family.plural} have no {name.replace('_', ' ')} stage; {has}")
+
+
+def require(description: Any, family_name: str, what: str, instead: Mapping[str, str]) -> Family:
+    """The description's family if it is ``family_name``; UnsupportedError in one line if not,
+    naming ``what`` was asked, the family it is for and, of ``instead`` (function → the stage it
+    calls), the functions that take the description's family."""
+    family = family_of(description)
+    if family.name == family_name:
+        return family
+    takes = [fn for fn, st in instead.items() if st in family.stages]
+    raise UnsupportedError(f"{getattr(description, 'name', '?')}: {what} is for {BY_NAME[family_name].plural}; "
+                           f"{family.plural} take {', '.join(takes)}")
 
 
 def report_parts(entry: Mapping):
@@ -104,7 +122,7 @@ def report_parts(entry: Mapping):
     family = BY_NAME.get(entry.get("family"))
     if "error" in entry or family is None:
         return sections.ERROR
-    return family.stages["report"](entry)
+    return family_stage(family, "report", str(entry.get("model", "?")))(entry)
 
 
 def check_command(command: str, path: str | Path, options: tuple[str, ...] = ()) -> Family | None:
@@ -124,4 +142,4 @@ def check_command(command: str, path: str | Path, options: tuple[str, ...] = ())
 
 
 __all__ = ["BY_NAME", "FAMILIES", "UnsupportedError", "check_command", "family_of", "family_of_data", "family_of_file",
-           "from_dict", "load", "loads", "report_parts", "stage", "unsupported"]
+           "family_stage", "from_dict", "load", "loads", "report_parts", "require", "stage", "unsupported"]

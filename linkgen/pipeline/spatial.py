@@ -7,7 +7,7 @@ from linkgen.families.spatial.description import SpatialMechanism, is_spatial, s
 from linkgen.pipeline.family import Family
 from linkgen.pipeline.spatial_mujoco import STAGES as MUJOCO_STAGES
 
-def _angles(mech, samples: int | None = None):
+def _angles(desc, samples: int | None = None):
     """The default crank angle (0), or ``samples`` angles over one turn (its end excluded)."""
     import math
 
@@ -22,16 +22,16 @@ def _structure(desc):
     return structure(desc)
 
 
-def _kinematics(desc, phi, omega=None, epsilon=None, **options):
+def _kinematics(desc, phi, omega=None, epsilon=None, *, on_singular: str = "raise"):
     from linkgen.families.spatial.results import kinematics
 
-    return kinematics(desc, phi, omega, epsilon, **options)
+    return kinematics(desc, phi, omega, epsilon, on_singular=on_singular)
 
 
-def _forces(desc, phi, omega=None, epsilon=None, **options):
+def _forces(desc, phi, omega=None, epsilon=None, *, on_singular: str = "raise"):
     from linkgen.families.spatial.results import forces
 
-    return forces(desc, phi, omega, epsilon, **options)
+    return forces(desc, phi, omega, epsilon, on_singular=on_singular)
 
 
 def _summary(desc, omega=None, epsilon=None):

@@ -23,9 +23,11 @@ def mjcf(desc, settings=None, practical: bool = False) -> str:
     return write_spatial_mjcf(desc, derived_settings(desc)[0] if settings is None else settings)
 
 
-def validate(desc, *, progress=None, max_steps: int | None = None, **_options):
-    """MuJoCo against the closed form: a ``crosscheck.spatial.SpatialCheck`` (the linkage
-    options — practical settings, threads, the description's file — do not apply)."""
+def validate(desc, *, practical: bool = True, nthread: int | None = None, max_steps: int | None = None, progress=None,
+             source=None, machine_progress=None):
+    """MuJoCo against the closed form: a ``crosscheck.spatial.SpatialCheck`` (``practical``,
+    ``nthread``, ``source`` and ``machine_progress`` are planar linkages' options: they do not
+    apply here)."""
     from linkgen.crosscheck.spatial import check_spatial
 
     return check_spatial(desc, progress=progress, max_steps=max_steps)

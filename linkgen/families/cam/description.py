@@ -20,14 +20,12 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from pathlib import Path
 
 from linkgen.families.cam.follower import Follower
 from linkgen.families.cam.laws import LAWS, Program, Segment, SineProgram
 from linkgen.errors import DescriptionError
 from linkgen.model.names import check_name
 from linkgen.model.schema import CAM_FILE, check as check_types
-from linkgen.model.toml_file import read_toml
 from linkgen.model import limits
 from linkgen.model.units import angular_speed, bounded, finite, length, non_negative, parse_angle, shown, vector2
 
@@ -63,29 +61,10 @@ class CamMechanism:
         return f"CamMechanism({self.name!r}, {self.follower.kind} follower)"
 
 
-def is_cam_file(path: str | Path) -> bool:
-    """True if ``path`` is TOML with a top-level ``[cam]`` table (False for anything unreadable:
-    the linkage reader then names the problem)."""
-    try:
-        return is_cam_data(read_toml(path))
-    except DescriptionError:
-        return False
-
-
 def is_cam_data(data) -> bool:
     """A stand-alone cam mechanism: a ``[cam]`` table and no ``[links]`` (a linkage whose crank
     carries a cam has ``[cam.NAME]`` pair tables next to its links)."""
     return isinstance(data, dict) and "cam" in data and "links" not in data
-
-
-def load_cam(path: str | Path) -> CamMechanism:
-    """Read and validate a cam description; DescriptionError names the file, field and value."""
-    source = str(path)
-    data = read_toml(path)
-    try:
-        return cam_from_dict(data)
-    except DescriptionError as exc:
-        raise exc.in_file(source) from None
 
 
 def _length(value, field: str) -> float:
@@ -257,4 +236,4 @@ def cam_from_dict(data: dict) -> CamMechanism:
                               enumerate(vector2(mech.get("gravity", [0.0, 0.0]), "mechanism.gravity"))))
 
 
-__all__ = ["CamMechanism", "cam_from_dict", "is_cam_data", "is_cam_file", "load_cam", "program_from_table"]
+__all__ = ["CamMechanism", "cam_from_dict", "is_cam_data", "program_from_table"]

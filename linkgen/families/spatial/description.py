@@ -25,7 +25,6 @@ plane square to it — for an axis along z, from +x about +z.
 from __future__ import annotations
 
 import math
-from pathlib import Path
 from dataclasses import dataclass
 from types import MappingProxyType
 from typing import Any, Mapping
@@ -306,15 +305,4 @@ def _link(name: str, t: dict, points: dict) -> Link3:
     return Link3(name, tuple(pts), size, mass)
 
 
-def is_spatial_file(path) -> bool:
-    """True for a readable TOML file whose [mechanism] says space = "spatial"."""
-    from linkgen.model.toml_file import read_toml
-
-    try:
-        return is_spatial(read_toml(path))
-    except DescriptionError:
-        return False
-
-
-__all__ = ["Drive3", "Joint3", "Link3", "Slide3", "SpatialMechanism", "is_spatial", "is_spatial_file",
-           "spatial_from_dict"]
+__all__ = ["Drive3", "Joint3", "Link3", "Slide3", "SpatialMechanism", "is_spatial", "spatial_from_dict"]
