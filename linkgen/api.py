@@ -110,7 +110,7 @@ def summary(source, omega=None, epsilon=None):
 def profile(source, points: int = 720):
     """A stand-alone cam's profile and pitch curve at ``points`` cam angles over one turn
     (``linkgen profile``)."""
-    from linkgen.cli.common import MAX_SAMPLES
+    from linkgen.model.limits import MAX_SAMPLES
 
     fn = _stage(source, "profile")
     if isinstance(points, bool) or not isinstance(points, (int, np.integer)) or not 1 <= points <= MAX_SAMPLES:
@@ -137,7 +137,7 @@ def write_mjcf(source, settings=None) -> str:
 def _counts(options: dict) -> dict:
     """``options`` with ω and ε read as everywhere in the API and the counts and sizes checked:
     whole numbers ≥ 1 (samples at most the CLI's --samples), revolutions a positive number."""
-    from linkgen.cli.common import MAX_SAMPLES
+    from linkgen.model.limits import MAX_SAMPLES
 
     out = dict(options)
     for name, unit in (("omega", "rad/s"), ("epsilon", "rad/s²")):

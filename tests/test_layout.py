@@ -167,3 +167,10 @@ def test_the_model_stage_does_not_reach_mujoco_or_the_cli():
         if m.startswith(("linkgen.model", "linkgen.families.planar")):
             bad = {t for t in targets if t.startswith(("linkgen.mujoco", "linkgen.crosscheck", "linkgen.cli"))}
             assert not bad, (m, bad)
+
+
+def test_the_api_does_not_reach_into_the_command_line():
+    """The API and the CLI are both written against the registry; neither is built on the other."""
+    edges = _edges(_modules())
+    for m in ("linkgen", "linkgen.api"):
+        assert not {t for t in edges[m] if t.startswith("linkgen.cli")}, m

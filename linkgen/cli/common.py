@@ -58,9 +58,7 @@ def rate_arg(limit: float, unit: str):
     return parse
 
 
-# Most crank angles one command evaluates (--samples): the benchmark's size; the solution's
-# arrays then take some 0.3 GB and the CSV about 1 GB.
-MAX_SAMPLES = 10**6
+from linkgen.model.limits import MAX_SAMPLES  # noqa: E402 (the CLI's --samples bound, with the API's)
 
 
 def _positive_int(text: str) -> int:

@@ -75,7 +75,12 @@ MAX_TEETH = 2**53
 # Not a limit of the description: only ``linkgen build`` and the MuJoCo commands need it.
 MJCF_MIN_BAR = 2e-6
 
-__all__ = [
+# Most crank angles one call evaluates (the CLI's --samples, the API's samples and points): the
+# benchmark's size; the solution's arrays then take some 0.3 GB and the CSV about 1 GB.
+MAX_SAMPLES = 10**6
+
+
+__all__ = ["MAX_SAMPLES", 
     "MAX_LENGTH", "MIN_LENGTH", "MIN_MASS", "MAX_MASS", "MAX_INERTIA", "MAX_OMEGA", "MIN_CAM_OMEGA", "MAX_EPSILON",
     "MAX_GRAVITY", "MAX_FORCE", "MAX_TORQUE", "MAX_ANGLE", "MAX_TEETH", "MJCF_MIN_BAR",
 ]
