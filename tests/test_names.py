@@ -216,3 +216,18 @@ def test_every_family_summary_and_structure_are_walked():
     summaries = {family_of(linkgen.load(p.values[0])).name for p in _whole_cases("summary")}
     structures = {family_of(linkgen.load(p.values[0])).name for p in _whole_cases("structure")}
     assert summaries == {"planar", "cam", "spatial"} and structures == {"planar", "spatial"}
+
+
+# ---------------------------------------------------------------------------------------------
+# text() on samples: every family's sampled result prints each angle's block, the same block the
+# result computed at that one angle prints (was a bare TypeError from float() of an array).
+
+TEXT_ANGLES = (0.1, 0.2)  # [rad] two drive angles where every bundled model assembles
+
+
+@pytest.mark.parametrize("path,name", list(_cases()))
+def test_text_of_a_sampled_result_is_each_angles_block(path, name):
+    desc = linkgen.load(path)
+    run = stage(desc, name)
+    sampled = run(desc, np.array(TEXT_ANGLES), on_singular="mark").text()
+    assert sampled == "\n\n".join(run(desc, phi, on_singular="mark").text() for phi in TEXT_ANGLES)

@@ -13,7 +13,7 @@ import numpy as np
 
 from linkgen.errors import ArgumentError
 from linkgen.families.cam.summary import FOLLOWER
-from linkgen.model.results import Record, column, plain, shaped
+from linkgen.model.results import Record, column, per_sample, plain, shaped
 
 UNITS = {"theta": "rad", "omega": "rad/s", "translating": "m, m/s, m/s², m/s³",
          "oscillating": "rad, rad/s, rad/s², rad/s³", "pressure_angle": "rad", "contact_force": "N", "cam_torque": "N·m"}
@@ -76,6 +76,7 @@ class CamKinematics:
     def singular_lines(self) -> list[str]:
         return []
 
+    @per_sample
     def text(self, transfer: bool = False) -> str:
         f = self.followers[FOLLOWER]
         theta = float(self.theta)

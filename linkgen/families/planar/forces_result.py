@@ -11,7 +11,7 @@ from typing import ClassVar, Mapping
 
 import numpy as np
 
-from linkgen.model.results import Reaction, Record, column, plain, shaped
+from linkgen.model.results import Reaction, Record, column, per_sample, plain, shaped
 
 UNITS = {"phi": "rad", "omega": "rad/s", "epsilon": "rad/s²", "force": "N", "torque": "N·m", "moment": "N·m",
          "normal_force": "N", "reduced_inertia": "kg·m²", "reduced_inertia_derivative": "kg·m²/rad",
@@ -109,6 +109,7 @@ class PlanarForces:
 
         return kinematics(self.solution[0], self.solution[1], on_singular="mark").singular_lines()
 
+    @per_sample
     def text(self, transfer: bool = False) -> str:
         phi = float(self.phi)
         lines = [f"{self.model}: φ = {math.degrees(phi):.6g}°, ω = {self.omega:g} rad/s, ε = {self.epsilon:g} rad/s²",

@@ -10,7 +10,7 @@ from typing import ClassVar, Mapping
 
 import numpy as np
 
-from linkgen.model.results import AngleMotion, PointMotion, Reaction, SlideMotion, column, plain, shaped
+from linkgen.model.results import AngleMotion, PointMotion, Reaction, SlideMotion, column, per_sample, plain, shaped
 
 UNITS = {"position": "m", "velocity": "m/s", "acceleration": "m/s²", "jerk": "m/s³", "angle": "rad",
          "angular_velocity": "rad/s", "angular_acceleration": "rad/s²", "angular_jerk": "rad/s³", "displacement": "m",
@@ -49,6 +49,7 @@ class SpatialKinematics:
     def singular_lines(self) -> list[str]:
         return []
 
+    @per_sample
     def text(self, transfer: bool = False) -> str:
         d = self.to_dict(transfer=False)
         phi = float(self.phi)
@@ -134,6 +135,7 @@ class SpatialForcesResult:
     def singular_lines(self) -> list[str]:
         return []
 
+    @per_sample
     def text(self, transfer: bool = False) -> str:
         phi = float(self.phi)
         lines = [f"{self.model}: φ = {math.degrees(phi):.6g}°, ω = {self.omega:g} rad/s, ε = {self.epsilon:g} rad/s²: "
