@@ -231,3 +231,78 @@ def test_text_of_a_sampled_result_is_each_angles_block(path, name):
     run = stage(desc, name)
     sampled = run(desc, np.array(TEXT_ANGLES), on_singular="mark").text()
     assert sampled == "\n\n".join(run(desc, phi, on_singular="mark").text() for phi in TEXT_ANGLES)
+
+
+# ---------------------------------------------------------------------------------------------
+# One rule for every pair's force (docs/format.md, "Conventions"): it says on which link it acts
+# and by which — a revolute's or spherical pair's reaction, a prismatic pair's normal force, a
+# gear's tooth force, a cam's contact force (was: only revolutes; prismatic neither, tooth and
+# contact only ``on``).
+
+PAIR_TABLES = ("reactions", "prismatic", "tooth", "contact")
+
+
+def _link_names(path: Path) -> set[str]:
+    import tomllib
+
+    data = tomllib.loads(path.read_text())
+    return set(data.get("links", {})) | {"ground"} | ({"cam", "follower"} if "cam" in data and "links" not in data
+                                                      else set())
+
+
+@pytest.mark.parametrize("path,name", [c for c in _cases() if c.values[1] == "forces"
+                                       or family_of(linkgen.load(c.values[0])).name == "cam"])
+def test_every_pair_force_says_on_which_link_and_by_which(path, name):
+    d = _result(path, name).to_dict()
+    links = _link_names(path)
+    tables = [(t, n, rec) for t in PAIR_TABLES for n, rec in d.get(t, {}).items()]
+    assert tables or name == "forces", "no pair force"
+    for t, n, rec in tables:
+        assert {"on", "by"} <= set(rec), f"{t}.{n}: {sorted(rec)}"
+        assert rec["on"] in links and rec["by"] in links and rec["on"] != rec["by"], (t, n, rec["on"], rec["by"])
+
+
+def test_a_prismatic_pair_acts_on_its_slider_by_its_guide():
+    """seven_link's [prismatic.block] (its slider and its guide, a moving link, as the file gives
+    them)."""
+    import tomllib
+
+    path = Path(__file__).resolve().parents[1] / "models" / "seven_link.toml"
+    pair = tomllib.loads(path.read_text())["prismatic"]["block"]
+    rec = linkgen.forces(linkgen.load(path), 0.5).to_dict()["prismatic"]["block"]
+    assert (rec["on"], rec["by"]) == (pair["slider"], pair["guide"])
+
+
+# ---------------------------------------------------------------------------------------------
+# The same quantity the same name in every family's kinematics: the drive angle is ``phi`` (no
+# ``theta``), every attribute is in the JSON (``kind`` too; an empty table may be left out), the
+# ``units`` give one unit per quantity (not prose), and a follower that turns has a rocker's
+# quantities while one that slides has a slider's.
+
+ROCKER = ["angle", "angular_velocity", "angular_acceleration", "angular_jerk"]
+SLIDER = ["displacement", "velocity", "acceleration", "jerk"]
+
+
+@pytest.mark.parametrize("path,name", [c for c in _cases() if c.values[1] == "kinematics"])
+def test_kinematics_name_the_drive_phi_and_give_each_quantity_its_unit(path, name):
+    r = _result(path, name)
+    d = json.loads(json.dumps(r.to_dict(), allow_nan=False))
+    assert "theta" not in _keys(d) and "phi [rad]" in r.columns() and "phi" in d
+    for f in dataclasses.fields(r):
+        if f.compare:
+            v = getattr(r, f.name)
+            assert f.name in d or (isinstance(v, Mapping) and not v), f.name
+    units = d["units"]
+    assert all("," not in u for u in units.values()), units
+    for table in (v for v in d.values() if isinstance(v, dict) and v is not units):
+        for n, rec in table.items():
+            for q, v in rec.items():
+                assert not _numeric(v) or q in units, f"{n}.{q} has no unit"
+
+
+@pytest.mark.parametrize("stem,names", [("cam_oscillating", ROCKER), ("cam_translating", SLIDER)])
+def test_a_cams_follower_has_a_rockers_or_a_sliders_quantities(stem, names):
+    path = Path(__file__).resolve().parents[1] / "models" / f"{stem}.toml"
+    d = _result(path, "kinematics").to_dict()
+    assert list(d["followers"]["follower"]) == names + ["pressure_angle"]
+    assert list(d["contact"]["cam"]) == ["normal_force", "on", "by"]

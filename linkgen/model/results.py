@@ -7,7 +7,9 @@ turning link or joint with ``angle``, ``angular_velocity``, ``angular_accelerati
 ``acceleration``, ``jerk`` [m, ...]. Each also carries its transfer functions ``d1``, ``d2``,
 ``d3``: the first three derivatives of its value with respect to the drive angle φ [unit/rad,
 unit/rad², unit/rad³]. A pair's reaction is a ``Reaction`` (``force`` [N], and ``moment`` [N·m]
-where the pair carries one, acting ``on`` one link ``by`` another).
+where the pair carries one, acting ``on`` one link ``by`` another); every other pair's force says
+``on`` and ``by`` alike (a prismatic pair's normal force, a gear's tooth force, a cam's contact
+force, ``ContactForce``).
 
 Values are shaped as the drive angle was given: a scalar φ gives a point's position (2,) or (3,)
 and an angle a float; φ of shape (n,) gives (n, 2|3) and (n,)."""
@@ -189,11 +191,22 @@ class Reaction(Record):
         return f"Reaction(on {self.on!r} by {self.by!r}, shape {np.shape(self.force)})"
 
 
+@dataclass(frozen=True, repr=False)
+class ContactForce(Record):
+    """A cam pair's contact force ``normal_force`` [N] along the profile's normal, acting on the
+    follower ``on``, exerted by the cam's link ``by`` (< 0 where the follower would leave the cam)."""
+
+    normal_force: np.ndarray | float
+    on: str
+    by: str
+    UNIT: ClassVar[str] = "N"
+
+
 # Units of the quantities a result names at its top level.
-UNITS = {"phi": "rad", "theta": "rad", "omega": "rad/s", "epsilon": "rad/s²", "position": "m", "velocity": "m/s",
+UNITS = {"phi": "rad", "omega": "rad/s", "epsilon": "rad/s²", "position": "m", "velocity": "m/s",
          "acceleration": "m/s²", "jerk": "m/s³", "angle": "rad", "angular_velocity": "rad/s",
          "angular_acceleration": "rad/s²", "angular_jerk": "rad/s³", "displacement": "m",
          "d1": "unit/rad", "d2": "unit/rad²", "d3": "unit/rad³"}
 
-__all__ = ["AngleMotion", "PointMotion", "Reaction", "Record", "SlideMotion", "TRANSFER", "UNITS", "at_sample", "column",
+__all__ = ["AngleMotion", "ContactForce", "PointMotion", "Reaction", "Record", "SlideMotion", "TRANSFER", "UNITS", "at_sample", "column",
            "per_sample", "plain", "shaped"]

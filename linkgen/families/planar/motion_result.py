@@ -16,7 +16,7 @@ from linkgen.model.results import AngleMotion, PointMotion, Record, SlideMotion,
 UNITS = {"phi": "rad", "omega": "rad/s", "epsilon": "rad/s²", "position": "m", "velocity": "m/s",
          "acceleration": "m/s²", "angle": "rad", "angular_velocity": "rad/s", "angular_acceleration": "rad/s²",
          "jerk": "m/s³", "angular_jerk": "rad/s³", "displacement": "m", "d1": "per rad", "d2": "per rad²",
-         "d3": "per rad³"}
+         "d3": "per rad³", "pressure_angle": "rad"}
 KINDS = ("points", "links", "sliders")
 
 
