@@ -306,3 +306,57 @@ def test_a_cams_follower_has_a_rockers_or_a_sliders_quantities(stem, names):
     d = _result(path, "kinematics").to_dict()
     assert list(d["followers"]["follower"]) == names + ["pressure_angle"]
     assert list(d["contact"]["cam"]) == ["normal_force", "on", "by"]
+
+
+# ---------------------------------------------------------------------------------------------
+# One shape for every family's validation result (mujoco.result_shape): the same keys first,
+# each quantity {relative_error, tolerance, ok}, the loop gap {relative, tolerance, ok} (None
+# without a loop), radians in the JSON (no key in degrees); each result's own keys after.
+# One cheap MuJoCo run per family (about 0.5 s, 4 s and 3 s here).
+
+VALIDATED = {"planar": "fourbar", "spatial": "rssr", "cam": "cam_translating"}
+COMMON_VALIDATION = ["model", "ok", "settings", "quantities", "loop_gap", "diagnosis"]
+
+
+@pytest.fixture(scope="module")
+def validations():
+    out = {}
+    for family, stem in VALIDATED.items():
+        desc = linkgen.load(Path(__file__).resolve().parents[1] / "models" / f"{stem}.toml")
+        out[family] = json.loads(json.dumps(stage(desc, "validate")(desc, practical=False).to_dict(),
+                                            allow_nan=False))
+    return out
+
+
+@pytest.mark.parametrize("family", sorted(VALIDATED))
+def test_every_familys_validation_result_has_one_shape(validations, family):
+    d = validations[family]
+    assert list(d)[:len(COMMON_VALIDATION)] == COMMON_VALIDATION, list(d)
+    assert d["ok"] is True and d["model"] == VALIDATED[family] and d["diagnosis"] == []
+    assert d["quantities"] and isinstance(d["settings"], dict) and "timestep" in d["settings"]
+    for name, q in d["quantities"].items():
+        assert {"relative_error", "tolerance", "ok"} <= set(q), name
+        assert q["ok"] is (q["relative_error"] <= q["tolerance"]), name
+    if family == "cam":
+        assert d["loop_gap"] is None
+    else:
+        assert {"relative", "tolerance", "ok"} <= set(d["loop_gap"])
+    assert not [k for k in _keys(d) if k.endswith("_deg")], "JSON is SI: angles in radians"
+
+
+def test_the_loop_gaps_drive_angle_is_in_radians(validations):
+    """fourbar's loop gap is largest somewhere on its turn, φ in [0, 2π) (was ``at_deg``)."""
+    gap = validations["planar"]["loop_gap"]
+    assert "at_deg" not in gap and 0.0 <= gap["phi"] < 2 * np.pi
+
+
+def test_left_out_samples_and_findings_name_their_angles_as_their_attributes():
+    """``LeftOut`` (was from_deg/to_deg) and ``Finding`` (was ranges_deg): keys = attributes, rad."""
+    from linkgen.crosscheck.diagnose import Finding
+    from linkgen.mujoco.simulate import LeftOut
+
+    lo = LeftOut("load switch", 0.5, 0.75, 12)
+    assert lo.to_json() == {"reason": "load switch", "phi_from": 0.5, "phi_to": 0.75, "samples": 12}
+    f = Finding("points.B.position", [(0.5, 0.75)], 2e-6, 1e-6, "load switch", "...")
+    d = f.to_json()
+    assert set(d) == {x.name for x in dataclasses.fields(f)} and d["ranges"] == [[0.5, 0.75]]

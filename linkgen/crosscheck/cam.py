@@ -38,13 +38,19 @@ class CamCheck:
                 f"{c['steps']} steps" + (f", {wall}" if wall else ""))
 
     def to_json(self) -> dict:
-        """The comparison with its tolerances (``validate --json``'s ``cam`` entry)."""
-        return self.comparison | {"tolerances": dict(self.tolerances)}
+        return self.to_dict()
 
     def to_dict(self) -> dict:
-        """The result as ``linkgen validate --json`` gives it."""
-        return {"ok": self.ok, "cam": self.to_json(), "model": self.model,
-                "diagnosis": [f.to_json() for f in self.diagnosis]}
+        """The result as ``linkgen validate --json`` gives it (``mujoco.result_shape``; no loop,
+        so no loop gap), with the errors of the forces step by step, held to no tolerance."""
+        from linkgen.mujoco.result_shape import quantity, validation
+
+        c, e = self.comparison, self.comparison["errors_relative"]
+        return validation(self.model, self.ok, settings={"timestep": c["timestep"], "integrator": c["integrator"]},
+                          quantities={k: quantity(e[k], tol) for k, tol in self.tolerances.items()}, loop_gap=None,
+                          diagnosis=self.diagnosis, steps=c["steps"], windows=c["windows"],
+                          profile_points=c["profile_points"],
+                          instantaneous={k: e[k + "_instantaneous"] for k in ("contact_force", "cam_torque")})
 
 
 def check_cam(cm, progress=None, max_steps: int | None = None) -> CamCheck:

@@ -65,7 +65,10 @@ class CrossCheck:
         return self.to_json()
 
     def to_json(self) -> dict:
-        out: dict = {"model": self.model, "ok": self.ok}
+        """``mujoco.result_shape``'s keys (settings, quantities and loop_gap None when every run
+        failed), then the run's own: scales, size, steps, the attempts, the practical settings."""
+        out: dict = {"model": self.model, "ok": self.ok, "settings": None, "quantities": None, "loop_gap": None,
+                     "diagnosis": []}
         c = self.comparison
         if c is not None:
             run = c.run
@@ -79,7 +82,7 @@ class CrossCheck:
                 "samples_compared": int(run.samples.time.shape[0]),
                 "left_out": [lo.to_json() for lo in run.left_out],
                 "loop_gap": {"max_m": c.gap.max_abs_error, "relative": c.gap.relative_error,
-                             "tolerance": c.gap.tolerance, "at_deg": math.degrees(run.gap_max_at), "ok": c.gap.ok},
+                             "tolerance": c.gap.tolerance, "phi": float(run.gap_max_at), "ok": c.gap.ok},
                 "quantities": {k: q.to_json() for k, q in c.quantities.items() if k != "loop_gap"},
             }
         out["diagnosis"] = [f.to_json() for f in self.diagnosis]
@@ -102,7 +105,7 @@ def headline(r: dict, wall: str | None = None) -> str:
     """The validate line of a linkage's check from its JSON (``CrossCheck.to_json``, with a
     machine's comparison joined: ``ok`` is then both): ok or FAIL, the worst quantity, the loop
     gap, the steps and ``wall`` (default: the runs' wall time)."""
-    if "quantities" not in r:  # no run compared anything: the diagnosis says why
+    if not r.get("quantities"):  # no run compared anything: the diagnosis says why
         return "FAIL"
     worst, err, tol = headline_worst(r)
     gap = worst == "loop gap"

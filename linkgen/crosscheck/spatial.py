@@ -89,14 +89,16 @@ class SpatialCheck:
         return ()
 
     def to_dict(self) -> dict:
-        """The result as ``linkgen validate --json`` gives it."""
-        return {"spatial": self.to_json(), "model": self.model, "ok": self.ok}
+        """The result as ``linkgen validate --json`` gives it (``mujoco.result_shape``)."""
+        from linkgen.mujoco.result_shape import loop_gap, quantity, validation
+
+        return validation(self.model, self.ok, settings=self.settings.to_json(),
+                          quantities={k: quantity(e, t) for k, (e, t) in self.errors.items()},
+                          loop_gap=loop_gap(self.gap, GAP_TOL), diagnosis=self.diagnosis, kind=self.kind,
+                          steps=self.steps, wall_s=self.wall, scales=self.scales, note=self.note)
 
     def to_json(self) -> dict:
-        return {"model": self.model, "kind": self.kind, "ok": self.ok,
-                "errors": {k: {"error": e, "tolerance": t} for k, (e, t) in self.errors.items()},
-                "loop_gap": self.gap, "loop_gap_tolerance": GAP_TOL, "steps": self.steps, "wall_s": self.wall,
-                "settings": self.settings.to_json(), "scales": self.scales, "note": self.note}
+        return self.to_dict()
 
 
 # Steps between progress reports (a few thousand steps take about a second here).

@@ -71,15 +71,17 @@ class CamLinkageCheck:
                 f"{wall or f'{self.wall:.2f} s'}")
 
     def to_json(self) -> dict:
-        return {"model": self.model, "ok": self.ok, "errors": {k: {"error": e, "tolerance": t}
-                                                               for k, (e, t) in self.errors.items()},
-                "steps": self.steps, "timestep": self.timestep, "wall_s": self.wall, "windows": WINDOWS,
-                "profile_points": PROFILE_POINTS}
+        return self.to_dict()
 
     def to_dict(self) -> dict:
-        """The result as ``linkgen validate --json`` gives it."""
-        return {"ok": self.ok, "model": self.model, "cam_linkage": self.to_json(),
-                "diagnosis": [f.to_json() for f in self.diagnosis]}
+        """The result as ``linkgen validate --json`` gives it (``mujoco.result_shape``; the cam's
+        contact, compared without a loop gap), with ``cam_linkage``: how the contact was modelled."""
+        from linkgen.mujoco.result_shape import quantity, validation
+
+        return validation(self.model, self.ok, settings={"timestep": self.timestep},
+                          quantities={k: quantity(e, t) for k, (e, t) in self.errors.items()}, loop_gap=None,
+                          diagnosis=self.diagnosis, steps=self.steps, wall_s=self.wall,
+                          cam_linkage={"windows": WINDOWS, "profile_points": PROFILE_POINTS})
 
 
 def _check_contact(asm: Assembly) -> None:
