@@ -319,19 +319,36 @@ COMMON_VALIDATION = ["model", "ok", "settings", "quantities", "loop_gap", "diagn
 
 
 @pytest.fixture(scope="module")
-def validations():
+def checks():
     out = {}
     for family, stem in VALIDATED.items():
         desc = linkgen.load(Path(__file__).resolve().parents[1] / "models" / f"{stem}.toml")
-        out[family] = json.loads(json.dumps(stage(desc, "validate")(desc, practical=False).to_dict(),
-                                            allow_nan=False))
+        out[family] = stage(desc, "validate")(desc, practical=False)
     return out
 
 
+@pytest.fixture(scope="module")
+def validations(checks):
+    return {family: json.loads(json.dumps(r.to_dict(), allow_nan=False)) for family, r in checks.items()}
+
+
+def _json_of(x):
+    """An attribute's value as JSON data: an object by its ``to_json()``, a tuple as a list."""
+    if hasattr(x, "to_json"):
+        return x.to_json()
+    if isinstance(x, Mapping):
+        return {k: _json_of(v) for k, v in x.items()}
+    if isinstance(x, (tuple, list)):
+        return [_json_of(v) for v in x]
+    return x
+
+
 @pytest.mark.parametrize("family", sorted(VALIDATED))
-def test_every_familys_validation_result_has_one_shape(validations, family):
+def test_every_familys_validation_result_has_one_shape(checks, validations, family):
     d = validations[family]
     assert list(d)[:len(COMMON_VALIDATION)] == COMMON_VALIDATION, list(d)
+    for key in COMMON_VALIDATION:  # each common key is the result's attribute of that name
+        assert json.loads(json.dumps(_json_of(getattr(checks[family], key)))) == d[key], key
     assert d["ok"] is True and d["model"] == VALIDATED[family] and d["diagnosis"] == []
     assert d["quantities"] and isinstance(d["settings"], dict) and "timestep" in d["settings"]
     for name, q in d["quantities"].items():

@@ -40,15 +40,30 @@ class CamCheck:
     def to_json(self) -> dict:
         return self.to_dict()
 
+    @property
+    def settings(self) -> dict:
+        """The run's timestep [s] and integrator."""
+        return {"timestep": self.comparison["timestep"], "integrator": self.comparison["integrator"]}
+
+    @property
+    def quantities(self) -> dict:
+        """Each compared quantity as ``mujoco.result_shape`` gives it."""
+        from linkgen.mujoco.result_shape import quantity
+
+        e = self.comparison["errors_relative"]
+        return {k: quantity(e[k], tol) for k, tol in self.tolerances.items()}
+
+    # A cam and its follower make no closed loop in MuJoCo: no loop gap.
+    loop_gap = None
+
     def to_dict(self) -> dict:
         """The result as ``linkgen validate --json`` gives it (``mujoco.result_shape``; no loop,
         so no loop gap), with the errors of the forces step by step, held to no tolerance."""
-        from linkgen.mujoco.result_shape import quantity, validation
+        from linkgen.mujoco.result_shape import validation
 
         c, e = self.comparison, self.comparison["errors_relative"]
-        return validation(self.model, self.ok, settings={"timestep": c["timestep"], "integrator": c["integrator"]},
-                          quantities={k: quantity(e[k], tol) for k, tol in self.tolerances.items()}, loop_gap=None,
-                          diagnosis=self.diagnosis, steps=c["steps"], windows=c["windows"],
+        return validation(self.model, self.ok, settings=self.settings, quantities=self.quantities,
+                          loop_gap=self.loop_gap, diagnosis=self.diagnosis, steps=c["steps"], windows=c["windows"],
                           profile_points=c["profile_points"],
                           instantaneous={k: e[k + "_instantaneous"] for k in ("contact_force", "cam_torque")})
 

@@ -88,13 +88,26 @@ class SpatialCheck:
         the quantities)."""
         return ()
 
+    @property
+    def quantities(self) -> dict:
+        """Each compared quantity as ``mujoco.result_shape`` gives it."""
+        from linkgen.mujoco.result_shape import quantity
+
+        return {k: quantity(e, t) for k, (e, t) in self.errors.items()}
+
+    @property
+    def loop_gap(self) -> dict:
+        """The largest loop gap relative to the size, its tolerance, and whether it holds."""
+        from linkgen.mujoco.result_shape import loop_gap
+
+        return loop_gap(self.gap, GAP_TOL)
+
     def to_dict(self) -> dict:
         """The result as ``linkgen validate --json`` gives it (``mujoco.result_shape``)."""
-        from linkgen.mujoco.result_shape import loop_gap, quantity, validation
+        from linkgen.mujoco.result_shape import validation
 
-        return validation(self.model, self.ok, settings=self.settings.to_json(),
-                          quantities={k: quantity(e, t) for k, (e, t) in self.errors.items()},
-                          loop_gap=loop_gap(self.gap, GAP_TOL), diagnosis=self.diagnosis, kind=self.kind,
+        return validation(self.model, self.ok, settings=self.settings.to_json(), quantities=self.quantities,
+                          loop_gap=self.loop_gap, diagnosis=self.diagnosis, kind=self.kind,
                           steps=self.steps, wall_s=self.wall, scales=self.scales, note=self.note)
 
     def to_json(self) -> dict:

@@ -73,13 +73,27 @@ class CamLinkageCheck:
     def to_json(self) -> dict:
         return self.to_dict()
 
+    @property
+    def settings(self) -> dict:
+        """The run's timestep [s]."""
+        return {"timestep": self.timestep}
+
+    @property
+    def quantities(self) -> dict:
+        """Each compared quantity as ``mujoco.result_shape`` gives it."""
+        from linkgen.mujoco.result_shape import quantity
+
+        return {k: quantity(e, t) for k, (e, t) in self.errors.items()}
+
+    # The cam's contact is compared on its own here, without a loop gap.
+    loop_gap = None
+
     def to_dict(self) -> dict:
         """The result as ``linkgen validate --json`` gives it (``mujoco.result_shape``; the cam's
         contact, compared without a loop gap), with ``cam_linkage``: how the contact was modelled."""
-        from linkgen.mujoco.result_shape import quantity, validation
+        from linkgen.mujoco.result_shape import validation
 
-        return validation(self.model, self.ok, settings={"timestep": self.timestep},
-                          quantities={k: quantity(e, t) for k, (e, t) in self.errors.items()}, loop_gap=None,
+        return validation(self.model, self.ok, settings=self.settings, quantities=self.quantities, loop_gap=None,
                           diagnosis=self.diagnosis, steps=self.steps, wall_s=self.wall,
                           cam_linkage={"windows": WINDOWS, "profile_points": PROFILE_POINTS})
 
