@@ -16,7 +16,7 @@ from linkgen.model.results import AngleMotion, PointMotion, Record, SlideMotion,
 UNITS = {"phi": "rad", "omega": "rad/s", "epsilon": "rad/s²", "position": "m", "velocity": "m/s",
          "acceleration": "m/s²", "angle": "rad", "angular_velocity": "rad/s", "angular_acceleration": "rad/s²",
          "jerk": "m/s³", "angular_jerk": "rad/s³", "displacement": "m", "d1": "per rad", "d2": "per rad²",
-         "d3": "per rad³", "pressure_angle": "rad"}
+         "d3": "per rad³"}
 KINDS = ("points", "links", "sliders")
 
 
@@ -66,7 +66,7 @@ class PlanarKinematics:
 
     def to_dict(self, transfer: bool = True) -> dict:
         out = {"model": self.model, "phi": plain(self.phi), "omega": plain(self.omega),
-               "epsilon": plain(self.epsilon), "units": UNITS}
+               "epsilon": plain(self.epsilon), "units": UNITS | ({"pressure_angle": "rad"} if self.followers else {})}
         for kind in KINDS:
             out[kind] = {n: q.to_dict(transfer) for n, q in getattr(self, kind).items()}
         if self.followers:
