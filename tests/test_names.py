@@ -377,3 +377,27 @@ def test_left_out_samples_and_findings_name_their_angles_as_their_attributes():
     f = Finding("points.B.position", [(0.5, 0.75)], 2e-6, 1e-6, "load switch", "...")
     d = f.to_json()
     assert set(d) == {x.name for x in dataclasses.fields(f)} and d["ranges"] == [[0.5, 0.75]]
+
+
+def _resolves(d: dict, name: str) -> bool:
+    """``name`` ("table.element.quantity" or a top-level key) is a path in the result data ``d``."""
+    node = d
+    for part in name.split("."):
+        if not isinstance(node, dict) or part not in node:
+            return False
+        node = node[part]
+    return True
+
+
+@pytest.mark.parametrize("family", ["planar", "cam"])
+def test_validation_names_each_quantity_as_analyze_and_forces_do(validations, family):
+    """A compared quantity's name is its path in the closed form's results: the stand-alone cam's
+    ``followers.follower.angle``, ``contact.cam.normal_force``, ``balancing_torque`` (were
+    displacement, contact_force, cam_torque), the four-bar's ``links.rocker.angle``, ...
+    (``inverse.`` marks the same quantity by MuJoCo's inverse dynamics)."""
+    desc = linkgen.load(Path(__file__).resolve().parents[1] / "models" / f"{VALIDATED[family]}.toml")
+    data = [stage(desc, s)(desc, 0.5).to_dict() for s in ("kinematics", "forces") if s in family_of(desc).stages]
+    d = validations[family]
+    names = [*d["quantities"], *d.get("instantaneous", {})]
+    missing = [n for n in names if not any(_resolves(x, n.removeprefix("inverse.")) for x in data)]
+    assert not missing, missing

@@ -7,7 +7,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field, replace
 
 from linkgen.crosscheck.diagnose import Finding
-from linkgen.mujoco.cam import CAM_TOLERANCES
+from linkgen.mujoco.cam import CAM_TOLERANCES, quantity_names
 
 
 @dataclass(frozen=True)
@@ -50,8 +50,8 @@ class CamCheck:
         """Each compared quantity as ``mujoco.result_shape`` gives it."""
         from linkgen.mujoco.result_shape import quantity
 
-        e = self.comparison["errors_relative"]
-        return {k: quantity(e[k], tol) for k, tol in self.tolerances.items()}
+        e, names = self.comparison["errors_relative"], quantity_names(self.comparison["kind"])
+        return {names[k]: quantity(e[k], tol) for k, tol in self.tolerances.items()}
 
     # A cam and its follower make no closed loop in MuJoCo: no loop gap.
     loop_gap = None
@@ -65,7 +65,8 @@ class CamCheck:
         return validation(self.model, self.ok, settings=self.settings, quantities=self.quantities,
                           loop_gap=self.loop_gap, diagnosis=self.diagnosis, steps=c["steps"], windows=c["windows"],
                           profile_points=c["profile_points"],
-                          instantaneous={k: e[k + "_instantaneous"] for k in ("contact_force", "cam_torque")})
+                          instantaneous={quantity_names(c["kind"])[k]: e[k + "_instantaneous"]
+                                         for k in ("contact_force", "cam_torque")})
 
 
 def check_cam(cm, progress=None, max_steps: int | None = None) -> CamCheck:
