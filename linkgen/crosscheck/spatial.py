@@ -266,7 +266,7 @@ def _compare(mech, chain, model, states, w0, settings):
         read_on = {chain.drive: chain.crank, chain.pair_a: chain.coupler, chain.pair_b: chain.output,
                    chain.pair_out: chain.output}  # the body whose force MuJoCo reports above
         for name, r in fc.reactions.items():
-            errors[f"reactions.{name}"] = (float(np.abs(react[name] - r.force_on(read_on[name])).max()) / f_scale,
+            errors[f"reactions.{name}.force"] = (float(np.abs(react[name] - r.force_on(read_on[name])).max()) / f_scale,
                                            FORCE_TOL)
     else:
         note = (f"pair reactions not compared: the {chain.kind} chain is statically indeterminate by {fc.indeterminate} "
@@ -279,8 +279,8 @@ def _compare(mech, chain, model, states, w0, settings):
     errors["inverse.balancing_torque"] = (float(np.abs(t_inv - fi.balancing_torque).max()) / ti_scale, INVERSE_TOL)
     if fc.indeterminate == 0:
         fb = fi.reactions[chain.pair_b].force_on(chain.output)
-        errors[f"inverse.reactions.{chain.pair_b}"] = (float(np.abs(lam_inv - fb).max()) / (float(np.abs(fb).max()) or 1.0),
-                                                       INVERSE_TOL)
+        errors[f"inverse.reactions.{chain.pair_b}.force"] = (
+            float(np.abs(lam_inv - fb).max()) / (float(np.abs(fb).max()) or 1.0), INVERSE_TOL)
     samples = {"phi": phi, "omega": om, "epsilon": ep, "gap": gap, "torque": torque, "closed_torque": fc.balancing_torque,
                "points": mj, "closed": {p: jet_motion(cf.points[p], om, ep) for p in names}}
     return errors, float(gap.max()) / size, note, samples
