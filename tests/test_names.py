@@ -380,13 +380,14 @@ def test_left_out_samples_and_findings_name_their_angles_as_their_attributes():
 
 
 def _resolves(d: dict, name: str) -> bool:
-    """``name`` ("table.element.quantity" or a top-level key) is a path in the result data ``d``."""
+    """``name`` ("table.element.quantity" or a top-level key) is a path in the result data ``d``
+    that ends at a quantity (numbers), not at a table or an element."""
     node = d
     for part in name.split("."):
         if not isinstance(node, dict) or part not in node:
             return False
         node = node[part]
-    return True
+    return not isinstance(node, dict)
 
 
 # MuJoCo compares what analyze does not give for a spatial chain: every moving link's angular
