@@ -225,7 +225,7 @@ def test_the_sketch_decides_which_way_the_follower_rises(tmp_path):
 def test_cam_linkage_in_mujoco_within_the_cam_tolerances():
     r = linkgen.validate(linkgen.load(ROOT / "models" / "cam_rocker_slider.toml"))
     assert r.ok, r.summary()
-    assert {"disc.displacement", "disc.contact_force", "points", "balancing_torque"} <= set(r.errors)
+    assert {"followers.follower.displacement", "contact.disc.normal_force", "points", "balancing_torque"} <= set(r.errors)
 
 
 def test_a_follower_that_would_leave_the_cam_is_named(tmp_path):

@@ -6,6 +6,7 @@ practical-settings runs. MuJoCo runs are a fraction of a turn."""
 
 import math
 import time
+from dataclasses import replace
 from pathlib import Path
 
 import mujoco
@@ -96,7 +97,7 @@ def test_a_cam_whose_spring_cannot_hold_the_follower_is_diagnosed():
     run = run_cam(cm, revolutions=0.25)
     r = compare_cam(cm, run=run)
     found = diagnose_cam(cm, run, r["errors_relative"], r["windows"])
-    assert found and found[0].quantity == "displacement"
+    assert found and found[0].quantity == "followers.follower.angle"  # an oscillating follower: a rocker's angle
     assert found[0].cause == "follower leaves the cam"
     assert "spring" in found[0].detail
     ref = state(cm, run.theta % (2 * math.pi))
@@ -134,7 +135,7 @@ def test_a_fly_off_is_diagnosed_as_contact_lost_with_its_landing_impact():
     run = _synthetic_fly_off(cm)
     r = compare_cam(cm, run=run)
     found = {f.quantity: f for f in diagnose_cam(cm, run, r["errors_relative"], r["windows"])}
-    d = found["displacement"]
+    d = found["followers.follower.angle"]
     assert d.cause == "contact lost"
     lo, hi = (math.degrees(x) for x in d.ranges[0])
     assert 199.9 <= lo <= 200.1 and 209.8 <= hi <= 210.1
@@ -164,7 +165,7 @@ def test_the_report_has_a_section_for_a_stand_alone_cam(tmp_path):
     section = text[text.index("## user_cam (a cam)"):]
     for f in figs:
         assert f"![{f}]({f})" in section
-    assert "contact lost" in section and "| `displacement` |" in section
+    assert "contact lost" in section and "| `followers.follower.angle` |" in section
     line = _summary(r)
     assert "contact lost" in line and wall_text(1.234) in line and "| 1.23 |" in text
 
@@ -251,19 +252,19 @@ def test_a_cam_linkage_run_that_misses_is_diagnosed():
     deg = np.degrees(th)
     off = (deg >= 100) & (deg < 104)
     force = np.where(off, 0.0, 50.0)
-    curves = {"disc.displacement": np.where(off, 1e-3, 1e-5), "disc.contact_force": np.full(n, 1e-2),
+    curves = {"followers.follower.displacement": np.where(off, 1e-3, 1e-5), "contact.disc.normal_force": np.full(n, 1e-2),
               "points": np.full(n, 1e-5), "balancing_torque": np.full(n, 1e-2)}
-    errors = {k: (float(v.max()), 2e-4 if k in ("disc.displacement", "points") else 0.07) for k, v in curves.items()}
+    errors = {k: (float(v.max()), 2e-4 if k in ("followers.follower.displacement", "points") else 0.07)
+              for k, v in curves.items()}
     contacts = {"disc": {"theta": th, "touching": ~off, "force": force, "force_closed": np.full(n, 50.0),
                          "penetration": np.zeros(n), "step_angle": 2 * math.pi / n, "travel": 0.1}}
     r = CamLinkageCheck("rocker", errors, n, 1e-5, 1.0, curves, contacts)
     found = cam_linkage_findings(r)
-    assert [f.quantity for f in found] == ["disc.displacement"]
+    assert [f.quantity for f in found] == ["followers.follower.displacement"]
     assert found[0].cause == "contact lost" and "left the cam at 100.0" in found[0].detail
     assert "landed at 104.00°" in found[0].detail
-    line = _summary({"model": "rocker", "ok": False, "cam_linkage": r.to_json(), "line": r.summary("1 s"),
-                     "diagnosis": [f.to_json() for f in found], "total_wall_s": 1.0})
-    assert "disc.displacement" in line.splitlines()[1] and "contact lost" in line
+    line = _summary(replace(r, diagnosis=tuple(found)).to_dict() | {"line": r.summary("1 s"), "total_wall_s": 1.0})
+    assert "followers.follower.displacement" in line.splitlines()[1] and "contact lost" in line
 
 
 def test_a_cam_run_reports_progress(monkeypatch):

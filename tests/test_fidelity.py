@@ -147,7 +147,7 @@ def test_near_an_assembly_limit_the_result_is_ok_or_explained(capsys, tmp_path):
         assert out["diagnosis"] and out["attempts"]
         first = out["diagnosis"][0]
         assert first["cause"] == "near-singular" and "condition number" in first["detail"]
-        assert all(-75.6 <= lo <= hi <= -49.9 for lo, hi in first["ranges_deg"])
+        assert all(math.radians(-75.6) <= lo <= hi <= math.radians(-49.9) for lo, hi in first["ranges"])
         code = main(["validate", str(path), "--no-practical"])
         text = capsys.readouterr().out
         assert code == 1 and "near-singular" in text and "tried: timestep" in text

@@ -176,7 +176,7 @@ def test_forces_cli_json(capsys):
     assert main(["forces", str(ROOT / "models" / "seven_link.toml"), "--angle", "38.117deg", "--json"]) == 0
     out = json.loads(capsys.readouterr().out)
     assert set(out["prismatic"]) == {"block", "slider"}
-    assert set(out["prismatic"]["slider"]) == {"normal_force", "moment"}
+    assert set(out["prismatic"]["slider"]) == {"normal_force", "on", "by", "moment"}
 
 
 def test_forces_cli_samples_and_errors(tmp_path, capsys):

@@ -216,3 +216,196 @@ def test_every_family_summary_and_structure_are_walked():
     summaries = {family_of(linkgen.load(p.values[0])).name for p in _whole_cases("summary")}
     structures = {family_of(linkgen.load(p.values[0])).name for p in _whole_cases("structure")}
     assert summaries == {"planar", "cam", "spatial"} and structures == {"planar", "spatial"}
+
+
+# ---------------------------------------------------------------------------------------------
+# text() on samples: every family's sampled result prints each angle's block, the same block the
+# result computed at that one angle prints (was a bare TypeError from float() of an array).
+
+TEXT_ANGLES = (0.1, 0.2)  # [rad] two drive angles where every bundled model assembles
+
+
+@pytest.mark.parametrize("path,name", list(_cases()))
+def test_text_of_a_sampled_result_is_each_angles_block(path, name):
+    desc = linkgen.load(path)
+    run = stage(desc, name)
+    sampled = run(desc, np.array(TEXT_ANGLES), on_singular="mark").text()
+    assert sampled == "\n\n".join(run(desc, phi, on_singular="mark").text() for phi in TEXT_ANGLES)
+
+
+# ---------------------------------------------------------------------------------------------
+# One rule for every pair's force (docs/format.md, "Conventions"): it says on which link it acts
+# and by which — a revolute's or spherical pair's reaction, a prismatic pair's normal force, a
+# gear's tooth force, a cam's contact force (was: only revolutes; prismatic neither, tooth and
+# contact only ``on``).
+
+PAIR_TABLES = ("reactions", "prismatic", "tooth", "contact")
+
+
+def _link_names(path: Path) -> set[str]:
+    import tomllib
+
+    data = tomllib.loads(path.read_text())
+    return set(data.get("links", {})) | {"ground"} | ({"cam", "follower"} if "cam" in data and "links" not in data
+                                                      else set())
+
+
+@pytest.mark.parametrize("path,name", [c for c in _cases() if c.values[1] == "forces"
+                                       or family_of(linkgen.load(c.values[0])).name == "cam"])
+def test_every_pair_force_says_on_which_link_and_by_which(path, name):
+    d = _result(path, name).to_dict()
+    links = _link_names(path)
+    tables = [(t, n, rec) for t in PAIR_TABLES for n, rec in d.get(t, {}).items()]
+    assert tables or name == "forces", "no pair force"
+    for t, n, rec in tables:
+        assert {"on", "by"} <= set(rec), f"{t}.{n}: {sorted(rec)}"
+        assert rec["on"] in links and rec["by"] in links and rec["on"] != rec["by"], (t, n, rec["on"], rec["by"])
+
+
+def test_a_prismatic_pair_acts_on_its_slider_by_its_guide():
+    """seven_link's [prismatic.block] (its slider and its guide, a moving link, as the file gives
+    them)."""
+    import tomllib
+
+    path = Path(__file__).resolve().parents[1] / "models" / "seven_link.toml"
+    pair = tomllib.loads(path.read_text())["prismatic"]["block"]
+    rec = linkgen.forces(linkgen.load(path), 0.5).to_dict()["prismatic"]["block"]
+    assert (rec["on"], rec["by"]) == (pair["slider"], pair["guide"])
+
+
+# ---------------------------------------------------------------------------------------------
+# The same quantity the same name in every family's kinematics: the drive angle is ``phi`` (no
+# ``theta``), every attribute is in the JSON (``kind`` too; an empty table may be left out), the
+# ``units`` give one unit per quantity (not prose), and a follower that turns has a rocker's
+# quantities while one that slides has a slider's.
+
+ROCKER = ["angle", "angular_velocity", "angular_acceleration", "angular_jerk"]
+SLIDER = ["displacement", "velocity", "acceleration", "jerk"]
+
+
+@pytest.mark.parametrize("path,name", [c for c in _cases() if c.values[1] == "kinematics"])
+def test_kinematics_name_the_drive_phi_and_give_each_quantity_its_unit(path, name):
+    r = _result(path, name)
+    d = json.loads(json.dumps(r.to_dict(), allow_nan=False))
+    assert "theta" not in _keys(d) and "phi [rad]" in r.columns() and "phi" in d
+    for f in dataclasses.fields(r):
+        if f.compare:
+            v = getattr(r, f.name)
+            assert f.name in d or (isinstance(v, Mapping) and not v), f.name
+    units = d["units"]
+    assert all("," not in u for u in units.values()), units
+    for table in (v for v in d.values() if isinstance(v, dict) and v is not units):
+        for n, rec in table.items():
+            for q, v in rec.items():
+                assert not _numeric(v) or q in units, f"{n}.{q} has no unit"
+
+
+@pytest.mark.parametrize("stem,names", [("cam_oscillating", ROCKER), ("cam_translating", SLIDER)])
+def test_a_cams_follower_has_a_rockers_or_a_sliders_quantities(stem, names):
+    path = Path(__file__).resolve().parents[1] / "models" / f"{stem}.toml"
+    d = _result(path, "kinematics").to_dict()
+    assert list(d["followers"]["follower"]) == names + ["pressure_angle"]
+    assert list(d["contact"]["cam"]) == ["normal_force", "on", "by"]
+
+
+# ---------------------------------------------------------------------------------------------
+# One shape for every family's validation result (mujoco.result_shape): the same keys first,
+# each quantity {relative_error, tolerance, ok}, the loop gap {relative, tolerance, ok} (None
+# without a loop), radians in the JSON (no key in degrees); each result's own keys after.
+# One cheap MuJoCo run per family (about 0.5 s, 4 s and 3 s here).
+
+VALIDATED = {"planar": "fourbar", "spatial": "rssr", "cam": "cam_translating"}
+COMMON_VALIDATION = ["model", "ok", "settings", "quantities", "loop_gap", "diagnosis"]
+
+
+@pytest.fixture(scope="module")
+def checks():
+    out = {}
+    for family, stem in VALIDATED.items():
+        desc = linkgen.load(Path(__file__).resolve().parents[1] / "models" / f"{stem}.toml")
+        out[family] = stage(desc, "validate")(desc, practical=False)
+    return out
+
+
+@pytest.fixture(scope="module")
+def validations(checks):
+    return {family: json.loads(json.dumps(r.to_dict(), allow_nan=False)) for family, r in checks.items()}
+
+
+def _json_of(x):
+    """An attribute's value as JSON data: an object by its ``to_json()``, a tuple as a list."""
+    if hasattr(x, "to_json"):
+        return x.to_json()
+    if isinstance(x, Mapping):
+        return {k: _json_of(v) for k, v in x.items()}
+    if isinstance(x, (tuple, list)):
+        return [_json_of(v) for v in x]
+    return x
+
+
+@pytest.mark.parametrize("family", sorted(VALIDATED))
+def test_every_familys_validation_result_has_one_shape(checks, validations, family):
+    d = validations[family]
+    assert list(d)[:len(COMMON_VALIDATION)] == COMMON_VALIDATION, list(d)
+    for key in COMMON_VALIDATION:  # each common key is the result's attribute of that name
+        assert json.loads(json.dumps(_json_of(getattr(checks[family], key)))) == d[key], key
+    assert d["ok"] is True and d["model"] == VALIDATED[family] and d["diagnosis"] == []
+    assert d["quantities"] and isinstance(d["settings"], dict) and "timestep" in d["settings"]
+    for name, q in d["quantities"].items():
+        assert {"relative_error", "tolerance", "ok"} <= set(q), name
+        assert q["ok"] is (q["relative_error"] <= q["tolerance"]), name
+    if family == "cam":
+        assert d["loop_gap"] is None
+    else:
+        assert {"relative", "tolerance", "ok"} <= set(d["loop_gap"])
+    assert not [k for k in _keys(d) if k.endswith("_deg")], "JSON is SI: angles in radians"
+
+
+def test_the_loop_gaps_drive_angle_is_in_radians(validations):
+    """fourbar's loop gap is largest somewhere on its turn, φ in [0, 2π) (was ``at_deg``)."""
+    gap = validations["planar"]["loop_gap"]
+    assert "at_deg" not in gap and 0.0 <= gap["phi"] < 2 * np.pi
+
+
+def test_left_out_samples_and_findings_name_their_angles_as_their_attributes():
+    """``LeftOut`` (was from_deg/to_deg) and ``Finding`` (was ranges_deg): keys = attributes, rad."""
+    from linkgen.crosscheck.diagnose import Finding
+    from linkgen.mujoco.simulate import LeftOut
+
+    lo = LeftOut("load switch", 0.5, 0.75, 12)
+    assert lo.to_json() == {"reason": "load switch", "phi_from": 0.5, "phi_to": 0.75, "samples": 12}
+    f = Finding("points.B.position", [(0.5, 0.75)], 2e-6, 1e-6, "load switch", "...")
+    d = f.to_json()
+    assert set(d) == {x.name for x in dataclasses.fields(f)} and d["ranges"] == [[0.5, 0.75]]
+
+
+def _resolves(d: dict, name: str) -> bool:
+    """``name`` ("table.element.quantity" or a top-level key) is a path in the result data ``d``
+    that ends at a quantity (numbers), not at a table or an element."""
+    node = d
+    for part in name.split("."):
+        if not isinstance(node, dict) or part not in node:
+            return False
+        node = node[part]
+    return not isinstance(node, dict)
+
+
+# MuJoCo compares what analyze does not give for a spatial chain: every moving link's angular
+# velocity vector (the coupler's too) and the coupler's idle spin about its own line.
+SPATIAL_ONLY_COMPARED = {"links.coupler.angular_velocity", "links.coupler.idle_spin"}
+
+
+@pytest.mark.parametrize("family", sorted(VALIDATED))
+def test_validation_names_each_quantity_as_analyze_and_forces_do(validations, family):
+    """A compared quantity's name is its path in the closed form's results: the stand-alone cam's
+    ``followers.follower.angle``, ``contact.cam.normal_force``, ``balancing_torque`` (were
+    displacement, contact_force, cam_torque), a spatial pair's ``reactions.B0.force`` (was
+    reactions.B0), the four-bar's ``links.rocker.angle``, ... (``inverse.`` marks the same
+    quantity by MuJoCo's inverse dynamics)."""
+    desc = linkgen.load(Path(__file__).resolve().parents[1] / "models" / f"{VALIDATED[family]}.toml")
+    data = [stage(desc, s)(desc, 0.5).to_dict() for s in ("kinematics", "forces") if s in family_of(desc).stages]
+    d = validations[family]
+    names = [*d["quantities"], *d.get("instantaneous", {})]
+    missing = [n for n in names if not any(_resolves(x, n.removeprefix("inverse.")) for x in data)
+               and n not in SPATIAL_ONLY_COMPARED]
+    assert not missing, missing

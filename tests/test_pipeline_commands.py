@@ -114,7 +114,7 @@ def test_a_cam_linkage_result_has_the_same_protocol():
     r = CamLinkageCheck("rocker", {"points": (1e-5, 2e-4)}, n, 1e-5, 1.0, {"points": np.full(n, 1e-5)},
                         {"disc": {"theta": th}})
     assert r.summary("validated in 1.00 s").startswith("ok   linkage with a cam") and "\n" not in r.summary()
-    assert r.to_dict()["cam_linkage"]["errors"]["points"] == {"error": 1e-5, "tolerance": 2e-4}
+    assert r.to_dict()["quantities"]["points"] == {"relative_error": 1e-5, "tolerance": 2e-4, "ok": True}
     assert r.diagnosis == ()
 
 

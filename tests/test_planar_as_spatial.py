@@ -342,3 +342,38 @@ def test_fourbar_as_rssr_gives_the_same_structure_keys():
     assert set(dp) - set(ds) == STRUCTURE_PLANAR_ONLY and set(ds) - set(dp) == STRUCTURE_SPATIAL_ONLY
     assert {k: dp[k] for k in set(dp) & set(ds) - {"model", "lines"}} == {"mobility": 1, "crank": "crank", "drive": "O"}
     assert {k: ds[k] for k in set(dp) & set(ds) - {"model", "lines"}} == {"mobility": 1, "crank": "crank", "drive": "O"}
+
+
+# The twin's motion from the spatial closed form (a rotation-matrix chain) against the planar one
+# (Assur groups): both round at ~eps times the conditioning the transmission angle keeps ≤ ~1e3,
+# and the third derivatives (jerk) multiply ω³ = 1e3 on values of order 1: 1e-9 of each quantity's
+# largest magnitude bounds that, and any other name, sign or reference shows at the value's size.
+KINEMATICS_TOL = 1e-9
+
+
+def test_fourbar_as_rssr_gives_the_same_kinematics_keys_and_values():
+    """The RSSR twin's kinematics dict equals the planar one for every key both have: the crank and
+    the rocker under ``links`` by their link names (angle, angular_velocity, ... and d1..d3), no
+    slider, and the points' in-plane motion (the twin's z is 0)."""
+    planar, spatial = (loads(t) for t in _texts(FOURBAR))
+    phi = np.linspace(0.0, 2 * math.pi, 24, endpoint=False)
+    dp, ds = linkgen.kinematics(planar, phi).to_dict(), linkgen.kinematics(spatial, phi).to_dict()
+    assert set(ds) - set(dp) == {"kind"} and set(dp) - set(ds) == {"singular"}, sorted(set(dp) ^ set(ds))
+    assert list(ds["links"]) == ["crank", "rocker"] and ds["sliders"] == dp["sliders"] == {}
+    for name in ds["links"]:
+        assert ds["links"][name].keys() == dp["links"][name].keys(), name
+        for q, v in ds["links"][name].items():
+            want = np.asarray(dp["links"][name][q])
+            if q == "angle":  # the same direction: equal modulo 2π (the planar link's is wrapped to (-π, π])
+                v = want + np.remainder(np.asarray(v) - want + math.pi, 2 * math.pi) - math.pi
+            np.testing.assert_allclose(v, want, rtol=0, atol=KINEMATICS_TOL * max(1.0, np.abs(want).max()),
+                                       err_msg=f"links.{name}.{q}")
+    for name, p in ds["points"].items():
+        assert p.keys() == dp["points"][name].keys(), name
+        for q, v in p.items():
+            want = np.asarray(dp["points"][name][q])
+            np.testing.assert_allclose(np.asarray(v)[:, :2], want, rtol=0,
+                                       atol=KINEMATICS_TOL * max(1.0, np.abs(want).max()), err_msg=f"points.{name}.{q}")
+            np.testing.assert_allclose(np.asarray(v)[:, 2], 0.0, atol=KINEMATICS_TOL, err_msg=f"points.{name}.{q}.z")
+    for top in ("phi", "omega", "epsilon"):
+        np.testing.assert_allclose(np.broadcast_to(ds[top], np.shape(dp[top])), dp[top], rtol=0, atol=0)

@@ -93,7 +93,7 @@ def test_analyze_json_gives_points_with_jerk_and_the_output():
     assert len(d["points"]["B"]["jerk"]) == 3
     k = solve(linkgen.load(RSSR), [np.radians(30.0)])
     assert np.allclose(d["points"]["B"]["jerk"], k.points["B"].d[3][0], rtol=0, atol=1e-12)
-    assert "B0" in d["joints"] and "angular_jerk" in d["joints"]["B0"]
+    assert "rocker" in d["links"] and "angular_jerk" in d["links"]["rocker"]
     # jerk scales with ω³ at ε = 0
     p2 = json.loads(_cli("analyze", RSSR, "--angle", "30deg", "--omega", "2", "--json").stdout)
     assert np.allclose(p2["points"]["B"]["jerk"], 8 * np.array(d["points"]["B"]["jerk"]), rtol=1e-12, atol=1e-12)

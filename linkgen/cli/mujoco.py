@@ -4,6 +4,7 @@ stages (``pipeline.registry.stage``): mjcf, simulate, validate and the report's 
 from __future__ import annotations
 
 import json
+import math
 import multiprocessing
 import os
 import sys
@@ -194,10 +195,10 @@ def _summary(r: dict) -> str:
                      + ("" if dyn["ok"] else " — over the tolerance"))
     shown = r.get("diagnosis", [])[:DIAGNOSIS_LINES]
     for d in shown:
-        if d["relative_error"] is None and not d["ranges_deg"]:  # no run compared anything: why, alone
+        if d["relative_error"] is None and not d["ranges"]:  # no run compared anything: why, alone
             lines.append(f"    {d['cause']}: {d['detail']}")
             continue
-        rng = ", ".join(f"{a:.1f}°..{b:.1f}°" for a, b in d["ranges_deg"][:3])
+        rng = ", ".join(f"{math.degrees(a):.1f}°..{math.degrees(b):.1f}°" for a, b in d["ranges"][:3])
         lines.append(f"    {d['quantity']}: {_num(d['relative_error'], '.2e')} (tolerance {d['tolerance']:g}) at {rng}: "
                      f"{d['cause']} — {d['detail']}")
     if len(r.get("diagnosis", [])) > len(shown):

@@ -7,7 +7,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field, replace
 
 from linkgen.crosscheck.diagnose import Finding
-from linkgen.mujoco.cam import CAM_TOLERANCES
+from linkgen.mujoco.cam import CAM_TOLERANCES, quantity_names
 
 
 @dataclass(frozen=True)
@@ -38,13 +38,35 @@ class CamCheck:
                 f"{c['steps']} steps" + (f", {wall}" if wall else ""))
 
     def to_json(self) -> dict:
-        """The comparison with its tolerances (``validate --json``'s ``cam`` entry)."""
-        return self.comparison | {"tolerances": dict(self.tolerances)}
+        return self.to_dict()
+
+    @property
+    def settings(self) -> dict:
+        """The run's timestep [s] and integrator."""
+        return {"timestep": self.comparison["timestep"], "integrator": self.comparison["integrator"]}
+
+    @property
+    def quantities(self) -> dict:
+        """Each compared quantity as ``mujoco.result_shape`` gives it."""
+        from linkgen.mujoco.result_shape import quantity
+
+        e, names = self.comparison["errors_relative"], quantity_names(self.comparison["kind"])
+        return {names[k]: quantity(e[k], tol) for k, tol in self.tolerances.items()}
+
+    # A cam and its follower make no closed loop in MuJoCo: no loop gap.
+    loop_gap = None
 
     def to_dict(self) -> dict:
-        """The result as ``linkgen validate --json`` gives it."""
-        return {"ok": self.ok, "cam": self.to_json(), "model": self.model,
-                "diagnosis": [f.to_json() for f in self.diagnosis]}
+        """The result as ``linkgen validate --json`` gives it (``mujoco.result_shape``; no loop,
+        so no loop gap), with the errors of the forces step by step, held to no tolerance."""
+        from linkgen.mujoco.result_shape import validation
+
+        c, e = self.comparison, self.comparison["errors_relative"]
+        return validation(self.model, self.ok, settings=self.settings, quantities=self.quantities,
+                          loop_gap=self.loop_gap, diagnosis=self.diagnosis, steps=c["steps"], windows=c["windows"],
+                          profile_points=c["profile_points"],
+                          instantaneous={quantity_names(c["kind"])[k]: e[k + "_instantaneous"]
+                                         for k in ("contact_force", "cam_torque")})
 
 
 def check_cam(cm, progress=None, max_steps: int | None = None) -> CamCheck:

@@ -34,7 +34,7 @@ class Finding:
 
     def to_json(self) -> dict:
         return {"quantity": self.quantity,
-                "ranges_deg": [[math.degrees(a), math.degrees(b)] for a, b in self.ranges],
+                "ranges": [[float(a), float(b)] for a, b in self.ranges],
                 "relative_error": self.relative_error if math.isfinite(self.relative_error) else None,
                 "tolerance": self.tolerance,
                 "cause": self.cause, "detail": self.detail}

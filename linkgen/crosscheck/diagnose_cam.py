@@ -13,7 +13,7 @@ import numpy as np
 from linkgen.crosscheck.diagnose import Finding
 from linkgen.families.cam.kinetics import state
 from linkgen.errors import angle_ranges
-from linkgen.mujoco.cam import CAM_TOLERANCES, WINDOWS, _window_means
+from linkgen.mujoco.cam import CAM_TOLERANCES, WINDOWS, _window_means, quantity_names
 
 # The roller is said to have left the cam when it is off the profile for longer than this cam
 # angle [rad]: its bounces over the profile's facets last a few steps (STEPS_PER_TURN steps a turn:
@@ -122,7 +122,7 @@ def diagnose_cam(cm, run, errs: dict, windows: int = WINDOWS) -> list[Finding]:
     trace = ContactTrace(run.theta, run.touching, run.contact_force, ref.contact_force, run.penetration,
                          float(np.mean(run.omega)) * run.timestep,
                          stroke * (f.arm_length if f.kind == "oscillating" else 1.0))
-    misses = {}
+    misses, names = {}, quantity_names(f.kind)
     for name, tol in CAM_TOLERANCES.items():
         if errs[name] <= tol:
             continue
@@ -131,19 +131,19 @@ def diagnose_cam(cm, run, errs: dict, windows: int = WINDOWS) -> list[Finding]:
         else:
             mj, cf = (run.contact_force, ref.contact_force) if name == "contact_force" else (run.cam_torque, ref.cam_torque)
             bad = windows_over(mj, cf, windows, tol)
-        misses[name] = (bad, errs[name], tol)
+        misses[names[name]] = (bad, errs[name], tol)
     return findings(trace, misses)
 
 
 def cam_linkage_findings(r) -> list[Finding]:
     """The diagnosis of a cam linkage's MuJoCo check (``mujoco.cam_linkage.CamLinkageCheck``):
-    every quantity over its tolerance with where and why, judged on its cam's contact (the first
-    cam's for the points and the balancing torque)."""
+    every quantity over its tolerance with where and why, judged on its cam's contact (``cams``;
+    the first cam's for the points and the balancing torque)."""
     out = []
     for name, (err, tol) in r.errors.items():
         if err <= tol:
             continue
-        cam = name.split(".", 1)[0] if name.split(".", 1)[0] in r.contacts else next(iter(r.contacts))
+        cam = r.cams.get(name, next(iter(r.contacts)))
         out += findings(ContactTrace(**r.contacts[cam]), {name: (r.curves[name] > tol, err, tol)})
     return sorted(out, key=lambda f: -f.relative_error / f.tolerance)
 

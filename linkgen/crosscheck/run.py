@@ -12,6 +12,7 @@ from linkgen.crosscheck.compare import Comparison, compare
 from linkgen.crosscheck.diagnose import Finding, diagnose
 from linkgen.errors import SimulationError
 from linkgen.mujoco.options import Settings
+from linkgen.mujoco.result_shape import loop_gap, validation
 from linkgen.mujoco.settings import MAX_STEPS
 from linkgen.crosscheck.practical import PracticalRow, finite_or_none, practical_study
 from linkgen.mujoco.simulate import simulate, steps_per_revolution
@@ -64,13 +65,34 @@ class CrossCheck:
         """The result as ``linkgen validate --json`` gives it."""
         return self.to_json()
 
+    @property
+    def settings(self) -> Settings | None:
+        """The settings of the run compared (None when every run failed)."""
+        return None if self.comparison is None else self.comparison.run.settings
+
+    @property
+    def quantities(self) -> dict | None:
+        """Each compared quantity as ``mujoco.result_shape`` gives it (the loop gap on its own)."""
+        c = self.comparison
+        return None if c is None else {k: q.to_json() for k, q in c.quantities.items() if k != "loop_gap"}
+
+    @property
+    def loop_gap(self) -> dict | None:
+        """The largest loop gap [m], relative to the size, its tolerance, the crank angle φ [rad]
+        where it is largest, and whether it holds."""
+        c = self.comparison
+        return None if c is None else loop_gap(c.gap.relative_error, c.gap.tolerance, max_m=c.gap.max_abs_error,
+                                               phi=float(c.run.gap_max_at))
+
     def to_json(self) -> dict:
-        out: dict = {"model": self.model, "ok": self.ok}
+        """``mujoco.result_shape``'s keys (settings, quantities and loop_gap None when every run
+        failed), then the run's own: scales, size, steps, the attempts, the practical settings."""
+        out = validation(self.model, self.ok, settings=None if self.settings is None else self.settings.to_json(),
+                         quantities=self.quantities, loop_gap=self.loop_gap, diagnosis=self.diagnosis)
         c = self.comparison
         if c is not None:
             run = c.run
             out |= {
-                "settings": run.settings.to_json(),
                 "scales": run.scales.to_json() if run.scales else None,
                 "size_m": c.size,
                 "steps": run.steps, "segments": run.segments, "wall_s": run.wall,
@@ -78,11 +100,7 @@ class CrossCheck:
                 "settling_window_s": run.window,
                 "samples_compared": int(run.samples.time.shape[0]),
                 "left_out": [lo.to_json() for lo in run.left_out],
-                "loop_gap": {"max_m": c.gap.max_abs_error, "relative": c.gap.relative_error,
-                             "tolerance": c.gap.tolerance, "at_deg": math.degrees(run.gap_max_at), "ok": c.gap.ok},
-                "quantities": {k: q.to_json() for k, q in c.quantities.items() if k != "loop_gap"},
             }
-        out["diagnosis"] = [f.to_json() for f in self.diagnosis]
         out["attempts"] = [a.to_json() for a in self.attempts]
         out["practical_settings"] = [r.to_json() for r in self.practical]
         return out
@@ -102,7 +120,7 @@ def headline(r: dict, wall: str | None = None) -> str:
     """The validate line of a linkage's check from its JSON (``CrossCheck.to_json``, with a
     machine's comparison joined: ``ok`` is then both): ok or FAIL, the worst quantity, the loop
     gap, the steps and ``wall`` (default: the runs' wall time)."""
-    if "quantities" not in r:  # no run compared anything: the diagnosis says why
+    if not r.get("quantities"):  # no run compared anything: the diagnosis says why
         return "FAIL"
     worst, err, tol = headline_worst(r)
     gap = worst == "loop gap"

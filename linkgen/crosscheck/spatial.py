@@ -88,15 +88,30 @@ class SpatialCheck:
         the quantities)."""
         return ()
 
+    @property
+    def quantities(self) -> dict:
+        """Each compared quantity as ``mujoco.result_shape`` gives it."""
+        from linkgen.mujoco.result_shape import quantity
+
+        return {k: quantity(e, t) for k, (e, t) in self.errors.items()}
+
+    @property
+    def loop_gap(self) -> dict:
+        """The largest loop gap relative to the size, its tolerance, and whether it holds."""
+        from linkgen.mujoco.result_shape import loop_gap
+
+        return loop_gap(self.gap, GAP_TOL)
+
     def to_dict(self) -> dict:
-        """The result as ``linkgen validate --json`` gives it."""
-        return {"spatial": self.to_json(), "model": self.model, "ok": self.ok}
+        """The result as ``linkgen validate --json`` gives it (``mujoco.result_shape``)."""
+        from linkgen.mujoco.result_shape import validation
+
+        return validation(self.model, self.ok, settings=self.settings.to_json(), quantities=self.quantities,
+                          loop_gap=self.loop_gap, diagnosis=self.diagnosis, kind=self.kind,
+                          steps=self.steps, wall_s=self.wall, scales=self.scales, note=self.note)
 
     def to_json(self) -> dict:
-        return {"model": self.model, "kind": self.kind, "ok": self.ok,
-                "errors": {k: {"error": e, "tolerance": t} for k, (e, t) in self.errors.items()},
-                "loop_gap": self.gap, "loop_gap_tolerance": GAP_TOL, "steps": self.steps, "wall_s": self.wall,
-                "settings": self.settings.to_json(), "scales": self.scales, "note": self.note}
+        return self.to_dict()
 
 
 # Steps between progress reports (a few thousand steps take about a second here).
@@ -251,7 +266,7 @@ def _compare(mech, chain, model, states, w0, settings):
         read_on = {chain.drive: chain.crank, chain.pair_a: chain.coupler, chain.pair_b: chain.output,
                    chain.pair_out: chain.output}  # the body whose force MuJoCo reports above
         for name, r in fc.reactions.items():
-            errors[f"reactions.{name}"] = (float(np.abs(react[name] - r.force_on(read_on[name])).max()) / f_scale,
+            errors[f"reactions.{name}.force"] = (float(np.abs(react[name] - r.force_on(read_on[name])).max()) / f_scale,
                                            FORCE_TOL)
     else:
         note = (f"pair reactions not compared: the {chain.kind} chain is statically indeterminate by {fc.indeterminate} "
@@ -264,8 +279,8 @@ def _compare(mech, chain, model, states, w0, settings):
     errors["inverse.balancing_torque"] = (float(np.abs(t_inv - fi.balancing_torque).max()) / ti_scale, INVERSE_TOL)
     if fc.indeterminate == 0:
         fb = fi.reactions[chain.pair_b].force_on(chain.output)
-        errors[f"inverse.reactions.{chain.pair_b}"] = (float(np.abs(lam_inv - fb).max()) / (float(np.abs(fb).max()) or 1.0),
-                                                       INVERSE_TOL)
+        errors[f"inverse.reactions.{chain.pair_b}.force"] = (
+            float(np.abs(lam_inv - fb).max()) / (float(np.abs(fb).max()) or 1.0), INVERSE_TOL)
     samples = {"phi": phi, "omega": om, "epsilon": ep, "gap": gap, "torque": torque, "closed_torque": fc.balancing_torque,
                "points": mj, "closed": {p: jet_motion(cf.points[p], om, ep) for p in names}}
     return errors, float(gap.max()) / size, note, samples

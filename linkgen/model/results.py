@@ -7,14 +7,18 @@ turning link or joint with ``angle``, ``angular_velocity``, ``angular_accelerati
 ``acceleration``, ``jerk`` [m, ...]. Each also carries its transfer functions ``d1``, ``d2``,
 ``d3``: the first three derivatives of its value with respect to the drive angle φ [unit/rad,
 unit/rad², unit/rad³]. A pair's reaction is a ``Reaction`` (``force`` [N], and ``moment`` [N·m]
-where the pair carries one, acting ``on`` one link ``by`` another).
+where the pair carries one, acting ``on`` one link ``by`` another); every other pair's force says
+``on`` and ``by`` alike (a prismatic pair's normal force, a gear's tooth force, a cam's contact
+force, ``ContactForce``).
 
 Values are shaped as the drive angle was given: a scalar φ gives a point's position (2,) or (3,)
 and an angle a float; φ of shape (n,) gives (n, 2|3) and (n,)."""
 
 from __future__ import annotations
 
-from dataclasses import dataclass, fields
+import functools
+from collections.abc import Mapping
+from dataclasses import dataclass, fields, replace
 from typing import ClassVar
 
 import numpy as np
@@ -43,6 +47,38 @@ def column(x, width: int | None = None) -> np.ndarray:
     """A value as CSV column(s): (n,) for a scalar quantity, (n, width) for a vector."""
     x = np.asarray(x, dtype=float)
     return np.atleast_1d(x) if width is None else x.reshape(-1, width)
+
+
+def at_sample(result, i: int):
+    """A sampled result (``phi`` of shape (n,)) at its ``i``-th drive angle, as if computed at that
+    one angle: every per-sample value (an array whose first axis has the n samples, in the result
+    and in its records and tables) indexed; words, inputs and non-sampled values kept."""
+    n = np.size(result.phi)
+
+    def pick(x):
+        if isinstance(x, Record) or x is result:
+            return replace(x, **{f.name: pick(getattr(x, f.name)) for f in fields(x) if f.init and f.compare})
+        if isinstance(x, Mapping):
+            return {k: pick(v) for k, v in x.items()}
+        if isinstance(x, np.ndarray) and x.ndim >= 1 and x.shape[0] == n:
+            v = x[i]
+            return (bool(v) if v.dtype == bool else float(v)) if np.ndim(v) == 0 else v.copy()
+        return x
+
+    return pick(result)
+
+
+def per_sample(text):
+    """A result's ``text()`` (written for one drive angle) made to work on samples as well: a
+    sampled result prints each angle's block, one after the other, separated by a blank line."""
+
+    @functools.wraps(text)
+    def each(self, *args, **kwargs):
+        if np.ndim(self.phi) == 0:
+            return text(self, *args, **kwargs)
+        return "\n\n".join(text(at_sample(self, i), *args, **kwargs) for i in range(np.size(self.phi)))
+
+    return each
 
 
 class Record:
@@ -155,11 +191,22 @@ class Reaction(Record):
         return f"Reaction(on {self.on!r} by {self.by!r}, shape {np.shape(self.force)})"
 
 
+@dataclass(frozen=True, repr=False)
+class ContactForce(Record):
+    """A cam pair's contact force ``normal_force`` [N] along the profile's normal, acting on the
+    follower ``on``, exerted by the cam's link ``by`` (< 0 where the follower would leave the cam)."""
+
+    normal_force: np.ndarray | float
+    on: str
+    by: str
+    UNIT: ClassVar[str] = "N"
+
+
 # Units of the quantities a result names at its top level.
-UNITS = {"phi": "rad", "theta": "rad", "omega": "rad/s", "epsilon": "rad/s²", "position": "m", "velocity": "m/s",
+UNITS = {"phi": "rad", "omega": "rad/s", "epsilon": "rad/s²", "position": "m", "velocity": "m/s",
          "acceleration": "m/s²", "jerk": "m/s³", "angle": "rad", "angular_velocity": "rad/s",
          "angular_acceleration": "rad/s²", "angular_jerk": "rad/s³", "displacement": "m",
          "d1": "unit/rad", "d2": "unit/rad²", "d3": "unit/rad³"}
 
-__all__ = ["AngleMotion", "PointMotion", "Reaction", "Record", "SlideMotion", "TRANSFER", "UNITS", "column", "plain",
-           "shaped"]
+__all__ = ["AngleMotion", "ContactForce", "PointMotion", "Reaction", "Record", "SlideMotion", "TRANSFER", "UNITS", "at_sample", "column",
+           "per_sample", "plain", "shaped"]

@@ -26,6 +26,8 @@ from lxml import etree
 
 from linkgen.families.cam.description import CamMechanism
 from linkgen.families.cam.kinetics import SAMPLES, state
+from linkgen.families.cam.results import CAM as CAM_PAIR
+from linkgen.families.cam.summary import FOLLOWER as FOLLOWER_NAME
 from linkgen.errors import SimulationError
 from linkgen.mujoco.options import MESH_VOLUME_MARGIN, MUJOCO_MIN_BAR, MUJOCO_MIN_MESH_VOLUME
 from linkgen.mujoco.scene import add_scene, add_scene_assets
@@ -80,6 +82,15 @@ WINDOWS = 72
 # worst seen): displacement 8.8e-5 and 2.5e-5 of the stroke; contact force 3.4e-2 and 2.6e-2 and
 # cam torque 3.9e-2 and 2.6e-2 of their peaks as 5° means. Not the linkages' 1e-6: see above.
 CAM_TOLERANCES = {"displacement": 2e-4, "contact_force": 0.07, "cam_torque": 0.08}
+
+
+def quantity_names(kind: str) -> dict[str, str]:
+    """What each of CAM_TOLERANCES' quantities is called in a stand-alone cam's results
+    (``analyze``'s vocabulary, ``families.cam.results``): the follower's displacement (a
+    translating follower) or angle (an oscillating one), the contact force on it, the cam's
+    balancing torque."""
+    return {"displacement": f"followers.{FOLLOWER_NAME}.{'displacement' if kind == 'translating' else 'angle'}",
+            "contact_force": f"contact.{CAM_PAIR}.normal_force", "cam_torque": "balancing_torque"}
 
 
 def _f(x: float) -> str:
@@ -317,9 +328,11 @@ def compare_cam(cm: CamMechanism, windows: int = WINDOWS, run: CamRun | None = N
         a, b = _window_means(mj, windows), _window_means(cf, windows)
         errs[name] = float(np.abs(a - b).max() / (float(np.abs(cf).max()) or 1.0))
         errs[name + "_instantaneous"] = float(np.abs(mj - cf).max() / (float(np.abs(cf).max()) or 1.0))
-    return {"model": cm.name, "errors_relative": errs, "steps": run.steps, "timestep": run.timestep,
+    return {"model": cm.name, "kind": cm.follower.kind, "errors_relative": errs, "steps": run.steps,
+            "timestep": run.timestep,
             "integrator": INTEGRATOR, "windows": windows, "profile_points": PROFILE_POINTS}
 
 
-__all__ = ["CAM_TOLERANCES", "INTEGRATOR", "CamRun", "cam_mjcf", "cam_timestep", "compare_cam", "rotor_inertia", "run_cam",
+__all__ = ["CAM_TOLERANCES", "INTEGRATOR", "CamRun", "cam_mjcf", "cam_timestep", "compare_cam", "quantity_names",
+           "rotor_inertia", "run_cam",
            "timestep"]

@@ -57,6 +57,8 @@ class CamLinkageCheck:
     # what missed, where and why (``crosscheck.diagnose_cam.cam_linkage_findings``; filled by
     # ``crosscheck.cam.check_cam_linkage``)
     diagnosis: tuple = ()
+    # the cam pair each cam quantity belongs to (quantity name → the cam's name)
+    cams: dict = field(default_factory=dict, repr=False)
 
     @property
     def ok(self) -> bool:
@@ -71,15 +73,31 @@ class CamLinkageCheck:
                 f"{wall or f'{self.wall:.2f} s'}")
 
     def to_json(self) -> dict:
-        return {"model": self.model, "ok": self.ok, "errors": {k: {"error": e, "tolerance": t}
-                                                               for k, (e, t) in self.errors.items()},
-                "steps": self.steps, "timestep": self.timestep, "wall_s": self.wall, "windows": WINDOWS,
-                "profile_points": PROFILE_POINTS}
+        return self.to_dict()
+
+    @property
+    def settings(self) -> dict:
+        """The run's timestep [s]."""
+        return {"timestep": self.timestep}
+
+    @property
+    def quantities(self) -> dict:
+        """Each compared quantity as ``mujoco.result_shape`` gives it."""
+        from linkgen.mujoco.result_shape import quantity
+
+        return {k: quantity(e, t) for k, (e, t) in self.errors.items()}
+
+    # The cam's contact is compared on its own here, without a loop gap.
+    loop_gap = None
 
     def to_dict(self) -> dict:
-        """The result as ``linkgen validate --json`` gives it."""
-        return {"ok": self.ok, "model": self.model, "cam_linkage": self.to_json(),
-                "diagnosis": [f.to_json() for f in self.diagnosis]}
+        """The result as ``linkgen validate --json`` gives it (``mujoco.result_shape``; the cam's
+        contact, compared without a loop gap), with ``cam_linkage``: how the contact was modelled."""
+        from linkgen.mujoco.result_shape import validation
+
+        return validation(self.model, self.ok, settings=self.settings, quantities=self.quantities, loop_gap=None,
+                          diagnosis=self.diagnosis, steps=self.steps, wall_s=self.wall,
+                          cam_linkage={"windows": WINDOWS, "profile_points": PROFILE_POINTS})
 
 
 def _check_contact(asm: Assembly) -> None:
@@ -146,13 +164,17 @@ def check_cam_linkage(asm: Assembly, progress=None, max_steps: int = MAX_STEPS) 
             raise SimulationError(f"{mech.name}: MuJoCo diverged at t = {data.time:.6g} s (step {k})")
     kin = solve(asm, phi)
     fc = forces(asm, phi, om, ep)
-    curves, contacts = {}, {}
+    curves, contacts, tol, cams = {}, {}, {}, {}
     for cam in mech.cams:
         sig = sense(mech, asm.shapes, cam)
         delta = lift(cam, phi - asm.sketch_phi)[0]
         stroke = float(np.ptp(lift(cam, np.linspace(0.0, 2 * math.pi, SCAN))[0])) or 1.0
-        curves[f"{cam.name}.displacement"] = np.abs(sig * q[cam.name] - delta) / stroke
-        curves[f"{cam.name}.contact_force"] = _windowed(normal[cam.name], fc.contact[cam.name])
+        # named as analyze names them: the follower's displacement, the contact force on it
+        moved, pushed = f"followers.{cam.follower}.displacement", f"contact.{cam.name}.normal_force"
+        curves[moved] = np.abs(sig * q[cam.name] - delta) / stroke
+        curves[pushed] = _windowed(normal[cam.name], fc.contact[cam.name])
+        tol |= {moved: CAM_TOLERANCES["displacement"], pushed: CAM_TOLERANCES["contact_force"]}
+        cams |= {moved: cam.name, pushed: cam.name}
         contacts[cam.name] = {"theta": phi - asm.sketch_phi, "touching": touching[cam.name], "force": normal[cam.name],
                               "force_closed": fc.contact[cam.name], "penetration": depth[cam.name],
                               "step_angle": abs(w0) * dt,
@@ -161,10 +183,10 @@ def check_cam_linkage(asm: Assembly, progress=None, max_steps: int = MAX_STEPS) 
     extent = max(float(np.hypot(*np.ptp(ref[:, j], axis=0))) for j in range(len(names))) or 1.0
     curves["points"] = np.abs(pts - ref).max(axis=(1, 2)) / extent
     curves["balancing_torque"] = _windowed(-settings.armature * ep, fc.balancing_torque)
-    tol = {"displacement": CAM_TOLERANCES["displacement"], "contact_force": CAM_TOLERANCES["contact_force"],
-           "points": CAM_TOLERANCES["displacement"], "balancing_torque": CAM_TOLERANCES["cam_torque"]}
-    errors = {k: (float(v.max()), tol[k.rsplit(".", 1)[-1]]) for k, v in curves.items()}
-    return CamLinkageCheck(mech.name, errors, lead + per_turn, dt, time.perf_counter() - wall0, curves, contacts)
+    tol |= {"points": CAM_TOLERANCES["displacement"], "balancing_torque": CAM_TOLERANCES["cam_torque"]}
+    errors = {k: (float(v.max()), tol[k]) for k, v in curves.items()}
+    return CamLinkageCheck(mech.name, errors, lead + per_turn, dt, time.perf_counter() - wall0, curves, contacts,
+                           cams=cams)
 
 
 def _windowed(mj: np.ndarray, cf: np.ndarray) -> np.ndarray:

@@ -56,8 +56,7 @@ class LeftOut:
     samples: int
 
     def to_json(self) -> dict:
-        return {"reason": self.reason, "from_deg": math.degrees(self.phi_from), "to_deg": math.degrees(self.phi_to),
-                "samples": self.samples}
+        return {"reason": self.reason, "phi_from": self.phi_from, "phi_to": self.phi_to, "samples": self.samples}
 
 
 @dataclass(frozen=True)

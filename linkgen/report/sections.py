@@ -5,6 +5,8 @@ file that could not be validated. Each takes the entry of ``linkgen validate --j
 
 from __future__ import annotations
 
+import math
+
 from linkgen.report.report import number
 
 
@@ -46,7 +48,7 @@ def _worst(quantities: dict, kind: str) -> str:
 def linkage_row(r: dict) -> str:
     """A linkage's comparison (``CrossCheck.to_dict``): the worst kinematic, forward and inverse
     quantities, the loop gap, the settings, steps and wall time."""
-    if "quantities" not in r:
+    if not r.get("quantities"):
         return error_row(r)
     q, st = r["quantities"], r["settings"]
     cells = " | ".join(_worst(q, k) for k in ("kin", "fwd", "inv"))
@@ -57,7 +59,7 @@ def linkage_row(r: dict) -> str:
 def linkage_section(r: dict) -> list[str]:
     """A linkage's section: its figures, the design summary, the diagnosis, what was left out,
     what MuJoCo's usual settings cost and every compared quantity."""
-    if "quantities" not in r:  # no run compared anything: the section says why
+    if not r.get("quantities"):  # no run compared anything: the section says why
         return error_section(r)
     lines = ["", f"## {r['model']}", ""] + _figures(r)
     if r.get("summary"):
@@ -65,7 +67,7 @@ def linkage_section(r: dict) -> list[str]:
     lines += diagnosis_lines(r["diagnosis"])
     if r["left_out"]:
         lines.append("Left out of the comparison: " + "; ".join(
-            f"{lo['samples']} samples after the {lo['reason']} at {lo['from_deg']:.1f}°" for lo in r["left_out"]))
+            f"{lo['samples']} samples after the {lo['reason']} at {math.degrees(lo['phi_from']):.1f}°" for lo in r["left_out"]))
         lines.append("")
     if r["practical_settings"]:
         lines += ["What MuJoCo's settings cost (errors relative to the size / peak reaction / peak reaction × size):",
@@ -90,42 +92,46 @@ def linkage_section(r: dict) -> list[str]:
 
 def cam_linkage_row(r: dict) -> str:
     """A cam on a linkage's crank (``CamLinkageCheck.to_dict``): the worst motion and force."""
-    e = r["cam_linkage"]["errors"]
-    kin = max((k for k in e if not k.endswith(("contact_force", "torque"))), key=lambda k: e[k]["error"])
-    frc = max((k for k in e if k.endswith(("contact_force", "torque"))), key=lambda k: e[k]["error"])
-    return (f"| {r['model']} | {_ok(r)} | cam contact: `{kin}` | {e[kin]['error']:.2e} | `{frc}` (5° means) | "
-            f"{e[frc]['error']:.2e} |  |  |  | {r['cam_linkage']['timestep']:.3g} |  | {r['cam_linkage']['steps']} | "
+    e = r["quantities"]
+    kin = max((k for k in e if not k.endswith(("normal_force", "torque"))), key=lambda k: e[k]["relative_error"])
+    frc = max((k for k in e if k.endswith(("normal_force", "torque"))), key=lambda k: e[k]["relative_error"])
+    return (f"| {r['model']} | {_ok(r)} | cam contact: `{kin}` | {e[kin]['relative_error']:.2e} | `{frc}` (5° means) | "
+            f"{e[frc]['relative_error']:.2e} |  |  |  | {r['settings']['timestep']:.3g} |  | {r['steps']} | "
             f"{r['total_wall_s']:.2f} |")
 
 
 def cam_linkage_section(r: dict) -> list[str]:
     """A cam on a linkage's crank: its figures and every compared quantity."""
     lines = ["", f"## {r['model']} (a cam on the crank)", ""] + [f"![{f}]({f})\n" for f in r.get("figures", [])]
-    lines += ["| quantity | relative error | tolerance | ok |", "|---|---|---|---|"]
-    return lines + [f"| `{k}` | {e['error']:.2e} | {e['tolerance']:g} | {'yes' if e['error'] <= e['tolerance'] else '**NO**'} |"
-                    for k, e in r["cam_linkage"]["errors"].items()]
+    return lines + _quantity_lines(r["quantities"])
+
+
+def _quantity_lines(quantities: dict) -> list[str]:
+    """The table of compared quantities every family's result has (``mujoco.result_shape``)."""
+    return ["| quantity | relative error | tolerance | ok |", "|---|---|---|---|"] + [
+        f"| `{k}` | {e['relative_error']:.2e} | {e['tolerance']:g} | {'yes' if e['ok'] else '**NO**'} |"
+        for k, e in quantities.items()]
 
 
 def cam_row(r: dict) -> str:
     """A stand-alone cam (``CamCheck.to_dict``): the follower's displacement and the contact force."""
-    e = r["cam"]["errors_relative"]
-    return (f"| {r['model']} | {_ok(r)} | cam: `displacement` | {e['displacement']:.2e} | cam: `contact_force` "
-            f"(5° means) | {e['contact_force']:.2e} |  |  |  | {r['cam']['timestep']:.3g} |  | {r['cam']['steps']} | "
-            f"{r['total_wall_s']:.2f} |")
+    (moved, e_moved), (pushed, e_pushed) = ((k, q["relative_error"]) for k, q in list(r["quantities"].items())[:2])
+    return (f"| {r['model']} | {_ok(r)} | cam: `{moved}` | {e_moved:.2e} | cam: `{pushed}` (5° means) | "
+            f"{e_pushed:.2e} |  |  |  | {r['settings']['timestep']:.3g} |  | {r['steps']} | {r['total_wall_s']:.2f} |")
 
 
 def spatial_row(r: dict) -> str:
     """A spatial four-bar (``SpatialCheck.to_dict``): the worst kinematic, forward and inverse
     quantities, the loop gap, the settings, steps and wall time."""
-    sp = r["spatial"]
-    kin = {k: v for k, v in sp["errors"].items() if k.startswith(("points.", "links."))}
-    inv = {k: v for k, v in sp["errors"].items() if k.startswith("inverse.")}
-    frc = {k: v for k, v in sp["errors"].items() if k not in kin and k not in inv}
-    wk, wf, wi = (max(g, key=lambda k, g=g: g[k]["error"]) for g in (kin, frc, inv))
-    return (f"| {r['model']} | {_ok(r)} | {sp['kind']}: `{wk}` | {kin[wk]['error']:.2e} | `{wf}` | "
-            f"{frc[wf]['error']:.2e} | `{wi}` | {inv[wi]['error']:.2e} | {sp['loop_gap']:.1e} | "
-            f"{sp['settings']['timestep']:.3g} | {sp['settings']['timeconst']:.3g} | {sp['steps']} | "
-            f"{r['total_wall_s']:.2f} |")
+    q = r["quantities"]
+    kin = {k: v for k, v in q.items() if k.startswith(("points.", "links."))}
+    inv = {k: v for k, v in q.items() if k.startswith("inverse.")}
+    frc = {k: v for k, v in q.items() if k not in kin and k not in inv}
+    wk, wf, wi = (max(g, key=lambda k, g=g: g[k]["relative_error"]) for g in (kin, frc, inv))
+    return (f"| {r['model']} | {_ok(r)} | {r['kind']}: `{wk}` | {kin[wk]['relative_error']:.2e} | `{wf}` | "
+            f"{frc[wf]['relative_error']:.2e} | `{wi}` | {inv[wi]['relative_error']:.2e} | "
+            f"{r['loop_gap']['relative']:.1e} | {r['settings']['timestep']:.3g} | {r['settings']['timeconst']:.3g} | "
+            f"{r['steps']} | {r['total_wall_s']:.2f} |")
 
 
 def _summary_lines(s: dict) -> list[str]:
@@ -161,10 +167,10 @@ def diagnosis_lines(diagnosis: list[dict]) -> list[str]:
         return []
     lines = ["**Diagnosis**", ""]
     for d in diagnosis:
-        if d["relative_error"] is None and not d["ranges_deg"]:  # no run compared anything: why, alone
+        if d["relative_error"] is None and not d["ranges"]:  # no run compared anything: why, alone
             lines.append(f"- {d['cause']}: {d['detail']}")
             continue
-        rng = ", ".join(f"{a:.1f}°..{b:.1f}°" for a, b in d["ranges_deg"][:3])
+        rng = ", ".join(f"{math.degrees(a):.1f}°..{math.degrees(b):.1f}°" for a, b in d["ranges"][:3])
         lines.append(f"- `{d['quantity']}` {number(d['relative_error'], '.2e')} (tolerance {d['tolerance']:g}) at {rng}: "
                      f"{d['cause']} — {d['detail']}")
     return lines + [""]
@@ -173,37 +179,29 @@ def diagnosis_lines(diagnosis: list[dict]) -> list[str]:
 def cam_section(r: dict) -> list[str]:
     """A stand-alone cam's section: its drawing, the follower's motion and the contact, closed
     form against MuJoCo, the diagnosis and every compared quantity."""
-    c = r["cam"]
     lines = ["", f"## {r['model']} (a cam)", ""]
     for fig in r.get("figures", []):
         lines += [f"![{fig}]({fig})", ""]
-    lines += [f"MuJoCo: a {c['profile_points']}-vertex profile, timestep {c['timestep']:.3g} s ({c.get('integrator', '')}), "
-              f"{c['steps']} steps; the contact force and cam torque compared as {360 / c['windows']:g}° means.", ""]
+    lines += [f"MuJoCo: a {r['profile_points']}-vertex profile, timestep {r['settings']['timestep']:.3g} s "
+              f"({r['settings']['integrator']}), {r['steps']} steps; the contact force and cam torque compared as "
+              f"{360 / r['windows']:g}° means.", ""]
     lines += diagnosis_lines(r.get("diagnosis", []))
-    lines += ["| quantity | relative error | tolerance | ok |", "|---|---|---|---|"]
-    for k, tol in c["tolerances"].items():
-        e = c["errors_relative"][k]
-        lines.append(f"| `{k}` | {e:.2e} | {tol:g} | {'yes' if e <= tol else '**NO**'} |")
-    for k in ("contact_force", "cam_torque"):
-        lines.append(f"| `{k}` (instantaneous, not held to a tolerance) | {c['errors_relative'][k + '_instantaneous']:.2e} "
-                     f"|  |  |")
+    lines += _quantity_lines(r["quantities"])
+    for k, e in r["instantaneous"].items():
+        lines.append(f"| `{k}` (instantaneous, not held to a tolerance) | {e:.2e} |  |  |")
     return lines
 
 
 def spatial_section(r: dict) -> list[str]:
     """A spatial model's section: its figures and every compared quantity."""
-    sp = r["spatial"]
-    lines = ["", f"## {r['model']} (spatial {sp['kind']})", ""]
+    lines = ["", f"## {r['model']} (spatial {r['kind']})", ""]
     for fig in r.get("figures", []):
         lines += [f"![{fig}]({fig})", ""]
-    if sp["note"]:
-        lines += [sp["note"][:1].upper() + sp["note"][1:] + ".", ""]
-    lines += ["| quantity | relative error | tolerance | ok |", "|---|---|---|---|"]
-    for k, e in sp["errors"].items():
-        lines.append(f"| `{k}` | {e['error']:.2e} | {e['tolerance']:g} | {'yes' if e['error'] <= e['tolerance'] else '**NO**'} |")
-    lines.append(f"| loop gap / L | {sp['loop_gap']:.2e} | {sp['loop_gap_tolerance']:g} | "
-                 f"{'yes' if sp['loop_gap'] <= sp['loop_gap_tolerance'] else '**NO**'} |")
-    return lines
+    if r["note"]:
+        lines += [r["note"][:1].upper() + r["note"][1:] + ".", ""]
+    gap = r["loop_gap"]
+    return lines + _quantity_lines(r["quantities"]) + [
+        f"| loop gap / L | {gap['relative']:.2e} | {gap['tolerance']:g} | {'yes' if gap['ok'] else '**NO**'} |"]
 
 
 # (row, section) of each kind of entry, for the family adapters to choose from.

@@ -1,7 +1,7 @@
 """The stand-alone cam's closed-form stages as results (``linkgen analyze|profile``,
 ``linkgen.kinematics|summary``): ``to_dict()`` (JSON), ``columns()`` (CSV) and ``text()``, one
-name per quantity in all three (``linkgen.model.results``). The drive angle is the cam angle θ
-(``phi`` in JSON as well); the follower is named ``follower``."""
+name per quantity in all three (``linkgen.model.results``). The drive angle is the cam angle φ;
+the follower is named ``follower``, the cam ``cam``."""
 
 from __future__ import annotations
 
@@ -13,83 +13,85 @@ import numpy as np
 
 from linkgen.errors import ArgumentError
 from linkgen.families.cam.summary import FOLLOWER
-from linkgen.model.results import Record, column, plain, shaped
+from linkgen.model.results import AngleMotion, ContactForce, SlideMotion, column, per_sample, plain, shaped
 
-UNITS = {"theta": "rad", "omega": "rad/s", "translating": "m, m/s, m/s², m/s³",
-         "oscillating": "rad, rad/s, rad/s², rad/s³", "pressure_angle": "rad", "contact_force": "N", "cam_torque": "N·m"}
+# The stand-alone cam's one pair: the cam (the driven link) and the follower.
+CAM = "cam"
+
+UNITS = {"phi": "rad", "omega": "rad/s", "epsilon": "rad/s²", "displacement": "m", "velocity": "m/s",
+         "acceleration": "m/s²", "jerk": "m/s³", "angle": "rad", "angular_velocity": "rad/s",
+         "angular_acceleration": "rad/s²", "angular_jerk": "rad/s³", "pressure_angle": "rad", "normal_force": "N",
+         "balancing_torque": "N·m"}
 
 
 @dataclass(frozen=True, repr=False)
-class CamFollowerMotion(Record):
-    """The follower: displacement from its lowest position (m translating, rad oscillating), its
-    velocity, acceleration and jerk, the pressure angle [rad], the contact force [N] and the
-    torque [N·m] the cam needs."""
+class SlidingFollower(SlideMotion):
+    """A translating follower: its displacement [m] from the lowest position, velocity,
+    acceleration, jerk (as a planar slider) and the pressure angle [rad]."""
 
-    displacement: np.ndarray | float
-    velocity: np.ndarray | float
-    acceleration: np.ndarray | float
-    jerk: np.ndarray | float
-    pressure_angle: np.ndarray | float
-    contact_force: np.ndarray | float
-    cam_torque: np.ndarray | float
-    unit: str = "m"
-    UNIT: ClassVar[str] = "m"
+    pressure_angle: np.ndarray | float | None = None
+    UNITS: ClassVar[dict[str, str]] = SlideMotion.UNITS | {"pressure_angle": "rad"}
 
-    def to_dict(self, transfer: bool = True) -> dict:
-        return {k: v for k, v in super().to_dict().items() if k != "unit"}
 
-    def columns(self, name: str, quantities=None, transfer: bool = True) -> dict[str, np.ndarray]:
-        u = self.unit
-        units = {"displacement": u, "velocity": f"{u}/s", "acceleration": f"{u}/s²", "jerk": f"{u}/s³",
-                 "pressure_angle": "rad", "contact_force": "N", "cam_torque": "N·m"}
-        return {f"{name}.{q} [{un}]": column(getattr(self, q)) for q, un in units.items()}
+@dataclass(frozen=True, repr=False)
+class RockingFollower(AngleMotion):
+    """An oscillating follower: its angle ψ − ψ0 [rad] from the lowest position, angular velocity,
+    acceleration, jerk (as a planar rocker) and the pressure angle [rad]."""
+
+    pressure_angle: np.ndarray | float | None = None
+    UNITS: ClassVar[dict[str, str]] = AngleMotion.UNITS | {"pressure_angle": "rad"}
 
 
 @dataclass(frozen=True, repr=False)
 class CamKinematics:
-    """The follower's motion and loads at the cam angles ``theta`` [rad] (= ``phi``), speed
-    ``omega`` [rad/s] (constant)."""
+    """The follower's motion at the cam angles ``phi`` [rad] (φ = 0 where the first segment
+    starts), speed ``omega`` [rad/s] (constant: ``epsilon`` 0), with the loads that come with
+    it: the ``contact`` force on the follower by the cam (along the profile's normal,
+    ``normal_force`` [N], as a planar cam pair's) and the ``balancing_torque`` [N·m] the cam
+    needs (as a planar crank's)."""
 
     model: str
     kind: str
-    theta: np.ndarray | float
+    phi: np.ndarray | float
     omega: float
-    followers: Mapping[str, CamFollowerMotion]
+    epsilon: float
+    followers: Mapping[str, SlidingFollower | RockingFollower]
+    contact: Mapping[str, ContactForce]
+    balancing_torque: np.ndarray | float
     ROWS: ClassVar[str] = "cam angles"
     NO_TRANSFER: ClassVar[str] = "--transfer and --keep-singular are for linkages; a cam's derivatives come with --json"
 
-    @property
-    def phi(self):
-        """The drive angle: the cam angle θ [rad]."""
-        return self.theta
-
     def to_dict(self, transfer: bool = True) -> dict:
-        return {"model": self.model, "theta": plain(self.theta), "phi": plain(self.theta), "omega": self.omega,
-                "units": UNITS, "followers": {n: f.to_dict() for n, f in self.followers.items()}}
+        return {"model": self.model, "kind": self.kind, "phi": plain(self.phi), "omega": self.omega,
+                "epsilon": self.epsilon, "units": UNITS,
+                "followers": {n: f.to_dict() for n, f in self.followers.items()},
+                "contact": {n: c.to_dict() for n, c in self.contact.items()},
+                "balancing_torque": plain(self.balancing_torque)}
 
     def columns(self, transfer: bool = True) -> dict[str, np.ndarray]:
-        cols = {"theta [rad]": column(self.theta)}
-        for n, f in self.followers.items():
-            cols |= f.columns(n)
-        return cols
+        cols = {"phi [rad]": column(self.phi)}
+        for table in (self.followers, self.contact):
+            for n, q in table.items():
+                cols |= q.columns(n)
+        return cols | {"balancing_torque [N·m]": column(self.balancing_torque)}
 
     def singular_lines(self) -> list[str]:
         return []
 
+    @per_sample
     def text(self, transfer: bool = False) -> str:
-        f = self.followers[FOLLOWER]
-        theta = float(self.theta)
-        unit = f.unit
+        f, c = self.followers[FOLLOWER], self.contact[CAM]
+        names = f.names(transfer=False)[:4]
         return "\n".join([
-            f"{self.model}: {self.kind} follower at cam angle θ = {math.degrees(theta):.6g}°, ω = {self.omega:g} rad/s",
-            f"  displacement {float(f.displacement):.6g} {unit} (from the lowest position), velocity "
-            f"{float(f.velocity):.6g} {unit}/s, acceleration {float(f.acceleration):.6g} {unit}/s², jerk "
-            f"{float(f.jerk):.6g} {unit}/s³",
-            f"  pressure angle {math.degrees(float(f.pressure_angle)):.6g}°, contact force {float(f.contact_force):.6g} N, "
-            f"cam torque {float(f.cam_torque):.6g} N·m"])
+            f"{self.model}: {self.kind} follower at cam angle φ = {math.degrees(float(self.phi)):.6g}°, "
+            f"ω = {self.omega:g} rad/s",
+            "  " + ", ".join(f"{q.replace('_', ' ')} {float(getattr(f, q)):.6g} {f.unit(q)}" for q in names)
+            + " (from the lowest position)",
+            f"  pressure angle {math.degrees(float(f.pressure_angle)):.6g}°, contact force {float(c.normal_force):.6g} N, "
+            f"balancing torque on the cam {float(self.balancing_torque):.6g} N·m"])
 
     def __repr__(self) -> str:
-        return f"CamKinematics({self.model!r}, {np.size(self.theta)} cam angles)"
+        return f"CamKinematics({self.model!r}, {np.size(self.phi)} cam angles)"
 
 
 def _speed(cm, omega, epsilon) -> float:
@@ -110,11 +112,12 @@ def kinematics(cm, phi, omega=None, epsilon=None, *, on_singular: str = "raise")
     scalar = np.ndim(phi) == 0
     theta = np.atleast_1d(np.asarray(phi, dtype=float))
     st = state(cm, theta, w)
-    unit = "m" if cm.follower.kind == "translating" else "rad"
-    f = CamFollowerMotion(*(shaped(getattr(st, q), scalar) for q in ("displacement", "velocity", "acceleration", "jerk",
-                                                                      "pressure_angle", "contact_force", "cam_torque")),
-                          unit=unit)
-    return CamKinematics(cm.name, cm.follower.kind, float(theta[0]) if scalar else theta, w, {FOLLOWER: f})
+    cls = SlidingFollower if cm.follower.kind == "translating" else RockingFollower
+    f = cls(*(shaped(getattr(st, q), scalar) for q in ("displacement", "velocity", "acceleration", "jerk")),
+            pressure_angle=shaped(st.pressure_angle, scalar))
+    return CamKinematics(cm.name, cm.follower.kind, float(theta[0]) if scalar else theta, w, 0.0, {FOLLOWER: f},
+                         {CAM: ContactForce(shaped(st.contact_force, scalar), FOLLOWER, CAM)},
+                         shaped(st.cam_torque, scalar))
 
 
 def summary(cm, omega=None, epsilon=None):
@@ -127,23 +130,23 @@ def summary(cm, omega=None, epsilon=None):
 
 @dataclass(frozen=True, repr=False)
 class CamProfile:
-    """The cam's profile and pitch curve [m] (n, 2) at the cam angles ``theta`` [rad]."""
+    """The cam's profile and pitch curve [m] (n, 2) at the cam angles ``phi`` [rad]."""
 
     model: str
-    theta: np.ndarray
+    phi: np.ndarray
     profile: np.ndarray
     pitch: np.ndarray
 
     def to_dict(self) -> dict:
-        return {"model": self.model, "theta": plain(self.theta), "profile": plain(self.profile),
-                "pitch": plain(self.pitch), "units": {"theta": "rad", "profile": "m", "pitch": "m"}}
+        return {"model": self.model, "phi": plain(self.phi), "profile": plain(self.profile),
+                "pitch": plain(self.pitch), "units": {"phi": "rad", "profile": "m", "pitch": "m"}}
 
     def columns(self) -> dict[str, np.ndarray]:
-        return {"theta [rad]": self.theta, "profile.x [m]": self.profile[:, 0], "profile.y [m]": self.profile[:, 1],
+        return {"phi [rad]": self.phi, "profile.x [m]": self.profile[:, 0], "profile.y [m]": self.profile[:, 1],
                 "pitch.x [m]": self.pitch[:, 0], "pitch.y [m]": self.pitch[:, 1]}
 
     def __repr__(self) -> str:
-        return f"CamProfile({self.model!r}, {self.theta.shape[0]} points)"
+        return f"CamProfile({self.model!r}, {self.phi.shape[0]} points)"
 
 
 def profile(cm, points: int = 720) -> CamProfile:
@@ -152,4 +155,4 @@ def profile(cm, points: int = 720) -> CamProfile:
     return CamProfile(cm.name, theta, cm.follower.profile(theta), cm.follower.pitch_curve(theta)[0])
 
 
-__all__ = ["CamFollowerMotion", "CamKinematics", "CamProfile", "kinematics", "profile", "summary"]
+__all__ = ["CAM", "CamKinematics", "RockingFollower", "SlidingFollower", "CamProfile", "kinematics", "profile", "summary"]

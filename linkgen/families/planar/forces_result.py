@@ -11,7 +11,8 @@ from typing import ClassVar, Mapping
 
 import numpy as np
 
-from linkgen.model.results import Reaction, Record, column, plain, shaped
+from linkgen.model.names import GROUND
+from linkgen.model.results import ContactForce, Reaction, Record, column, per_sample, plain, shaped
 
 UNITS = {"phi": "rad", "omega": "rad/s", "epsilon": "rad/s²", "force": "N", "torque": "N·m", "moment": "N·m",
          "normal_force": "N", "reduced_inertia": "kg·m²", "reduced_inertia_derivative": "kg·m²/rad",
@@ -24,9 +25,12 @@ SCALARS = (("balancing_torque", "N·m"), ("power_balance_torque", "N·m"), ("red
 @dataclass(frozen=True, repr=False)
 class PrismaticLoad(Record):
     """A prismatic pair: the guide's ``normal_force`` [N] on the slider along the guide's left
-    normal and the ``moment`` [N·m] the pair carries about the slider's point."""
+    normal and the ``moment`` [N·m] the pair carries about the slider's point, acting on the
+    slider ``on``, exerted by the guide ``by``."""
 
     normal_force: np.ndarray | float
+    on: str
+    by: str
     moment: np.ndarray | float
     UNIT: ClassVar[str] = "N"
     UNITS: ClassVar[dict[str, str]] = {"moment": "N·m"}
@@ -34,22 +38,14 @@ class PrismaticLoad(Record):
 
 @dataclass(frozen=True, repr=False)
 class ToothForce(Record):
-    """A gear pair's tooth force [N] on its planet ``on``."""
+    """A gear pair's tooth force [N] on its planet ``on``, exerted by the fixed gear's link ``by``
+    (the ground)."""
 
     force: np.ndarray
     on: str
+    by: str
     UNIT: ClassVar[str] = "N"
     VECTOR: ClassVar[bool] = True
-
-
-@dataclass(frozen=True, repr=False)
-class ContactForce(Record):
-    """A cam pair's contact force [N] on its follower ``on``, along the profile's normal (< 0
-    where the follower would leave the cam)."""
-
-    normal_force: np.ndarray | float
-    on: str
-    UNIT: ClassVar[str] = "N"
 
 
 @dataclass(frozen=True, repr=False)
@@ -109,6 +105,7 @@ class PlanarForces:
 
         return kinematics(self.solution[0], self.solution[1], on_singular="mark").singular_lines()
 
+    @per_sample
     def text(self, transfer: bool = False) -> str:
         phi = float(self.phi)
         lines = [f"{self.model}: φ = {math.degrees(phi):.6g}°, ω = {self.omega:g} rad/s, ε = {self.epsilon:g} rad/s²",
@@ -122,16 +119,16 @@ class PlanarForces:
             fx, fy = (float(x) for x in r.force)
             lines.append(f"{k:<18}{r.on:>10}{r.by:>10}{fx:>14.6g}{fy:>14.6g}{math.hypot(fx, fy):>14.6g}")
         if self.prismatic:
-            lines.append(f"{'prismatic':<18}{'N [N]':>14}{'M [N·m]':>14}")
+            lines.append(f"{'prismatic':<18}{'on':>10}{'by':>10}{'N [N]':>14}{'M [N·m]':>14}")
             for k, p in self.prismatic.items():
-                lines.append(f"{k:<18}{float(p.normal_force):>14.6g}{float(p.moment):>14.6g}")
+                lines.append(f"{k:<18}{p.on:>10}{p.by:>10}{float(p.normal_force):>14.6g}{float(p.moment):>14.6g}")
         for k, t in self.tooth.items():
             fx, fy = (float(x) for x in t.force)
-            lines.append(f"tooth force of gear {k!r} on {t.on!r}: ({fx:.6g}, {fy:.6g}) N, |F| = "
+            lines.append(f"tooth force of gear {k!r} on {t.on!r} by {t.by!r}: ({fx:.6g}, {fy:.6g}) N, |F| = "
                          f"{math.hypot(fx, fy):.6g} N")
         for k, c in self.contact.items():
             n = float(c.normal_force)
-            lines.append(f"contact force of cam {k!r} on its follower {c.on!r}: {n:.6g} N along the profile's normal"
+            lines.append(f"contact force of cam {k!r} on its follower {c.on!r} by {c.by!r}: {n:.6g} N along the profile's normal"
                          + ("" if n >= 0 else " — negative: the follower would leave the cam here (a stronger spring "
                                               "keeps it on)"))
         return "\n".join(lines)
@@ -156,6 +153,7 @@ def forces(source, phi, omega=None, epsilon=None, *, on_singular: str = "raise")
     e = float(mech.drive.epsilon if epsilon is None else epsilon)
     f = solve_forces(asm, phis, w, e, on_singular=on_singular)
     first = {r.name: r.links for r in mech.revolutes}
+    pairs = {p.name: p for p in mech.prismatics}
 
     def s(x):
         return shaped(x, scalar)
@@ -163,9 +161,9 @@ def forces(source, phi, omega=None, epsilon=None, *, on_singular: str = "raise")
     return PlanarForces(
         mech.name, float(phis[0]) if scalar else phis, w, e, s(f.balancing_torque), s(f.power_balance_torque),
         {k: Reaction(s(v), first[k][0], first[k][1]) for k, v in f.reactions.items()},
-        {k: PrismaticLoad(s(f.normal_force[k]), s(f.moment[k])) for k in f.normal_force},
-        {k: ToothForce(s(v), g.planet) for (k, v), g in zip(f.tooth.items(), mech.gears)},
-        {c.name: ContactForce(s(f.contact[c.name]), c.follower) for c in mech.cams if c.name in f.contact},
+        {k: PrismaticLoad(s(v), pairs[k].slider, pairs[k].guide, s(f.moment[k])) for k, v in f.normal_force.items()},
+        {k: ToothForce(s(v), g.planet, GROUND) for (k, v), g in zip(f.tooth.items(), mech.gears)},
+        {c.name: ContactForce(s(f.contact[c.name]), c.follower, mech.crank) for c in mech.cams if c.name in f.contact},
         s(f.reduced.inertia), s(f.reduced.inertia_derivative), s(f.reduced.moment),
         bool(f.singular[0]) if scalar else f.singular, (asm, phis))
 

@@ -11,7 +11,7 @@ from typing import ClassVar, Mapping
 
 import numpy as np
 
-from linkgen.model.results import AngleMotion, PointMotion, Record, SlideMotion, column, plain, shaped
+from linkgen.model.results import AngleMotion, PointMotion, Record, SlideMotion, column, per_sample, plain, shaped
 
 UNITS = {"phi": "rad", "omega": "rad/s", "epsilon": "rad/s²", "position": "m", "velocity": "m/s",
          "acceleration": "m/s²", "angle": "rad", "angular_velocity": "rad/s", "angular_acceleration": "rad/s²",
@@ -66,7 +66,7 @@ class PlanarKinematics:
 
     def to_dict(self, transfer: bool = True) -> dict:
         out = {"model": self.model, "phi": plain(self.phi), "omega": plain(self.omega),
-               "epsilon": plain(self.epsilon), "units": UNITS}
+               "epsilon": plain(self.epsilon), "units": UNITS | ({"pressure_angle": "rad"} if self.followers else {})}
         for kind in KINDS:
             out[kind] = {n: q.to_dict(transfer) for n, q in getattr(self, kind).items()}
         if self.followers:
@@ -103,6 +103,7 @@ class PlanarKinematics:
                 f"({int(np.count_nonzero(mask))} of {len(kin.phi)} samples: {singular_cause(groups[label])})"
                 for label, mask in kin.near_singular.items() if np.any(mask)]
 
+    @per_sample
     def text(self, transfer: bool = False) -> str:
         d = self.to_dict(transfer)
         phi = float(self.phi)

@@ -10,7 +10,7 @@ from typing import ClassVar, Mapping
 
 import numpy as np
 
-from linkgen.model.results import AngleMotion, PointMotion, Reaction, SlideMotion, column, plain, shaped
+from linkgen.model.results import AngleMotion, PointMotion, Reaction, SlideMotion, column, per_sample, plain, shaped
 
 UNITS = {"position": "m", "velocity": "m/s", "acceleration": "m/s²", "jerk": "m/s³", "angle": "rad",
          "angular_velocity": "rad/s", "angular_acceleration": "rad/s²", "angular_jerk": "rad/s³", "displacement": "m",
@@ -19,9 +19,11 @@ UNITS = {"position": "m", "velocity": "m/s", "acceleration": "m/s²", "jerk": "m
 
 @dataclass(frozen=True, repr=False)
 class SpatialKinematics:
-    """Every point's position (3,) [m], velocity, acceleration, jerk and transfer functions d1..d3,
-    and the ``joints``: the drive (its angle φ, ω, ε) and the output pair (a rocker's angle, a
-    slider's displacement, with transfer functions) at the crank angles ``phi`` [rad]."""
+    """Every point's position (3,) [m], velocity, acceleration, jerk and transfer functions d1..d3
+    at the crank angles ``phi`` [rad], with the turning links and the sliders named as in every
+    family (``linkgen.model.summary``): ``links`` the crank (its angle φ, ω, ε) and a turning
+    output under its link's name (angle, angular_velocity, ...), ``sliders`` a sliding output
+    under its prismatic pair's name (displacement, velocity, ...), each with transfer functions."""
 
     model: str
     kind: str
@@ -29,26 +31,28 @@ class SpatialKinematics:
     omega: float
     epsilon: float
     points: Mapping[str, PointMotion]
-    joints: Mapping[str, AngleMotion | SlideMotion]
+    links: Mapping[str, AngleMotion]
+    sliders: Mapping[str, SlideMotion]
     NO_TRANSFER: ClassVar[str] = ""
 
     def to_dict(self, transfer: bool = True) -> dict:
         return {"model": self.model, "kind": self.kind, "phi": plain(self.phi), "omega": self.omega,
                 "epsilon": self.epsilon, "units": UNITS,
                 "points": {n: p.to_dict(transfer) for n, p in self.points.items()},
-                "joints": {n: j.to_dict(transfer) for n, j in self.joints.items()}}
+                "links": {n: q.to_dict(transfer) for n, q in self.links.items()},
+                "sliders": {n: q.to_dict(transfer) for n, q in self.sliders.items()}}
 
     def columns(self, transfer: bool = True) -> dict[str, np.ndarray]:
         cols = {"phi [rad]": column(self.phi)}
-        for n, p in self.points.items():
-            cols |= p.columns(n, p.names(transfer))
-        for n, j in self.joints.items():
-            cols |= j.columns(n, j.names(transfer))
+        for table in (self.points, self.links, self.sliders):
+            for n, q in table.items():
+                cols |= q.columns(n, q.names(transfer))
         return cols
 
     def singular_lines(self) -> list[str]:
         return []
 
+    @per_sample
     def text(self, transfer: bool = False) -> str:
         d = self.to_dict(transfer=False)
         phi = float(self.phi)
@@ -60,10 +64,11 @@ class SpatialKinematics:
         for n, q in d["points"].items():
             lines.append(f"{n:<8}" + "".join(f"{x:>13.6g}" for x in q["position"] + q["velocity"] + q["acceleration"]
                                               + q["jerk"]))
-        for n, q in d["joints"].items():
-            lines.append(f"joint {n}: " + ", ".join(f"{k} {v:.9g}" for k, v in q.items()))
-        if transfer:
-            out = next(j for j in self.joints.values() if j.d1 is not None)
+        for kind in ("links", "sliders"):
+            for n, q in d[kind].items():
+                lines.append(f"{kind[:-1]} {n}: " + ", ".join(f"{k} {v:.9g}" for k, v in q.items()))
+        if transfer:  # the output: the slider, or the turning link after the crank
+            out = next(iter(self.sliders.values()), None) or list(self.links.values())[-1]
             lines.append("transfer functions (derivatives with respect to φ) of the output: " + ", ".join(
                 f"{k} {float(getattr(out, q)):.9g}" for k, q in (("d/dphi", "d1"), ("d2/dphi2", "d2"),
                                                                  ("d3/dphi3", "d3"))))
@@ -92,11 +97,14 @@ def kinematics(mech, phi, omega=None, epsilon=None, *, on_singular: str = "raise
     points = {n: PointMotion(*(s(x) for x in (*jet_motion(jet, w, e), jet.d[1], jet.d[2], jet.d[3])))
               for n, jet in k.points.items()}
     n = phis.shape[0]
-    drive = AngleMotion(s(phis), s(np.full(n, w)), s(np.full(n, e)), s(np.zeros(n)))
+    # The crank turns with φ itself: dφ/dφ = 1, higher transfer functions 0.
+    crank = AngleMotion(s(phis), s(np.full(n, w)), s(np.full(n, e)), s(np.zeros(n)), s(np.ones(n)), s(np.zeros(n)),
+                        s(np.zeros(n)))
     out = (SlideMotion if c.output_slides else AngleMotion)(
         *(s(x) for x in (*jet_motion(k.output, w, e), k.output.d[1], k.output.d[2], k.output.d[3])))
-    return SpatialKinematics(mech.name, c.kind, float(phis[0]) if scalar else phis, w, e, points,
-                             {c.drive: drive, c.pair_out: out})
+    links = {c.crank: crank} | ({} if c.output_slides else {c.output: out})
+    sliders = {c.pair_out: out} if c.output_slides else {}
+    return SpatialKinematics(mech.name, c.kind, float(phis[0]) if scalar else phis, w, e, points, links, sliders)
 
 
 @dataclass(frozen=True, repr=False)
@@ -134,6 +142,7 @@ class SpatialForcesResult:
     def singular_lines(self) -> list[str]:
         return []
 
+    @per_sample
     def text(self, transfer: bool = False) -> str:
         phi = float(self.phi)
         lines = [f"{self.model}: φ = {math.degrees(phi):.6g}°, ω = {self.omega:g} rad/s, ε = {self.epsilon:g} rad/s²: "
