@@ -123,7 +123,7 @@ def summary_text(sm) -> str:
     t = sm.peak_balancing_torque
     lines.append(f"  peak balancing torque: {t.value:.6g} N·m at φ = {math.degrees(t.phi):.4g}°")
     for pair, p in sm.peak_reactions.items():
-        lines.append(f"  peak force at pair {pair}: {p.value:.6g} N at φ = {math.degrees(p.phi):.4g}°")
+        lines.append(f"  peak reaction at {pair}: {p.value:.6g} N at φ = {math.degrees(p.phi):.4g}°")
     if sm.forces_note:
         lines.append(f"  {sm.forces_note}")
     return "\n".join(lines)
