@@ -83,20 +83,27 @@ def structure(source):
     return _stage(source, "structure")(source)
 
 
-def kinematics(source, phi, omega=None, epsilon=None):
+def kinematics(source, phi, omega=None, epsilon=None, *, on_singular: str = "raise"):
     """Positions, velocities, accelerations, jerks and transfer functions (``linkgen analyze``)
     at drive angles φ (a number or a non-empty (n,); rad or "30deg"), one speed ω [rad/s or
     "120rpm"] and one acceleration ε [rad/s² or "60rpm/s"] (default the description's; the jerk
-    takes ε constant in time: x‴ω³ + 3x″ωε)."""
+    takes ε constant in time: x‴ω³ + 3x″ωε). ``on_singular="mark"`` marks the samples at a
+    singular position (``singular``) instead of raising SingularityError."""
     fn = _stage(source, "kinematics")
-    return fn(source, angle_argument(phi, "phi"), *_rates(omega, epsilon))
+    return fn(source, angle_argument(phi, "phi"), *_rates(omega, epsilon), on_singular=_singular(on_singular))
 
 
-def forces(source, phi, omega=None, epsilon=None):
-    """Kinetostatics (``linkgen forces``) at drive angles φ, speed ω, acceleration ε (as
-    ``kinematics``)."""
+def forces(source, phi, omega=None, epsilon=None, *, on_singular: str = "raise"):
+    """Kinetostatics (``linkgen forces``) at drive angles φ, speed ω, acceleration ε and
+    ``on_singular`` (as ``kinematics``)."""
     fn = _stage(source, "forces")
-    return fn(source, angle_argument(phi, "phi"), *_rates(omega, epsilon))
+    return fn(source, angle_argument(phi, "phi"), *_rates(omega, epsilon), on_singular=_singular(on_singular))
+
+
+def _singular(value) -> str:
+    if value not in ("raise", "mark"):
+        raise ArgumentError(f"on_singular: expected \"raise\" or \"mark\", got {value!r}")
+    return value
 
 
 def summary(source, omega=None, epsilon=None):
@@ -156,7 +163,7 @@ def _counts(options: dict) -> dict:
     return out
 
 
-def simulate(source, **options):
+def simulate(source, /, **options):
     """A MuJoCo run over the drive range (``linkgen simulate``; planar linkages); options as the
     ``simulate`` stage (``pipeline.family.STAGES``): revolutions, omega and epsilon (one value
     each, as ``kinematics``), settings, samples, nthread, progress, max_steps, settle, notice —
@@ -165,7 +172,7 @@ def simulate(source, **options):
     return fn(source, **_counts(options))
 
 
-def validate(source, **options):
+def validate(source, /, **options):
     """MuJoCo against the closed form (``linkgen validate``), for every family: a result with
     ``.ok``, ``.summary()`` (the line the CLI prints), ``.to_dict()`` (its JSON) and
     ``.diagnosis`` — a ``CrossCheck`` (``linkgen.crosscheck.run``), a ``CamLinkageCheck`` for a

@@ -46,6 +46,6 @@ SPATIAL = Family(
     commands=("structure", "analyze", "forces", "build", "validate", "draw", "animate", "render"),
     stages={"angles": _angles, "structure": _structure, "kinematics": _kinematics, "forces": _forces,
             "summary": _summary, **MUJOCO_STAGES},
-    options=("--transfer", "--keep-singular"))
+    options=("--transfer",))
 
 __all__ = ["SPATIAL"]
