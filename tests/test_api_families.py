@@ -257,3 +257,15 @@ def test_each_api_function_calls_a_stage_of_the_interface_and_is_exported():
     assert set(FUNCTIONS.values()) <= set(BY_STAGE)
     assert set(FUNCTIONS) <= set(linkgen.__all__)
     assert all(f"``{name}``" in linkgen.api.__doc__ for name in FUNCTIONS)
+
+
+def test_validate_takes_its_documented_source_option():
+    """validate(m, source=...) clashed with the function's own parameter name (a bare TypeError,
+    found by the second audit); the description is positional-only now. An unknown option beside
+    it is still refused by name, before any MuJoCo run."""
+    import linkgen
+    from linkgen.errors import ArgumentError
+
+    mech = linkgen.load(Path(__file__).resolve().parent.parent / "models" / "fourbar.toml")
+    with pytest.raises(ArgumentError, match="bogus: not an option of linkgen.validate"):
+        linkgen.validate(mech, source="models/fourbar.toml", bogus=1)
