@@ -20,6 +20,8 @@ names."""
 
 from __future__ import annotations
 
+import math
+
 from collections.abc import Mapping
 from dataclasses import dataclass, fields, is_dataclass
 
@@ -94,4 +96,43 @@ def summary_dict(s) -> dict:
     return out | {"units": dict(s.units)} | d
 
 
-__all__ = ["COMMON", "REACTION_KEYS", "Extreme", "Limit", "Output", "as_dict", "output_table", "summary_dict"]
+def _degrees(x: float) -> str:
+    return f"{math.degrees(x):.6g}°"
+
+
+def summary_text(s, what: str = "") -> str:
+    """The design summary as the terminal shows it (``linkgen analyze --summary``), the same for
+    every family: the header (``what`` names the mechanism's kind), each output's travel, limit
+    positions and time ratio, the least transmission angles where the family has them, the peak
+    balancing torque and reactions. Angles in degrees."""
+    start, stop = s.drive_range
+    lines = [f"{s.model}: design summary{what} over φ = {_degrees(start)}..{_degrees(stop)} at ω = {s.omega:g} rad/s, "
+             f"ε = {s.epsilon:g} rad/s²"]
+    for key, o in s.outputs.items():
+        name = key.removesuffix(f" ({o.kind})")
+        if o.travel is None:
+            lines.append(f"  {o.kind} {name}: turns fully round (no swing, no limit positions)")
+            continue
+        travel = f"stroke {o.travel:.6g} m" if o.kind == "slider" else f"swing {_degrees(o.travel)} ({o.travel:.6g} rad)"
+        lines.append(f"  {o.kind} {name}: {travel}")
+        for lim in o.limits:
+            value = f"{lim.value:.6g} m" if o.kind == "slider" else f"{_degrees(lim.value)}"
+            lines.append(f"    limit position ({lim.kind}) at φ = {_degrees(lim.phi)}: {value}")
+        if not o.limits:
+            lines.append("    no limit position inside the range (its extremes are at the range's ends)")
+        if o.time_ratio is not None:
+            lines.append(f"    min→max over {_degrees(o.strokes[0])} of crank turn, max→min over {_degrees(o.strokes[1])}: "
+                         f"time ratio K = {o.time_ratio:.6g} (at constant ω)")
+    for group, t in (getattr(s, "min_transmission_angle", None) or {}).items():
+        lines.append(f"  transmission angle of {group}: least {_degrees(t.value)} at φ = {_degrees(t.phi)}")
+    if s.peak_balancing_torque is not None:
+        t = s.peak_balancing_torque
+        lines.append(f"  peak balancing torque: {t.value:.6g} N·m at φ = {_degrees(t.phi)}")
+        for name, p in sorted(s.peak_reactions.items(), key=lambda kv: -kv[1].value):
+            lines.append(f"  peak reaction at {name}: {p.value:.6g} N at φ = {_degrees(p.phi)}")
+    if s.forces_note:
+        lines.append(f"  {s.forces_note}")
+    return "\n".join(lines)
+
+
+__all__ = ["summary_text", "COMMON", "REACTION_KEYS", "Extreme", "Limit", "Output", "as_dict", "output_table", "summary_dict"]

@@ -105,35 +105,11 @@ def turn_lines(asm) -> list[str]:
 
 
 def summary_text(s) -> str:
-    """The design summary as the terminal shows it (``linkgen analyze --summary``)."""
-    start, stop = s.drive_range
-    lines = [f"{s.model}: design summary over φ = {_deg(start)}..{_deg(stop)} at ω = {s.omega:g} rad/s, "
-             f"ε = {s.epsilon:g} rad/s²"]
-    for key, o in s.outputs.items():
-        name = key.removesuffix(f" ({o.kind})")
-        if o.travel is None:
-            lines.append(f"  {o.kind} {name}: turns fully round (no swing, no limit positions)")
-            continue
-        travel = f"stroke {o.travel:.6g} m" if o.kind == "slider" else f"swing {_deg(o.travel)} ({o.travel:.6g} rad)"
-        lines.append(f"  {o.kind} {name}: {travel}")
-        for lim in o.limits:
-            value = f"{lim.value:.6g} m" if o.kind == "slider" else f"{_deg(lim.value)}"
-            lines.append(f"    limit position ({lim.kind}) at φ = {_deg(lim.phi)}: {value}")
-        if not o.limits:
-            lines.append("    no limit position inside the range (its extremes are at the range's ends)")
-        if o.time_ratio is not None:
-            lines.append(f"    min→max over {_deg(o.strokes[0])} of crank turn, max→min over {_deg(o.strokes[1])}: "
-                         f"time ratio K = {o.time_ratio:.6g} (at constant ω)")
-    for group, t in s.min_transmission_angle.items():
-        lines.append(f"  transmission angle of {group}: least {_deg(t.value)} at φ = {_deg(t.phi)}")
-    if s.peak_balancing_torque is not None:
-        t = s.peak_balancing_torque
-        lines.append(f"  peak balancing torque: {t.value:.6g} N·m at φ = {_deg(t.phi)}")
-        for name, p in sorted(s.peak_reactions.items(), key=lambda kv: -kv[1].value):
-            lines.append(f"  peak reaction at {name}: {p.value:.6g} N at φ = {_deg(p.phi)}")
-    else:
-        lines.append(f"  {s.forces_note}")
-    return "\n".join(lines)
+    """The design summary as the terminal shows it (``linkgen analyze --summary``): the text every
+    family shares (``model.summary.summary_text``)."""
+    from linkgen.model.summary import summary_text as common
+
+    return common(s)
 
 
 __all__ = ["PlanarStructure", "StructureGroup", "structure", "summary_text", "turn_lines"]

@@ -3,7 +3,6 @@
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -106,27 +105,11 @@ def _assembly_range(mech, chain) -> str:
 
 
 def summary_text(sm) -> str:
-    """The design summary as the terminal shows it (``linkgen analyze --summary``)."""
-    ((name, out),) = sm.outputs.items()
-    rad = out.kind == "rocker"
-    show = (lambda v: f"{math.degrees(v):.6g}°") if rad else (lambda v: f"{v:.6g} m")
-    if out.travel is None:
-        lines = [f"{sm.model}: spatial {sm.kind}, output {name!r} turns fully with the crank (no limit positions)"]
-    else:
-        lines = [f"{sm.model}: spatial {sm.kind}, output {name!r}: {'swing' if rad else 'stroke'} {show(out.travel)}"]
-    for lim in out.limits:
-        lines.append(f"  limit position ({lim.kind}) at φ = {math.degrees(lim.phi):.6g}°: {show(lim.value)}")
-    if out.time_ratio is not None:
-        up, down = (math.degrees(x) for x in out.strokes)
-        lines.append(f"  min→max over {up:.6g}° of crank turn, max→min over {down:.6g}°: time ratio "
-                     f"K = {out.time_ratio:.6g} (at constant ω)")
-    t = sm.peak_balancing_torque
-    lines.append(f"  peak balancing torque: {t.value:.6g} N·m at φ = {math.degrees(t.phi):.4g}°")
-    for pair, p in sm.peak_reactions.items():
-        lines.append(f"  peak reaction at {pair}: {p.value:.6g} N at φ = {math.degrees(p.phi):.4g}°")
-    if sm.forces_note:
-        lines.append(f"  {sm.forces_note}")
-    return "\n".join(lines)
+    """The design summary as the terminal shows it (``linkgen analyze --summary``): the text every
+    family shares (``model.summary.summary_text``), naming the chain's kind."""
+    from linkgen.model.summary import summary_text as common
+
+    return common(sm, f" of the spatial {sm.kind}")
 
 
 __all__ = ["SpatialStructure", "structure", "summary_text"]
