@@ -91,7 +91,7 @@ def cam_figure(cm, theta: float, out: Path | None = None):
     ax.set_ylabel("y [m]")
     ax.grid(True, lw=0.3, alpha=0.4)
     ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0), frameon=False)
-    ax.set_title(f"{title_of(cm)}\nθ = {math.degrees(theta):.4g}°", fontsize=10)
+    ax.set_title(f"{title_of(cm)}\nφ = {math.degrees(theta):.4g}°", fontsize=10)
     if out is not None:
         save(fig, out)
     return fig

@@ -102,7 +102,7 @@ def _check_convex(cm: CamMechanism) -> None:
     rho = cm.follower.profile_curvature_radius(th)
     bad = rho <= 0
     if np.any(bad):
-        raise SimulationError(f"the cam's profile is concave from θ = {math.degrees(th[bad][0]):.4g}° (radius of "
+        raise SimulationError(f"the cam's profile is concave from φ = {math.degrees(th[bad][0]):.4g}° (radius of "
                               f"curvature {rho[bad].max():.3g} m there); MuJoCo collides a mesh as its convex hull, "
                               "so linkgen does not model this cam in MuJoCo")
 

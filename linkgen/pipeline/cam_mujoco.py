@@ -56,7 +56,7 @@ def draw(desc, angles, out) -> str:
         return f"{desc.name}, position plan by inversion of {len(angles)} cam angles"
     theta = 0.0 if angles is None else float(angles)
     cam_figure(desc, theta, out)
-    return f"{desc.name}, cam and follower at θ = {math.degrees(theta):.6g}°"
+    return f"{desc.name}, cam and follower at φ = {math.degrees(theta):.6g}°"
 
 
 def animate(desc, frames: int, progress=None, mujoco: bool = False, notice=None) -> tuple[list, str]:
@@ -77,7 +77,7 @@ def render(desc, angle, width: int, height: int) -> tuple[np.ndarray, str]:
     from linkgen.draw.frames import cam_render
 
     theta = 0.0 if angle is None else float(angle)
-    return cam_render(desc, theta, width, height)[0], f"MuJoCo frame of {desc.name} at θ = {math.degrees(theta):.6g}°"
+    return cam_render(desc, theta, width, height)[0], f"MuJoCo frame of {desc.name} at φ = {math.degrees(theta):.6g}°"
 
 
 STAGES = {"mjcf": mjcf, "validate": validate, "figures": figures, "report": report, "draw": draw, "animate": animate, "render": render}

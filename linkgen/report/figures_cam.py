@@ -56,7 +56,7 @@ def plot_cam(cm, run, out: Path) -> list[str]:
                                  (axes[2], "acceleration", f"{unit}/s²", ref.acceleration, run.acceleration)):
         _pair(ax, deg, cf, mj[order], title, u, means=title == "acceleration")
     axes[0].set_title(f"{cm.name}: the follower, closed form against MuJoCo", fontsize=9)
-    axes[-1].set_xlabel("cam angle θ [°]")
+    axes[-1].set_xlabel("cam angle φ [°]")
     fig.tight_layout()
     fig.savefig(out / names[1], dpi=DPI)
     plt.close(fig)
@@ -64,7 +64,7 @@ def plot_cam(cm, run, out: Path) -> list[str]:
     _pair(axes[0], deg, ref.contact_force, run.contact_force[order], "contact force", "N", means=True)
     _pair(axes[1], deg, ref.cam_torque, run.cam_torque[order], "cam torque", "N·m", means=True)
     axes[0].set_title(f"{cm.name}: the contact, closed form against MuJoCo", fontsize=9)
-    axes[-1].set_xlabel("cam angle θ [°]")
+    axes[-1].set_xlabel("cam angle φ [°]")
     fig.tight_layout()
     fig.savefig(out / names[2], dpi=DPI)
     plt.close(fig)

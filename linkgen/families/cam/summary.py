@@ -1,6 +1,6 @@
 """A cam mechanism's design summary over a turn at a constant cam speed: the stroke, the largest
 pressure angle, the least radius of curvature of the profile, the contact force's range, the
-peak cam torque, the leave speed and the smallest base circle for a 30° pressure angle. Every
+peak balancing torque on the cam, the leave speed and the smallest base circle for a 30° pressure angle. Every
 extremum is found on SAMPLES cam angles and refined by Brent's method (``linkgen.extrema``),
 round the wrap from 2π to 0 included."""
 
@@ -76,11 +76,11 @@ class CamSummary:
         lines = [f"{self.model}: {self.kind} follower, base circle {self.base_radius:.6g} m, "
                  f"at ω = {self.omega:g} rad/s",
                  f"  stroke {out.travel:.6g} {unit}" + (f" ({deg(out.travel):.4g}°)" if unit == "rad" else ""),
-                 f"  largest pressure angle {deg(a.value):.4g}° at θ = {deg(a.phi):.4g}°",
-                 f"  profile {shape}; least radius of curvature {r.value:.6g} m at θ = {deg(r.phi):.4g}°"
+                 f"  largest pressure angle {deg(a.value):.4g}° at φ = {deg(a.phi):.4g}°",
+                 f"  profile {shape}; least radius of curvature {r.value:.6g} m at φ = {deg(r.phi):.4g}°"
                  + ("; UNDERCUT: the roller is larger than the pitch curve's radius there" if self.undercut else ""),
-                 f"  contact force {self.min_contact_force:.6g}..{self.peak_contact_force.value:.6g} N; peak cam "
-                 f"torque {t.value:.6g} N·m at θ = {deg(t.phi):.4g}°"]
+                 f"  contact force {self.min_contact_force:.6g}..{self.peak_contact_force.value:.6g} N; peak balancing "
+                 f"torque {t.value:.6g} N·m at φ = {deg(t.phi):.4g}°"]
         if self.smallest_base_radius_for_30deg is not None:
             lines.append(f"  the smallest base circle keeping the pressure angle within 30°: "
                          f"{self.smallest_base_radius_for_30deg:.6g} m")
