@@ -94,3 +94,22 @@ def test_the_summary_takes_omega_for_every_family(tmp_path, capsys, model, line)
     given = json.loads(capsys.readouterr().out)
     assert main(["analyze", str(faster), "--summary", "--json"]) == 0
     assert given == json.loads(capsys.readouterr().out)
+
+
+@pytest.mark.parametrize("model", ["fourbar", "rssr"])
+def test_structure_prints_and_writes_its_json(tmp_path, capsys, model):
+    """`structure` had no --json nor -o though its result has to_dict() (second audit): --json
+    prints what -o FILE.json writes, the API's structure result as a dict."""
+    import json
+
+    import linkgen
+    from linkgen.cli.main import main
+
+    path = MODELS / f"{model}.toml"
+    assert main(["structure", str(path), "--json"]) == 0
+    printed = json.loads(capsys.readouterr().out)
+    out = tmp_path / "s.json"
+    assert main(["structure", str(path), "-o", str(out)]) == 0
+    assert json.loads(out.read_text()) == printed
+    assert printed == json.loads(json.dumps(linkgen.structure(linkgen.load(path)).to_dict()))
+    assert printed["mobility"] == 1 and printed["model"] == model

@@ -27,6 +27,7 @@ FORCES_HELP = ("Closed-form joint reactions and balancing torque; planar linkage
 SAMPLES = {".csv": "the samples over the drive range", ".json": "the JSON object, as --json prints it"}
 SUMMARY = {".json": "the summary's JSON object, as --json prints it"}
 PROFILE = {".csv": "the points", ".json": "the JSON object"}
+STRUCTURE = {".json": "the structure's JSON object, as --json prints it"}
 
 
 def _output(args, kinds: dict[str, str], command: str | None = None) -> tuple[Path | None, str, str | None]:
@@ -62,8 +63,15 @@ def _load(args):
 def cmd_structure(args) -> int:
     from linkgen.pipeline.registry import stage
 
+    path, spelled, fmt = _output(args, STRUCTURE)
+    if args.json and path is not None:
+        raise OptionError(f"--json prints what {spelled} {path} writes: give one of them")
     desc = _load(args)
-    print(stage(desc, "structure")(desc).text())
+    result = stage(desc, "structure")(desc)
+    if args.json or fmt == "json":
+        write_json(result.to_dict(), path)
+        return 0
+    print(result.text())
     return 0
 
 
@@ -167,6 +175,8 @@ def add_commands(sub) -> None:
     """``structure``, ``analyze`` and ``forces``."""
     s = sub.add_parser("structure", help="mobility, Assur groups and the structure formula")
     s.add_argument("model", type=Path, help="description file (.toml)")
+    s.add_argument("--json", action="store_true", help="print the structure as one JSON object")
+    _out_argument(s, STRUCTURE)
     s.set_defaults(func=cmd_structure)
 
     a = sub.add_parser("analyze", help="closed-form positions, velocities, accelerations and jerks")
