@@ -4,7 +4,6 @@ stages (``pipeline.registry.stage``): mjcf, simulate, validate and the report's 
 from __future__ import annotations
 
 import json
-import math
 import multiprocessing
 import os
 import sys
@@ -193,14 +192,10 @@ def _summary(r: dict) -> str:
                      f"    machine driven by its motor, {dyn['duration_s']:g} s: MuJoCo's worst {dyn['worst']} "
                      f"{dyn['worst_error_relative']:.2e} of its scale (tolerance {dyn['tolerance']:g})"
                      + ("" if dyn["ok"] else " — over the tolerance"))
+    from linkgen.crosscheck.diagnose import finding_line
+
     shown = r.get("diagnosis", [])[:DIAGNOSIS_LINES]
-    for d in shown:
-        if d["relative_error"] is None and not d["ranges"]:  # no run compared anything: why, alone
-            lines.append(f"    {d['cause']}: {d['detail']}")
-            continue
-        rng = ", ".join(f"{math.degrees(a):.1f}°..{math.degrees(b):.1f}°" for a, b in d["ranges"][:3])
-        lines.append(f"    {d['quantity']}: {_num(d['relative_error'], '.2e')} (tolerance {d['tolerance']:g}) at {rng}: "
-                     f"{d['cause']} — {d['detail']}")
+    lines += [f"    {finding_line(d)}" for d in shown]
     if len(r.get("diagnosis", [])) > len(shown):
         lines.append(f"    … and {len(r['diagnosis']) - len(shown)} more quantities (see --json)")
     if r.get("diagnosis") and r.get("attempts"):

@@ -46,6 +46,17 @@ class Finding:
                 f"{format_ranges(self.ranges, 3)} — {self.cause}: {self.detail}")
 
 
+def finding_line(d: dict, name: str = "{}: ") -> str:
+    """One finding of a result's JSON (``Finding.to_json``) as the CLI and the report print it:
+    the quantity (through ``name``), its error against its tolerance, the first three crank-angle
+    ranges [°] and the cause; a finding where no run compared anything gives its cause alone."""
+    if d["relative_error"] is None and not d["ranges"]:
+        return f"{d['cause']}: {d['detail']}"
+    rng = ", ".join(f"{math.degrees(a):.1f}°..{math.degrees(b):.1f}°" for a, b in d["ranges"][:3])
+    err = "–" if d["relative_error"] is None else format(d["relative_error"], ".2e")
+    return f"{name.format(d['quantity'])}{err} (tolerance {d['tolerance']:g}) at {rng}: {d['cause']} — {d['detail']}"
+
+
 def _sigma_at(cmp: Comparison, k: int) -> float:
     """The loop Jacobian's smallest singular value at MuJoCo's state of sample k."""
     model = cmp.run.model
@@ -99,4 +110,4 @@ def diagnose(cmp: Comparison, budget_exhausted: bool = False) -> list[Finding]:
     return sorted(out, key=lambda f: -f.relative_error / f.tolerance)
 
 
-__all__ = ["Finding", "NEAR_SINGULAR_SIGMA", "diagnose"]
+__all__ = ["Finding", "NEAR_SINGULAR_SIGMA", "diagnose", "finding_line"]

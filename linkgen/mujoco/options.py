@@ -5,6 +5,8 @@ from __future__ import annotations
 
 from dataclasses import asdict, dataclass
 
+from linkgen.errors import SimulationError
+
 # MuJoCo clamps the impedance at mjMAXIMP = 0.9999: the stiffest a soft constraint gets.
 IMPEDANCE = 0.9999
 # Newton iterations per step at tolerance 0: converged to rounding on every bundled model.
@@ -20,8 +22,6 @@ def within_budget(name: str, steps: int, timestep: float, max_steps: int) -> Non
     families whose timestep cannot be coarsened without losing the contact or the loop (cams,
     spatial chains), a run over budget is not made at all rather than made worse."""
     if steps > max_steps:
-        from linkgen.errors import SimulationError
-
         raise SimulationError(f"{name}: not run: one turn needs {steps:d} MuJoCo steps of {timestep:.3g} s, past the "
                               f"step budget of {max_steps:d} (max_steps); a budget of {steps:d} would run it")
 

@@ -165,15 +165,9 @@ def _summary_lines(s: dict) -> list[str]:
 def diagnosis_lines(diagnosis: list[dict]) -> list[str]:
     if not diagnosis:
         return []
-    lines = ["**Diagnosis**", ""]
-    for d in diagnosis:
-        if d["relative_error"] is None and not d["ranges"]:  # no run compared anything: why, alone
-            lines.append(f"- {d['cause']}: {d['detail']}")
-            continue
-        rng = ", ".join(f"{math.degrees(a):.1f}°..{math.degrees(b):.1f}°" for a, b in d["ranges"][:3])
-        lines.append(f"- `{d['quantity']}` {number(d['relative_error'], '.2e')} (tolerance {d['tolerance']:g}) at {rng}: "
-                     f"{d['cause']} — {d['detail']}")
-    return lines + [""]
+    from linkgen.crosscheck.diagnose import finding_line
+
+    return ["**Diagnosis**", ""] + [f"- {finding_line(d, '`{}` ')}" for d in diagnosis] + [""]
 
 
 def cam_section(r: dict) -> list[str]:

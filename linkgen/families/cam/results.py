@@ -59,7 +59,6 @@ class CamKinematics:
     contact: Mapping[str, ContactForce]
     balancing_torque: np.ndarray | float
     ROWS: ClassVar[str] = "cam angles"
-    NO_TRANSFER: ClassVar[str] = "--transfer and --keep-singular are for linkages; a cam's derivatives come with --json"
 
     def to_dict(self, transfer: bool = True) -> dict:
         return {"model": self.model, "kind": self.kind, "phi": plain(self.phi), "omega": self.omega,

@@ -70,7 +70,6 @@ class PlanarForces:
     reduced_moment: np.ndarray | float
     singular: np.ndarray | bool
     solution: object = field(default=None, compare=False)  # the planar ``Forces``
-    NO_TRANSFER: ClassVar[str] = ""
 
     def to_dict(self, transfer: bool = True) -> dict:
         out = {"model": self.model, "phi": plain(self.phi), "omega": plain(self.omega), "epsilon": plain(self.epsilon),

@@ -62,7 +62,6 @@ class PlanarKinematics:
     followers: Mapping[str, FollowerMotion]
     singular: np.ndarray | bool
     solution: object = field(default=None, compare=False)  # the planar ``Kinematics`` (singular groups)
-    NO_TRANSFER: ClassVar[str] = ""
 
     def to_dict(self, transfer: bool = True) -> dict:
         out = {"model": self.model, "phi": plain(self.phi), "omega": plain(self.omega),

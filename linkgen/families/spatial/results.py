@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import ClassVar, Mapping
+from typing import Mapping
 
 import numpy as np
 
@@ -33,7 +33,6 @@ class SpatialKinematics:
     points: Mapping[str, PointMotion]
     links: Mapping[str, AngleMotion]
     sliders: Mapping[str, SlideMotion]
-    NO_TRANSFER: ClassVar[str] = ""
 
     def to_dict(self, transfer: bool = True) -> dict:
         return {"model": self.model, "kind": self.kind, "phi": plain(self.phi), "omega": self.omega,
@@ -122,7 +121,6 @@ class SpatialForcesResult:
     power_balance_torque: np.ndarray | float
     reactions: Mapping[str, Reaction]
     statically_indeterminate: int
-    NO_TRANSFER: ClassVar[str] = ""
 
     def to_dict(self, transfer: bool = True) -> dict:
         return {"model": self.model, "phi": plain(self.phi), "omega": self.omega, "epsilon": self.epsilon,
