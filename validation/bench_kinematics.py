@@ -27,8 +27,10 @@ result array per quantity (results 152 -> 200 bytes per angle). Per angle: the c
 intersection with three orders of transfer functions 27 ns, the two link poses 23 ns, the
 points and finiteness checks ~12 ns, velocities/accelerations/jerks 11 ns, the results'
 fresh memory and the copy out of each block ~25 ns. Two threads gain ~1.2x only: each block
-holds the GIL between its ~1500 NumPy calls. The kinetostatics spends ~40 % of its time in
-np.linalg.solve's 6x6 LAPACK call per group and angle (330 ns each). Memory beyond the
+holds the GIL between its ~1500 NumPy calls. The kinetostatics spent ~48 % of its time in
+np.linalg.solve's 6x6 LAPACK call per group and angle (330 ns each); each group's six equations
+are now solved in closed form (families/planar/equilibrium.py: the inner pair first from each
+link's own equations), which took ``forces`` on one thread from 807 to 347 ms per 10^6 angles. Memory beyond the
 results is flat: ~50 MB at 0.25, 1 and 4 x 10^6 angles. A compiled kernel (numba) was
 measured and not taken: ``import numba`` alone is 0.25 s of CPU (the whole cold budget), and
 numba's arctan2 (libm) differs from NumPy's (SVML) in the last bit for 7.7 % of 10^6 random

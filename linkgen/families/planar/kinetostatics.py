@@ -6,7 +6,7 @@ statically determinate on its own — 6 equations (3 per link) in the 6 unknowns
 three pairs. The groups are solved from the last attached back to the first, each one's
 outer reactions becoming given loads on the links it hangs from; the crank's 3 equations
 then give the drive pair's reaction and the balancing torque. Everything is vectorised
-over crank angles (one batched 6×6 LU solve per group), in the kinematics' blocks, and the
+over crank angles (each group's six equations in closed form, ``equilibrium``), in the kinematics' blocks, and the
 result is checked against the power balance on every call (BALANCE_TOL).
 
 Sign conventions (the same for every family: docs/format.md, "Conventions"; each pair's two
@@ -32,6 +32,7 @@ import numpy as np
 from linkgen.families.planar.assembly import Assembly, assemble
 from linkgen.families.planar.blocks import in_blocks
 from linkgen.families.planar.description import GROUND
+from linkgen.families.planar.equilibrium import Column, dyad, three
 from linkgen.errors import BalanceError, MagnitudeError, SingularityError, angle_ranges
 from linkgen.families.planar.cam_pair import contact as cam_contact, ground_pair
 from linkgen.families.planar.kinematics import BlockFailed, Kinematics, checked_angles, checked_mode, raise_failure, solve_block
@@ -227,21 +228,29 @@ def _block_forces(asm: Assembly, kin: Kinematics, w: np.ndarray, e: np.ndarray):
             load[link][0] = load[link][0] + f * x[:, k:k + 1]
             load[link][1] = load[link][1] + m * x[:, k]
 
+    def column3(pair: Pair, link: str) -> tuple[Column, Column]:
+        """``columns`` as (x force, y force, moment) triples (``equilibrium``); ±1 and 0 stay scalars."""
+        if pair.kind == "R":
+            joint = mech.revolute(pair.name)
+            sign = 1.0 if link == joint.links[0] else -1.0
+            d = kin.points[joint.point].p - com[link]
+            return (sign, 0.0, -sign * d[:, 1]), (0.0, sign, sign * d[:, 0])
+        (f0, m0), _ = columns(pair, link)
+        sign = 1.0 if link == asm.guides[pair.name].slider else -1.0
+        return (f0[:, 0], f0[:, 1], m0), (0.0, 0.0, sign)
+
+    def given3(link: str) -> Column:
+        """−(the link's total load), the right side of its three equations."""
+        f, m = load[link]
+        return -f[:, 0], -f[:, 1], -m
+
     crank, drive = asm.structure.crank, asm.structure.drive
     span = asm.shapes[crank].span()
     for group in reversed(asm.structure.groups):
         (l1, l2), (o1, inner, o2) = group.links, group.pairs
-        a = np.zeros((n, 6, 6))
-        b = np.zeros((n, 6))
-        for row, link in ((0, l1), (3, l2)):
-            b[:, row:row + 2], b[:, row + 2] = load[link][0], load[link][1]
-        for col, pair in ((0, o1), (2, inner), (4, o2)):
-            for row, link in ((0, l1), (3, l2)):
-                if link not in pair.links:
-                    continue
-                for k, (f, m) in enumerate(columns(pair, link)):
-                    a[:, row:row + 2, col + k], a[:, row + 2, col + k] = f, m
-        x = _solve(a, -b, kin.phi, marked, f"{group.label} (equilibrium equations)")
+        x, singular = dyad(column3(o1, l1), column3(inner, l1), column3(inner, l2), column3(o2, l2), given3(l1),
+                           given3(l2))
+        x = _checked(x, singular, kin.phi, marked, f"{group.label} (equilibrium equations)")
         for col, pair in ((0, o1), (2, inner), (4, o2)):
             store(pair, x[:, col:col + 2])
             if crank in pair.links:
@@ -256,12 +265,10 @@ def _block_forces(asm: Assembly, kin: Kinematics, w: np.ndarray, e: np.ndarray):
         pair = Pair(kind, gp.name, gp.links if kind == "R" else (gp.slider, gp.guide))
         c, nrm, _ = cam_contact(kin, cam)
         d = c - com[follower]
-        a = np.zeros((n, 3, 3))
-        a[:, 0:2, 0], a[:, 2, 0] = nrm, d[:, 0] * nrm[:, 1] - d[:, 1] * nrm[:, 0]
-        for k, (f, m) in enumerate(columns(pair, follower)):
-            a[:, 0:2, 1 + k], a[:, 2, 1 + k] = f, m
-        b = np.concatenate([load[follower][0], load[follower][1][:, None]], axis=1)
-        x = _solve(a, -b, kin.phi, marked, f"the follower {follower!r} of cam {cam.name!r} (equilibrium equations)")
+        x, singular = three((nrm[:, 0], nrm[:, 1], d[:, 0] * nrm[:, 1] - d[:, 1] * nrm[:, 0]),
+                            *column3(pair, follower), given3(follower))
+        x = _checked(x, singular, kin.phi, marked,
+                     f"the follower {follower!r} of cam {cam.name!r} (equilibrium equations)")
         contact[cam.name] = x[:, 0].copy()
         store(pair, x[:, 1:3])
         on_cam = -x[:, :1] * nrm  # through C, on the line of the contact
@@ -292,12 +299,8 @@ def _block_forces(asm: Assembly, kin: Kinematics, w: np.ndarray, e: np.ndarray):
         transmit(pin, crank, x)
         scale += span * np.hypot(*x.T)
 
-    a = np.zeros((n, 3, 3))
-    for k, (f, m) in enumerate(columns(drive, crank)):
-        a[:, 0:2, k], a[:, 2, k] = f, m
-    a[:, 2, 2] = 1.0
-    b = np.concatenate([load[crank][0], load[crank][1][:, None]], axis=1)
-    x = _solve(a, -b, kin.phi, marked, "I(0,1) crank (equilibrium equations)")
+    x, singular = three(*column3(drive, crank), (0.0, 0.0, 1.0), given3(crank))
+    x = _checked(x, singular, kin.phi, marked, "I(0,1) crank (equilibrium equations)")
     store(drive, x[:, 0:2])
     torque, power = x[:, 2].copy(), -power
     red = reduced_dynamics(asm, kin, given)
@@ -319,23 +322,23 @@ def balance_failures(phi: np.ndarray, torque: np.ndarray, power: np.ndarray, sca
     return (angle_ranges(phi, bad), float(rel[bad].max())) if bad.any() else ([], 0.0)
 
 
-def _solve(a: np.ndarray, rhs: np.ndarray, phi: np.ndarray, marked: np.ndarray, label: str) -> np.ndarray:
-    """Solve the batch of systems a·x = rhs, (n, k, k)·(n, k) → (n, k), one LU factorisation
-    each. At ``marked`` (singular) angles the system is replaced by x = 0. A system that is
-    exactly singular elsewhere raises SingularityError naming the angles; a non-finite
-    solution, MagnitudeError."""
-    if marked.any():
-        a[marked] = np.eye(a.shape[1])
-        rhs[marked] = 0.0
-    try:
-        x = np.linalg.solve(a, rhs[..., None])[..., 0]
-    except np.linalg.LinAlgError:  # only to name the angles: which of the systems is singular
-        bad = np.array([np.linalg.matrix_rank(m) < m.shape[0] for m in a])
-        raise SingularityError(label, angle_ranges(phi, bad), "the equilibrium equations are singular") from None
-    bad = ~np.all(np.isfinite(x), axis=1)
+def _checked(x: tuple[np.ndarray, ...], singular: np.ndarray, phi: np.ndarray, marked: np.ndarray,
+             label: str) -> np.ndarray:
+    """The unknowns of one system (``equilibrium``) as (n, k), zero at the ``marked`` (singular)
+    angles. A system that is exactly singular elsewhere raises SingularityError naming the
+    angles; a non-finite solution, MagnitudeError."""
+    n = phi.shape[0]
+    out = np.empty((n, len(x)))
+    for k, v in enumerate(x):
+        out[:, k] = v
+    out[marked] = 0.0
+    bad = np.broadcast_to(singular, (n,)) & ~marked
+    if np.any(bad):
+        raise SingularityError(label, angle_ranges(phi, bad), "the equilibrium equations are singular")
+    bad = ~np.all(np.isfinite(out), axis=1)
     if np.any(bad):
         raise MagnitudeError(f"the solution of {label}", angle_ranges(phi, bad))
-    return x
+    return out
 
 
 __all__ = ["BALANCE_TOL", "Forces", "ReducedDynamics", "balance_failures", "forces", "reduced_dynamics"]
