@@ -10,14 +10,17 @@ import numpy as np
 import pytest
 from lxml import etree
 
-from conftest import MODELS, ROOT
+from conftest import MODELS, ROOT, SPATIAL_MODELS
 from linkgen import assemble, from_dict, load
 from linkgen.families.planar.description import GROUND
 from linkgen.families.planar.kinematics import solve
 from linkgen.families.planar.pose import mechanism_size
+from linkgen.families.spatial.kinematics import assembled_chain
+from linkgen.families.spatial.kinematics import solve as spatial_solve
 from linkgen.mujoco.guides import GUIDE_OVERHANG, GUIDE_SIZE
 from linkgen.mujoco.mjcf import BLOCK_SIZE, write_mjcf
 from linkgen.mujoco.options import PLACEHOLDER
+from linkgen.mujoco.spatial_mjcf import write_spatial_mjcf
 
 SLIDER_MODELS = [p for p in MODELS if load(p).prismatics]
 # Crank angles at which the slider's travel is taken: every 0.1° of a turn, ten times finer than
@@ -153,3 +156,27 @@ def test_a_range_that_cannot_be_traced_gets_guides_at_the_sketch():
         along = float((p - centre) @ axis)
         assert abs(along) <= LENGTH_TOL * size, (pj.name, along)
         assert half == pytest.approx(GUIDE_SIZE[0] * size, rel=LENGTH_TOL)
+
+
+SPATIAL_SLIDERS = [p for p in SPATIAL_MODELS if load(p).slides]
+
+
+@pytest.mark.parametrize("path", SPATIAL_SLIDERS, ids=[p.stem for p in SPATIAL_SLIDERS])
+def test_spatial_guide_spans_the_stroke_and_no_more(path):
+    """A spatial slider's fixed guide (RSSP): along its line, over the slider's stroke in a turn."""
+    mech = load(path)
+    chain = assembled_chain(mech)
+    model = mujoco.MjModel.from_xml_string(write_spatial_mjcf(mech))
+    block = 2 * model.geom(f"{mech.slides[0].slider}:block").size[0]
+    for sl in mech.slides:
+        g = model.geom(f"{GROUND}:guide:{sl.name}")
+        rot = np.zeros(9)
+        mujoco.mju_quat2Mat(rot, g.quat)
+        axis, half = rot.reshape(3, 3)[:, 2], float(g.size[2])  # the box's long axis is its z
+        r = spatial_solve(mech, np.linspace(0.0, 2 * math.pi, DENSE), chain).points[sl.point].d[0] - g.pos
+        along = r @ axis
+        assert np.linalg.norm(r - np.outer(along, axis), axis=1).max() <= ON_LINE_TOL * chain.size
+        assert -half <= along.min() and along.max() <= half, (half, along.min(), along.max())
+        stroke = float(np.ptp(along))
+        longest = max(stroke + 2 * GUIDE_OVERHANG * block + block, 2 * GUIDE_SIZE[0] * chain.size)
+        assert 2 * half <= longest + LENGTH_TOL * chain.size, (2 * half, stroke, longest)
