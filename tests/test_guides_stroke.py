@@ -10,13 +10,14 @@ import numpy as np
 import pytest
 from lxml import etree
 
-from conftest import MODELS, ROOT, SPATIAL_MODELS
+from conftest import CAM_MODELS, MODELS, ROOT, SPATIAL_MODELS
 from linkgen import assemble, from_dict, load
 from linkgen.families.planar.description import GROUND
 from linkgen.families.planar.kinematics import solve
 from linkgen.families.planar.pose import mechanism_size
 from linkgen.families.spatial.kinematics import assembled_chain
 from linkgen.families.spatial.kinematics import solve as spatial_solve
+from linkgen.mujoco.cam import CONTACT, FOLLOWER, cam_mjcf
 from linkgen.mujoco.guides import GUIDE_OVERHANG, GUIDE_SIZE
 from linkgen.mujoco.mjcf import BLOCK_SIZE, write_mjcf
 from linkgen.mujoco.options import PLACEHOLDER
@@ -113,11 +114,8 @@ def test_a_slider_that_hardly_moves_keeps_a_visible_guide():
     assert length == pytest.approx(2 * GUIDE_SIZE[0] * mechanism_size(asm.mechanism), rel=LENGTH_TOL)
 
 
-@pytest.mark.parametrize("name", ["press", "seven_link"])
-def test_guides_are_drawings_only(name):
-    """The same model with its guide geoms removed steps bit for bit alike."""
-    asm = assemble(load(ROOT / "models" / f"{name}.toml"))
-    text = write_mjcf(asm)
+def _assert_guides_are_drawings_only(text: str, steps: int) -> None:
+    """The model ``text`` and the same with its guide geoms removed step bit for bit alike."""
     root = etree.fromstring(text.encode())
     guides = [g for g in root.iter("geom") if ":guide:" in g.get("name", "")]
     assert guides
@@ -127,12 +125,18 @@ def test_guides_are_drawings_only(name):
     for xml in (text, etree.tostring(root, encoding="unicode")):
         model = mujoco.MjModel.from_xml_string(xml)
         data = mujoco.MjData(model)
-        mujoco.mj_resetDataKeyframe(model, data, 0)
+        if model.nkey:
+            mujoco.mj_resetDataKeyframe(model, data, 0)
         data.ctrl[:] = 1.0
-        mujoco.mj_step(model, data, 200)
+        mujoco.mj_step(model, data, steps)
         runs.append(np.concatenate([data.qpos, data.qvel, data.efc_force[: data.nefc]]))
     np.testing.assert_array_equal(runs[0], runs[1])
-    assert math.isfinite(float(np.abs(runs[0]).sum()))
+    assert np.isfinite(runs[0]).all()
+
+
+@pytest.mark.parametrize("name", ["press", "seven_link"])
+def test_guides_are_drawings_only(name):
+    _assert_guides_are_drawings_only(write_mjcf(assemble(load(ROOT / "models" / f"{name}.toml"))), steps=200)
 
 
 def test_a_range_that_cannot_be_traced_gets_guides_at_the_sketch():
@@ -166,7 +170,8 @@ def test_spatial_guide_spans_the_stroke_and_no_more(path):
     """A spatial slider's fixed guide (RSSP): along its line, over the slider's stroke in a turn."""
     mech = load(path)
     chain = assembled_chain(mech)
-    model = mujoco.MjModel.from_xml_string(write_spatial_mjcf(mech))
+    text = write_spatial_mjcf(mech)
+    model = mujoco.MjModel.from_xml_string(text)
     block = 2 * model.geom(f"{mech.slides[0].slider}:block").size[0]
     for sl in mech.slides:
         g = model.geom(f"{GROUND}:guide:{sl.name}")
@@ -180,3 +185,29 @@ def test_spatial_guide_spans_the_stroke_and_no_more(path):
         stroke = float(np.ptp(along))
         longest = max(stroke + 2 * GUIDE_OVERHANG * block + block, 2 * GUIDE_SIZE[0] * chain.size)
         assert 2 * half <= longest + LENGTH_TOL * chain.size, (2 * half, stroke, longest)
+    _assert_guides_are_drawings_only(text, steps=500)
+
+
+TRANSLATING_CAMS = [p for p in CAM_MODELS if load(p).follower.kind == "translating"]
+
+
+@pytest.mark.parametrize("path", TRANSLATING_CAMS, ids=[p.stem for p in TRANSLATING_CAMS])
+def test_cam_follower_guide_spans_the_stroke_and_no_more(path):
+    """A translating follower's fixed guide runs along its line over the lift of a whole turn."""
+    cm = load(path)
+    f = cm.follower
+    text = cam_mjcf(cm)
+    model = mujoco.MjModel.from_xml_string(text)
+    size = 2 * float(np.hypot(*f.pitch_curve(np.linspace(0, 2 * math.pi, 73))[0].T).max())  # the writer's scale
+    g = model.geom(f"{GROUND}:guide:{FOLLOWER}")
+    np.testing.assert_array_equal(g.quat, [1.0, 0.0, 0.0, 0.0])  # along y, the follower's slide axis
+    assert model.jnt_axis[model.joint(FOLLOWER).id].tolist() == [0.0, 1.0, 0.0]
+    assert abs(g.pos[0] - f.offset) <= ON_LINE_TOL * size
+    y = f.lift_origin + f.output(np.linspace(0.0, 2 * math.pi, DENSE))[0]  # the follower's origin
+    half = float(g.size[1])
+    assert g.pos[1] - half <= y.min() and y.max() <= g.pos[1] + half, (g.pos[1], half, y.min(), y.max())
+    contact = model.geom(CONTACT)  # a flat face's half-thickness along y, else the roller's radius
+    block = 2 * float(contact.size[1] if f.flat else contact.size[0])
+    longest = max(float(np.ptp(y)) + 2 * GUIDE_OVERHANG * block + block, 2 * GUIDE_SIZE[0] * size)
+    assert 2 * half <= longest + LENGTH_TOL * size, (2 * half, longest)
+    _assert_guides_are_drawings_only(text, steps=2000)
