@@ -21,7 +21,9 @@ object it names, and every name linkgen makes up contains ``:``, which user name
       ``light:sun``; materials ``mat:ground``, ``mat:crank``, ``mat:link``, ``mat:slider``.
 
 Geoms are visual only (contype = conaffinity = 0; inertials are explicit) and sized as
-fractions of the mechanism's size, so a 2 cm and a 30 m mechanism read the same.
+fractions of the mechanism's size, so a 2 cm and a 30 m mechanism read the same. A guide runs
+along its slider's stroke over the drive's range (``linkgen.mujoco.guides``), as ``linkgen draw``
+draws it.
 """
 
 from __future__ import annotations
