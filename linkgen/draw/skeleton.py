@@ -42,8 +42,7 @@ class Frame:
 def frame_of(paths: Positions) -> Frame:
     """The drawing frame from positions over the whole range (sizes, guide lengths)."""
     size = paths.size()
-    return Frame(size, {p: (float(t.min()), float(t.max())) for p, t in
-                        ((p, paths.slider_travel(p)) for p in paths.guides)})
+    return Frame(size, {p: paths.travel(p) for p in paths.guides})
 
 
 def _color(mech, link: str) -> tuple[float, float, float]:

@@ -4,7 +4,6 @@ in 3-D and drawn through each view's projection; sizes are fractions of the span
 
 from __future__ import annotations
 
-import contextlib
 import math
 from pathlib import Path
 
@@ -17,10 +16,10 @@ from scipy.spatial import ConvexHull
 from linkgen.mujoco.tolerances import GAP_TOL
 from linkgen.draw.plan import DPI, plt_module, save, title_of
 from linkgen.draw.skeleton import CRANK, GROUND_GREY, INK, LINK
-from linkgen.errors import LinkgenError
 from linkgen.model.names import GROUND
 from linkgen.families.spatial.chain import angle_about
 from linkgen.families.spatial.kinematics import assembled_chain, solve
+from linkgen.families.spatial.travel import full_turn, slide_displacement, slide_travel
 
 FIGSIZE, CHECK_DPI = (11.0, 10.0), 90  # the drawing [in] at plan.DPI; the check figures' dpi
 OTHERS, PATHS = ((0.2, 0.6, 0.35), (0.55, 0.35, 0.75), (0.75, 0.55, 0.1)), ("tab:purple", "tab:olive", "tab:cyan", "tab:pink")
@@ -28,7 +27,7 @@ OTHERS, PATHS = ((0.2, 0.6, 0.35), (0.55, 0.35, 0.75), (0.75, 0.55, 0.1)), ("tab
 # and the height of a 9-pt name in a view of FIGSIZE.
 BALL, PIN_R, PIN_H, BLOCK, SUPPORT, LABEL, HATCH, CHAR = 0.015, 0.013, 0.04, (0.09, 0.05), (0.05, 0.04), 0.03, 0.014, 0.03
 VIEWS = (("top view (x–y)", 0, 1), ("3-D view", None, None), ("front view (x–z)", 0, 2), ("side view (y–z)", 1, 2))
-TURN, PALE = 361, 0.3  # samples of the revolution traced; alpha of a plan's later positions
+PALE = 0.3  # alpha of a plan's later positions
 
 
 def _unit(v):
@@ -101,17 +100,6 @@ def _support(view, p, k, bars):
     top, (w, h) = p + reach * s * down, (SUPPORT[0] * s, SUPPORT[1] * s)
     view.solid([np.array([top, top + h * down - 0.5 * w * across, top + h * down + 0.5 * w * across])], (1, 1, 1), 1, 1.9, True)
     _hatched(view, top + h * down - 0.8 * w * across, top + h * down + 0.8 * w * across, down, 1.0)
-
-
-def _full_turn(mech, chain):
-    """Every point over a full revolution (n, 3): at once, else angle by angle with NaN where it cannot assemble."""
-    phi, gap = np.linspace(0.0, 2 * np.pi, TURN), {p: np.full((1, 3), np.nan) for p in mech.points}
-
-    def at(part):
-        with contextlib.suppress(LinkgenError):
-            return {p: j.d[0] for p, j in solve(mech, phi[part], chain).points.items()}
-    parts = [whole] if (whole := at(slice(None))) else [at(slice(i, i + 1)) or gap for i in range(TURN)]
-    return {p: np.concatenate([q[p] for q in parts]) for p in mech.points}
 
 
 def _place_labels(view, pts):
@@ -200,8 +188,8 @@ def draw_spatial(mech, angles, out: Path) -> Path:
     in 3-D and three projections, with the moving points' paths over a turn, written to ``out`` (.png/.svg/.pdf)."""
     plt = plt_module()
     angles, chain = np.atleast_1d(np.asarray(angles, dtype=float)).reshape(-1), assembled_chain(mech)
-    motion, turn = solve(mech, angles, chain), _full_turn(mech, chain)
-    travel = {sl.name: (turn[sl.point] - mech.point(sl.point)) @ np.array(sl.direction) for sl in mech.slides}
+    motion, turn = solve(mech, angles, chain), full_turn(mech, chain)
+    travel = slide_displacement(mech, turn)
     cloud = np.concatenate([*turn.values(), *(mech.point(sl.point) + np.outer(np.nan_to_num(travel[sl.name]), sl.direction)
                                               for sl in mech.slides)])
     if chain.centre is not None:  # the sphere, drawn whole as parallels and meridians (NaN-broken)
@@ -213,7 +201,7 @@ def draw_spatial(mech, angles, out: Path) -> Path:
         cloud = np.concatenate([cloud, wire])
     lo, hi = np.nanmin(cloud, 0), np.nanmax(cloud, 0)
     mid, span = 0.5 * (lo + hi), float(np.max(hi - lo)) * 1.3 or 1.0
-    travel = {k: (np.nanmin(t) - 0.8 * BLOCK[0] * span, np.nanmax(t) + 0.8 * BLOCK[0] * span) for k, t in travel.items()}
+    travel = {k: (t0 - 0.8 * BLOCK[0] * span, t1 + 0.8 * BLOCK[0] * span) for k, (t0, t1) in slide_travel(mech, turn).items()}
     colors = {GROUND: GROUND_GREY, chain.crank: CRANK, chain.coupler: LINK}
     colors |= {l: OTHERS[k % 3] for k, l in enumerate(l.name for l in mech.links if l.name not in colors)}
     views = _axes(fig := plt.figure(figsize=FIGSIZE, dpi=DPI, layout="constrained"), mid, np.maximum(0.5 * (hi - lo), 0.2 * span) * 1.08, span, chain)

@@ -29,6 +29,7 @@ from linkgen.families.cam.kinetics import SAMPLES, state
 from linkgen.families.cam.results import CAM as CAM_PAIR
 from linkgen.families.cam.summary import FOLLOWER as FOLLOWER_NAME
 from linkgen.errors import SimulationError
+from linkgen.mujoco.guides import GUIDE_OVERHANG, GUIDE_SIZE, guide_span
 from linkgen.mujoco.options import MESH_VOLUME_MARGIN, MUJOCO_MIN_BAR, MUJOCO_MIN_MESH_VOLUME
 from linkgen.mujoco.scene import add_scene, add_scene_assets
 from linkgen.mujoco.xml_text import comment
@@ -201,6 +202,13 @@ def cam_mjcf(cm: CamMechanism) -> str:
         if 0.3 * size >= MUJOCO_MIN_BAR:  # a drawing only: MuJoCo refuses shorter capsules
             etree.SubElement(fol, "geom", name="follower:stem", type="capsule", fromto=f"0 0 0 0 {_f(0.3 * size)} 0",
                              size=_f(0.01 * size), rgba="0.25 0.45 0.8 1", contype="0", conaffinity="0")
+        # the fixed guide along the follower's stroke over the turn (linkgen.mujoco.guides), past the roller
+        # (a flat face's thickness) at each end: a strip behind the cam, wider than the roller and the stem
+        lift, block = f.output(th)[0], 0.01 * size if f.flat else rr
+        mid, glen = guide_span(float(lift.min()), float(lift.max()), block, size)
+        g, width = GUIDE_SIZE[1] * size, (1.0 + 2.0 * GUIDE_OVERHANG) * max(block, 0.02 * size)
+        etree.SubElement(world, "geom", name=f"ground:guide:{FOLLOWER}", type="box", size=f"{_f(width)} {_f(glen)} {_f(g)}",
+                         pos=f"{_f(f.offset)} {_f(f.lift_origin + mid)} {_f(-half - 2 * g)}", material="mat:ground")
         bias = f"{_f(-cm.spring_preload)} {_f(-cm.spring_rate)} 0"
     else:
         psi0 = f.psi0

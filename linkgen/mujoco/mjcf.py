@@ -21,13 +21,16 @@ object it names, and every name linkgen makes up contains ``:``, which user name
       ``light:sun``; materials ``mat:ground``, ``mat:crank``, ``mat:link``, ``mat:slider``.
 
 Geoms are visual only (contype = conaffinity = 0; inertials are explicit) and sized as
-fractions of the mechanism's size, so a 2 cm and a 30 m mechanism read the same.
+fractions of the mechanism's size, so a 2 cm and a 30 m mechanism read the same. A guide runs
+along its slider's stroke over the drive's range (``linkgen.mujoco.guides``), as ``linkgen draw``
+draws it.
 """
 
 from __future__ import annotations
 
 import math
 from dataclasses import dataclass, replace
+from functools import cached_property
 
 import mujoco
 import numpy as np
@@ -35,7 +38,8 @@ from lxml import etree
 
 from linkgen.families.planar.assembly import Assembly, assemble
 from linkgen.families.planar.description import GROUND, MassProperties, Mechanism
-from linkgen.errors import AssemblyError, DescriptionError, SimulationError, SingularityError, StructureError
+from linkgen.errors import (AssemblyError, DescriptionError, LinkgenError, SimulationError, SingularityError,
+                            StructureError)
 from linkgen.families.planar.plate import convex_hull, hull_area
 from linkgen.families.planar.geometry import GuideShape, LinkShape, effective_mass_properties, guide_shapes, link_shapes
 from linkgen.families.planar.kinematics import solve
@@ -45,6 +49,7 @@ from linkgen.families.planar.pose import mechanism_size, reference_pose
 from linkgen.mujoco.settings import crank_only, derive
 from linkgen.mujoco.scene import add_scene, add_scene_assets, add_servo, add_sketch_key, motion_extent, settings_comment
 from linkgen.mujoco.tree import DRIVE_ACTUATOR, body_name, sensor_name, site_name, spanning_tree
+from linkgen.mujoco.guides import GUIDE_SIZE, guide_span
 from linkgen.mujoco.log import no_log_file
 
 # Integration and constraint settings come from the mechanism (linkgen.mujoco.settings): the loop
@@ -73,7 +78,6 @@ BAR_RADIUS = 0.01
 PIVOT_SIZE = (0.02, 0.005)  # radius, half-height
 BLOCK_SIZE = (0.03, 0.018, 0.012)  # half-sizes
 SITE_SIZE = 0.008
-GUIDE_SIZE = (0.1, 0.004)  # least half-length, half-thickness
 # A bar shorter than its radius would hide inside its end pivots; it is not drawn (a coincident
 # tracer point gives none). MuJoCo rejects a capsule whose fromto points are closer than 1e-7 m
 # ("fromto points too close", measured by bisection on mujoco 4.0): bars under 10× that are not
@@ -118,6 +122,18 @@ class _Source:
     guides: dict[str, GuideShape]
     pose: dict[str, tuple[np.ndarray, float]]
     size: float
+
+    @cached_property
+    def travel(self) -> dict[str, tuple[float, float]]:
+        """Each prismatic pair's stroke ends [m] on its guide line over the drive's range (at the
+        sketch only where the range cannot be traced)."""
+        from linkgen.families.planar.positions import guide_travel, positions
+
+        try:
+            return guide_travel(self.mech)
+        except LinkgenError:
+            sketch = positions(self.mech, [self.shapes[self.mech.crank].sketch_angle])
+            return {pair: sketch.travel(pair) for pair in self.guides}
 
 
 def _source(source: Mechanism | Assembly) -> _Source:
@@ -272,6 +288,15 @@ def _plate(src: _Source, body, link: str, pts: list, material: str) -> None:
                      **shade)
 
 
+def _guide(src: _Source, body, link: str, g: GuideShape) -> None:
+    """A prismatic pair's guide on its guide link: a bar along the slider's stroke (``guides``)."""
+    mid, half = guide_span(*src.travel[g.name], BLOCK_SIZE[0] * src.size, src.size)
+    centre = g.base + mid * np.array([math.cos(g.alpha), math.sin(g.alpha)])
+    thick = GUIDE_SIZE[1] * src.size
+    etree.SubElement(body, "geom", name=f"{link}:guide:{g.name}", type="box", size=vec(half, thick, thick),
+                     pos=vec(centre[0], centre[1], -5 * thick), euler=vec(0.0, 0.0, g.alpha), material="mat:ground")
+
+
 def _link_visuals(src: _Source, body, link: str, material: str) -> None:
     mech, size = src.mech, src.size
     shape = src.shapes[link]
@@ -298,12 +323,7 @@ def _link_visuals(src: _Source, body, link: str, material: str) -> None:
                              pos=vec(pts[0][0], pts[0][1], 0.0), material=material)
     for pj in mech.prismatics:
         if pj.guide == link:
-            g = src.guides[pj.name]
-            etree.SubElement(body, "geom", name=f"{link}:guide:{pj.name}", type="box",
-                             size=vec(max(shape.span(), GUIDE_SIZE[0] * size), GUIDE_SIZE[1] * size,
-                                      GUIDE_SIZE[1] * size),
-                             pos=vec(g.base[0], g.base[1], -5 * GUIDE_SIZE[1] * size),
-                             euler=vec(0.0, 0.0, g.alpha), material="mat:ground")
+            _guide(src, body, link, src.guides[pj.name])
     for p, xy in zip(names, pts):
         etree.SubElement(body, "site", name=site_name(mech, link, p), pos=vec(xy[0], xy[1], 0.0),
                          size=fmt(SITE_SIZE * size))

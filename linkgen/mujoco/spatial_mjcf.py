@@ -18,6 +18,7 @@ import math
 import numpy as np
 from lxml import etree
 
+from linkgen.mujoco.guides import GUIDE_SIZE, guide_span
 from linkgen.mujoco.options import MUJOCO_MIN_BAR
 from linkgen.mujoco.options import PLACEHOLDER, Settings
 from linkgen.mujoco.scene import KEY, SERVO, SERVO_TIME, add_scene_assets
@@ -26,6 +27,7 @@ from linkgen.families.spatial.chain import Chain
 from linkgen.families.spatial.description import SpatialMechanism
 from linkgen.families.spatial.kinematics import assembled_chain
 from linkgen.families.spatial.mass import ROD_RADIUS, rod_inertia
+from linkgen.families.spatial.travel import full_turn, slide_travel
 
 DRIVE_ACTUATOR = "drive:motor"
 # Geom sizes as fractions of the mechanism's size.
@@ -102,6 +104,7 @@ def write_spatial_mjcf(mech: SpatialMechanism, settings: Settings | None = None,
                          material="mat:ground")
         etree.SubElement(world, "site", name=p, pos=_v(pts[p]), size=repr(r_site))
         named.add(p)
+    _guides(world, mech, chain, 2 * r_bar)
 
     def body(parent, link, origin, parent_origin, material):
         b = etree.SubElement(parent, "body", name=link, pos=_v(origin - parent_origin))
@@ -147,6 +150,20 @@ def write_spatial_mjcf(mech: SpatialMechanism, settings: Settings | None = None,
     _keyframe(root, mech, chain)
     etree.indent(root, space="  ")
     return etree.tostring(root, pretty_print=True, encoding="unicode")
+
+
+def _guides(world, mech: SpatialMechanism, chain: Chain, block_half: float) -> None:
+    """Each fixed guide as a bar along its slider's stroke over the turn (``linkgen.mujoco.guides``;
+    ``block_half`` [m]: the slider block's half-size)."""
+    travel = slide_travel(mech, full_turn(mech, chain))
+    for sl in mech.slides:
+        if sl.guide != GROUND:
+            continue
+        mid, half = guide_span(*travel[sl.name], block_half, chain.size)
+        u = np.array(sl.direction, dtype=float)
+        thick = GUIDE_SIZE[1] * chain.size
+        etree.SubElement(world, "geom", name=f"{GROUND}:guide:{sl.name}", type="box", size=_v([thick, thick, half]),
+                         pos=_v(mech.point(sl.point) + mid * u), zaxis=_v(u), material="mat:ground")
 
 
 def _loads_note(mech: SpatialMechanism) -> str:

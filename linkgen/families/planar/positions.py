@@ -54,14 +54,26 @@ class Positions:
         th = float(self.angles[g.guide][i]) + g.alpha
         return self.local_to_world(g.guide, g.base, i), np.array([math.cos(th), math.sin(th)])
 
+    def _world(self, link: str, local) -> np.ndarray:
+        """World positions (n, 2) [m] at every angle of a point given in ``link``'s frame."""
+        first = self.mechanism.link(link).points[0]
+        th = np.asarray(self.angles[link], dtype=float)
+        w = np.asarray(local, dtype=float) - self.shapes[link].local[first]
+        c, s = np.cos(th), np.sin(th)
+        return self.points[first] + np.stack([c * w[0] - s * w[1], s * w[0] + c * w[1]], axis=-1)
+
     def slider_travel(self, pair: str) -> np.ndarray:
         """The slider point's displacement along its guide from the guide's base, (n,) [m]."""
         g = self.guides[pair]
-        out = np.empty(len(self))
-        for i in range(len(self)):
-            base, u = self.guide_line(pair, i)
-            out[i] = float(np.dot(self.local_to_world(g.slider, g.point, i) - base, u))
-        return out
+        th = np.asarray(self.angles[g.guide], dtype=float) + g.alpha
+        d = self._world(g.slider, g.point) - self._world(g.guide, g.base)
+        return d[:, 0] * np.cos(th) + d[:, 1] * np.sin(th)
+
+    def travel(self, pair: str) -> tuple[float, float]:
+        """The least and greatest of ``slider_travel`` [m]: the stroke's ends on the guide line,
+        in the guide's frame, which every drawn guide (``linkgen draw``, the MJCF) spans."""
+        t = self.slider_travel(pair)
+        return float(t.min()), float(t.max())
 
     def bounds(self) -> tuple[float, float, float, float]:
         """xmin, xmax, ymin, ymax [m] of every point over every angle."""
@@ -77,6 +89,16 @@ class Positions:
 def drive_angles(mech: Mechanism, n: int = PATH_SAMPLES) -> np.ndarray:
     """``n`` crank angles [rad] spanning the drive's range (its ends included)."""
     return np.linspace(mech.drive.start, mech.drive.stop, n)
+
+
+def guide_travel(mech: Mechanism, n: int = PATH_SAMPLES) -> dict[str, tuple[float, float]]:
+    """Each prismatic pair's ``Positions.travel`` over the drive's range (``n`` angles).
+
+    Raises:
+        AssemblyError: the mechanism cannot be assembled at some angle of the range.
+    """
+    paths = positions(mech, drive_angles(mech, n))
+    return {pair: paths.travel(pair) for pair in paths.guides}
 
 
 def positions(mech: Mechanism, phi) -> Positions:
@@ -111,4 +133,4 @@ def positions(mech: Mechanism, phi) -> Positions:
                      shapes, guides)
 
 
-__all__ = ["PATH_SAMPLES", "Positions", "drive_angles", "positions"]
+__all__ = ["PATH_SAMPLES", "Positions", "drive_angles", "guide_travel", "positions"]
