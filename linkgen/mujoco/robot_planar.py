@@ -1,0 +1,149 @@
+"""The robot build of a planar linkage and of a spatial four-bar: what each family's closed form
+gives the robot MJCF (``robot.RobotDrive``): the driven joint, the peak balancing torque over the
+drive range, the largest reduced inertia, the revolutes to sense and the loads MJCF cannot carry."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from linkgen.errors import LinkgenError
+from linkgen.families.planar.assembly import Assembly
+from linkgen.families.planar.description import GROUND, Mechanism
+from linkgen.mujoco.robot import PEAK_SAMPLES, RobotDrive, RobotOptions, robot_model
+from linkgen.mujoco.robot_sensors import ReactionSite
+from linkgen.mujoco.robot_xml import MOUNT
+
+
+def _body(link: str) -> str:
+    from linkgen.mujoco.tree import body_name
+
+    return MOUNT if link == GROUND else body_name(link)
+
+
+def _peak(asm: Assembly | None, mech) -> tuple[float | None, float | None, float]:
+    """The closed form's peak |balancing torque| [N·m] and largest reduced inertia J [kg·m²]
+    over the drive range at the description's ω, ε (ω² growing by 2·ε·Δφ), and the largest ω;
+    (None, None, ω) where there is no closed form (class III and higher) or it fails."""
+    from linkgen.families.planar.kinetostatics import forces
+
+    d = mech.drive
+    phi = np.linspace(d.start, d.stop, PEAK_SAMPLES)
+    w = np.sqrt(np.maximum(d.omega**2 + 2 * d.epsilon * (phi - d.start), 0.0)) * (1.0 if d.omega >= 0 else -1.0)
+    w_max = float(np.max(np.abs(w)))
+    if asm is None:
+        return None, None, w_max
+    try:
+        f = forces(asm, phi, w, d.epsilon, on_singular="mark")
+    except LinkgenError:
+        return None, None, w_max
+    ok = ~f.singular
+    if not ok.any():
+        return None, None, w_max
+    return float(np.max(np.abs(f.balancing_torque[ok]))), float(np.max(f.reduced.inertia[ok])), w_max
+
+
+def _inertia_scale(mech: Mechanism) -> float:
+    """An upper scale of the reduced inertia where the closed form gives none: every moving link's
+    mass at the mechanism's size from the crank's pivot, plus its own inertia [kg·m²]."""
+    from linkgen.families.planar.geometry import effective_mass_properties, link_shapes
+    from linkgen.families.planar.pose import mechanism_size
+
+    shapes, size = link_shapes(mech), mechanism_size(mech)
+    return sum(mp.mass * size**2 + mp.inertia
+               for mp in (effective_mass_properties(mech, shapes, n) for n in mech.moving_links))
+
+
+def _loads(mech: Mechanism) -> tuple[str, ...]:
+    out = []
+    for f in mech.forces:
+        during = (f" while φ is in {math.degrees(f.stroke[0]):.6g}°..{math.degrees(f.stroke[1]):.6g}°"
+                  if f.stroke is not None else "")
+        out.append(f"[[force]] ({f.force[0]:g}, {f.force[1]:g}) N on link {f.link} at point {f.point}{during}: each "
+                   f"step mujoco.mj_applyFT(model, data, R·F, [0, 0, 0], data.site_xpos[site of {f.point} on "
+                   f"{f.link}], body {f.link}, data.qfrc_applied), R the mount's rotation (data.xmat of the mount), "
+                   "F = (Fx, Fy, 0)")
+    for t in mech.torques:
+        out.append(f"[[torque]] {t.torque:g} N·m on link {t.link} about the plane's normal: each step "
+                   f"mujoco.mj_applyFT(model, data, [0, 0, 0], M·(the mount's z axis), data.xipos[{t.link}], body "
+                   f"{t.link}, data.qfrc_applied)")
+    return tuple(out)
+
+
+def planar_drive(source: Mechanism | Assembly) -> RobotDrive:
+    """What the robot build needs of a planar linkage (assembled, or a class III and higher one)."""
+    from linkgen.families.planar.geometry import link_shapes
+    from linkgen.mujoco.tree import site_name, spanning_tree
+
+    mech = source.mechanism if isinstance(source, Assembly) else source
+    shapes = link_shapes(mech)
+    peak, inertia, w_max = _peak(source if isinstance(source, Assembly) else None, mech)
+    info = spanning_tree(mech)
+    sites = []
+    for parent, child, pair in info.tree:
+        if pair.kind == "R":
+            rev = mech.revolute(pair.name)
+            sites.append(ReactionSite(pair.name, _body(rev.links[0]), _body(rev.links[1]),
+                                      site=site_name(mech, child, rev.point)))
+    for pair in info.closures:
+        rev = mech.revolute(pair.name)
+        local = shapes[rev.links[1]].local[rev.point]
+        sites.append(ReactionSite(pair.name, _body(rev.links[0]), _body(rev.links[1]),
+                                  anchor=(float(local[0]), float(local[1]), 0.0)))
+    d = mech.drive
+    full = d.stop - d.start >= 2 * math.pi - 1e-12
+    return RobotDrive("planar", d.joint, float(shapes[mech.crank].sketch_angle), None if full else (d.start, d.stop),
+                      peak, w_max, inertia if inertia is not None else _inertia_scale(mech), tuple(sites),
+                      (float(mech.gravity[0]), float(mech.gravity[1]), 0.0), _loads(mech))
+
+
+def planar_robot_mjcf(source: Mechanism | Assembly, options: RobotOptions) -> str:
+    """The robot MJCF text of a planar linkage (``robot``)."""
+    from linkgen.mujoco.mjcf import _source, write_mjcf
+    from linkgen.mujoco.options import PLACEHOLDER
+    from linkgen.mujoco.scene import motion_extent
+
+    mech = source.mechanism if isinstance(source, Assembly) else source
+    src = _source(source)
+    xml = write_mjcf(source, PLACEHOLDER)  # the validation model; its settings are replaced
+    return robot_model(xml, planar_drive(source), options, mech.name, scene=(motion_extent(src), src.size),
+                       source=source)
+
+
+def spatial_robot_mjcf(mech, options: RobotOptions) -> str:
+    """The robot MJCF text of a spatial four-bar: its own frame (z up already; no ``plane``), the
+    loop-closing connect's reaction sensed."""
+    from linkgen.errors import ArgumentError
+    from linkgen.families.spatial.forces import forces
+    from linkgen.families.spatial.kinematics import assembled_chain
+    from linkgen.mujoco.options import PLACEHOLDER
+    from linkgen.mujoco.spatial_mjcf import write_spatial_mjcf
+
+    if options.plane is not None:
+        raise ArgumentError(f"--plane {options.plane}: a spatial four-bar is written in its own frame, z up (its "
+                            "description's); --plane places a planar linkage's plane")
+    chain = assembled_chain(mech)
+    phi = chain.phi_s + np.linspace(0.0, 2 * math.pi, PEAK_SAMPLES)
+    try:
+        peak = float(np.max(np.abs(forces(mech, phi).balancing_torque)))
+    except LinkgenError:
+        peak = None
+    pair = mech.joint(chain.pair_b)
+    origin = {chain.crank: chain.a0, chain.coupler: chain.A,
+              chain.output: chain.B if chain.output_slides else chain.b0}
+    second = pair.links[1]
+    anchor = tuple(float(x) for x in (chain.B - origin.get(second, np.zeros(3))))
+    body = {n: (MOUNT if n not in origin else n) for n in pair.links}
+    sites = (ReactionSite(chain.pair_b, body[pair.links[0]], body[second], anchor=anchor),)
+    size = chain.size
+    inertia = sum(l.mass for l in mech.links) * size**2  # an upper scale: no reduced inertia in this family
+    loads = tuple(f"[[force]] on link {f.link}: apply with mujoco.mj_applyFT each step (data.qfrc_applied)"
+                  for f in mech.forces) + tuple(f"[[torque]] on link {t.link}: data.xfrc_applied[body, 3:6] each step"
+                                               for t in mech.torques)
+    drive = RobotDrive("spatial", chain.drive, float(chain.phi_s), None, peak, abs(mech.drive.omega), inertia, sites,
+                       tuple(float(x) for x in mech.gravity), loads)
+    return robot_model(write_spatial_mjcf(mech, PLACEHOLDER, chain), drive, options, mech.name, source=mech)
+
+
+__all__ = ["planar_drive", "planar_robot_mjcf", "spatial_robot_mjcf"]
