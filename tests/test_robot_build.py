@@ -1,0 +1,182 @@
+"""`build --robot`: an MJCF a robotics user drives, attaches to a robot and reads (issue 24, item 1
+and its tests). Every bundled linkage and spatial four-bar builds one that compiles without a
+warning, with every name behind the prefix, no scene, and gravity along −z in a z-up world; two
+mechanisms attached to a robot of the test's own (``MjSpec.attach``) move as linkgen's machine
+dynamics says, hold a commanded crank angle, and their reaction sensors read the closed form's
+reactions."""
+
+import math
+import warnings
+
+import mujoco
+import numpy as np
+import pytest
+import tomlkit
+
+import linkgen
+from conftest import MODELS, ROOT, SPATIAL_MODELS
+from linkgen.cli.main import main
+from linkgen.mujoco.log import no_log_file
+
+FOURBAR = ROOT / "models" / "fourbar.toml"
+PRESS = ROOT / "models" / "press.toml"
+PREFIX = "P_"
+G = 9.81  # the bundled models' |gravity| [m/s²]
+# Every kind of named MuJoCo object but the world body (MuJoCo's own, id 0) and the model's own
+# name, frames and default classes (not objects of the compiled model).
+KINDS = [getattr(mujoco.mjtObj, k) for k in dir(mujoco.mjtObj)
+         if k.startswith("mjOBJ_") and k not in ("mjOBJ_UNKNOWN", "mjOBJ_FRAME", "mjOBJ_DEFAULT", "mjOBJ_MODEL")]
+
+
+def _build(tmp_path, path, *options) -> str:
+    out = tmp_path / f"{path.stem}.xml"
+    assert main(["build", str(path), "--robot", "-o", str(out), *options]) == 0
+    return out.read_text()
+
+
+def _compiled(xml: str, capfd) -> tuple[mujoco.MjModel, mujoco.MjData]:
+    """The model compiled and evaluated at its keyframe, with no warning from MuJoCo (its
+    counters and its log on stderr) nor from its Python bindings."""
+    capfd.readouterr()
+    with no_log_file(), warnings.catch_warnings():
+        warnings.simplefilter("error")
+        model = mujoco.MjModel.from_xml_string(xml)
+        data = mujoco.MjData(model)
+        mujoco.mj_resetDataKeyframe(model, data, 0)
+        for _ in range(10):
+            mujoco.mj_step(model, data)
+    assert "WARNING" not in capfd.readouterr().err
+    assert not {mujoco.mjtWarning(i).name: w.number for i, w in enumerate(data.warning) if w.number}
+    return model, data
+
+
+def _names(model) -> list[tuple[str, str]]:
+    out = []
+    for kind in KINDS:
+        for i in range(1 if kind in (mujoco.mjtObj.mjOBJ_BODY, mujoco.mjtObj.mjOBJ_XBODY) else 0, 10_000):
+            name = mujoco.mj_id2name(model, kind, i)
+            if name is None and i > 1000:
+                break
+            if name is not None:
+                out.append((kind.name, name))
+    return out
+
+
+@pytest.mark.parametrize("path", MODELS + SPATIAL_MODELS, ids=[p.stem for p in MODELS + SPATIAL_MODELS])
+def test_every_bundled_model_builds_a_robot_model(tmp_path, capfd, path):
+    model, _ = _compiled(_build(tmp_path, path, "--prefix", PREFIX), capfd)
+    names = _names(model)
+    assert names and all(n.startswith(PREFIX) for _, n in names), [n for n in names if not n[1].startswith(PREFIX)]
+    assert model.body(PREFIX + "mount").parentid[0] == 0  # one top body holds the mechanism
+    assert all(model.body_rootid[b] == model.body(PREFIX + "mount").id for b in range(1, model.nbody))
+    assert model.nlight == model.ncam == model.ntex == 0
+    assert mujoco.mjtGeom.mjGEOM_PLANE not in set(model.geom_type)
+    g = linkgen.load(path).gravity
+    assert model.opt.gravity == pytest.approx([0.0, 0.0, -math.hypot(*g)], abs=1e-12)
+    assert model.opt.timestep == 0.002 and model.opt.integrator == mujoco.mjtIntegrator.mjINT_IMPLICITFAST
+    # no speed servo, no validation rotor: one drive actuator (a cam's follower spring besides)
+    assert [model.actuator(i).name for i in range(model.nu)][0] == PREFIX + "drive:motor"
+    assert not [model.actuator(i).name for i in range(model.nu) if "servo" in model.actuator(i).name]
+    assert np.count_nonzero(model.dof_armature) == (1 if _rotor(path) else 0)
+    assert model.dof_armature.sum() == _rotor(path)
+    assert model.key(PREFIX + "sketch").qvel == pytest.approx(np.zeros(model.nv))
+
+
+# A point (x, y) of the description's plane in the world, per --plane (z up).
+PLANE_POINT = {"xz": lambda x, y: (x, 0.0, y), "yz": lambda x, y: (0.0, x, y), "xy": lambda x, y: (x, y, 0.0)}
+
+
+@pytest.mark.parametrize("plane", ["xz", "yz", "xy"])
+def test_the_plane_lands_on_the_world_plane_with_gravity_down(tmp_path, capfd, plane):
+    model, data = _compiled(_build(tmp_path, FOURBAR, "--plane", plane, "--prefix", PREFIX), capfd)
+    mujoco.mj_resetData(model, data)
+    mujoco.mj_forward(model, data)
+    points = linkgen.load(FOURBAR).points  # the sketch: the model's reference pose
+    for p in ("O", "C", "A"):
+        assert data.site(PREFIX + p).xpos == pytest.approx(PLANE_POINT[plane](*points[p]), abs=1e-12)
+    assert model.opt.gravity == pytest.approx([0.0, 0.0, -G])
+
+
+def test_the_scene_option_puts_a_floor_under_the_turned_mechanism(tmp_path, capfd):
+    model, data = _compiled(_build(tmp_path, FOURBAR, "--scene"), capfd)
+    mujoco.mj_forward(model, data)
+    floor = [i for i in range(model.ngeom) if model.geom_type[i] == mujoco.mjtGeom.mjGEOM_PLANE]
+    assert len(floor) == 1 and model.nlight == 1 and model.ncam == 1
+    assert data.geom_xmat[floor[0]].reshape(3, 3)[:, 2] == pytest.approx([0.0, 0.0, 1.0])  # horizontal
+    assert data.geom_xpos[floor[0]][2] < data.site_xpos[:, 2].min()  # below every point
+    names = [n for _, n in _names(model)]
+    assert all(n.startswith("fourbar/") for n in names)  # the default prefix
+
+
+def test_the_actuator_limits_come_from_the_peak_balancing_torque(tmp_path, capfd):
+    mech = linkgen.load(FOURBAR)
+    phi = np.linspace(mech.drive.start, mech.drive.stop, 721)
+    peak = np.abs(linkgen.forces(mech, phi).balancing_torque).max()
+    model, _ = _compiled(_build(tmp_path, FOURBAR, "--gear", "4"), capfd)
+    assert model.actuator_ctrlrange[0] == pytest.approx([-1.5 * peak / 4, 1.5 * peak / 4], rel=1e-3)
+    assert model.actuator_gear[0, 0] == 4.0
+    model, _ = _compiled(_build(tmp_path, FOURBAR, "--actuator", "position", "--kp", "300", "--kv", "20"), capfd)
+    assert model.actuator_gainprm[0, 0] == 300.0 and model.actuator_biasprm[0, 2] == -20.0
+    assert model.actuator_forcerange[0] == pytest.approx([-1.5 * peak, 1.5 * peak], rel=1e-3)
+
+
+def _rotor(path) -> float:
+    """The [machine]'s rotor (through its gear ratio²) and flywheel at the crank [kg·m²], 0 without one."""
+    table = tomlkit.parse(path.read_text()).get("machine")
+    if table is None:
+        return 0.0
+    return (float(table.get("rotor_inertia", 0.0)) * float(table.get("gear_ratio", 1.0)) ** 2
+            + float(table.get("flywheel_inertia", 0.0)))
+
+
+def test_a_machine_rotor_is_the_drive_joints_armature(tmp_path, capfd):
+    path = ROOT / "models" / "machine_slider_crank.toml"
+    model, _ = _compiled(_build(tmp_path, path), capfd)
+    assert model.dof_armature[model.joint("machine_slider_crank/O").dofadr[0]] == _rotor(path) == 250.0
+
+
+def test_the_header_says_what_is_in_the_file_and_how_to_apply_the_loads(tmp_path):
+    xml = _build(tmp_path, PRESS)
+    header = xml[xml.index("<!--"):xml.index("-->")]
+    for said in ("press/mount", "MjSpec.attach", "press/drive:motor", "timestep 0.002 s", "implicitfast",
+                 "Not in this file", "[[force]]", "[[torque]]", "mj_applyFT", "robot's own <option>"):
+        assert said in header, said
+
+
+@pytest.mark.parametrize("options, message", [
+    (["--kp", "3"], "linkgen build: error: --kp is an option of the robot-ready model: add --robot"),
+    (["--robot", "--prefix", "arm 1"], "linkgen build: error: --prefix 'arm 1': a prefix takes letters, digits and "
+                                         "_ - . : / only"),
+    (["--robot", "--kp", "3"], "linkgen build: error: --kp is the position servo's stiffness: give it with "
+                               "--actuator position"),
+    (["--robot", "--plane", "zx"], "linkgen build: error: argument --plane: invalid choice: 'zx'"),
+    (["--robot", "--practical"], "linkgen build: error: --practical and --robot: the robot-ready model states"),
+    (["--robot", "--gear", "0"], "linkgen build: error: --gear 0.0: a finite number above 0"),
+])
+def test_robot_options_are_refused_in_one_line(tmp_path, capsys, options, message):
+    out = tmp_path / "x.xml"
+    with pytest.raises(SystemExit) if "--plane" in options else _no_raise():
+        status = main(["build", str(FOURBAR), "-o", str(out), *options])
+        assert status == 2
+    err = capsys.readouterr().err
+    assert err.startswith(message) and err.count("\n") == 1, err
+    assert not out.exists()
+
+
+def test_a_standalone_cam_and_a_spatial_plane_are_refused_in_one_line(tmp_path, capsys):
+    cam = ROOT / "models" / "cam_translating.toml"
+    assert main(["build", str(cam), "--robot", "-o", str(tmp_path / "c.xml")]) == 2
+    err = capsys.readouterr().err
+    assert f"{cam}: a stand-alone cam" in err and "takes no --robot" in err and err.count("\n") == 1
+    rssr = ROOT / "models" / "rssr.toml"
+    assert main(["build", str(rssr), "--robot", "--plane", "xz", "-o", str(tmp_path / "s.xml")]) == 2
+    err = capsys.readouterr().err
+    assert "a spatial four-bar is written in its own frame, z up" in err and err.count("\n") == 1
+
+
+class _no_raise:
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        return False
