@@ -329,8 +329,8 @@ def add_commands(sub) -> None:
                         "the validation's; validate reports what they cost in accuracy")
     r = b.add_argument_group("robot-ready model (docs/robotics.md)")
     r.add_argument("--robot", action="store_true",
-                   help="write a model to drive, attach to a robot and read: one actuator, reaction sensors, MuJoCo's "
-                        "own settings, no servo, no scene; the validation model otherwise")
+                   help="write a model to drive, attach to a robot and read (one actuator, reaction sensors, MuJoCo's "
+                        "own settings, no servo, no scene); default: the validation model")
     r.add_argument("--prefix", help="every name in the file begins with it (default: the mechanism's name and '/')")
     r.add_argument("--actuator", choices=("motor", "position", "velocity"),
                    help="the driven joint's actuator (default motor)")
@@ -341,7 +341,8 @@ def add_commands(sub) -> None:
                                                  "(default: critically damped / from the reduced inertia)")
     r.add_argument("--plane", choices=("xz", "yz", "xy"),
                    help="the world plane the mechanism's plane lies in, z up (default xz; planar linkages)")
-    r.add_argument("--scene", action="store_true", help="add a floor, sky, light and camera")
+    r.add_argument("--scene", action="store_true",
+                   help="add a floor, sky, light and camera (default: none, the robot's scene has its own)")
     b.set_defaults(func=cmd_build)
 
     s = sub.add_parser("simulate", help="run the driven crank in MuJoCo with settings derived from the mechanism")

@@ -22,7 +22,7 @@ def mjcf(desc, settings=None, practical: bool = False, robot=None) -> str:
     if practical:
         raise ArgumentError("--practical is for planar linkages")
     if robot is not None:
-        from linkgen.mujoco.robot_planar import spatial_robot_mjcf
+        from linkgen.mujoco.robot_spatial import spatial_robot_mjcf
 
         if settings is not None:
             raise ArgumentError("robot: the robot-ready model states MuJoCo's own settings; leave settings out")
