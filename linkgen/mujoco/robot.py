@@ -101,7 +101,8 @@ class RobotDrive:
     crank angle [rad], the drive range (None: a full turn), the peak balancing torque over it
     [N·m] (None: no closed form) with the speed [rad/s] it was taken at, the largest reduced
     inertia [kg·m²], the revolutes whose reactions get sensors (``robot_sensors.Reaction``),
-    the description's gravity (3,) [m/s²] in its own frame and what MJCF leaves out (text)."""
+    the description's gravity (3,) [m/s²] in its own frame, what MJCF leaves out and what else
+    the header says (text)."""
 
     family: str
     joint: str
@@ -113,6 +114,7 @@ class RobotDrive:
     reactions: tuple
     gravity: tuple[float, float, float]
     loads: tuple[str, ...] = ()
+    notes: tuple[str, ...] = ()
 
 
 def accuracy_comment(asm, settings) -> str:
@@ -252,7 +254,7 @@ def _header(name, prefix, plane, drive, opt, said, sensors, world_g, accuracy: s
         f" The driven joint's angle is the description's crank angle φ [rad] (its ref is the sketch's "
         f"φ = {drive.sketch:.6g}); armature {opt.rotor_inertia:g} kg·m² "
         + ("(the description's [machine] rotor and flywheel)." if opt.rotor_inertia else "(no rotor in the description)."),
-        " Sensors: " + "; ".join(sensors) + ".",
+        " Sensors: " + "; ".join(sensors + list(drive.notes)) + ".",
         (f" Plane: the description's x, y on the world's {plane[0]}, {plane[1]} (z up), its gravity turned the same way: "
          if drive.family == "planar" else " Frame: the description's, z up; gravity ")
         + f"{' '.join(f'{x:g}' for x in world_g)} m/s². Attached to a robot, the robot's own <option> (gravity, "

@@ -28,8 +28,14 @@ def spatial_robot_mjcf(mech, options: RobotOptions) -> str:
                             "description's); --plane places a planar linkage's plane")
     chain = assembled_chain(mech)
     phi = chain.phi_s + np.linspace(0.0, 2 * math.pi, PEAK_SAMPLES)
+    notes = ()
     try:
-        peak = float(np.max(np.abs(forces(mech, phi).balancing_torque)))
+        f = forces(mech, phi)
+        peak = float(np.max(np.abs(f.balancing_torque)))
+        if f.indeterminate:
+            notes = (f"the closed form's reaction at {chain.pair_b} is statically indeterminate (by {f.indeterminate}, "
+                     "a loop of four hinges): reaction:" + chain.pair_b + " reads MuJoCo's own split of it, which "
+                     "depends on its constraint settings",)
     except LinkgenError:
         peak = None
     pair = mech.joint(chain.pair_b)
@@ -41,11 +47,15 @@ def spatial_robot_mjcf(mech, options: RobotOptions) -> str:
     sites = (ReactionSite(chain.pair_b, body[pair.links[0]], body[second], anchor=anchor),)
     size = chain.size
     inertia = sum(l.mass for l in mech.links) * size**2  # an upper scale: no reduced inertia in this family
-    loads = tuple(f"[[force]] on link {f.link}: apply with mujoco.mj_applyFT each step (data.qfrc_applied)"
-                  for f in mech.forces) + tuple(f"[[torque]] on link {t.link}: data.xfrc_applied[body, 3:6] each step"
-                                               for t in mech.torques)
+    loads = tuple(f"[[force]] ({', '.join(f'{x:g}' for x in f.force)}) N on link {f.link} at point {f.point}"
+                  + (" over its stroke" if f.stroke is not None else "") + ": each step mujoco.mj_applyFT(model, data, "
+                  f"R·F, [0, 0, 0], data.site_xpos[site {f.point}], body {f.link}, data.qfrc_applied), R the mount's "
+                  "rotation" for f in mech.forces)
+    loads += tuple(f"[[torque]] ({', '.join(f'{x:g}' for x in t.torque)}) N·m on link {t.link}: each step "
+                   f"mujoco.mj_applyFT(model, data, [0, 0, 0], R·M, data.xipos[{t.link}], body {t.link}, "
+                   "data.qfrc_applied)" for t in mech.torques)
     drive = RobotDrive("spatial", chain.drive, float(chain.phi_s), None, peak, abs(mech.drive.omega), inertia, sites,
-                       tuple(float(x) for x in mech.gravity), loads)
+                       tuple(float(x) for x in mech.gravity), loads, notes)
     return robot_model(write_spatial_mjcf(mech, PLACEHOLDER, chain), drive, options, mech.name, source=mech)
 
 
