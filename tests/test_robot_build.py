@@ -219,3 +219,17 @@ def test_a_spatial_chains_loop_sensor_reads_the_closed_form_reaction(name):
 def test_a_loop_of_four_hinges_says_its_reaction_is_indeterminate(tmp_path):
     xml = _build(tmp_path, ROOT / "models" / "bennett.toml")
     assert "statically indeterminate (by 3, a loop of four hinges)" in xml[:xml.index("-->")]
+
+
+def test_the_robotics_guide_runs_as_written(tmp_path, monkeypatch, capsys):
+    import re
+
+    text = (ROOT / "docs" / "robotics.md").read_text()
+    command = re.search(r"```sh\n(linkgen build .*?)\n```", text).group(1).split()
+    monkeypatch.chdir(tmp_path)
+    assert main([command[1], str(ROOT / command[2]), *command[3:]]) == 0
+    code = re.search(r"```python\n(.*?)```", text, flags=re.S).group(1)
+    with no_log_file():
+        exec(compile(code, "docs/robotics.md", "exec"), {})
+    out = capsys.readouterr().out
+    assert "drive torque 60.0 N·m" in out and out.count("reaction at ") == 4
