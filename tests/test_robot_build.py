@@ -233,3 +233,54 @@ def test_the_robotics_guide_runs_as_written(tmp_path, monkeypatch, capsys):
         exec(compile(code, "docs/robotics.md", "exec"), {})
     out = capsys.readouterr().out
     assert "drive torque 60.0 N·m" in out and out.count("reaction at ") == 4
+
+
+def test_the_validation_model_points_a_robot_user_to_the_robot_build(tmp_path):
+    # before: "For a robot scene, linkgen build with its practical option writes MuJoCo's usual
+    # settings instead", which kept the speed servo and the validation rotor inertia
+    out = tmp_path / "v.xml"
+    assert main(["build", str(FOURBAR), "-o", str(out)]) == 0
+    comment = out.read_text().split("-->")[0]
+    assert "practical option" not in comment and "robot option writes a model to drive and attach" in comment
+
+
+# The header's recipe for the loads MJCF cannot carry, checked where it has to hold exactly: the
+# press at rest at φ = 130° (inside its 3 kN force's stroke), its plane turned to yz, the crank
+# given the closed form's balancing torque (which counts the loads). With the loops' impedance
+# raised to 0.9999 (MuJoCo's default 0.9 passes only 90 % of a load through a loop at once), the
+# crank's acceleration with the loads applied as the header says is measured at 1.9e-4 of what it
+# is without them (2182 rad/s²); a load applied in the wrong frame, at the wrong point or with the
+# wrong sign leaves the full 1e0 of it.
+LOAD_RECIPE_TOL = 1e-3
+
+
+def test_the_headers_load_recipe_balances_the_closed_forms_torque():
+    from linkgen.families.planar.kinetostatics import forces
+    from linkgen.mujoco.robot import RobotOptions
+    from linkgen.mujoco.state import tree_state
+
+    press = linkgen.load(PRESS)
+    phi = math.radians(130.0)
+    with no_log_file():
+        model = mujoco.MjModel.from_xml_string(linkgen.write_mjcf(press, robot=RobotOptions(prefix="p/", plane="yz")))
+        validation = mujoco.MjModel.from_xml_string(linkgen.write_mjcf(press))  # the same tree, the same joints
+    model.eq_solimp[:, :2] = 0.9999
+    data = mujoco.MjData(model)
+    qpos, _ = tree_state(press, validation, [phi], 0.0)
+    data.qpos[:] = qpos[0]
+    data.qpos[model.joint("p/O").qposadr[0]] = phi  # the robot file's crank angle is φ itself
+    data.ctrl[0] = forces(press, np.array([phi]), 0.0, 0.0).balancing_torque[0]
+    crank = model.joint("p/O").dofadr[0]
+    mujoco.mj_forward(model, data)
+    without = data.qacc[crank]
+    header = linkgen.write_mjcf(press, robot=RobotOptions(prefix="p/", plane="yz")).split("-->")[0]
+    assert "data.site('p/B:ram').xpos, model.body('p/ram').id" in header and "M·R[:, 2]" in header
+    (force,), (torque,) = press.forces, press.torques  # the ram's pressing force, the crank's friction
+    r = data.body("p/mount").xmat.reshape(3, 3)
+    data.qfrc_applied[:] = 0
+    mujoco.mj_applyFT(model, data, r @ np.array([*force.force, 0.0]), np.zeros(3), data.site("p/B:ram").xpos,
+                      model.body("p/ram").id, data.qfrc_applied)
+    mujoco.mj_applyFT(model, data, np.zeros(3), torque.torque * r[:, 2], data.body("p/crank").xipos,
+                      model.body("p/crank").id, data.qfrc_applied)
+    mujoco.mj_forward(model, data)
+    assert abs(data.qacc[crank]) <= LOAD_RECIPE_TOL * abs(without)

@@ -208,7 +208,7 @@ def robot_model(xml: str, drive: RobotDrive, opt: RobotOptions, name: str, scene
     tag, attrs, said = drive_actuator(drive, opt)
     act_name = f"drive:{tag}"
     actuator.insert(0, etree.Element(tag, name=act_name, joint=drive.joint, **attrs))
-    sensors = add_sensors(root, act_name, drive)
+    sensors = add_sensors(root, act_name, drive, prefix)
     _at_rest(root, KEY, drive, opt)
     add_prefix(root, prefix)
     header = _header(name, prefix, plane, drive, opt, said, sensors, world_g, accuracy_comment(source, ROBOT_SETTINGS))
@@ -254,7 +254,8 @@ def _header(name, prefix, plane, drive, opt, said, sensors, world_g, accuracy: s
         f" The driven joint's angle is the description's crank angle φ [rad] (its ref is the sketch's "
         f"φ = {drive.sketch:.6g}); armature {opt.rotor_inertia:g} kg·m² "
         + ("(the description's [machine] rotor and flywheel)." if opt.rotor_inertia else "(no rotor in the description)."),
-        " Sensors: " + "; ".join(sensors + list(drive.notes)) + ".",
+        " Sensors: " + "; ".join(sensors) + ".",
+        *(f" Note: {note}." for note in drive.notes),
         (f" Plane: the description's x, y on the world's {plane[0]}, {plane[1]} (z up), its gravity turned the same way: "
          if drive.family == "planar" else " Frame: the description's, z up; gravity ")
         + f"{' '.join(f'{x:g}' for x in world_g)} m/s². Attached to a robot, the robot's own <option> (gravity, "
@@ -266,7 +267,9 @@ def _header(name, prefix, plane, drive, opt, said, sensors, world_g, accuracy: s
         lines.append(f" Accuracy at these settings: {accuracy}")
     lines.append(" Not in this file: the validation settings (a build without its robot option); "
                  + ("" if opt.scene else "a floor, sky, light and camera (the build's scene option adds them); ")
-                 + ("the description's loads, which MJCF cannot carry: " + "; ".join(drive.loads) if drive.loads
+                 + ("the description's loads, which MJCF cannot carry (each step, set data.qfrc_applied to 0, then "
+                    "apply each): " + "; ".join(drive.loads).replace("{P}", p)
+                    if drive.loads
                     else "no loads besides gravity are described") + ".")
     return "\n".join(re.sub(r"--", "- -", line) for line in lines) + "\n"
 

@@ -56,18 +56,21 @@ def _inertia_scale(mech: Mechanism) -> float:
 
 
 def _loads(mech: Mechanism) -> tuple[str, ...]:
+    """How to apply each of the description's loads, "{P}" standing for the names' prefix."""
+    from linkgen.mujoco.tree import body_name, site_name
+
     out = []
     for f in mech.forces:
         during = (f" while φ is in {math.degrees(f.stroke[0]):.6g}°..{math.degrees(f.stroke[1]):.6g}°"
                   if f.stroke is not None else "")
-        out.append(f"[[force]] ({f.force[0]:g}, {f.force[1]:g}) N on link {f.link} at point {f.point}{during}: each "
-                   f"step mujoco.mj_applyFT(model, data, R·F, [0, 0, 0], data.site_xpos[site of {f.point} on "
-                   f"{f.link}], body {f.link}, data.qfrc_applied), R the mount's rotation (data.xmat of the mount), "
-                   "F = (Fx, Fy, 0)")
+        out.append(f"[[force]] F = ({f.force[0]:g}, {f.force[1]:g}, 0) N on link {f.link} at point {f.point}{during}: "
+                   f"each step mujoco.mj_applyFT(model, data, R·F, [0, 0, 0], data.site('{{P}}"
+                   f"{site_name(mech, f.link, f.point)}').xpos, model.body('{{P}}{body_name(f.link)}').id, "
+                   "data.qfrc_applied), R = data.body('{P}mount').xmat (3×3)")
     for t in mech.torques:
-        out.append(f"[[torque]] {t.torque:g} N·m on link {t.link} about the plane's normal: each step "
-                   f"mujoco.mj_applyFT(model, data, [0, 0, 0], M·(the mount's z axis), data.xipos[{t.link}], body "
-                   f"{t.link}, data.qfrc_applied)")
+        out.append(f"[[torque]] M = {t.torque:g} N·m on link {t.link} about the plane's normal: each step "
+                   f"mujoco.mj_applyFT(model, data, [0, 0, 0], M·R[:, 2], data.body('{{P}}{body_name(t.link)}').xipos, "
+                   f"model.body('{{P}}{body_name(t.link)}').id, data.qfrc_applied)")
     return tuple(out)
 
 
@@ -93,9 +96,11 @@ def planar_drive(source: Mechanism | Assembly) -> RobotDrive:
                                   anchor=(float(local[0]), float(local[1]), 0.0)))
     d = mech.drive
     full = d.stop - d.start >= 2 * math.pi - 1e-12
+    notes = (("each cam pair's contact keeps the stiff contact of linkgen's validation model (its solref is "
+              "below two timesteps at 2 ms, so MuJoCo's safety limit sets it to 4 ms)",) if mech.cams else ())
     return RobotDrive("planar", d.joint, float(shapes[mech.crank].sketch_angle), None if full else (d.start, d.stop),
                       peak, w_max, inertia if inertia is not None else _inertia_scale(mech), tuple(sites),
-                      (float(mech.gravity[0]), float(mech.gravity[1]), 0.0), _loads(mech))
+                      (float(mech.gravity[0]), float(mech.gravity[1]), 0.0), _loads(mech), notes)
 
 
 def planar_robot_mjcf(source: Mechanism | Assembly, options: RobotOptions) -> str:

@@ -47,16 +47,17 @@ def _v(*xs: float) -> str:
     return " ".join("0" if float(x) == 0.0 else repr(float(x)) for x in xs)
 
 
-def add_sensors(root, actuator: str, drive) -> list[str]:
+def add_sensors(root, actuator: str, drive, prefix: str = "") -> list[str]:
     """Add the sensors of the drive and of each revolute's reaction (``drive.reactions``:
-    ``ReactionSite``) to the MJCF tree ``root``; returns what the header says of them."""
+    ``ReactionSite``) to the MJCF tree ``root``; returns what the header says of them (the names
+    as they will be, behind ``prefix``)."""
     sensor = root.find("sensor")
     if sensor is None:
         sensor = etree.SubElement(root, "sensor")
     etree.SubElement(sensor, "actuatorfrc", name=ACTUATOR_FORCE, actuator=actuator)
     etree.SubElement(sensor, "jointactuatorfrc", name=JOINT_TORQUE, joint=drive.joint)
-    said = [f"{ACTUATOR_FORCE} (the actuator's force, in its units) and {JOINT_TORQUE} (its torque on the "
-            "crank [N·m])"]
+    said = [f"{prefix}{ACTUATOR_FORCE} (the actuator's force, in its units) and {prefix}{JOINT_TORQUE} (its torque "
+            "on the crank [N·m])"]
     names = []
     for r in drive.reactions:
         if r.site is None:  # a loop-closing connect: from a static body of the second link to the first
@@ -73,7 +74,7 @@ def add_sensors(root, actuator: str, drive) -> list[str]:
         etree.SubElement(sensor, "force", name=REACTION + r.joint, site=site)
         names.append(r.joint)
     if names:
-        said.append(f"{REACTION}J, the force [N] through each revolute J ({', '.join(names)}) in its site's frame; "
+        said.append(f"{prefix}{REACTION}J, the force [N] through each revolute J ({', '.join(names)}) in its site's frame; "
                     "linkgen.mujoco.robot_sensors.reactions(model, data, prefix) gives each in the mount's frame as the "
                     "force on one link of the pair by the other, naming both (a sensor reads the force on its "
                     "site's body by that body's parent; a loop:J body passes it on to the pair's first link)")

@@ -49,11 +49,11 @@ def spatial_robot_mjcf(mech, options: RobotOptions) -> str:
     inertia = sum(l.mass for l in mech.links) * size**2  # an upper scale: no reduced inertia in this family
     loads = tuple(f"[[force]] ({', '.join(f'{x:g}' for x in f.force)}) N on link {f.link} at point {f.point}"
                   + (" over its stroke" if f.stroke is not None else "") + ": each step mujoco.mj_applyFT(model, data, "
-                  f"R·F, [0, 0, 0], data.site_xpos[site {f.point}], body {f.link}, data.qfrc_applied), R the mount's "
-                  "rotation" for f in mech.forces)
-    loads += tuple(f"[[torque]] ({', '.join(f'{x:g}' for x in t.torque)}) N·m on link {t.link}: each step "
-                   f"mujoco.mj_applyFT(model, data, [0, 0, 0], R·M, data.xipos[{t.link}], body {t.link}, "
-                   "data.qfrc_applied)" for t in mech.torques)
+                  f"R·F, [0, 0, 0], the point's position, model.body('{{P}}{f.link}').id, data.qfrc_applied), "
+                  "R = data.body('{P}mount').xmat (3×3)" for f in mech.forces)
+    loads += tuple(f"[[torque]] M = ({', '.join(f'{x:g}' for x in t.torque)}) N·m on link {t.link}: each step "
+                   f"mujoco.mj_applyFT(model, data, [0, 0, 0], R·M, data.body('{{P}}{t.link}').xipos, "
+                   f"model.body('{{P}}{t.link}').id, data.qfrc_applied)" for t in mech.torques)
     drive = RobotDrive("spatial", chain.drive, float(chain.phi_s), None, peak, abs(mech.drive.omega), inertia, sites,
                        tuple(float(x) for x in mech.gravity), loads, notes)
     return robot_model(write_spatial_mjcf(mech, PLACEHOLDER, chain), drive, options, mech.name, source=mech)
