@@ -284,3 +284,10 @@ def test_the_headers_load_recipe_balances_the_closed_forms_torque():
                       model.body("p/crank").id, data.qfrc_applied)
     mujoco.mj_forward(model, data)
     assert abs(data.qacc[crank]) <= LOAD_RECIPE_TOL * abs(without)
+
+
+def test_build_says_what_a_robot_scene_needs(tmp_path, capsys):
+    out = tmp_path / "fb.xml"
+    assert main(["build", str(FOURBAR), "--robot", "--prefix", "fb/", "--actuator", "position", "-o", str(out)]) == 0
+    assert capsys.readouterr().err == (f"wrote {out} (robot model: attach body fb/mount, actuator fb/drive:position, "
+                                       "sensors fb/reaction:*)\n")

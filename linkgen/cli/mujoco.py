@@ -64,7 +64,11 @@ def _build_one(path: Path, out: Path, practical: bool = False, robot=None) -> Pa
         raise LinkgenError(f"MuJoCo cannot represent this mechanism as described (its compiler refuses the "
                            f"generated model: {' '.join(text.split())})") from None
     atomic_write_text(out, xml)
-    print(f"wrote {out}", file=sys.stderr)  # with the errors, in order, as for every family
+    said = ""
+    if robot is not None:  # what a robot scene needs from the file (docs/robotics.md)
+        p = robot.prefix if robot.prefix is not None else f"{desc.name}/"
+        said = f" (robot model: attach body {p}mount, actuator {p}drive:{robot.actuator}, sensors {p}reaction:*)"
+    print(f"wrote {out}{said}", file=sys.stderr)  # with the errors, in order, as for every family
     return out
 
 
