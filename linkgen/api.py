@@ -126,11 +126,12 @@ def profile(source, points: int = 720):
     return fn(source, int(points))
 
 
-def write_mjcf(source, settings=None) -> str:
+def write_mjcf(source, settings=None, robot=None) -> str:
     """The MJCF text (``linkgen build``) of any description: a planar linkage of any structure
     class, a stand-alone cam or a spatial four-bar; ``settings`` a
     ``linkgen.mujoco.options.Settings`` (None: derived from the mechanism, as ``validate`` runs
-    it; a stand-alone cam carries its own)."""
+    it; a stand-alone cam carries its own); ``robot`` a ``linkgen.mujoco.robot.RobotOptions``:
+    the robot-ready model (``build --robot``) of a linkage or a spatial four-bar."""
     fn = _stage(source, "mjcf")
     if settings is not None:
         from linkgen.mujoco.options import Settings
@@ -138,7 +139,13 @@ def write_mjcf(source, settings=None) -> str:
         if not isinstance(settings, Settings):
             raise ArgumentError(f"settings: expected None (derived from the mechanism) or a "
                                 f"linkgen.mujoco.options.Settings, got {settings!r} ({type(settings).__name__})")
-    return fn(source, settings)
+    if robot is None:
+        return fn(source, settings)
+    from linkgen.mujoco.robot import RobotOptions
+
+    if not isinstance(robot, RobotOptions):
+        raise ArgumentError(f"robot: expected None or a linkgen.mujoco.robot.RobotOptions, got {robot!r}")
+    return fn(source, settings, robot=robot)
 
 
 def _counts(options: dict) -> dict:

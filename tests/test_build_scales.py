@@ -203,10 +203,10 @@ def test_build_folder_goes_on_past_a_crash(tmp_path, capsys, monkeypatch):
         shutil.copy(MODELS / "fourbar.toml", tmp_path / name)
     real = cli_mujoco._build_one
 
-    def flaky(path, out, practical=False):
+    def flaky(path, out, *options):
         if path.name == "b.toml":
             raise ValueError("Error: fromto points too close in geom")  # what MuJoCo raised unguarded
-        return real(path, out, practical)
+        return real(path, out, *options)
 
     monkeypatch.setattr(cli_mujoco, "_build_one", flaky)
     assert main(["build", str(tmp_path)]) == 2

@@ -30,9 +30,11 @@ def _models(path: Path) -> list[Path]:
     return [path]
 
 
-def _build_one(path: Path, out: Path, practical: bool = False) -> Path:
-    """Compile ``path``'s MJCF (its family's ``mjcf`` stage) in MuJoCo and write it atomically to
-    ``out``; a model MuJoCo's compiler refuses is a LinkgenError saying what it refused."""
+def _build_one(path: Path, out: Path, practical: bool = False, robot=None) -> Path:
+    """Compile ``path``'s MJCF (its family's ``mjcf`` stage; with ``robot``, a
+    ``mujoco.robot.RobotOptions``, the robot-ready one with the rotor of the file's [machine]) in
+    MuJoCo and write it atomically to ``out``; a model MuJoCo's compiler refuses is a
+    LinkgenError saying what it refused."""
     import mujoco
 
     from linkgen.cli.files import atomic_write_text
@@ -40,7 +42,18 @@ def _build_one(path: Path, out: Path, practical: bool = False) -> Path:
     from linkgen.pipeline.registry import load, stage
 
     desc = load(path)
-    xml = stage(desc, "mjcf")(desc, practical=practical)  # any structure class: the MJCF needs no Assur groups
+    if robot is not None:
+        from dataclasses import replace
+
+        from linkgen.model.machine import machine_from_dict
+        from linkgen.model.toml_file import read_toml
+
+        machine = machine_from_dict(read_toml(path))
+        if machine is not None:
+            robot = replace(robot, rotor_inertia=machine.added_inertia)
+        xml = stage(desc, "mjcf")(desc, robot=robot)
+    else:
+        xml = stage(desc, "mjcf")(desc, practical=practical)  # any structure class: the MJCF needs no Assur groups
     try:
         with no_log_file():
             mujoco.MjModel.from_xml_string(xml)  # always compile what we write
@@ -51,7 +64,11 @@ def _build_one(path: Path, out: Path, practical: bool = False) -> Path:
         raise LinkgenError(f"MuJoCo cannot represent this mechanism as described (its compiler refuses the "
                            f"generated model: {' '.join(text.split())})") from None
     atomic_write_text(out, xml)
-    print(f"wrote {out}", file=sys.stderr)  # with the errors, in order, as for every family
+    said = ""
+    if robot is not None:  # what a robot scene needs from the file (docs/robotics.md)
+        p = robot.prefix if robot.prefix is not None else f"{desc.name}/"
+        said = f" (robot model: attach body {p}mount, actuator {p}drive:{robot.actuator}, sensors {p}reaction:*)"
+    print(f"wrote {out}{said}", file=sys.stderr)  # with the errors, in order, as for every family
     return out
 
 
@@ -72,6 +89,7 @@ def cmd_build(args) -> int:
     if kind is not None and kind != FOLDER and args.model.is_dir():
         raise OptionError(f"-o/--out {args.out}: {str(args.model)!r} is a folder of descriptions; its models are "
                           "written into a folder (-o DIR), or each beside its description (no -o)")
+    robot = _robot_options(args)
     paths = _models(args.model)
     folder = output_folder(args.out) if kind == FOLDER else None
 
@@ -79,19 +97,48 @@ def cmd_build(args) -> int:
         return folder / f"{p.stem}.xml" if folder is not None else p.with_suffix(".xml")
 
     if len(paths) == 1 and not args.model.is_dir():
-        _build_one(paths[0], args.out if kind == ".xml" else target(paths[0]), args.practical)
+        _build_one(paths[0], args.out if kind == ".xml" else target(paths[0]), args.practical, robot)
         return 0
     from linkgen.pipeline.registry import check_command
 
     def build(p: Path) -> Path:  # each file of a folder refused as a file given alone would be
-        check_command("build", p, ("--practical",) if args.practical else ())
-        return _build_one(p, target(p), args.practical)
+        check_command("build", p, tuple(o for o, on in (("--practical", args.practical), ("--robot", args.robot)) if on))
+        return _build_one(p, target(p), args.practical, robot)
 
     outcomes = run_each(paths, build)
     bad = [o for o in outcomes if not o.ok]
     if bad:
         print(f"linkgen: {len(bad)} of {len(outcomes)} descriptions failed", file=sys.stderr)
     return 2 if bad else 0
+
+
+# build's options of the robot-ready model, each refused without --robot.
+ROBOT_OPTIONS = ("--prefix", "--actuator", "--gear", "--kp", "--kv", "--plane", "--scene")
+
+
+def _robot_options(args):
+    """The ``RobotOptions`` of ``build --robot`` (None without it); an OptionError in one line for
+    a robot option given without --robot, or with --practical."""
+    from linkgen.cli.common import OptionError
+
+    given = [o for o in ROBOT_OPTIONS if getattr(args, o[2:]) not in (None, False)]
+    if not args.robot:
+        if given:
+            raise OptionError(f"{', '.join(given)} {'is an option' if len(given) == 1 else 'are options'} of the "
+                              "robot-ready model: add --robot")
+        return None
+    if args.practical:
+        raise OptionError("--practical and --robot: the robot-ready model states MuJoCo's own settings (timestep "
+                          "2 ms, implicitfast); give one of them")
+    from linkgen.errors import ArgumentError
+    from linkgen.mujoco.robot import RobotOptions
+
+    try:
+        return RobotOptions(prefix=args.prefix, actuator=args.actuator or "motor",
+                            gear=1.0 if args.gear is None else args.gear, kp=args.kp, kv=args.kv, plane=args.plane,
+                            scene=args.scene)
+    except ArgumentError as exc:  # about the options, not the file
+        raise OptionError(str(exc)) from None
 
 
 def _progress(name: str):
@@ -284,6 +331,22 @@ def add_commands(sub) -> None:
     b.add_argument("--practical", action="store_true",
                    help="write MuJoCo's usual settings (timestep 2 ms, Euler, default solref/solimp) instead of "
                         "the validation's; validate reports what they cost in accuracy")
+    r = b.add_argument_group("robot-ready model (docs/robotics.md)")
+    r.add_argument("--robot", action="store_true",
+                   help="write a model to drive, attach to a robot and read (one actuator, reaction sensors, MuJoCo's "
+                        "own settings, no servo, no scene); default: the validation model")
+    r.add_argument("--prefix", help="every name in the file begins with it (default: the mechanism's name and '/')")
+    r.add_argument("--actuator", choices=("motor", "position", "velocity"),
+                   help="the driven joint's actuator (default motor)")
+    r.add_argument("--gear", type=_float_arg, help="the actuator's gear: joint torque = gear × actuator force (default 1)")
+    r.add_argument("--kp", type=_float_arg, help="the position servo's stiffness [N·m/rad] (default: from the reduced "
+                                                 "inertia and a 5 Hz bandwidth)")
+    r.add_argument("--kv", type=_float_arg, help="the position servo's damping or the velocity servo's gain [N·m·s/rad] "
+                                                 "(default: critically damped / from the reduced inertia)")
+    r.add_argument("--plane", choices=("xz", "yz", "xy"),
+                   help="the world plane the mechanism's plane lies in, z up (default xz; planar linkages)")
+    r.add_argument("--scene", action="store_true",
+                   help="add a floor, sky, light and camera (default: none, the robot's scene has its own)")
     b.set_defaults(func=cmd_build)
 
     s = sub.add_parser("simulate", help="run the driven crank in MuJoCo with settings derived from the mechanism")

@@ -114,7 +114,8 @@ def settings_comment(settings) -> str:
             f"loop-closing connects with time constant {settings.timeconst:g} s and impedance "
             f"{settings.impedance:g} (they hold the loop gap to ~1e-8 of the size), and a rotor inertia "
             f"(armature) of {settings.armature:g} kg·m² on the drive joint that keeps the crank speed constant. "
-            f"For a robot scene, linkgen build with its practical option writes MuJoCo's usual settings instead. ")
+            f"For a robot scene, linkgen build with its robot option writes a model to drive and attach "
+            f"(docs/robotics.md). ")
 
 
 @no_log_file()  # MuJoCo's warnings stay out of the user's folder (linkgen.mujoco.log)

@@ -8,10 +8,15 @@ import math
 import numpy as np
 
 
-def mjcf(desc, settings=None, practical: bool = False) -> str:
-    """The MJCF text (``linkgen build``): the cam's own contact settings, derived from its motion."""
+def mjcf(desc, settings=None, practical: bool = False, robot=None) -> str:
+    """The MJCF text (``linkgen build``): the cam's own contact settings, derived from its motion
+    (no robot-ready model: a cam's contact needs its own settings)."""
     from linkgen.errors import ArgumentError
     from linkgen.mujoco.cam import cam_mjcf
+
+    if robot is not None:
+        raise ArgumentError("robot: a stand-alone cam has no robot-ready model (its contact needs the step and "
+                            "contact settings of its own MJCF); it is for planar linkages and spatial four-bars")
 
     if practical:
         raise ArgumentError("--practical is for linkages; a cam's MJCF carries its own contact settings")

@@ -59,8 +59,9 @@ class Family:
 
 
 # The command-line options that depend on the family: --transfer (transfer functions d/dφ…),
-# --keep-singular (samples marked singular), --practical (MuJoCo's usual settings in build).
-FAMILY_OPTIONS = ("--transfer", "--keep-singular", "--practical")
+# --keep-singular (samples marked singular), --practical (MuJoCo's usual settings in build),
+# --robot (build's robot-ready MJCF).
+FAMILY_OPTIONS = ("--transfer", "--keep-singular", "--practical", "--robot")
 
 @dataclass(frozen=True)
 class Stage:
@@ -92,7 +93,8 @@ STAGES: tuple[Stage, ...] = (
           "the design summary over the drive range (``model.summary``); ``to_dict()``, ``text()``", ("analyze",)),
     Stage("profile", "(desc, points=720)", "a cam's profile and pitch curve; ``to_dict()``, ``columns()``",
           ("profile",)),
-    Stage("mjcf", "(desc, settings=None, practical=False)", "the MJCF text", ("build",)),
+    Stage("mjcf", "(desc, settings=None, practical=False, robot=None)", "the MJCF text (``robot``: a "
+          "``mujoco.robot.RobotOptions``, the robot-ready model)", ("build",)),
     Stage("simulate", "(desc, *, revolutions=None, omega=None, epsilon=None, settings=None, samples=None, "
           "nthread=None, progress=None, max_steps=None, settle=None, notice=None)",
           "a MuJoCo run over the drive range (None: the run's default)", ("simulate",)),

@@ -69,6 +69,6 @@ PLANAR = Family(
               "render", "dynamics", "flywheel"),
     stages={"angles": _angles, "structure": _structure, "kinematics": _kinematics, "forces": _forces,
             "summary": _summary, **MUJOCO_STAGES},
-    options=("--transfer", "--keep-singular", "--practical"))
+    options=("--transfer", "--keep-singular", "--practical", "--robot"))
 
 __all__ = ["PLANAR"]

@@ -32,11 +32,12 @@ def _mechanism(desc):
     return getattr(desc, "mechanism", desc)
 
 
-def mjcf(desc, settings=None, practical: bool = False) -> str:
+def mjcf(desc, settings=None, practical: bool = False, robot=None) -> str:
     """The MJCF text (``linkgen build``) of any structure class; ``settings`` (default derived
     from the mechanism), or with ``practical`` MuJoCo's usual settings keeping the derived rotor
-    inertia that holds the crank speed."""
-    from linkgen.errors import StructureError
+    inertia that holds the crank speed; with ``robot`` (``mujoco.robot.RobotOptions``) the
+    robot-ready model (``mujoco.robot``) instead."""
+    from linkgen.errors import ArgumentError, StructureError
     from linkgen.families.planar.assembly import assemble
     from linkgen.mujoco.mjcf import write_mjcf
 
@@ -46,6 +47,13 @@ def mjcf(desc, settings=None, practical: bool = False) -> str:
             source = assemble(desc)
         except StructureError:  # class III and higher: MuJoCo needs no Assur groups
             pass
+    if robot is not None:
+        from linkgen.mujoco.robot_planar import planar_robot_mjcf
+
+        if practical or settings is not None:
+            raise ArgumentError("robot: the robot-ready model states MuJoCo's own settings; leave settings and "
+                                "practical out")
+        return planar_robot_mjcf(source, robot)
     if practical:
         from dataclasses import replace
 

@@ -46,6 +46,6 @@ SPATIAL = Family(
     commands=("structure", "analyze", "forces", "build", "validate", "draw", "animate", "render"),
     stages={"angles": _angles, "structure": _structure, "kinematics": _kinematics, "forces": _forces,
             "summary": _summary, **MUJOCO_STAGES},
-    options=("--transfer",))
+    options=("--transfer", "--robot"))
 
 __all__ = ["SPATIAL"]

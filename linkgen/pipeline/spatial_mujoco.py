@@ -11,15 +11,22 @@ import numpy as np
 PLAN_STEP_DEG = 30.0
 
 
-def mjcf(desc, settings=None, practical: bool = False) -> str:
+def mjcf(desc, settings=None, practical: bool = False, robot=None) -> str:
     """The MJCF text (``linkgen build``) with ``settings`` (default: derived from the chain at
-    the drive's speed, as ``validate`` runs it)."""
+    the drive's speed, as ``validate`` runs it); with ``robot`` (``mujoco.robot.RobotOptions``)
+    the robot-ready model (``mujoco.robot``)."""
     from linkgen.crosscheck.spatial import derived_settings
     from linkgen.errors import ArgumentError
     from linkgen.mujoco.spatial_mjcf import write_spatial_mjcf
 
     if practical:
         raise ArgumentError("--practical is for planar linkages")
+    if robot is not None:
+        from linkgen.mujoco.robot_spatial import spatial_robot_mjcf
+
+        if settings is not None:
+            raise ArgumentError("robot: the robot-ready model states MuJoCo's own settings; leave settings out")
+        return spatial_robot_mjcf(desc, robot)
     return write_spatial_mjcf(desc, derived_settings(desc)[0] if settings is None else settings)
 
 
