@@ -93,6 +93,8 @@ STAGES: tuple[Stage, ...] = (
     Stage("profile", "(desc, points=720)", "a cam's profile and pitch curve; ``to_dict()``, ``columns()``",
           ("profile",)),
     Stage("mjcf", "(desc, settings=None, practical=False)", "the MJCF text", ("build",)),
+    Stage("coupling", "(desc, settings=None, practical=False)", "(the loop-free MJCF text, its couplings and their "
+          "errors) (``build --loops coupling``)", ()),
     Stage("simulate", "(desc, *, revolutions=None, omega=None, epsilon=None, settings=None, samples=None, "
           "nthread=None, progress=None, max_steps=None, settle=None, notice=None)",
           "a MuJoCo run over the drive range (None: the run's default)", ("simulate",)),
