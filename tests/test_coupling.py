@@ -1,0 +1,147 @@
+"""`build --loops coupling`: the loop-free model for robot learning. The written quartics,
+evaluated here with numpy on the file's own coefficients, follow the closed form within the
+errors the file states; MuJoCo, driven at the crank, follows them too; a full-turn four-bar is
+refused with its figure; a wrong --loops value is one line."""
+
+import math
+import re
+
+import mujoco
+import numpy as np
+import pytest
+from lxml import etree
+
+from conftest import ROOT
+from linkgen.cli.main import main
+from linkgen.families.planar.assembly import assemble
+from linkgen.families.planar.kinematics import solve
+from linkgen.pipeline.registry import load
+from linkgen.mujoco.coupling import TOLERANCE
+
+MODELS = ROOT / "models"
+# The file states each joint's largest error over 9601 crank angles across the range; the test
+# evaluates every 8th of them, so it can only meet or undercut the figure, to rounding of the
+# quartic's evaluation (a few ulps of the coordinate, 1e-15 relative; 1e-12 leaves room).
+ROUNDING = 1e-12
+# MuJoCo's soft gap of the couplings at the file's derived settings (solref 1.5 ms, impedance
+# 0.9999, RK4 at 75 µs) in the run below (8 N·m on the seven-link's crank from rest, 0.4 s):
+# the equality rows' efc_pos reached 5.2e-6 (rad or m) there; twice that.
+SOFT_GAP = 1e-5
+
+
+@pytest.fixture(scope="module")
+def seven_link():
+    from linkgen.pipeline.planar_mujoco import coupling
+
+    desc = load(MODELS / "seven_link.toml")
+    xml, c = coupling(desc)
+    return desc, xml, c
+
+
+def _written(xml: str) -> tuple[dict, dict, dict]:
+    """From the file alone: {joint: ref}, {joint: (argument joint, polycoef (5,))}, crank range."""
+    root = etree.fromstring(xml.encode())
+    refs = {j.get("name"): float(j.get("ref")) for j in root.iter("joint") if j.get("ref") is not None}
+    eq = {e.get("joint1"): (e.get("joint2"), np.array([float(v) for v in e.get("polycoef").split()]))
+          for e in root.find("equality").iter("joint")}
+    limited = {j.get("name"): [float(v) for v in j.get("range").split()] for j in root.iter("joint")
+               if j.get("range") is not None}
+    return refs, eq, limited
+
+
+def _chain(refs: dict, eq: dict, crank: str, phi: np.ndarray) -> dict:
+    """Every joint's value over the crank angles φ as the written couplings give it (numpy.polyval)."""
+    values = {crank: phi}
+    while len(values) < len(eq) + 1:
+        for joint, (arg, coef) in eq.items():
+            if joint not in values and arg in values:
+                values[joint] = refs[joint] + np.polyval(coef[::-1], values[arg] - refs[arg])
+    return values
+
+
+def _wrap(a):
+    return np.remainder(a + np.pi, 2 * np.pi) - np.pi
+
+
+def test_the_written_quartics_follow_the_closed_form_within_the_stated_error(seven_link):
+    desc, xml, c = seven_link
+    refs, eq, limited = _written(xml)
+    start, stop = limited["O"]
+    assert (start, stop) == (desc.drive.start, desc.drive.stop)
+    phi = np.linspace(start, stop, 1201)
+    values = _chain(refs, eq, "O", phi)
+    kin = solve(assemble(desc), phi)
+    stated = {j.name: j.fit.max_error for j in c.joints}
+    # the outputs: the slotted link 3 (G), the lever (F) by their angles; the slider C on y = 0
+    for joint, link in (("G", "rocker"), ("F", "lever")):
+        exact = np.asarray(kin.links[link].angle.v)
+        err = np.abs(_wrap(values[joint] - exact))
+        assert err.max() <= stated[joint] * (1 + ROUNDING), joint
+        assert err.max() <= TOLERANCE * np.ptp(np.unwrap(exact)), joint
+    cx = np.asarray(kin.points["C"].p)[:, 0]
+    ref_phi = refs["O"]
+    cx_ref = np.asarray(solve(assemble(desc), np.array([ref_phi])).points["C"].p)[0, 0]
+    err = np.abs((values["slider"] - refs["slider"]) - (cx - cx_ref))
+    assert err.max() <= stated["slider"] * (1 + ROUNDING)
+    assert err.max() <= TOLERANCE * np.ptp(cx)
+
+
+def test_the_file_states_the_errors_and_what_it_leaves_out(seven_link):
+    _, xml, c = seven_link
+    head = xml.split("-->")[0]
+    for j in c.joints:
+        assert f"within {j.fit.max_error:.2g} {j.unit}" in head, j.name
+    assert "[[force]] -100, 0 N at C on slider" in head  # the load MJCF cannot carry
+    assert "no servo, no rotor inertia" in head
+    assert "loop-free" in head and "left out" in head
+
+
+def test_mujoco_driven_at_the_crank_follows_the_closed_form(seven_link):
+    desc, xml, c = seven_link
+    with_loops = mujoco.MjModel.from_xml_string(xml)
+    assert with_loops.neq == len(c.joints) and all(t == mujoco.mjtEq.mjEQ_JOINT for t in with_loops.eq_type)
+    m, d = with_loops, mujoco.MjData(with_loops)
+    d.ctrl[m.actuator("drive:motor").id] = 8.0  # N·m, from rest: -7.5° to about 11° in 0.4 s, inside the range
+    phi, rocker, cx = [], [], []
+    for k in range(int(round(0.4 / m.opt.timestep))):
+        mujoco.mj_step(m, d)
+        if k % 100 == 0:
+            phi.append(d.joint("O").qpos[0])
+            rocker.append(d.joint("G").qpos[0])
+            cx.append(d.site("C").xpos[0])
+    phi = np.array(phi)
+    assert math.degrees(phi[-1] - phi[0]) > 10.0  # it turned
+    kin = solve(assemble(desc), phi)
+    stated = {j.name: j.fit.max_error for j in c.joints}
+    assert np.abs(_wrap(np.array(rocker) - np.asarray(kin.links["rocker"].angle.v))).max() <= stated["G"] + SOFT_GAP
+    assert np.abs(np.array(cx) - np.asarray(kin.points["C"].p)[:, 0]).max() <= stated["slider"] + SOFT_GAP
+
+
+def test_a_full_turn_fourbar_is_refused_with_its_figure(capsys):
+    status = main(["build", str(MODELS / "fourbar.toml"), "--loops", "coupling", "-o", "/nonexistent/never.xml"])
+    err = capsys.readouterr().err.strip()
+    assert status == 2 and "\n" not in err
+    figure = float(re.search(r"C \(rocker, its link's angle, coupled to O\): within ([0-9.e-]+) rad", err).group(1))
+    # the figure is a real one: above the bound, and no worse than numpy's least-squares quartic
+    # (the minimax quartic's largest error cannot exceed any other quartic's)
+    desc = load(MODELS / "fourbar.toml")
+    phi = np.linspace(0.0, 2 * math.pi, 9601)
+    theta = np.unwrap(np.asarray(solve(assemble(desc), phi).links["rocker"].angle.v))
+    lsq = np.polynomial.polynomial.Polynomial.fit(phi, theta, 4)
+    assert TOLERANCE * np.ptp(theta) < figure <= np.abs(lsq(phi) - theta).max() * 1.01  # 2 significant digits printed
+    assert re.search(r"it holds over [0-9.]+\.\.[0-9.]+°", err)
+
+
+def test_a_wrong_loops_value_is_one_line(capsys):
+    with pytest.raises(SystemExit) as exc:
+        main(["build", str(MODELS / "fourbar.toml"), "--loops", "foo"])
+    err = capsys.readouterr().err
+    assert exc.value.code == 2
+    assert err.count("\n") == 1 and "--loops: invalid choice: 'foo' (choose from 'closed', 'coupling')" in err
+
+
+def test_a_spatial_chain_says_it_has_no_loop_free_export(capsys, tmp_path):
+    status = main(["build", str(MODELS / "rssr.toml"), "--loops", "coupling", "-o", str(tmp_path / "r.xml")])
+    err = capsys.readouterr().err.strip()
+    assert status == 2 and "\n" not in err and "coupling" in err and "planar linkages" in err
+    assert not (tmp_path / "r.xml").exists()
