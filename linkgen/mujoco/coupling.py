@@ -41,6 +41,9 @@ from linkgen.families.planar.structure import Pair, pairs_of
 # The issue's bound (issue 24, item 3): the largest position error of a coupled coordinate over
 # the drive range, as a fraction of that coordinate's travel over the range.
 TOLERANCE = 1e-3
+# The crank torque's error is also given over this middle fraction of the range (away from the
+# quartics' ends, where their slopes and curvatures err most).
+INNER = 0.8
 # A range that holds is searched about the middle of the drive range to this fraction of it.
 RANGE_STEPS = 12
 
@@ -77,11 +80,31 @@ class CoupledJoint:
 
 
 @dataclass(frozen=True)
+class TorqueError:
+    """Largest |coupled model's torque − closed form's balancing torque| [N·m] over the range,
+    its crank angle [rad], the same over the middle INNER of the range, the closed form's largest
+    |torque| [N·m], at crank speed ``omega`` [rad/s]."""
+
+    max_error: float
+    at: float
+    inner: float
+    peak: float
+    omega: float
+
+    def text(self) -> str:
+        rel = self.max_error / self.peak if self.peak > 0 else float("inf")
+        return (f"crank torque at {self.omega:g} rad/s within {self.max_error:.2g} N*m of the closed form "
+                f"({rel:.2g} of its {self.peak:.3g} N*m peak; {self.inner:.2g} N*m over the middle {INNER:.0%} "
+                f"of the range)")
+
+
+@dataclass(frozen=True)
 class Coupling:
     """The loop-free tree of a mechanism over its drive range: the drive joint, φ_ref [rad] (the
     middle of ``drive_range``, where the bodies are placed), the tree (parent, child, pair), the
     coupled joints in tree order, the pairs left out (the loop closures) and the link poses at
-    φ_ref {link: (origin (2,) [m], angle [rad])}."""
+    φ_ref {link: (origin (2,) [m], angle [rad])}; ``torque``: how near the written model's crank
+    torque is to the closed form's (None where it is not known: no closed form)."""
 
     model: str
     drive: str
@@ -91,6 +114,7 @@ class Coupling:
     joints: tuple[CoupledJoint, ...]
     left_out: tuple[str, ...]
     pose: dict
+    torque: TorqueError | None = None  # the written model's crank torque against the closed form (``coupling_torque``)
 
     @property
     def outputs(self) -> tuple[CoupledJoint, ...]:
@@ -101,12 +125,33 @@ class Coupling:
         """The coupled joint with the largest error relative to its travel."""
         return max(self.joints, key=lambda j: j.fit.relative)
 
+    def chain(self, phi) -> dict[str, tuple[np.ndarray, np.ndarray, np.ndarray]]:
+        """Every joint's value [rad or m], d/dφ and d²/dφ² (n,) at crank angles φ (n,) [rad] as
+        the couplings give them (each quartic of its argument's coupled value, chain rule)."""
+        phi = np.asarray(phi, dtype=float)
+        out = {self.drive: (phi, np.ones_like(phi), np.zeros_like(phi))}
+        refs = {self.drive: self.phi_ref} | {j.name: j.ref for j in self.joints}
+        P = np.polynomial.polynomial
+        while len(out) <= len(self.joints):
+            for j in self.joints:
+                if j.name in out or j.argument not in out:
+                    continue
+                x, dx, ddx = out[j.argument]
+                u, c = x - refs[j.argument], np.array(j.fit.coef)
+                d1, d2 = P.polyval(u, P.polyder(c)), P.polyval(u, P.polyder(c, 2))
+                out[j.name] = (j.ref + P.polyval(u, c), d1 * dx, d2 * dx * dx + d1 * ddx)
+        return out
+
     def line(self) -> str:
-        """What ``linkgen build --loops coupling`` prints: each output's largest error."""
+        """What ``linkgen build --loops coupling`` prints: each output's largest error, the worst
+        of every coupled joint, the crank torque's error; one line each."""
         lo, hi = (math.degrees(a) for a in self.drive_range)
-        outs = "; ".join(j.describe() for j in self.outputs)
-        return (f"{self.model}: loops replaced by chained quartic couplings to the crank over {lo:.4g}..{hi:.4g}°; "
-                f"{outs}; worst of all {len(self.joints)} coupled joints {self.worst.fit.relative:.2g} of its travel")
+        lines = [f"{self.model}: loops replaced by chained quartic couplings to the crank over {lo:.4g}..{hi:.4g}°"]
+        lines += [f"    output {j.describe()}" for j in self.outputs]
+        lines.append(f"    worst of all {len(self.joints)} coupled joints: {self.worst.describe()}")
+        if self.torque is not None:
+            lines.append(f"    {self.torque.text()}")
+        return "\n".join(lines)
 
 
 def coupled_tree(mech: Mechanism) -> tuple[tuple[tuple[str, str, Pair], ...], tuple[Pair, ...]]:
@@ -265,5 +310,5 @@ def _refusal(source, mech, tree, worst: CoupledJoint) -> str:
             "or build it with its loops closed (--loops closed)")
 
 
-__all__ = ["CoupledJoint", "Coupling", "TOLERANCE", "coordinate", "coupled_tree", "couple", "holding_range",
+__all__ = ["CoupledJoint", "Coupling", "INNER", "TOLERANCE", "TorqueError", "coordinate", "coupled_tree", "couple", "holding_range",
            "link_poses"]

@@ -44,6 +44,12 @@ def header(c: Coupling, mech: Mechanism, settings: Settings) -> str:
     ]
     lines += [f"   {j.describe()}, worst at {math.degrees(j.at):.4g} deg" for j in c.joints]
     lines.append(" Add MuJoCo's soft-constraint gap at your settings to these (linkgen validates with the loops closed).")
+    if c.torque is not None:
+        lines.append(f" Dynamics: {c.torque.text()}, worst at {math.degrees(c.torque.at):.4g} deg (MuJoCo's inverse")
+        lines.append(" dynamics along the couplings, no acceleration, the loads applied): a quartic's slope and curvature")
+        lines.append(" err most at the ends of its range.")
+    else:
+        lines.append(" Dynamics: not compared (no closed form for this mechanism's forces).")
     loads = [f"[[force]] {f.force[0]:g}, {f.force[1]:g} N at {f.point} on {f.link}" for f in mech.forces]
     loads += [f"[[torque]] {t.torque:g} N*m on {t.link}" for t in mech.torques]
     if loads:

@@ -64,6 +64,8 @@ def coupling(desc, settings=None, practical: bool = False):
     from linkgen.mujoco.coupling_mjcf import write_coupled
     from linkgen.mujoco.mjcf import settings_for
 
+    from dataclasses import replace
+
     from linkgen.families.planar.assembly import Assembly
 
     source, _ = _source(desc)
@@ -76,7 +78,18 @@ def coupling(desc, settings=None, practical: bool = False):
         settings = USER
     elif settings is None:
         settings = settings_for(_mechanism(desc))
-    return write_coupled(source, c, settings), c
+    xml = write_coupled(source, c, settings)
+    if isinstance(source, Assembly):  # the torque needs the closed form's forces
+        import mujoco
+
+        from linkgen.mujoco.coupling_torque import torque_error
+        from linkgen.mujoco.log import no_log_file
+
+        with no_log_file():
+            model = mujoco.MjModel.from_xml_string(xml)
+        c = replace(c, torque=torque_error(source, c, model))
+        xml = write_coupled(source, c, settings)
+    return xml, c
 
 
 def simulate(desc, *, revolutions=None, omega=None, epsilon=None, settings=None, samples=None, nthread=None,
