@@ -4,8 +4,9 @@ seven-link, the offset slider-crank and the models with an oscillating drive (ta
 * the fit: each model's worst coupled coordinate (minimax, as written) over its drive range — or,
   where the quartics miss 1e-3 of the travel there (a full turn), over the widest range about its
   middle that holds (``coupling.holding_range``) —, with least squares' worst for comparison;
-* speed: MuJoCo steps per second of simulated time of the coupled and the loop model at the same
-  settings (the derived ones, and MuJoCo's usual 2 ms Euler), one thread, ``mujoco.rollout``;
+* speed: MuJoCo steps per wall second of the coupled and the loop model at the same settings (the
+  derived ones, and MuJoCo's defaults at 2 ms: Euler, solref 0.02, tolerance 1e-8), each driven
+  over its range from the same state, one thread, ``mujoco.rollout``;
 * torque: the crank held at the drive's ω by a heavy rotor (as linkgen's runs do: armature 1e6×
   the largest reduced inertia), the torque the rotor gives, −armature·q̈, against the closed
   form's balancing torque at the angles and speeds reached, for the coupled model (its own run
@@ -27,6 +28,7 @@ import mujoco
 import numpy as np
 from mujoco import rollout
 
+from linkgen.crosscheck.practical import USER
 from linkgen.families.planar.assembly import assemble
 from linkgen.families.planar.kinetostatics import forces
 from linkgen.families.planar.polyfit import fit, grid, least_squares
@@ -39,11 +41,10 @@ from linkgen.pipeline.registry import load
 
 ROOT = Path(__file__).resolve().parents[1]
 MODELS = ("fourbar", "seven_link", "slider_crank_offset", "tangent_prp")
-TIMED_STEPS = 20_000
+REPEATS = 3
 # The torque error is also given over this middle fraction of the range: a quartic's slope and
 # curvature err most at the range's ends, where the torque (which needs both) errs most.
 INNER = 0.8
-USUAL = dict(timestep=2e-3, integrator=mujoco.mjtIntegrator.mjINT_EULER)
 
 
 def _range_that_holds(mech):
@@ -72,21 +73,45 @@ def _lsq_worst(asm, c) -> float:
     return worst
 
 
-def _steps_per_second(model: mujoco.MjModel, usual: bool) -> float:
-    m = mujoco.MjModel.from_xml_string(model) if isinstance(model, str) else model
-    if usual:
-        m.opt.timestep, m.opt.integrator = USUAL["timestep"], USUAL["integrator"]
-    d = mujoco.MjData(m)
-    state = np.zeros((1, mujoco.mj_stateSize(m, mujoco.mjtState.mjSTATE_FULLPHYSICS)))
-    mujoco.mj_getState(m, d, state[0], mujoco.mjtState.mjSTATE_FULLPHYSICS)
-    t0 = time.perf_counter()
-    rollout.rollout(m, d, state, nstep=TIMED_STEPS)
-    wall = time.perf_counter() - t0
-    return TIMED_STEPS / wall
+def _steps_per_second(asm, c, settings) -> tuple[float, float]:
+    """MuJoCo steps per wall second (coupled, loop) at ``settings``: both models written with
+    them, the crank on the same heavy rotor, from the closed-form state at the range's start at
+    the drive's ω, over the range (one thread, ``mujoco.rollout``, the best of REPEATS)."""
+    from linkgen.mujoco.state import initial_state
+
+    mech = asm.mechanism
+    w = mech.drive.omega
+    out = []
+    for xml, coupled in ((write_coupled(asm, c, settings), True), (write_mjcf(asm, settings), False)):
+        m = mujoco.MjModel.from_xml_string(xml)
+        crank = m.joint(mech.drive.joint)
+        m.dof_armature[crank.dofadr[0]] = settings_for(asm).armature
+        d = mujoco.MjData(m)
+        if coupled:
+            chain = c.chain(np.array([c.drive_range[0]]))
+            for name, (q, d1, _) in chain.items():
+                d.qpos[m.joint(name).qposadr[0]], d.qvel[m.joint(name).dofadr[0]] = q[0], d1[0] * w
+        else:
+            d.qpos[:], d.qvel[:] = initial_state(asm, m, c.drive_range[0], w)
+        for name in ("drive:servo",):  # the loop model's viewer servo off, as linkgen's runs do
+            try:
+                m.actuator_gainprm[m.actuator(name).id] = m.actuator_biasprm[m.actuator(name).id] = 0.0
+            except KeyError:
+                pass
+        state = np.zeros((1, mujoco.mj_stateSize(m, mujoco.mjtState.mjSTATE_FULLPHYSICS)))
+        mujoco.mj_getState(m, d, state[0], mujoco.mjtState.mjSTATE_FULLPHYSICS)
+        nstep = max(int((c.drive_range[1] - c.drive_range[0]) / w / m.opt.timestep), 100)
+        best = math.inf
+        for _ in range(REPEATS):
+            t0 = time.perf_counter()
+            rollout.rollout(m, d, state, nstep=nstep)
+            best = min(best, time.perf_counter() - t0)
+        out.append(nstep / best)
+    return out[0], out[1]
 
 
 def _coupled_torque(asm, c, xml: str, settings) -> tuple[float, float]:
-    """Largest |rotor torque − closed form's balancing torque| [N·m] over the range at ω, the
+    """The coupled model driven by its rotor at ω over the range from the chain's state: largest |rotor torque − closed form's balancing torque| [N·m] over the range at ω, the
     same over the middle INNER of the range, and the closed form's largest |torque| there."""
     mech = asm.mechanism
     w = mech.drive.omega
@@ -96,21 +121,8 @@ def _coupled_torque(asm, c, xml: str, settings) -> tuple[float, float]:
     m.dof_armature[crank.dofadr[0]] = settings.armature
     m.jnt_limited[crank.id] = 0
     start, stop = c.drive_range
-    # the chain's values at φ, for a consistent start (positions and rates by central differences)
-    def chain(phi):
-        vals = {c.drive: phi}
-        while len(vals) < len(c.joints) + 1:
-            for j in c.joints:
-                if j.name not in vals and j.argument in vals:
-                    x0 = c.phi_ref if j.argument == c.drive else next(k.ref for k in c.joints if k.name == j.argument)
-                    vals[j.name] = j.ref + j.fit(vals[j.argument] - x0)
-        return vals
-    h = 1e-6
-    at, up, down = chain(start), chain(start + h), chain(start - h)
-    for name in at:
-        jj = m.joint(name)
-        d.qpos[jj.qposadr[0]] = at[name]
-        d.qvel[jj.dofadr[0]] = (up[name] - down[name]) / (2 * h) * w
+    for name, (q, d1, _) in c.chain(np.array([start])).items():  # a consistent start
+        d.qpos[m.joint(name).qposadr[0]], d.qvel[m.joint(name).dofadr[0]] = q[0], d1[0] * w
     mujoco.mj_forward(m, d)
     phis, ws, taus = [], [], []
     steps = int((stop - start) / w / m.opt.timestep)
@@ -137,14 +149,12 @@ def study(name: str) -> dict:
     c = couple(asm)
     settings = settings_for(asm)
     coupled_xml = write_coupled(asm, c, settings)
-    loop_model = mujoco.MjModel.from_xml_string(write_mjcf(asm, settings))
     lo, hi = (math.degrees(a) for a in c.drive_range)
     out = {"model": name, "range": f"{lo:.4g}..{hi:.4g}° ({which})", "worst": c.worst.describe(),
            "worst_relative": c.worst.fit.relative, "outputs": [j.describe() for j in c.outputs],
            "lsq_outputs_worst_relative": _lsq_worst(asm, c)}
-    for label, usual in (("derived", False), ("usual 2 ms Euler", True)):
-        out[f"steps/s coupled ({label})"] = _steps_per_second(coupled_xml, usual)
-        out[f"steps/s loop ({label})"] = _steps_per_second(loop_model, usual)
+    for label, st in (("derived", settings), ("MuJoCo defaults, 2 ms Euler", USER)):
+        out[f"steps/s coupled ({label})"], out[f"steps/s loop ({label})"] = _steps_per_second(asm, c, st)
     t0 = time.perf_counter()
     err, inner, peak = _coupled_torque(asm, c, coupled_xml, settings)
     out["torque error coupled"] = err

@@ -43,7 +43,14 @@ def header(c: Coupling, mech: Mechanism, settings: Settings) -> str:
         f" Largest position error over the range against linkgen's closed form (bound {TOLERANCE:g} of the travel):",
     ]
     lines += [f"   {j.describe()}, worst at {math.degrees(j.at):.4g} deg" for j in c.joints]
-    lines.append(" Add MuJoCo's soft-constraint gap at your settings to these (linkgen validates with the loops closed).")
+    omega = mech.drive.omega
+    lag = c.lag(settings.timeconst, omega)
+    worst = max(lag, key=lag.get)
+    unit = next(j.unit for j in c.joints if j.name == worst)
+    lines += [" Add MuJoCo's lag: its joint equality holds y = p(x) by a spring of stiffness 1/tau^2 and leaves out",
+              " the curvature term p''(x)*xdot^2, so a moving coupling lags by about tau^2*|p''|*xdot^2 (it grows with",
+              f" the square of the speed and of tau): at the drive's {omega:g} rad/s and tau = {settings.timeconst:g} s, up"
+              f" to {lag[worst]:.2g} {unit} ({worst})."]
     if c.torque is not None:
         lines.append(f" Dynamics: {c.torque.text()}, worst at {math.degrees(c.torque.at):.4g} deg (MuJoCo's inverse")
         lines.append(" dynamics along the couplings, no acceleration, the loads applied): a quartic's slope and curvature")
