@@ -132,6 +132,14 @@ def test_a_full_turn_fourbar_is_refused_with_its_figure(capsys):
     assert re.search(r"it holds over [0-9.]+\.\.[0-9.]+°", err)
 
 
+def test_a_crank_alone_has_no_loops_to_replace(capsys, tmp_path):
+    # before: "internal error (ValueError: max() arg is an empty sequence)"
+    status = main(["build", str(MODELS / "motor_startup.toml"), "--loops", "coupling", "-o", str(tmp_path / "m.xml")])
+    err = capsys.readouterr().err.strip()
+    assert status == 2 and "\n" not in err and "no loops to replace" in err and "internal error" not in err
+    assert not (tmp_path / "m.xml").exists()
+
+
 def test_a_wrong_loops_value_is_one_line(capsys):
     with pytest.raises(SystemExit) as exc:
         main(["build", str(MODELS / "fourbar.toml"), "--loops", "foo"])

@@ -4,8 +4,8 @@ values), fitted over the drive range.
 
 The fit is minimax (the least largest error over the samples), not least squares: the figure a
 coupled model is judged by, and states, is its largest position error over the range, and that is
-exactly what minimax makes least (least squares leaves it 1.2–2× larger on the bundled models,
-``validation/coupling_study.py``). It is a small linear programme (degree + 2 unknowns) solved by
+exactly what minimax makes least (least squares leaves it 2.1–2.5× larger on the bundled models
+over ranges where the minimax quartic just holds, ``validation/coupling_study.py``). It is a small linear programme (degree + 2 unknowns) solved by
 HiGHS in the scaled variable t = (x − x0)/h ∈ [−1, 1], h the range's half-width, so that the
 columns are of one size whatever the range; the coefficients are then scaled back to x − x0.
 The error is measured afresh on a grid CHECK_FACTOR times finer than the one fitted.
@@ -17,7 +17,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-# MuJoCo's joint equality takes a quartic (five coefficients, mjNPOLY... ``polycoef`` real(5)).
+# MuJoCo's joint equality takes a quartic (``polycoef``: five coefficients).
 DEGREE = 4
 # Samples fitted over the range, and how much finer the grid is on which the error is measured.
 FIT_SAMPLES = 1201
