@@ -205,3 +205,14 @@ def test_the_stated_crank_torque_error_is_what_a_run_at_constant_speed_shows(sev
     lag = float(re.search(r"at the drive's 4 rad/s and tau = [0-9.e-]+ s, up\s+to ([0-9.e-]+) ", head).group(1))
     assert lag / LAG_AGREEMENT <= gap <= lag * LAG_AGREEMENT, (lag, gap)
 
+
+
+def test_beside_its_description_the_loop_free_model_does_not_replace_the_loop_model(tmp_path, capsys):
+    # before: NAME.xml, the validated loop model's name (models/NAME.xml), was overwritten
+    desc = tmp_path / "seven_link.toml"
+    desc.write_text((MODELS / "seven_link.toml").read_text(encoding="utf-8"), encoding="utf-8")
+    assert main(["build", str(desc), "--loops", "coupling"]) == 0
+    assert (tmp_path / "seven_link.coupled.xml").is_file()
+    assert not (tmp_path / "seven_link.xml").exists()
+    out = capsys.readouterr().out
+    assert out.startswith("seven_link: loops replaced by chained quartic couplings to the crank over -60..45°")

@@ -63,7 +63,8 @@ def _build_one(path: Path, out: Path, practical: bool = False, loops: str = "clo
 
 
 # What -o/--out writes, by extension (``common.output_kind``).
-BUILD = {".xml": "the MJCF of one description", "folder": "each description's MJCF, NAME.xml"}
+BUILD = {".xml": "the MJCF of one description", "folder": "each description's MJCF, NAME.xml (NAME.coupled.xml "
+                                                            "with --loops coupling)"}
 SIMULATE = {".npz": "the sampled arrays", ".csv": "the samples as columns with their units"}
 VALIDATE = {"folder": "the report: README.md and the figures"}
 
@@ -82,8 +83,11 @@ def cmd_build(args) -> int:
     paths = _models(args.model)
     folder = output_folder(args.out) if kind == FOLDER else None
 
+    # the loop-free model never takes the loop model's name (models/NAME.xml is the validated one)
+    suffix = ".coupled.xml" if args.loops == "coupling" else ".xml"
+
     def target(p: Path) -> Path:
-        return folder / f"{p.stem}.xml" if folder is not None else p.with_suffix(".xml")
+        return folder / f"{p.stem}{suffix}" if folder is not None else p.with_name(p.stem + suffix)
 
     if len(paths) == 1 and not args.model.is_dir():
         _build_one(paths[0], args.out if kind == ".xml" else target(paths[0]), args.practical, args.loops)

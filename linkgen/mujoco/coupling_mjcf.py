@@ -36,6 +36,8 @@ def header(c: Coupling, mech: Mechanism, settings: Settings) -> str:
         " its equality couple:JOINT by MuJoCo's joint equality, y - y0 = polycoef(x - x0) (y0, x0 the joints' ref),",
         " a quartic fitted by minimax (least largest error) over the drive range. Every link keeps its mass, inertia",
         " and weight on its own body (couplers and blocks too, on their coupled joints).",
+        " Outputs (the links a pair joins to the ground, each on its own joint): "
+        + ", ".join(f"{j.child} ({j.name})" for j in c.outputs) + ".",
         f" Valid over the crank angles {lo:.6g}..{hi:.6g} deg only: the crank joint {c.drive} is limited to them.",
         f" Joints read: {c.drive} the crank angle [rad]; a hinge to the ground its link's angle [rad]; a hinge",
         " between moving links the child's angle less the parent's [rad]; a slide the slider's displacement along",
