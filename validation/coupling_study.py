@@ -124,7 +124,7 @@ def _coupled_torque(asm, c, xml: str, settings) -> tuple[float, float]:
     for name, (q, d1, _) in c.chain(np.array([start])).items():  # a consistent start
         d.qpos[m.joint(name).qposadr[0]], d.qvel[m.joint(name).dofadr[0]] = q[0], d1[0] * w
     mujoco.mj_forward(m, d)
-    phis, ws, taus = [], [], []
+    phis, ws, taus, gap = [], [], [], 0.0
     steps = int((stop - start) / w / m.opt.timestep)
     for k in range(steps):
         apply_loads(asm, m, d, float(d.qpos[crank.qposadr[0]]))
@@ -133,21 +133,25 @@ def _coupled_torque(asm, c, xml: str, settings) -> tuple[float, float]:
             phis.append(d.qpos[crank.qposadr[0]])
             ws.append(d.qvel[crank.dofadr[0]])
             taus.append(-settings.armature * d.qacc[crank.dofadr[0]])
+            gap = max(gap, float(np.abs(d.efc_pos[:d.nefc]).max()))
     phis, ws, taus = map(np.array, (phis, ws, taus))
     keep = (phis >= start) & (phis <= stop)
     cf = forces(asm, phis[keep], ws[keep], 0.0).balancing_torque
     err = np.abs(taus[keep] - cf)
     mid, half = 0.5 * (start + stop), 0.5 * (stop - start)
     inner = np.abs(phis[keep] - mid) <= INNER * half
-    return float(err.max()), float(err[inner].max()), float(np.abs(cf).max())
+    return float(err.max()), float(err[inner].max()), float(np.abs(cf).max()), gap
 
 
 def study(name: str) -> dict:
     desc = load(ROOT / "models" / f"{name}.toml")
     mech, which = _range_that_holds(getattr(desc, "mechanism", desc))
     asm = assemble(mech)
-    c = couple(asm)
     settings = settings_for(asm)
+    from linkgen.mujoco.coupling_torque import lag, torque_error
+
+    c = couple(asm)
+    c = replace(c, torque=torque_error(asm, c, mujoco.MjModel.from_xml_string(write_coupled(asm, c, settings))))
     coupled_xml = write_coupled(asm, c, settings)
     lo, hi = (math.degrees(a) for a in c.drive_range)
     out = {"model": name, "range": f"{lo:.4g}..{hi:.4g}° ({which})", "worst": c.worst.describe(),
@@ -156,7 +160,10 @@ def study(name: str) -> dict:
     for label, st in (("derived", settings), ("MuJoCo defaults, 2 ms Euler", USER)):
         out[f"steps/s coupled ({label})"], out[f"steps/s loop ({label})"] = _steps_per_second(asm, c, st)
     t0 = time.perf_counter()
-    err, inner, peak = _coupled_torque(asm, c, coupled_xml, settings)
+    err, inner, peak, gap = _coupled_torque(asm, c, coupled_xml, settings)
+    out["lag measured"] = gap
+    out["lag stated"] = max(lag(c, settings.timeconst, mech.drive.omega).values())
+    out["torque error stated"] = c.torque.max_error if c.torque is not None else None
     out["torque error coupled"] = err
     out["torque error coupled inner"] = inner
     out["peak torque"] = peak
@@ -178,7 +185,8 @@ def main(names) -> None:
         print("    steps/s: " + "; ".join(f"{k[8:]} {v:,.0f}" for k, v in r.items() if k.startswith("steps/s")))
         print(f"    crank torque at ω, against the closed form (peak {r['peak torque']:.3g} N·m): coupled "
               f"{r['torque error coupled']:.3g} N·m ({r['torque error coupled inner']:.3g} over the middle "
-              f"{INNER:.0%}), loop model {r['torque error loop']:.3g} N·m", flush=True)
+              f"{INNER:.0%}; the file states {r['torque error stated']:.3g}), loop model {r['torque error loop']:.3g} N·m; "
+              f"the couplings' lag: {r['lag measured']:.2g} measured, {r['lag stated']:.2g} stated", flush=True)
 
 
 if __name__ == "__main__":

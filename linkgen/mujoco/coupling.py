@@ -32,6 +32,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+from typing import TYPE_CHECKING
+
 import numpy as np
 
 from linkgen.errors import CouplingError, StructureError
@@ -41,12 +43,12 @@ from linkgen.families.planar.geometry import guide_shapes, link_shapes
 from linkgen.families.planar.polyfit import MIDDLE, PolyFit, fit, grid, minimax
 from linkgen.families.planar.structure import Pair, pairs_of
 
+if TYPE_CHECKING:
+    from linkgen.mujoco.coupling_torque import TorqueError
+
 # The issue's bound (issue 24, item 3): the largest position error of a coupled coordinate over
 # the drive range, as a fraction of that coordinate's travel over the range.
 TOLERANCE = 1e-3
-# The crank torque's error is also given over this middle fraction of the range (away from the
-# quartics' ends, where their slopes and curvatures err most).
-INNER = 0.8
 # A range that holds is searched about the middle of the drive range to this fraction of it.
 RANGE_STEPS = 12
 
@@ -83,25 +85,6 @@ class CoupledJoint:
 
 
 @dataclass(frozen=True)
-class TorqueError:
-    """Largest |coupled model's torque − closed form's balancing torque| [N·m] over the range,
-    its crank angle [rad], the same over the middle INNER of the range, the closed form's largest
-    |torque| [N·m], at crank speed ``omega`` [rad/s]."""
-
-    max_error: float
-    at: float
-    inner: float
-    peak: float
-    omega: float
-
-    def text(self) -> str:
-        rel = self.max_error / self.peak if self.peak > 0 else float("inf")
-        return (f"crank torque at {self.omega:g} rad/s within {self.max_error:.2g} N*m of the closed form "
-                f"({rel:.2g} of its {self.peak:.3g} N*m peak; {self.inner:.2g} N*m over the middle {INNER:.0%} "
-                f"of the range)")
-
-
-@dataclass(frozen=True)
 class Coupling:
     """The loop-free tree of a mechanism over its drive range: the drive joint, φ_ref [rad] (the
     middle of ``drive_range``, where the bodies are placed), the tree (parent, child, pair), the
@@ -117,6 +100,8 @@ class Coupling:
     joints: tuple[CoupledJoint, ...]
     left_out: tuple[str, ...]
     pose: dict
+    timeconst: float | None = None  # the couplings' time constant τ [s] as written, None until written
+    lags: dict | None = None  # each joint's lag [rad or m] at the drive's ω and τ (``coupling_torque.lag``)
     torque: TorqueError | None = None  # the written model's crank torque against the closed form (``coupling_torque``)
 
     @property
@@ -145,22 +130,6 @@ class Coupling:
                 out[j.name] = (j.ref + P.polyval(u, c), d1 * dx, d2 * dx * dx + d1 * ddx)
         return out
 
-    def lag(self, timeconst: float, omega: float, samples: int = 241) -> dict[str, float]:
-        """Each coupled joint's largest lag [rad or m] over the range when the crank turns at ω
-        [rad/s] and the couplings have MuJoCo's time constant τ = ``timeconst`` [s]: MuJoCo's
-        joint equality leaves out the curvature term p″(x)·ẋ² of y = p(x) (measured on mujoco
-        4.0: the equality rows' efc_pos of the seven-link at 4 rad/s matched τ²·p″·ẋ² within 35 %,
-        sign and all), so its spring of stiffness 1/τ² holds y that far behind: ≈ τ²·|p″(x)|·ẋ²."""
-        chain = self.chain(np.linspace(*self.drive_range, samples))
-        refs = {self.drive: self.phi_ref} | {j.name: j.ref for j in self.joints}
-        P = np.polynomial.polynomial
-        out = {}
-        for j in self.joints:
-            x, dx, _ = chain[j.argument]
-            curvature = P.polyval(x - refs[j.argument], P.polyder(np.array(j.fit.coef), 2))
-            out[j.name] = float(np.max(timeconst ** 2 * np.abs(curvature) * (dx * omega) ** 2))
-        return out
-
     def line(self) -> str:
         """What ``linkgen build --loops coupling`` prints: each output's largest error, the worst
         of every coupled joint, the crank torque's error; one line each."""
@@ -168,6 +137,11 @@ class Coupling:
         lines = [f"{self.model}: loops replaced by chained quartic couplings to the crank over {lo:.4g}..{hi:.4g}°"]
         lines += [f"    output {j.describe()}" for j in self.outputs]
         lines.append(f"    worst of all {len(self.joints)} coupled joints: {self.worst.describe()}")
+        if self.lags and self.torque is not None:
+            worst = max(self.lags, key=self.lags.get)
+            unit = next(j.unit for j in self.joints if j.name == worst)
+            lines.append(f"    MuJoCo's couplings lag by up to {self.lags[worst]:.2g} {unit} ({worst}) at {self.torque.omega:g} "
+                         f"rad/s with τ = {self.timeconst:g} s (τ²·|p″|·ẋ²: it grows with ω² and τ²)")
         if self.torque is not None:
             lines.append(f"    {self.torque.text()}")
         return "\n".join(lines)
@@ -331,5 +305,5 @@ def _refusal(source, mech, tree, worst: CoupledJoint) -> str:
             "or build it with its loops closed (--loops closed)")
 
 
-__all__ = ["CoupledJoint", "Coupling", "INNER", "TOLERANCE", "TorqueError", "coordinate", "coupled_tree", "couple", "holding_range",
+__all__ = ["CoupledJoint", "Coupling", "TOLERANCE", "coordinate", "coupled_tree", "couple", "holding_range",
            "link_poses"]

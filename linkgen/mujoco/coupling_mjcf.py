@@ -19,6 +19,7 @@ from linkgen.families.planar.description import GROUND, Mechanism
 from linkgen.families.planar.geometry import guide_shapes, link_shapes
 from linkgen.families.planar.pose import mechanism_size
 from linkgen.mujoco.coupling import TOLERANCE, Coupling
+from linkgen.mujoco.coupling_torque import lag as lags
 from linkgen.mujoco.mjcf import _link_visuals, _Source, fmt, vec, written_inertial
 from linkgen.mujoco.options import Settings
 from linkgen.mujoco.scene import add_scene, add_scene_assets, motion_extent
@@ -46,7 +47,7 @@ def header(c: Coupling, mech: Mechanism, settings: Settings) -> str:
     ]
     lines += [f"   {j.describe()}, worst at {math.degrees(j.at):.4g} deg" for j in c.joints]
     omega = mech.drive.omega
-    lag = c.lag(settings.timeconst, omega)
+    lag = lags(c, settings.timeconst, omega)
     worst = max(lag, key=lag.get)
     unit = next(j.unit for j in c.joints if j.name == worst)
     lines += [" Add MuJoCo's lag: its joint equality holds y = p(x) by a spring of stiffness 1/tau^2 and leaves out",

@@ -1,4 +1,5 @@
-"""How near the loop-free model's driving torque is to the closed form's: MuJoCo's inverse
+"""The loop-free model's dynamics against the closed form: how far MuJoCo's couplings lag when
+they move (``lag``), and how near its driving torque is to the closed form's: MuJoCo's inverse
 dynamics of the coupled model along its couplings, at the drive's ω and no acceleration.
 
 The couplings hold positions to their stated error, but a torque needs their slopes and
@@ -14,14 +15,57 @@ gap left out; ``validation/coupling_study.py`` measures the same error in a MuJo
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import mujoco
 import numpy as np
 
 from linkgen.families.planar.assembly import Assembly
-from linkgen.mujoco.coupling import INNER, Coupling, TorqueError
+from linkgen.mujoco.coupling import Coupling
 
 # Crank angles over the drive range at which the torque is compared.
 TORQUE_SAMPLES = 241
+# The crank torque's error is also given over this middle fraction of the range (away from the
+# quartics' ends, where their slopes and curvatures err most).
+INNER = 0.8
+
+
+@dataclass(frozen=True)
+class TorqueError:
+    """Largest |coupled model's torque − closed form's balancing torque| [N·m] over the range,
+    its crank angle [rad], the same over the middle INNER of the range, the closed form's largest
+    |torque| [N·m], at crank speed ``omega`` [rad/s]."""
+
+    max_error: float
+    at: float
+    inner: float
+    peak: float
+    omega: float
+
+    def text(self) -> str:
+        rel = self.max_error / self.peak if self.peak > 0 else float("inf")
+        return (f"crank torque at {self.omega:g} rad/s within {self.max_error:.2g} N*m of the closed form "
+                f"({rel:.2g} of its {self.peak:.3g} N*m peak; {self.inner:.2g} N*m over the middle {INNER:.0%} "
+                f"of the range)")
+
+
+
+
+def lag(c: Coupling, timeconst: float, omega: float, samples: int = TORQUE_SAMPLES) -> dict[str, float]:
+    """Each coupled joint's largest lag [rad or m] over the range when the crank turns at ω
+    [rad/s] and the couplings have MuJoCo's time constant τ = ``timeconst`` [s]: MuJoCo's
+    joint equality leaves out the curvature term p″(x)·ẋ² of y = p(x) (measured on mujoco
+    4.0: the equality rows' efc_pos of the seven-link at 4 rad/s matched τ²·p″·ẋ² within 35 %,
+    sign and all), so its spring of stiffness 1/τ² holds y that far behind: ≈ τ²·|p″(x)|·ẋ²."""
+    chain = c.chain(np.linspace(*c.drive_range, samples))
+    refs = {c.drive: c.phi_ref} | {j.name: j.ref for j in c.joints}
+    P = np.polynomial.polynomial
+    out = {}
+    for j in c.joints:
+        x, dx, _ = chain[j.argument]
+        curvature = P.polyval(x - refs[j.argument], P.polyder(np.array(j.fit.coef), 2))
+        out[j.name] = float(np.max(timeconst ** 2 * np.abs(curvature) * (dx * omega) ** 2))
+    return out
 
 
 def coupled_torque(asm: Assembly, c: Coupling, model: mujoco.MjModel, phi: np.ndarray, omega: float) -> np.ndarray:
@@ -65,4 +109,4 @@ def torque_error(asm: Assembly, c: Coupling, model: mujoco.MjModel) -> TorqueErr
                        float(np.abs(cf).max()), float(omega))
 
 
-__all__ = ["TORQUE_SAMPLES", "coupled_torque", "torque_error"]
+__all__ = ["INNER", "TORQUE_SAMPLES", "TorqueError", "coupled_torque", "lag", "torque_error"]

@@ -82,12 +82,13 @@ def coupling(desc, settings=None, practical: bool = False):
     if isinstance(source, Assembly):  # the torque needs the closed form's forces
         import mujoco
 
-        from linkgen.mujoco.coupling_torque import torque_error
+        from linkgen.mujoco.coupling_torque import lag, torque_error
         from linkgen.mujoco.log import no_log_file
 
         with no_log_file():
             model = mujoco.MjModel.from_xml_string(xml)
-        c = replace(c, torque=torque_error(source, c, model))
+        c = replace(c, torque=torque_error(source, c, model), timeconst=settings.timeconst,
+                    lags=lag(c, settings.timeconst, source.mechanism.drive.omega))
         xml = write_coupled(source, c, settings)
     return xml, c
 
