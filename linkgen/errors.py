@@ -49,6 +49,11 @@ class UnsupportedError(ArgumentError):
     families and commands that do apply)."""
 
 
+class CouplingError(LinkgenError):
+    """A loop-free export (``build --loops coupling``) that would miss its bound: the message
+    gives the figure and a drive range that holds."""
+
+
 class StructureError(LinkgenError):
     """The mechanism's structure is outside what linkgen solves (e.g. a class-III group)."""
 

@@ -30,11 +30,12 @@ def _models(path: Path) -> list[Path]:
     return [path]
 
 
-def _build_one(path: Path, out: Path, practical: bool = False, robot=None) -> Path:
+def _build_one(path: Path, out: Path, practical: bool = False, robot=None, loops: str = "closed") -> Path:
     """Compile ``path``'s MJCF (its family's ``mjcf`` stage; with ``robot``, a
-    ``mujoco.robot.RobotOptions``, the robot-ready one with the rotor of the file's [machine]) in
-    MuJoCo and write it atomically to ``out``; a model MuJoCo's compiler refuses is a
-    LinkgenError saying what it refused."""
+    ``mujoco.robot.RobotOptions``, the robot-ready one with the rotor of the file's [machine]; with
+    ``loops`` "coupling", its ``coupling`` stage, whose errors are printed) in MuJoCo and write it
+    atomically to ``out``; a model MuJoCo's compiler refuses is a LinkgenError saying what it
+    refused."""
     import mujoco
 
     from linkgen.cli.files import atomic_write_text
@@ -42,6 +43,7 @@ def _build_one(path: Path, out: Path, practical: bool = False, robot=None) -> Pa
     from linkgen.pipeline.registry import load, stage
 
     desc = load(path)
+    coupled = None
     if robot is not None:
         from dataclasses import replace
 
@@ -52,6 +54,8 @@ def _build_one(path: Path, out: Path, practical: bool = False, robot=None) -> Pa
         if machine is not None:
             robot = replace(robot, rotor_inertia=machine.added_inertia)
         xml = stage(desc, "mjcf")(desc, robot=robot)
+    elif loops == "coupling":
+        xml, coupled = stage(desc, "coupling")(desc, practical=practical)
     else:
         xml = stage(desc, "mjcf")(desc, practical=practical)  # any structure class: the MJCF needs no Assur groups
     try:
@@ -68,12 +72,15 @@ def _build_one(path: Path, out: Path, practical: bool = False, robot=None) -> Pa
     if robot is not None:  # what a robot scene needs from the file (docs/robotics.md)
         p = robot.prefix if robot.prefix is not None else f"{desc.name}/"
         said = f" (robot model: attach body {p}mount, actuator {p}drive:{robot.actuator}, sensors {p}reaction:*)"
+    if coupled is not None:
+        print(coupled.line())
     print(f"wrote {out}{said}", file=sys.stderr)  # with the errors, in order, as for every family
     return out
 
 
 # What -o/--out writes, by extension (``common.output_kind``).
-BUILD = {".xml": "the MJCF of one description", "folder": "each description's MJCF, NAME.xml"}
+BUILD = {".xml": "the MJCF of one description", "folder": "each description's MJCF, NAME.xml (NAME.coupled.xml "
+                                                            "with --loops coupling)"}
 SIMULATE = {".npz": "the sampled arrays", ".csv": "the samples as columns with their units"}
 VALIDATE = {"folder": "the report: README.md and the figures"}
 
@@ -93,17 +100,20 @@ def cmd_build(args) -> int:
     paths = _models(args.model)
     folder = output_folder(args.out) if kind == FOLDER else None
 
+    # the loop-free model never takes the loop model's name (models/NAME.xml is the validated one)
+    suffix = ".coupled.xml" if args.loops == "coupling" else ".xml"
+
     def target(p: Path) -> Path:
-        return folder / f"{p.stem}.xml" if folder is not None else p.with_suffix(".xml")
+        return folder / f"{p.stem}{suffix}" if folder is not None else p.with_name(p.stem + suffix)
 
     if len(paths) == 1 and not args.model.is_dir():
-        _build_one(paths[0], args.out if kind == ".xml" else target(paths[0]), args.practical, robot)
+        _build_one(paths[0], args.out if kind == ".xml" else target(paths[0]), args.practical, robot, args.loops)
         return 0
     from linkgen.pipeline.registry import check_command
 
     def build(p: Path) -> Path:  # each file of a folder refused as a file given alone would be
         check_command("build", p, tuple(o for o, on in (("--practical", args.practical), ("--robot", args.robot)) if on))
-        return _build_one(p, target(p), args.practical, robot)
+        return _build_one(p, target(p), args.practical, robot, args.loops)
 
     outcomes = run_each(paths, build)
     bad = [o for o in outcomes if not o.ok]
@@ -130,6 +140,9 @@ def _robot_options(args):
     if args.practical:
         raise OptionError("--practical and --robot: the robot-ready model states MuJoCo's own settings (timestep "
                           "2 ms, implicitfast); give one of them")
+    if args.loops != "closed":
+        raise OptionError("--loops coupling and --robot: the robot-ready model keeps its loops closed (its reaction "
+                          "sensors read the loop forces); the loop-free model is written without --robot")
     from linkgen.errors import ArgumentError
     from linkgen.mujoco.robot import RobotOptions
 
@@ -347,6 +360,11 @@ def add_commands(sub) -> None:
                    help="the world plane the mechanism's plane lies in, z up (default xz; planar linkages)")
     r.add_argument("--scene", action="store_true",
                    help="add a floor, sky, light and camera (default: none, the robot's scene has its own)")
+    b.add_argument("--loops", choices=("closed", "coupling"), default="closed",
+                   help="closed (default): the loops closed by constraints, as linkgen validates them; coupling: a "
+                        "loop-free model for robot learning, every joint tied to the crank by a quartic fitted over "
+                        "the drive range (its largest error printed and in the file; refused where it misses 1e-3 of "
+                        "the travel)")
     b.set_defaults(func=cmd_build)
 
     s = sub.add_parser("simulate", help="run the driven crank in MuJoCo with settings derived from the mechanism")

@@ -95,6 +95,8 @@ STAGES: tuple[Stage, ...] = (
           ("profile",)),
     Stage("mjcf", "(desc, settings=None, practical=False, robot=None)", "the MJCF text (``robot``: a "
           "``mujoco.robot.RobotOptions``, the robot-ready model)", ("build",)),
+    Stage("coupling", "(desc, settings=None, practical=False)", "(the loop-free MJCF text, its couplings and their "
+          "errors) (``build --loops coupling``)", ()),
     Stage("simulate", "(desc, *, revolutions=None, omega=None, epsilon=None, settings=None, samples=None, "
           "nthread=None, progress=None, max_steps=None, settle=None, notice=None)",
           "a MuJoCo run over the drive range (None: the run's default)", ("simulate",)),

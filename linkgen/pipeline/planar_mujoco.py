@@ -64,6 +64,43 @@ def mjcf(desc, settings=None, practical: bool = False, robot=None) -> str:
     return write_mjcf(source, settings)
 
 
+def coupling(desc, settings=None, practical: bool = False):
+    """The loop-free MJCF (``linkgen build --loops coupling``) and its ``Coupling`` (the fits and
+    their errors): ``settings`` (default derived from the mechanism), or with ``practical``
+    MuJoCo's usual settings. Raises CouplingError where a quartic coupling misses its bound."""
+    from linkgen.mujoco.coupling import couple
+    from linkgen.mujoco.coupling_mjcf import write_coupled
+    from linkgen.mujoco.mjcf import settings_for
+
+    from dataclasses import replace
+
+    from linkgen.families.planar.assembly import Assembly
+
+    source, _ = _source(desc)
+    if not isinstance(source, Assembly):  # class III and higher: the numeric poses of the description
+        source = _mechanism(desc)
+    c = couple(source)
+    if practical:
+        from linkgen.crosscheck.practical import USER
+
+        settings = USER
+    elif settings is None:
+        settings = settings_for(_mechanism(desc))
+    xml = write_coupled(source, c, settings)
+    if isinstance(source, Assembly):  # the torque needs the closed form's forces
+        import mujoco
+
+        from linkgen.mujoco.coupling_torque import lag, torque_error
+        from linkgen.mujoco.log import no_log_file
+
+        with no_log_file():
+            model = mujoco.MjModel.from_xml_string(xml)
+        c = replace(c, torque=torque_error(source, c, model), timeconst=settings.timeconst,
+                    lags=lag(c, settings.timeconst, source.mechanism.drive.omega))
+        xml = write_coupled(source, c, settings)
+    return xml, c
+
+
 def simulate(desc, *, revolutions=None, omega=None, epsilon=None, settings=None, samples=None, nthread=None,
              progress=None, max_steps=None, settle=None, notice=None):
     """A MuJoCo run over the drive range (``mujoco.simulate.simulate``; an option left None takes
@@ -195,7 +232,7 @@ def render(desc, angle, width: int, height: int) -> tuple[np.ndarray, str]:
     return frames[0], f"MuJoCo frame of {mech.name} at φ = {math.degrees(phi):.6g}°"
 
 
-STAGES = {"mjcf": mjcf, "simulate": simulate, "validate": validate, "figures": figures, "report": report, "draw": draw,
+STAGES = {"mjcf": mjcf, "coupling": coupling, "simulate": simulate, "validate": validate, "figures": figures, "report": report, "draw": draw,
           "animate": animate, "render": render}
 
 __all__ = ["STAGES"]
