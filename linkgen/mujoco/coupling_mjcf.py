@@ -66,14 +66,14 @@ def header(c: Coupling, mech: Mechanism, settings: Settings) -> str:
     else:
         lines.append(" Dynamics: not compared (no closed form for this mechanism's forces).")
     loads = [f"[[force]] {f.force[0]:g}, {f.force[1]:g} N at {f.point} on {f.link}" for f in mech.forces]
-    loads += [f"[[torque]] {t.torque:g} N*m on {t.link}" for t in mech.torques]
+    loads += [f"[[torque]] {t.torque:g} N·m on {t.link}" for t in mech.torques]
     if loads:
         lines.append(" Not in the file (MJCF carries no such loads): " + "; ".join(loads)
                      + "; apply them each step through data.xfrc_applied of the link's body, at the point's site.")
     lines.append(f" Settings: timestep {settings.timestep:g} s ({settings.integrator}), Newton tolerance "
                  f"{max(settings.tolerance, MIN_TOLERANCE):g}, couplings with solref "
                  f"{settings.solref}, solimp {settings.solimp_text} ({settings.label}). Drive: the motor {DRIVE_ACTUATOR}"
-                 f" (torque [N*m] = ctrl), no servo, no rotor inertia. ")
+                 f" (torque [N·m] = ctrl), no servo, no rotor inertia. ")
     return "\n".join(lines)
 
 

@@ -44,8 +44,8 @@ class TorqueError:
 
     def text(self) -> str:
         rel = self.max_error / self.peak if self.peak > 0 else float("inf")
-        return (f"crank torque at {self.omega:g} rad/s within {self.max_error:.2g} N*m of the closed form "
-                f"({rel:.2g} of its {self.peak:.3g} N*m peak; {self.inner:.2g} N*m over the middle {INNER:.0%} "
+        return (f"crank torque at {self.omega:g} rad/s within {self.max_error:.2g} N·m of the closed form "
+                f"({rel:.2g} of its {self.peak:.3g} N·m peak; {self.inner:.2g} N·m over the middle {INNER:.0%} "
                 f"of the range)")
 
 
