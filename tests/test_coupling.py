@@ -179,7 +179,7 @@ def test_the_stated_crank_torque_error_is_what_a_run_at_constant_speed_shows(sev
     desc, xml, c = seven_link
     asm = assemble(desc)
     head = xml.split("-->")[0]
-    stated = float(re.search(r"crank torque at 4 rad/s within ([0-9.e+-]+) N\*m of the closed form", head).group(1))
+    stated = float(re.search(r"crank torque at 4 rad/s within ([0-9.e+-]+) N·m of the closed form", head).group(1))
     m = mujoco.MjModel.from_xml_string(xml)
     d = mujoco.MjData(m)
     crank = m.joint("O")
