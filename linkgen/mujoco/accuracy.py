@@ -1,0 +1,339 @@
+"""MuJoCo's accuracy at a user's settings, predicted from the closed form before any step.
+
+The crank is driven at its speed (the rotor inertia holds it) and every loop is closed by a
+``connect``. MuJoCo solves each equality row with f = −(A + R)⁻¹(a0 − aref), A = J·M⁻¹·Jᵀ,
+R = (1 − d)/d·diagApprox, aref = −B·ṙ − K·d·r, with (its constraint model)
+
+    K = 1/(dmax²·τ²·ζ²),  B = 2/(dmax·τ),  τ = max(solref timeconst, 2·timestep) (refsafe),
+
+and d = d(|r|) the impedance of ``solimp`` (dmin at r = 0, dmax past the width; r the norm of
+the connect's 3 rows). Where the loop follows the closed form (a1 = J·q̈ + J̇·q̇ = 0), the force
+is the closed form's λ, so R·λ = aref = −B·ṙ − K·d·r. The gap holds still where ṙ = −u, u the
+velocity the integrator adds to the gap unseen by ṙ, so per row
+
+    r = (B·u − R·λ)/(K·d).
+
+Euler and implicitfast step the positions with the step's end velocity, along the loop's
+tangent at the step's end, and open the loop by −½·dt²·J̇·q̇ a step unseen by ṙ = J·q̇: u =
+−½·dt·J̇·q̇ (RK4: fourth order, u = 0). The gap reaches this value through the loop's own
+dynamics, ṡ = ω_n²·(r_λ − r) − 2ζω_n·s, ṙ = s + u (s = J·q̇, r_λ = −R·λ/(K·d), ω_n =
+d/(dmax·τ·ζ)): a lag where ω·τ is not small, and the start-up transient where a run starts with
+its loops closed. The non-driven joints move by δq = J_nc⁻¹·r (J_nc the in-plane loop
+Jacobian without the crank column, square for a mechanism of mobility 1), and their velocities so
+that the gap velocity MuJoCo sees, J·q̇, is the s of those dynamics (for Euler and implicitfast −u
+where the gap holds still: their velocity is the step's backward difference, ½·dt·q̈ behind).
+MuJoCo's own forward dynamics at that predicted state (no step taken) gives the
+reactions and the crank torque it will report; ``sample_errors`` compares them with the closed
+form exactly as it compares a run's samples.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import mujoco
+import numpy as np
+
+from linkgen.errors import UnsupportedError
+from linkgen.families.planar.assembly import Assembly
+from linkgen.families.planar.kinematics import solve
+from linkgen.families.planar.kinetostatics import forces
+from linkgen.mujoco.forces import apply_loads
+from linkgen.mujoco.log import no_log_file
+from linkgen.mujoco.loops import closure_forces, closure_jacobian, mechanism_size
+from linkgen.mujoco.options import PLACEHOLDER, Settings
+from linkgen.mujoco.posed import slider_reference
+from linkgen.mujoco.sample import Samples, read_samples
+from linkgen.mujoco.state import joint_states
+from linkgen.mujoco.timing import crank_time
+from linkgen.mujoco.tree import site_name, link_name, spanning_tree
+
+# MuJoCo's integrators this prediction models, and the evaluations of the dynamics each takes
+# per step (RK4: four), the factor between steps and cost.
+EVALUATIONS = {"Euler": 1, "implicitfast": 1, "RK4": 4}
+# Crank angles the prediction evaluates MuJoCo's forward dynamics at (over the drive range).
+SCAN = 240
+# The quantities, each relative: loop gap / size, point position error / size, reaction error /
+# peak reaction, crank-torque error / peak crank torque.
+QUANTITIES = ("gap", "position", "reaction", "torque")
+# Sub-steps per loop time constant 1/ω_n when the gap's dynamics are integrated between scanned
+# angles (semi-implicit; its own error is then under 1 % of the lag it models).
+FILTER_SUBSTEPS = 20
+# Where a sample's span exceeds this many loop time constants 1/ω_n the gap is taken at its
+# quasi-static value (its lag, ~2ζ/ω_n, is then under 4 % of the span).
+QUASI_STATIC = 50.0
+
+
+@dataclass(frozen=True)
+class Errors:
+    """The largest errors over the range, each relative (``QUANTITIES``): loop gap and point
+    positions to the mechanism's size, reactions to the peak reaction, the crank torque to its
+    peak."""
+
+    gap: float
+    position: float
+    reaction: float
+    torque: float
+
+    @property
+    def worst(self) -> float:
+        return max(self.gap, self.position, self.reaction, self.torque)
+
+    def to_dict(self) -> dict:
+        return {q: (float(getattr(self, q)) if math.isfinite(getattr(self, q)) else None) for q in QUANTITIES}
+
+
+@dataclass(frozen=True)
+class AccuracyPrediction:
+    """The predicted errors (``errors``) at ``settings`` for the crank driven at ``omega``
+    [rad/s]; ``timeconst`` [s] the loop time constant MuJoCo uses (refsafe: ≥ 2·timestep),
+    ``size`` [m], ``steps_per_second`` MuJoCo steps per second of simulated time and
+    ``evaluations_per_second`` (RK4 evaluates the dynamics four times a step)."""
+
+    settings: Settings
+    timeconst: float
+    omega: float
+    size: float
+    errors: Errors
+
+    @property
+    def steps_per_second(self) -> float:
+        return 1.0 / self.settings.timestep
+
+    @property
+    def evaluations_per_second(self) -> float:
+        return EVALUATIONS[self.settings.integrator] / self.settings.timestep
+
+    def to_dict(self) -> dict:
+        return {"settings": settings_dict(self.settings), "timeconst": self.timeconst, "omega": self.omega,
+                "size": self.size, "errors": self.errors.to_dict(), "steps_per_second": self.steps_per_second,
+                "evaluations_per_second": self.evaluations_per_second}
+
+    def text(self) -> str:
+        e = self.errors
+        return (f"{settings_text(self.settings)}: predicted loop gap {e.gap:.2g} of the size, positions {e.position:.2g}, "
+                f"reactions {e.reaction:.2g} of the peak, crank torque {e.torque:.2g} of its peak")
+
+
+def settings_dict(s: Settings) -> dict:
+    return {"timestep": s.timestep, "integrator": s.integrator, "solref": [s.timeconst, s.dampratio],
+            "solimp": [float(x) for x in s.solimp_text.split()]}
+
+
+def settings_text(s: Settings) -> str:
+    return f"timestep {s.timestep:.3g} s, {s.integrator}, solref \"{s.timeconst:.3g} {s.dampratio:g}\""
+
+
+def effective_timeconst(settings: Settings) -> float:
+    """The loop time constant MuJoCo uses: solref's, raised to 2·timestep (its refsafe clamp)."""
+    return max(settings.timeconst, 2.0 * settings.timestep)
+
+
+def impedance(solimp: tuple[float, ...], violation: np.ndarray) -> np.ndarray:
+    """MuJoCo's impedance d at constraint violations ``violation`` [m] (solimp = dmin, dmax,
+    width, midpoint, power; clamped as MuJoCo clamps them)."""
+    lo, hi = (min(0.9999, max(1e-4, v)) for v in solimp[:2])
+    width = max(0.0, solimp[2])
+    mid = min(0.9999, max(1e-4, solimp[3])) if len(solimp) > 3 else 0.5
+    p = max(1.0, solimp[4]) if len(solimp) > 4 else 2.0
+    x = np.abs(np.asarray(violation, dtype=float))
+    if lo == hi or width <= 1e-15:
+        return np.full(x.shape, 0.5 * (lo + hi))
+    x = np.minimum(x / width, 1.0)
+    y = np.where(x <= mid, x**p / mid ** (p - 1), 1.0 - (1.0 - x) ** p / (1.0 - mid) ** (p - 1))
+    return lo + y * (hi - lo)
+
+
+def _solimp(settings: Settings) -> tuple[float, ...]:
+    return tuple(float(x) for x in settings.solimp_text.split())
+
+
+def sample_errors(asm: Assembly, s: Samples) -> Errors:
+    """The relative errors (``Errors``) of MuJoCo's samples against the closed form at their
+    crank states (φ, ω, ε)."""
+    phi, w, e = s.crank
+    mo = solve(asm, phi).motion(w, e)
+    size = mechanism_size(asm)
+    cf = forces(asm, phi, w, e)
+    pos = max((float(np.linalg.norm(mj[0] - mo.points[p][0], axis=1).max()) for p, mj in s.points.items()), default=0.0)
+    peak = max([float(np.linalg.norm(r, axis=1).max()) for r in cf.reactions.values()]
+               + [float(np.abs(n).max()) for n in cf.normal_force.values()] + [1e-300])
+    reac = [float(np.linalg.norm(s.forces.reactions[k] - v, axis=1).max()) for k, v in cf.reactions.items()]
+    reac += [float(np.abs(s.forces.normal_force[k] - v).max()) for k, v in cf.normal_force.items()]
+    t_peak = max(float(np.abs(cf.balancing_torque).max()), 1e-300)
+    torque = float(np.abs(s.forces.balancing_torque - cf.balancing_torque).max())
+    gap = float(s.violation.max()) if s.violation.size else 0.0
+    return Errors(gap / size, pos / size, max(reac, default=0.0) / peak, torque / t_peak)
+
+
+def check_supported(asm: Assembly) -> None:
+    """Refuse, in one line, what this prediction does not model: cams (a contact, not a loop)
+    and gears (a joint coupling)."""
+    mech = asm.mechanism
+    if mech.cams or mech.gears:
+        kind = "a cam" if mech.cams else "a gear pair"
+        raise UnsupportedError(f"check-settings models the loops closed by revolute joints; this linkage has {kind}, "
+                               "whose contact or coupling it does not predict")
+
+
+@no_log_file()
+def predict(asm: Assembly, settings: Settings, *, omega: float | None = None, epsilon: float | None = None,
+            samples: int = SCAN) -> AccuracyPrediction:
+    """The errors a run at ``settings`` (its rotor inertia holding the crank at ω [rad/s], default
+    the description's, and ε [rad/s²]) is predicted to reach, from the closed form and MuJoCo's
+    constraint model at the closed-form states: no MuJoCo step is taken."""
+    from linkgen.mujoco.mjcf import write_mjcf
+    from linkgen.mujoco.settings import apply
+
+    check_supported(asm)
+    mech = asm.mechanism
+    w = mech.drive.omega if omega is None else float(omega)
+    eps = mech.drive.epsilon if epsilon is None else float(epsilon)
+    model = mujoco.MjModel.from_xml_string(write_mjcf(asm, PLACEHOLDER))
+    apply(model, settings, mech.drive.joint)
+    span = mech.drive.stop - mech.drive.start
+    full = span >= 2 * math.pi - 1e-12
+    phi = np.linspace(mech.drive.start, mech.drive.stop, samples, endpoint=not full)
+    t = crank_time(phi, mech.drive.start, w, eps)
+    wk = w + eps * t
+    qpos, qvel, qacc = joint_states(asm, model, phi, wk, np.full(samples, eps))
+    lam = np.array([closure_forces(asm, model, forces(asm, phi, wk, np.full(samples, eps)).reactions, k)
+                    for k in range(samples)])
+    tau = effective_timeconst(settings)
+    zeta = settings.dampratio
+    solimp = _solimp(settings)
+    dmax = min(0.9999, max(1e-4, solimp[1]))
+    k_ref, b_ref = 1.0 / (dmax * dmax * tau * tau * zeta * zeta), 2.0 / (dmax * tau)
+    euler = settings.integrator != "RK4"
+    data = mujoco.MjData(model)
+    rows = lam.shape[1]
+    r_phys, drift = np.zeros((samples, rows)), np.zeros((samples, rows))
+    jac, wn = np.zeros((samples, rows, model.nv)), np.zeros(samples)
+    drive = model.joint(mech.drive.joint).dofadr[0]
+    for k in range(samples):
+        data.qpos[:], data.qvel[:] = qpos[k], qvel[k]
+        mujoco.mj_forward(model, data)
+        jac[k] = closure_jacobian(asm, model, data)
+        diag = _diag_approx(asm, model, data)
+        drift[k] = -0.5 * settings.timestep * _jdot_v(asm, model, data) if euler else 0.0
+        r_qs, d = _quasi_static_gap(lam[k], diag, drift[k], k_ref, b_ref, solimp)
+        wn[k] = d / (dmax * tau * zeta)
+        r_phys[k] = r_qs - 2.0 * zeta * drift[k] / wn[k]  # B·u/(K·d) = 2ζ·u/ω_n
+    r, s_gap = _follow(r_phys, drift, t, wn, zeta, full, cold=not full and _starts_cold(asm, settings, w, eps))
+    cols = [i for i in range(model.nv) if i != drive]
+    q_r, v_r = qpos.copy(), qvel.copy()  # hinge and slide joints only: qpos and qvel share their indices
+    for k in range(samples):
+        q_r[k, cols] += np.linalg.lstsq(jac[k][:, cols], r[k], rcond=None)[0]
+        data.qpos[:] = q_r[k]
+        mujoco.mj_kinematics(model, data)
+        mujoco.mj_comPos(model, data)
+        j_r = closure_jacobian(asm, model, data)  # the velocity MuJoCo sees at the reached state is s
+        v_r[k, cols] += np.linalg.lstsq(j_r[:, cols], s_gap[k] - j_r @ qvel[k], rcond=None)[0]
+    got = read_samples(asm, model, t, q_r, v_r, settings.armature * eps, slider_reference(asm))
+    return AccuracyPrediction(settings, tau, w, mechanism_size(asm), sample_errors(asm, got))
+
+
+def _diag_approx(asm: Assembly, model: mujoco.MjModel, data: mujoco.MjData) -> np.ndarray:
+    """MuJoCo's diagApprox of each closure's in-plane rows (2·closures,) [1/kg], recovered from
+    R = (1 − d)/d·diagApprox as ``mj_makeImpedance`` set it."""
+    out = []
+    for pair in spanning_tree(asm).closures:
+        eq = model.equality(pair.name).id
+        idx = np.flatnonzero((data.efc_type == mujoco.mjtConstraint.mjCNSTR_EQUALITY) & (data.efc_id == eq))[:2]
+        imp = data.efc_KBIP[idx, 2]
+        out += list(data.efc_R[idx] * imp / (1.0 - imp))
+    return np.array(out, dtype=float)
+
+
+def _jdot_v(asm: Assembly, model: mujoco.MjModel, data: mujoco.MjData) -> np.ndarray:
+    """J̇·q̇ of each closure's in-plane rows (2·closures,) [m/s²] (``mj_jacDot``, body1 − body2)."""
+    out = []
+    j1, j2 = np.zeros((3, model.nv)), np.zeros((3, model.nv))
+    for pair in spanning_tree(asm).closures:
+        eq = model.equality(pair.name).id
+        b1, b2 = model.eq_obj1id[eq], model.eq_obj2id[eq]
+        point = data.site(site_name(asm, link_name(model.body(b1).name), asm.mechanism.revolute(pair.name).point)).xpos
+        mujoco.mj_jacDot(model, data, j1, None, point, b1)
+        j2[:] = 0.0
+        if b2 > 0:
+            mujoco.mj_jacDot(model, data, j2, None, point, b2)
+        out += list(((j1 - j2) @ data.qvel)[:2])
+    return np.array(out, dtype=float)
+
+
+def _quasi_static_gap(lam, diag, u, k_ref, b_ref, solimp) -> tuple[np.ndarray, float]:
+    """Per row r = (B·u − R·λ)/(K·d) with d = d(|r|) per closure (solved by bisection on |r|:
+    |r| falls as d rises), and the smallest d."""
+    n = lam.shape[0] // 2
+
+    def gap(d):
+        dd = np.repeat(d, 2)
+        return (b_ref * u - ((1.0 - dd) / dd) * diag * lam) / (k_ref * dd)
+
+    lo = np.zeros(n)
+    hi = np.linalg.norm(gap(impedance(solimp, np.zeros(n))).reshape(n, 2), axis=1)
+    for _ in range(60):
+        mid = 0.5 * (lo + hi)
+        too_big = np.linalg.norm(gap(impedance(solimp, mid)).reshape(n, 2), axis=1) < mid
+        hi = np.where(too_big, mid, hi)
+        lo = np.where(too_big, lo, mid)
+    d = impedance(solimp, 0.5 * (lo + hi))
+    return gap(d), float(d.min())
+
+
+def _starts_cold(asm: Assembly, settings: Settings, omega: float, epsilon: float) -> bool:
+    """Whether a run starts at the range's first angle with its loops closed (no gap yet): the
+    mechanism does not assemble over the lead-in before it (``mujoco.simulate``), so the loops'
+    start-up transient falls on the first samples."""
+    from linkgen.errors import AssemblyError, SingularityError
+    from linkgen.mujoco.timing import LEAD_TARGET, crank_phi, settle_window
+
+    mech = asm.mechanism
+    lead = crank_phi(-settle_window(settings, None, epsilon, LEAD_TARGET, float(np.hypot(*mech.gravity))),
+                     mech.drive.start, omega, epsilon)
+    try:
+        solve(asm, np.linspace(lead, mech.drive.start, 16))
+    except (AssemblyError, SingularityError):
+        return True
+    return False
+
+
+def _follow(r_phys: np.ndarray, u: np.ndarray, t: np.ndarray, wn: np.ndarray, zeta: float, full: bool,
+            cold: bool) -> tuple[np.ndarray, np.ndarray]:
+    """The gap along the samples through the loop's own dynamics, ṡ = ω_n²·(r_phys − r) − 2ζω_n·s
+    (s = J·q̇ the gap velocity MuJoCo sees) and ṙ = s + u (u the integrator's drift), with r_phys
+    = −R·λ/(K·d) linear between samples; from a closed loop at rest (``cold``) or from the
+    quasi-static state (s = −u, r = r_phys + 2ζ·u/ω_n). A full turn is followed twice and the
+    second turn kept (periodic). Returns r and s, each (samples, rows)."""
+    n = r_phys.shape[0]
+    passes = 2 if full else 1
+    period = (t[-1] - t[0]) * n / (n - 1) if full and n > 1 else 0.0
+    if cold:
+        r, v = np.zeros_like(r_phys[0]), np.zeros_like(r_phys[0])
+    else:
+        r, v = r_phys[0] + 2.0 * zeta * u[0] / wn[0], -u[0]
+    out, out_v = np.zeros_like(r_phys), np.zeros_like(r_phys)
+    for p in range(passes):
+        for k in range(n):
+            out[k], out_v[k] = r, v
+            if k + 1 < n:
+                a, b, span = r_phys[k], r_phys[k + 1], t[k + 1] - t[k]
+            elif full:
+                a, b, span = r_phys[k], r_phys[0], t[0] + period - t[k]
+            else:
+                continue
+            if span * wn[k] > QUASI_STATIC:  # the loop answers within a small part of a sample's span
+                r, v = b + 2.0 * zeta * u[k] / wn[k], -u[k]
+                continue
+            m = max(1, int(math.ceil(span * wn[k] * FILTER_SUBSTEPS)))
+            h = span / m
+            for i in range(m):
+                target = a + (b - a) * (i + 1) / m
+                v = (v + h * wn[k] ** 2 * (target - r)) / (1.0 + 2.0 * zeta * wn[k] * h)
+                r = r + h * (v + u[k])
+    return out, out_v
+
+
+__all__ = ["AccuracyPrediction", "EVALUATIONS", "Errors", "QUANTITIES", "effective_timeconst", "impedance", "predict",
+           "sample_errors", "settings_dict", "settings_text"]
