@@ -39,12 +39,12 @@ from linkgen.errors import UnsupportedError
 from linkgen.families.planar.assembly import Assembly
 from linkgen.families.planar.kinematics import solve
 from linkgen.families.planar.kinetostatics import forces
-from linkgen.mujoco.forces import apply_loads
+from linkgen.mujoco.gap_dynamics import gap_states, impedance, quasi_static_gap
+from linkgen.mujoco.forces import ForceSamples, StateForces, apply_loads, forward_forces
 from linkgen.mujoco.log import no_log_file
 from linkgen.mujoco.loops import closure_forces, closure_jacobian, mechanism_size
-from linkgen.mujoco.options import PLACEHOLDER, Settings
-from linkgen.mujoco.posed import slider_reference
-from linkgen.mujoco.sample import Samples, read_samples
+from linkgen.mujoco.options import PLACEHOLDER, SOLVER_ITERATIONS, Settings
+from linkgen.mujoco.sample import Samples, moving_points
 from linkgen.mujoco.state import joint_states
 from linkgen.mujoco.timing import crank_time
 from linkgen.mujoco.tree import site_name, link_name, spanning_tree
@@ -57,14 +57,6 @@ SCAN = 240
 # The quantities, each relative: loop gap / size, point position error / size, reaction error /
 # peak reaction, crank-torque error / peak crank torque.
 QUANTITIES = ("gap", "position", "reaction", "torque")
-# Sub-steps per loop time constant 1/ω_n when the gap's dynamics are integrated between scanned
-# angles (semi-implicit; its own error is then under 1 % of the lag it models).
-FILTER_SUBSTEPS = 20
-# Where a sample's span exceeds this many loop time constants 1/ω_n the gap is taken at its
-# quasi-static value (its lag, ~2ζ/ω_n, is then under 4 % of the span).
-QUASI_STATIC = 50.0
-
-
 @dataclass(frozen=True)
 class Errors:
     """The largest errors over the range, each relative (``QUANTITIES``): loop gap and point
@@ -130,21 +122,6 @@ def effective_timeconst(settings: Settings) -> float:
     return max(settings.timeconst, 2.0 * settings.timestep)
 
 
-def impedance(solimp: tuple[float, ...], violation: np.ndarray) -> np.ndarray:
-    """MuJoCo's impedance d at constraint violations ``violation`` [m] (solimp = dmin, dmax,
-    width, midpoint, power; clamped as MuJoCo clamps them)."""
-    lo, hi = (min(0.9999, max(1e-4, v)) for v in solimp[:2])
-    width = max(0.0, solimp[2])
-    mid = min(0.9999, max(1e-4, solimp[3])) if len(solimp) > 3 else 0.5
-    p = max(1.0, solimp[4]) if len(solimp) > 4 else 2.0
-    x = np.abs(np.asarray(violation, dtype=float))
-    if lo == hi or width <= 1e-15:
-        return np.full(x.shape, 0.5 * (lo + hi))
-    x = np.minimum(x / width, 1.0)
-    y = np.where(x <= mid, x**p / mid ** (p - 1), 1.0 - (1.0 - x) ** p / (1.0 - mid) ** (p - 1))
-    return lo + y * (hi - lo)
-
-
 def _solimp(settings: Settings) -> tuple[float, ...]:
     return tuple(float(x) for x in settings.solimp_text.split())
 
@@ -152,18 +129,24 @@ def _solimp(settings: Settings) -> tuple[float, ...]:
 def sample_errors(asm: Assembly, s: Samples) -> Errors:
     """The relative errors (``Errors``) of MuJoCo's samples against the closed form at their
     crank states (φ, ω, ε)."""
-    phi, w, e = s.crank
+    return errors_of(asm, s.crank, {p: v[0] for p, v in s.points.items()}, s.forces, s.violation)
+
+
+def errors_of(asm: Assembly, crank, points: dict[str, np.ndarray], got: ForceSamples, violation: np.ndarray) -> Errors:
+    """``Errors`` of MuJoCo's point positions {name: (m, 2)}, forces and loop gaps (m,) at the
+    crank states ``crank`` = (φ, ω, ε), each (m,), against the closed form there."""
+    phi, w, e = crank
     mo = solve(asm, phi).motion(w, e)
     size = mechanism_size(asm)
     cf = forces(asm, phi, w, e)
-    pos = max((float(np.linalg.norm(mj[0] - mo.points[p][0], axis=1).max()) for p, mj in s.points.items()), default=0.0)
+    pos = max((float(np.linalg.norm(xy - mo.points[p][0], axis=1).max()) for p, xy in points.items()), default=0.0)
     peak = max([float(np.linalg.norm(r, axis=1).max()) for r in cf.reactions.values()]
                + [float(np.abs(n).max()) for n in cf.normal_force.values()] + [1e-300])
-    reac = [float(np.linalg.norm(s.forces.reactions[k] - v, axis=1).max()) for k, v in cf.reactions.items()]
-    reac += [float(np.abs(s.forces.normal_force[k] - v).max()) for k, v in cf.normal_force.items()]
+    reac = [float(np.linalg.norm(got.reactions[k] - v, axis=1).max()) for k, v in cf.reactions.items()]
+    reac += [float(np.abs(got.normal_force[k] - v).max()) for k, v in cf.normal_force.items()]
     t_peak = max(float(np.abs(cf.balancing_torque).max()), 1e-300)
-    torque = float(np.abs(s.forces.balancing_torque - cf.balancing_torque).max())
-    gap = float(s.violation.max()) if s.violation.size else 0.0
+    torque = float(np.abs(got.balancing_torque - cf.balancing_torque).max())
+    gap = float(np.max(violation)) if np.size(violation) else 0.0
     return Errors(gap / size, pos / size, max(reac, default=0.0) / peak, torque / t_peak)
 
 
@@ -209,18 +192,21 @@ def predict(asm: Assembly, settings: Settings, *, omega: float | None = None, ep
     data = mujoco.MjData(model)
     rows = lam.shape[1]
     r_phys, drift = np.zeros((samples, rows)), np.zeros((samples, rows))
-    jac, wn = np.zeros((samples, rows, model.nv)), np.zeros(samples)
+    jac, wn, jdvs = np.zeros((samples, rows, model.nv)), np.zeros(samples), np.zeros((samples, rows))
     drive = model.joint(mech.drive.joint).dofadr[0]
     for k in range(samples):
         data.qpos[:], data.qvel[:] = qpos[k], qvel[k]
         mujoco.mj_forward(model, data)
         jac[k] = closure_jacobian(asm, model, data)
         diag = _diag_approx(asm, model, data)
-        drift[k] = -0.5 * settings.timestep * _jdot_v(asm, model, data) if euler else 0.0
-        r_qs, d = _quasi_static_gap(lam[k], diag, drift[k], k_ref, b_ref, solimp)
+        jdv = _jdot_v(asm, model, data)
+        drift[k] = -0.5 * settings.timestep * jdv if euler else 0.0
+        r_qs, d = quasi_static_gap(lam[k], diag, drift[k], k_ref, b_ref, solimp)
         wn[k] = d / (dmax * tau * zeta)
         r_phys[k] = r_qs - 2.0 * zeta * drift[k] / wn[k]  # B·u/(K·d) = 2ζ·u/ω_n
-    r, s_gap = _follow(r_phys, drift, t, wn, zeta, full, cold=not full and _starts_cold(asm, settings, w, eps))
+        jdvs[k] = jdv
+    r, s_gap, a1 = gap_states(settings.integrator, r_phys, jdvs, wn, zeta, settings.timestep, t, max(abs(w), abs(wk[-1])),
+                              full, cold=not full and _starts_cold(asm, settings, w, eps))
     cols = [i for i in range(model.nv) if i != drive]
     q_r, v_r = qpos.copy(), qvel.copy()  # hinge and slide joints only: qpos and qvel share their indices
     for k in range(samples):
@@ -230,8 +216,49 @@ def predict(asm: Assembly, settings: Settings, *, omega: float | None = None, ep
         mujoco.mj_comPos(model, data)
         j_r = closure_jacobian(asm, model, data)  # the velocity MuJoCo sees at the reached state is s
         v_r[k, cols] += np.linalg.lstsq(j_r[:, cols], s_gap[k] - j_r @ qvel[k], rcond=None)[0]
-    got = read_samples(asm, model, t, q_r, v_r, settings.armature * eps, slider_reference(asm))
-    return AccuracyPrediction(settings, tau, w, mechanism_size(asm), sample_errors(asm, got))
+    model.opt.iterations, model.opt.tolerance = SOLVER_ITERATIONS, 0.0  # converged, whatever the user's solver
+    points = {p: np.zeros((samples, 2)) for p in moving_points(mech)}
+    states, crank, gaps = [], np.zeros((3, samples)), np.zeros(samples)
+    for k in range(samples):
+        states.append(_forces_at(asm, model, data, q_r[k], v_r[k], a1[k], settings.armature * eps, phi[k]))
+        for p in points:
+            points[p][k] = data.site(p).xpos[:2]
+        crank[:, k] = phi[k], data.qvel[drive], data.qacc[drive]
+        gaps[k] = float(np.abs(data.efc_pos[: data.ne]).max()) if data.ne else 0.0
+    errors = errors_of(asm, crank, points, ForceSamples.stack(states), gaps)
+    return AccuracyPrediction(settings, tau, w, mechanism_size(asm), errors)
+
+
+def _forces_at(asm: Assembly, model: mujoco.MjModel, data: mujoco.MjData, qpos: np.ndarray, qvel: np.ndarray,
+               a1: np.ndarray, ctrl: float, phi: float) -> StateForces:
+    """MuJoCo's forces at the state (qpos, qvel) where each loop row's acceleration J·q̈ + J̇·q̇
+    is ``a1`` (2·closures,) [m/s²]: the loop forces f = A⁻¹·(a1 − a0), A = J·M⁻¹·Jᵀ and a0 =
+    J·q̈_smooth + J̇·q̇ from MuJoCo's forward pass there, put back into its data (q̈ = q̈_smooth +
+    M⁻¹·Jᵀ·f) and read as every run's forces are read. The soft model's answer to the state's
+    gap and gap velocity is what ``a1`` carries: computed from the gap's dynamics, where it is
+    not amplified by the loop's stiffness (K·r, B·ṙ)."""
+    data.qpos[:], data.qvel[:], data.ctrl[:] = qpos, qvel, ctrl
+    mujoco.mj_kinematics(model, data)
+    mujoco.mj_comPos(model, data)
+    apply_loads(asm, model, data, phi)
+    mujoco.mj_forward(model, data)
+    k, b, imp = data.efc_KBIP[:, 0], data.efc_KBIP[:, 1], data.efc_KBIP[:, 2]
+    rows = np.concatenate([np.flatnonzero((data.efc_type == mujoco.mjtConstraint.mjCNSTR_EQUALITY)
+                                          & (data.efc_id == model.equality(pair.name).id))[:2]
+                           for pair in spanning_tree(asm).closures])
+    jac = data.efc_J.reshape(data.nefc, model.nv)[rows]
+    m_inv_jt = np.zeros((rows.size, model.nv))
+    mujoco.mj_solveM(model, data, m_inv_jt, jac)
+    # MuJoCo puts −J̇·q̇ into the reference acceleration: aref = −B·ṙ − K·d·r − J̇·q̇
+    jdv = -b[rows] * data.efc_vel[rows] - k[rows] * imp[rows] * data.efc_pos[rows] - data.efc_aref[rows]
+    a0 = jac @ data.qacc_smooth + jdv
+    f = np.linalg.solve(jac @ m_inv_jt.T, a1 - a0)
+    data.efc_force[:] = 0.0
+    data.efc_force[rows] = f
+    data.qfrc_constraint[:] = jac.T @ f
+    data.qacc[:] = data.qacc_smooth + m_inv_jt.T @ f
+    mujoco.mj_rnePostConstraint(model, data)
+    return forward_forces(asm, model, data)
 
 
 def _diag_approx(asm: Assembly, model: mujoco.MjModel, data: mujoco.MjData) -> np.ndarray:
@@ -262,26 +289,6 @@ def _jdot_v(asm: Assembly, model: mujoco.MjModel, data: mujoco.MjData) -> np.nda
     return np.array(out, dtype=float)
 
 
-def _quasi_static_gap(lam, diag, u, k_ref, b_ref, solimp) -> tuple[np.ndarray, float]:
-    """Per row r = (B·u − R·λ)/(K·d) with d = d(|r|) per closure (solved by bisection on |r|:
-    |r| falls as d rises), and the smallest d."""
-    n = lam.shape[0] // 2
-
-    def gap(d):
-        dd = np.repeat(d, 2)
-        return (b_ref * u - ((1.0 - dd) / dd) * diag * lam) / (k_ref * dd)
-
-    lo = np.zeros(n)
-    hi = np.linalg.norm(gap(impedance(solimp, np.zeros(n))).reshape(n, 2), axis=1)
-    for _ in range(60):
-        mid = 0.5 * (lo + hi)
-        too_big = np.linalg.norm(gap(impedance(solimp, mid)).reshape(n, 2), axis=1) < mid
-        hi = np.where(too_big, mid, hi)
-        lo = np.where(too_big, lo, mid)
-    d = impedance(solimp, 0.5 * (lo + hi))
-    return gap(d), float(d.min())
-
-
 def _starts_cold(asm: Assembly, settings: Settings, omega: float, epsilon: float) -> bool:
     """Whether a run starts at the range's first angle with its loops closed (no gap yet): the
     mechanism does not assemble over the lead-in before it (``mujoco.simulate``), so the loops'
@@ -297,42 +304,6 @@ def _starts_cold(asm: Assembly, settings: Settings, omega: float, epsilon: float
     except (AssemblyError, SingularityError):
         return True
     return False
-
-
-def _follow(r_phys: np.ndarray, u: np.ndarray, t: np.ndarray, wn: np.ndarray, zeta: float, full: bool,
-            cold: bool) -> tuple[np.ndarray, np.ndarray]:
-    """The gap along the samples through the loop's own dynamics, ṡ = ω_n²·(r_phys − r) − 2ζω_n·s
-    (s = J·q̇ the gap velocity MuJoCo sees) and ṙ = s + u (u the integrator's drift), with r_phys
-    = −R·λ/(K·d) linear between samples; from a closed loop at rest (``cold``) or from the
-    quasi-static state (s = −u, r = r_phys + 2ζ·u/ω_n). A full turn is followed twice and the
-    second turn kept (periodic). Returns r and s, each (samples, rows)."""
-    n = r_phys.shape[0]
-    passes = 2 if full else 1
-    period = (t[-1] - t[0]) * n / (n - 1) if full and n > 1 else 0.0
-    if cold:
-        r, v = np.zeros_like(r_phys[0]), np.zeros_like(r_phys[0])
-    else:
-        r, v = r_phys[0] + 2.0 * zeta * u[0] / wn[0], -u[0]
-    out, out_v = np.zeros_like(r_phys), np.zeros_like(r_phys)
-    for p in range(passes):
-        for k in range(n):
-            out[k], out_v[k] = r, v
-            if k + 1 < n:
-                a, b, span = r_phys[k], r_phys[k + 1], t[k + 1] - t[k]
-            elif full:
-                a, b, span = r_phys[k], r_phys[0], t[0] + period - t[k]
-            else:
-                continue
-            if span * wn[k] > QUASI_STATIC:  # the loop answers within a small part of a sample's span
-                r, v = b + 2.0 * zeta * u[k] / wn[k], -u[k]
-                continue
-            m = max(1, int(math.ceil(span * wn[k] * FILTER_SUBSTEPS)))
-            h = span / m
-            for i in range(m):
-                target = a + (b - a) * (i + 1) / m
-                v = (v + h * wn[k] ** 2 * (target - r)) / (1.0 + 2.0 * zeta * wn[k] * h)
-                r = r + h * (v + u[k])
-    return out, out_v
 
 
 __all__ = ["AccuracyPrediction", "EVALUATIONS", "Errors", "QUANTITIES", "effective_timeconst", "impedance", "predict",

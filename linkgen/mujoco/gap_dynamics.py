@@ -1,0 +1,198 @@
+"""The loop gap's own dynamics in MuJoCo, per constraint row, along a closed-form motion.
+
+With the loop force λ the closed form gives, MuJoCo's soft ``connect`` holds a gap r and a gap
+velocity s = J·q̇ that obey (``mujoco.accuracy``'s docstring has the model)
+
+    ṡ = ω_n²·(r_λ − r) − 2ζω_n·s,   ṙ = s + u,   r_λ = −R·λ/(K·d),   ω_n = d/(dmax·τ·ζ),
+
+u the integrator's drift. ``gap_states`` gives r, s and the gap acceleration a1 = J·q̈ + J̇·q̇
+MuJoCo computes at the sampled states, for the integrator's own steps (``step``): analytically
+where the loop is fast beside the crank (its fixed point and lag per sample, and the decay of a
+start with the loops closed), by following the dynamics where it is not.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+# Sub-steps per loop time constant 1/ω_n when the gap's dynamics are followed between samples
+# (semi-implicit; its own error is then under 1 % of the lag it models).
+FILTER_SUBSTEPS = 20
+# Where a sample's span exceeds this many loop time constants 1/ω_n the followed gap is taken at
+# its quasi-static value (its lag, ~2ζ/ω_n, is then under 4 % of the span).
+QUASI_STATIC = 50.0
+# The loop is "fast" where ω_n is at least this many times the crank speed: the gap is then its
+# fixed point plus a first-order lag (the next term, (ω/ω_n)², under 0.25 %), computed exactly;
+# following it numerically would let the stiffness ω_n² amplify the following's own error.
+FAST = 20.0
+
+
+def impedance(solimp: tuple[float, ...], violation: np.ndarray) -> np.ndarray:
+    """MuJoCo's impedance d at constraint violations ``violation`` [m] (solimp = dmin, dmax,
+    width, midpoint, power; clamped as MuJoCo clamps them)."""
+    lo, hi = (min(0.9999, max(1e-4, v)) for v in solimp[:2])
+    width = max(0.0, solimp[2])
+    mid = min(0.9999, max(1e-4, solimp[3])) if len(solimp) > 3 else 0.5
+    p = max(1.0, solimp[4]) if len(solimp) > 4 else 2.0
+    x = np.abs(np.asarray(violation, dtype=float))
+    if lo == hi or width <= 1e-15:
+        return np.full(x.shape, 0.5 * (lo + hi))
+    x = np.minimum(x / width, 1.0)
+    y = np.where(x <= mid, x**p / mid ** (p - 1), 1.0 - (1.0 - x) ** p / (1.0 - mid) ** (p - 1))
+    return lo + y * (hi - lo)
+
+
+def quasi_static_gap(lam, diag, u, k_ref, b_ref, solimp) -> tuple[np.ndarray, float]:
+    """Per row r = (B·u − R·λ)/(K·d) with d = d(|r|) per closure (solved by bisection on |r|:
+    |r| falls as d rises), and the smallest d."""
+    n = lam.shape[0] // 2
+
+    def gap(d):
+        dd = np.repeat(d, 2)
+        return (b_ref * u - ((1.0 - dd) / dd) * diag * lam) / (k_ref * dd)
+
+    lo = np.zeros(n)
+    hi = np.linalg.norm(gap(impedance(solimp, np.zeros(n))).reshape(n, 2), axis=1)
+    for _ in range(60):
+        mid = 0.5 * (lo + hi)
+        too_big = np.linalg.norm(gap(impedance(solimp, mid)).reshape(n, 2), axis=1) < mid
+        hi = np.where(too_big, mid, hi)
+        lo = np.where(too_big, lo, mid)
+    d = impedance(solimp, 0.5 * (lo + hi))
+    return gap(d), float(d.min())
+
+
+def gap_states(integrator: str, r_lam: np.ndarray, jdv: np.ndarray, wn: np.ndarray, zeta: float, h: float,
+               t: np.ndarray, omega: float, full: bool, cold: bool) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """r, s and a1 (each (samples, rows)) at the samples' times t [s] for steps of h [s] with
+    ``integrator``; r_λ and J̇·q̇ (samples, rows), ω_n (samples,); ``cold``: the run starts at t[0]
+    with its loops closed and still (r = s = 0)."""
+    w = wn[:, None]
+    u = -0.5 * h * jdv if integrator != "RK4" else np.zeros_like(jdv)
+    if float(wn.min()) >= FAST * abs(omega):
+        x, m = _fixed_point_and_lag(integrator, r_lam, jdv, w, zeta, h, t, full)
+        if cold:  # the start's transient: the homogeneous steps from (0, 0) − x(t0)
+            x0 = -x[0]
+            for k in range(t.shape[0]):
+                n = int(round((t[k] - t[0]) / h))
+                x[k] += np.einsum("nij,nj->ni", np.array([np.linalg.matrix_power(mi, n) for mi in m[0]]), x0)
+        r, s = x[..., 0], x[..., 1]
+    else:
+        r, s = follow(r_lam, u, t, wn, zeta, full, cold)
+        off = discrete_offset(integrator, r_lam, jdv, wn, zeta, h, t, full)
+        r, s = r + off[:, 0], s + off[:, 1]
+    return r, s, w * w * (r_lam - r) - 2.0 * zeta * w * s
+
+
+def _fixed_point_and_lag(integrator, r_lam, jdv, w, zeta, h, t, full):
+    """Per sample, the step map's fixed point plus its lag, x (samples, rows, 2), and the map M
+    (samples, rows, 2, 2)."""
+    zero = np.zeros_like(r_lam)
+    c = np.array(step(integrator, zero, zero, r_lam, jdv, rate(jdv, t, full), w, zeta, h))
+    m_r = np.array(step(integrator, np.ones_like(r_lam), zero, zero, zero, zero, w, zeta, h))
+    m_v = np.array(step(integrator, zero, np.ones_like(r_lam), zero, zero, zero, w, zeta, h))
+    m = np.stack([m_r, m_v], axis=1).transpose(2, 3, 0, 1)
+    inv = np.linalg.inv(np.eye(2) - m)
+    x_d = np.einsum("knij,knj->kni", inv, c.transpose(1, 2, 0))
+    return x_d - h * np.einsum("knij,knj->kni", inv, rate(x_d, t, full)), m
+
+
+def step(integrator: str, r, v, r_lam, jdv, jdv_rate, wn, zeta: float, h: float):
+    """One MuJoCo step of the loop's gap (r, s = J·q̇), per row, with r_λ and J̇·q̇ held.
+
+    Euler (and implicitfast: no joint damping here) updates s, then moves the positions with the
+    new velocity: the gap then opens by −½·h²·J̇·q̇ unseen by s, and s, read at the step's end
+    with its own J̇·q̇, moves by h·a1 + h²·d(J̇·q̇)/dt (a1 read at the step's start). RK4 moves each stage along the
+    previous stage's velocity: the gap a stage sees is off the linear model by the motion's
+    curvature, +h²·J̇·q̇/8 at the second stage and −h²·J̇·q̇/8 at the third (none at the fourth
+    and after the step, where Σ bᵢ·cᵢ = ½ cancels it)."""
+    def acc(rr, vv):
+        return wn * wn * (r_lam - rr) - 2.0 * zeta * wn * vv
+
+    if integrator != "RK4":
+        v1 = v + h * acc(r, v) + h * h * jdv_rate
+        return r + h * v1 - 0.5 * h * h * jdv, v1
+    a1 = acc(r, v)
+    r2, v2 = r + 0.5 * h * v + h * h * jdv / 8.0, v + 0.5 * h * a1
+    a2 = acc(r2, v2)
+    r3, v3 = r + 0.5 * h * v2 - h * h * jdv / 8.0, v + 0.5 * h * a2
+    a3 = acc(r3, v3)
+    r4, v4 = r + h * v3, v + h * a3
+    a4 = acc(r4, v4)
+    return r + h / 6.0 * (v + 2 * v2 + 2 * v3 + v4), v + h / 6.0 * (a1 + 2 * a2 + 2 * a3 + a4)
+
+
+def discrete_offset(integrator: str, r_lam: np.ndarray, jdv: np.ndarray, wn: np.ndarray, zeta: float, h: float,
+                     t: np.ndarray, full: bool) -> np.ndarray:
+    """What MuJoCo's steps at h add to the continuous gap dynamics, (samples, 2, rows): the
+    step map x ↦ M·x + c (``_step``) has its fixed point x_d = (I − M)⁻¹·c and, for a slowly
+    moving one, a lag −(I − M)⁻¹·h·ẋ_d; the continuous dynamics ẋ = A·x + g have x_c and
+    A⁻¹·ẋ_c. The difference of the two (fixed point and lag) is added to the followed gap: it
+    grows as (ω_n·h)⁴ for RK4 (MuJoCo's refsafe keeps ω_n·h ≤ ½)."""
+    w = wn[:, None]
+    zero = np.zeros_like(r_lam)
+    c = np.array(step(integrator, zero, zero, r_lam, jdv, rate(jdv, t, full), w, zeta, h))  # (2, samples, rows)
+    m_r = np.array(step(integrator, np.ones_like(r_lam), zero, zero, zero, zero, w, zeta, h))
+    m_v = np.array(step(integrator, zero, np.ones_like(r_lam), zero, zero, zero, w, zeta, h))
+    m = np.stack([m_r, m_v], axis=1).transpose(2, 3, 0, 1)  # (samples, rows, 2, 2)
+    inv = np.linalg.inv(np.eye(2) - m)
+    x_d = np.einsum("knij,knj->kni", inv, c.transpose(1, 2, 0))
+    u = -0.5 * h * jdv if integrator != "RK4" else zero
+    x_c = np.stack([r_lam + 2.0 * zeta * u / w, -u], axis=2)
+    a = np.zeros(m.shape)
+    a[..., 0, 1], a[..., 1, 0], a[..., 1, 1] = 1.0, -(w * w), -2.0 * zeta * w
+    lag_d = -h * np.einsum("knij,knj->kni", inv, rate(x_d, t, full))
+    lag_c = np.einsum("knij,knj->kni", np.linalg.inv(a), rate(x_c, t, full))
+    return (x_d + lag_d - x_c - lag_c).transpose(0, 2, 1)
+
+
+def rate(x: np.ndarray, t: np.ndarray, full: bool) -> np.ndarray:
+    """d x/dt along the samples' first axis (central differences; a full turn wraps around)."""
+    if x.shape[0] < 3:
+        return np.zeros_like(x)
+    if not full:
+        return np.gradient(x, t, axis=0)
+    return (np.roll(x, -1, axis=0) - np.roll(x, 1, axis=0)) / (2.0 * (t[1] - t[0]))
+
+
+def follow(r_phys: np.ndarray, u: np.ndarray, t: np.ndarray, wn: np.ndarray, zeta: float, full: bool,
+            cold: bool) -> tuple[np.ndarray, np.ndarray]:
+    """The gap along the samples through the loop's own dynamics, ṡ = ω_n²·(r_phys − r) − 2ζω_n·s
+    (s = J·q̇ the gap velocity MuJoCo sees) and ṙ = s + u (u the integrator's drift), with r_phys
+    = −R·λ/(K·d) linear between samples; from a closed loop at rest (``cold``) or from the
+    quasi-static state (s = −u, r = r_phys + 2ζ·u/ω_n). A full turn is followed twice and the
+    second turn kept (periodic). Returns r and s, each (samples, rows)."""
+    n = r_phys.shape[0]
+    passes = 2 if full else 1
+    period = (t[-1] - t[0]) * n / (n - 1) if full and n > 1 else 0.0
+    if cold:
+        r, v = np.zeros_like(r_phys[0]), np.zeros_like(r_phys[0])
+    else:
+        r, v = r_phys[0] + 2.0 * zeta * u[0] / wn[0], -u[0]
+    out, out_v = np.zeros_like(r_phys), np.zeros_like(r_phys)
+    for p in range(passes):
+        for k in range(n):
+            out[k], out_v[k] = r, v
+            if k + 1 < n:
+                a, b, span = r_phys[k], r_phys[k + 1], t[k + 1] - t[k]
+            elif full:
+                a, b, span = r_phys[k], r_phys[0], t[0] + period - t[k]
+            else:
+                continue
+            if span * wn[k] > QUASI_STATIC:  # the loop answers within a small part of a sample's span
+                r, v = b + 2.0 * zeta * u[k] / wn[k], -u[k]
+                continue
+            m = max(1, int(math.ceil(span * wn[k] * FILTER_SUBSTEPS)))
+            h = span / m
+            for i in range(m):
+                target = a + (b - a) * (i + 1) / m
+                v = (v + h * wn[k] ** 2 * (target - r)) / (1.0 + 2.0 * zeta * wn[k] * h)
+                r = r + h * (v + u[k])
+    return out, out_v
+
+
+
+
+__all__ = ["FAST", "discrete_offset", "follow", "gap_states", "impedance", "quasi_static_gap", "rate", "step"]
