@@ -39,7 +39,7 @@ from linkgen.errors import UnsupportedError
 from linkgen.families.planar.assembly import Assembly
 from linkgen.families.planar.kinematics import solve
 from linkgen.families.planar.kinetostatics import forces
-from linkgen.mujoco.gap_dynamics import gap_states, impedance, quasi_static_gap
+from linkgen.mujoco.gap_dynamics import gap_states, impedance, quasi_static_gap, rate
 from linkgen.mujoco.forces import ForceSamples, StateForces, apply_loads, forward_forces
 from linkgen.mujoco.log import no_log_file
 from linkgen.mujoco.loops import closure_forces, closure_jacobian, mechanism_size
@@ -192,21 +192,22 @@ def predict(asm: Assembly, settings: Settings, *, omega: float | None = None, ep
     data = mujoco.MjData(model)
     rows = lam.shape[1]
     r_phys, drift = np.zeros((samples, rows)), np.zeros((samples, rows))
-    jac, wn, jdvs = np.zeros((samples, rows, model.nv)), np.zeros(samples), np.zeros((samples, rows))
+    jac, wn, jdvs, jda = np.zeros((samples, rows, model.nv)), np.zeros(samples), np.zeros((samples, rows)), np.zeros((samples, rows))
     drive = model.joint(mech.drive.joint).dofadr[0]
     for k in range(samples):
         data.qpos[:], data.qvel[:] = qpos[k], qvel[k]
         mujoco.mj_forward(model, data)
         jac[k] = closure_jacobian(asm, model, data)
         diag = _diag_approx(asm, model, data)
-        jdv = _jdot_v(asm, model, data)
+        jdv, jda[k] = _jdot(asm, model, data, qacc[k])
         drift[k] = -0.5 * settings.timestep * jdv if euler else 0.0
         r_qs, d = quasi_static_gap(lam[k], diag, drift[k], k_ref, b_ref, solimp)
         wn[k] = d / (dmax * tau * zeta)
         r_phys[k] = r_qs - 2.0 * zeta * drift[k] / wn[k]  # B·u/(K·d) = 2ζ·u/ω_n
         jdvs[k] = jdv
-    r, s_gap, a1 = gap_states(settings.integrator, r_phys, jdvs, wn, zeta, settings.timestep, t, max(abs(w), abs(wk[-1])),
-                              full, cold=not full and _starts_cold(asm, settings, w, eps))
+    s_extra = jda + 0.5 * rate(jdvs, t, full)  # 2·H(q̇, q̈) + ½·T(q̇, q̇, q̇), d(J̇·q̇)/dt = T + 2·H(q̇, q̈)
+    r, s_gap, a1 = gap_states(settings.integrator, r_phys, jdvs, s_extra, wn, zeta, settings.timestep, t,
+                              max(abs(w), abs(wk[-1])), full, cold=not full and _starts_cold(asm, settings, w, eps))
     cols = [i for i in range(model.nv) if i != drive]
     q_r, v_r = qpos.copy(), qvel.copy()  # hinge and slide joints only: qpos and qvel share their indices
     for k in range(samples):
@@ -273,9 +274,10 @@ def _diag_approx(asm: Assembly, model: mujoco.MjModel, data: mujoco.MjData) -> n
     return np.array(out, dtype=float)
 
 
-def _jdot_v(asm: Assembly, model: mujoco.MjModel, data: mujoco.MjData) -> np.ndarray:
-    """J̇·q̇ of each closure's in-plane rows (2·closures,) [m/s²] (``mj_jacDot``, body1 − body2)."""
-    out = []
+def _jdot(asm: Assembly, model: mujoco.MjModel, data: mujoco.MjData, qacc: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """J̇·q̇ and J̇·q̈ of each closure's in-plane rows, each (2·closures,) [m/s²] (``mj_jacDot``
+    at the data's velocity, body1 − body2): J̇·q̈ = H(q̇, q̈), J's second derivative along q̇ and q̈."""
+    out, out_a = [], []
     j1, j2 = np.zeros((3, model.nv)), np.zeros((3, model.nv))
     for pair in spanning_tree(asm).closures:
         eq = model.equality(pair.name).id
@@ -286,7 +288,8 @@ def _jdot_v(asm: Assembly, model: mujoco.MjModel, data: mujoco.MjData) -> np.nda
         if b2 > 0:
             mujoco.mj_jacDot(model, data, j2, None, point, b2)
         out += list(((j1 - j2) @ data.qvel)[:2])
-    return np.array(out, dtype=float)
+        out_a += list(((j1 - j2) @ qacc)[:2])
+    return np.array(out, dtype=float), np.array(out_a, dtype=float)
 
 
 def _starts_cold(asm: Assembly, settings: Settings, omega: float, epsilon: float) -> bool:

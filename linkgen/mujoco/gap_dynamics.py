@@ -64,15 +64,15 @@ def quasi_static_gap(lam, diag, u, k_ref, b_ref, solimp) -> tuple[np.ndarray, fl
     return gap(d), float(d.min())
 
 
-def gap_states(integrator: str, r_lam: np.ndarray, jdv: np.ndarray, wn: np.ndarray, zeta: float, h: float,
-               t: np.ndarray, omega: float, full: bool, cold: bool) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def gap_states(integrator: str, r_lam: np.ndarray, jdv: np.ndarray, s_extra: np.ndarray, wn: np.ndarray, zeta: float,
+               h: float, t: np.ndarray, omega: float, full: bool, cold: bool) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """r, s and a1 (each (samples, rows)) at the samples' times t [s] for steps of h [s] with
-    ``integrator``; r_λ and J̇·q̇ (samples, rows), ω_n (samples,); ``cold``: the run starts at t[0]
+    ``integrator``; r_λ, J̇·q̇ and ``step``'s s_extra (samples, rows), ω_n (samples,); ``cold``: the run starts at t[0]
     with its loops closed and still (r = s = 0)."""
     w = wn[:, None]
     u = -0.5 * h * jdv if integrator != "RK4" else np.zeros_like(jdv)
     if float(wn.min()) >= FAST * abs(omega):
-        x, m = _fixed_point_and_lag(integrator, r_lam, jdv, w, zeta, h, t, full)
+        x, m = _fixed_point_and_lag(integrator, r_lam, jdv, s_extra, w, zeta, h, t, full)
         if cold:  # the start's transient: the homogeneous steps from (0, 0) − x(t0)
             x0 = -x[0]
             for k in range(t.shape[0]):
@@ -81,16 +81,16 @@ def gap_states(integrator: str, r_lam: np.ndarray, jdv: np.ndarray, wn: np.ndarr
         r, s = x[..., 0], x[..., 1]
     else:
         r, s = follow(r_lam, u, t, wn, zeta, full, cold)
-        off = discrete_offset(integrator, r_lam, jdv, wn, zeta, h, t, full)
+        off = discrete_offset(integrator, r_lam, jdv, s_extra, wn, zeta, h, t, full)
         r, s = r + off[:, 0], s + off[:, 1]
     return r, s, w * w * (r_lam - r) - 2.0 * zeta * w * s
 
 
-def _fixed_point_and_lag(integrator, r_lam, jdv, w, zeta, h, t, full):
+def _fixed_point_and_lag(integrator, r_lam, jdv, s_extra, w, zeta, h, t, full):
     """Per sample, the step map's fixed point plus its lag, x (samples, rows, 2), and the map M
     (samples, rows, 2, 2)."""
     zero = np.zeros_like(r_lam)
-    c = np.array(step(integrator, zero, zero, r_lam, jdv, rate(jdv, t, full), w, zeta, h))
+    c = np.array(step(integrator, zero, zero, r_lam, jdv, s_extra, w, zeta, h))
     m_r = np.array(step(integrator, np.ones_like(r_lam), zero, zero, zero, zero, w, zeta, h))
     m_v = np.array(step(integrator, zero, np.ones_like(r_lam), zero, zero, zero, w, zeta, h))
     m = np.stack([m_r, m_v], axis=1).transpose(2, 3, 0, 1)
@@ -99,20 +99,21 @@ def _fixed_point_and_lag(integrator, r_lam, jdv, w, zeta, h, t, full):
     return x_d - h * np.einsum("knij,knj->kni", inv, rate(x_d, t, full)), m
 
 
-def step(integrator: str, r, v, r_lam, jdv, jdv_rate, wn, zeta: float, h: float):
+def step(integrator: str, r, v, r_lam, jdv, s_extra, wn, zeta: float, h: float):
     """One MuJoCo step of the loop's gap (r, s = J·q̇), per row, with r_λ and J̇·q̇ held.
 
     Euler (and implicitfast: no joint damping here) updates s, then moves the positions with the
-    new velocity: the gap then opens by −½·h²·J̇·q̇ unseen by s, and s, read at the step's end
-    with its own J̇·q̇, moves by h·a1 + h²·d(J̇·q̇)/dt (a1 read at the step's start). RK4 moves each stage along the
-    previous stage's velocity: the gap a stage sees is off the linear model by the motion's
+    new velocity: the gap then opens by −½·h²·J̇·q̇ unseen by s, and s = J(q)·q̇ read at the
+    step's end moves by h·a1 + h²·``s_extra`` (a1 read at the step's start; s_extra = 2·H(q̇, q̈)
+    + ½·T(q̇, q̇, q̇) from J's change along the step, H and T J's second and third derivatives
+    along the motion). RK4 moves each stage along the previous stage's velocity: the gap a stage sees is off the linear model by the motion's
     curvature, +h²·J̇·q̇/8 at the second stage and −h²·J̇·q̇/8 at the third (none at the fourth
     and after the step, where Σ bᵢ·cᵢ = ½ cancels it)."""
     def acc(rr, vv):
         return wn * wn * (r_lam - rr) - 2.0 * zeta * wn * vv
 
     if integrator != "RK4":
-        v1 = v + h * acc(r, v) + h * h * jdv_rate
+        v1 = v + h * acc(r, v) + h * h * s_extra
         return r + h * v1 - 0.5 * h * h * jdv, v1
     a1 = acc(r, v)
     r2, v2 = r + 0.5 * h * v + h * h * jdv / 8.0, v + 0.5 * h * a1
@@ -124,7 +125,8 @@ def step(integrator: str, r, v, r_lam, jdv, jdv_rate, wn, zeta: float, h: float)
     return r + h / 6.0 * (v + 2 * v2 + 2 * v3 + v4), v + h / 6.0 * (a1 + 2 * a2 + 2 * a3 + a4)
 
 
-def discrete_offset(integrator: str, r_lam: np.ndarray, jdv: np.ndarray, wn: np.ndarray, zeta: float, h: float,
+def discrete_offset(integrator: str, r_lam: np.ndarray, jdv: np.ndarray, s_extra: np.ndarray, wn: np.ndarray,
+                    zeta: float, h: float,
                      t: np.ndarray, full: bool) -> np.ndarray:
     """What MuJoCo's steps at h add to the continuous gap dynamics, (samples, 2, rows): the
     step map x ↦ M·x + c (``_step``) has its fixed point x_d = (I − M)⁻¹·c and, for a slowly
@@ -133,7 +135,7 @@ def discrete_offset(integrator: str, r_lam: np.ndarray, jdv: np.ndarray, wn: np.
     grows as (ω_n·h)⁴ for RK4 (MuJoCo's refsafe keeps ω_n·h ≤ ½)."""
     w = wn[:, None]
     zero = np.zeros_like(r_lam)
-    c = np.array(step(integrator, zero, zero, r_lam, jdv, rate(jdv, t, full), w, zeta, h))  # (2, samples, rows)
+    c = np.array(step(integrator, zero, zero, r_lam, jdv, s_extra, w, zeta, h))  # (2, samples, rows)
     m_r = np.array(step(integrator, np.ones_like(r_lam), zero, zero, zero, zero, w, zeta, h))
     m_v = np.array(step(integrator, zero, np.ones_like(r_lam), zero, zero, zero, w, zeta, h))
     m = np.stack([m_r, m_v], axis=1).transpose(2, 3, 0, 1)  # (samples, rows, 2, 2)
