@@ -46,7 +46,7 @@ from linkgen.mujoco.loops import closure_forces, closure_jacobian, mechanism_siz
 from linkgen.mujoco.options import PLACEHOLDER, SOLVER_ITERATIONS, Settings
 from linkgen.mujoco.sample import Samples, moving_points
 from linkgen.mujoco.state import joint_states
-from linkgen.mujoco.timing import crank_time
+from linkgen.mujoco.timing import crank_phi, crank_time
 from linkgen.mujoco.tree import site_name, link_name, spanning_tree
 
 # MuJoCo's integrators this prediction models, and the evaluations of the dynamics each takes
@@ -179,6 +179,10 @@ def predict(asm: Assembly, settings: Settings, *, omega: float | None = None, ep
     full = span >= 2 * math.pi - 1e-12
     phi = np.linspace(mech.drive.start, mech.drive.stop, samples, endpoint=not full)
     t = crank_time(phi, mech.drive.start, w, eps)
+    cold = not full and _starts_cold(asm, settings, w, eps)
+    if cold and samples > 1 and settings.timestep < t[1]:  # a run records its first state after one step
+        t[0] = settings.timestep
+        phi[0] = crank_phi(t[0], mech.drive.start, w, eps)
     wk = w + eps * t
     qpos, qvel, qacc = joint_states(asm, model, phi, wk, np.full(samples, eps))
     lam = np.array([closure_forces(asm, model, forces(asm, phi, wk, np.full(samples, eps)).reactions, k)
@@ -207,7 +211,7 @@ def predict(asm: Assembly, settings: Settings, *, omega: float | None = None, ep
         jdvs[k] = jdv
     s_extra = jda + 0.5 * rate(jdvs, t, full)  # 2·H(q̇, q̈) + ½·T(q̇, q̇, q̇), d(J̇·q̇)/dt = T + 2·H(q̇, q̈)
     r, s_gap, a1 = gap_states(settings.integrator, r_phys, jdvs, s_extra, wn, zeta, settings.timestep, t,
-                              max(abs(w), abs(wk[-1])), full, cold=not full and _starts_cold(asm, settings, w, eps))
+                              max(abs(w), abs(wk[-1])), full, cold)
     cols = [i for i in range(model.nv) if i != drive]
     q_r, v_r = qpos.copy(), qvel.copy()  # hinge and slide joints only: qpos and qvel share their indices
     for k in range(samples):

@@ -73,10 +73,10 @@ def gap_states(integrator: str, r_lam: np.ndarray, jdv: np.ndarray, s_extra: np.
     u = -0.5 * h * jdv if integrator != "RK4" else np.zeros_like(jdv)
     if float(wn.min()) >= FAST * abs(omega):
         x, m = _fixed_point_and_lag(integrator, r_lam, jdv, s_extra, w, zeta, h, t, full)
-        if cold:  # the start's transient: the homogeneous steps from (0, 0) − x(t0)
+        if cold:  # the start's transient (the run starts at t = 0): the homogeneous steps from −x(0)
             x0 = -x[0]
             for k in range(t.shape[0]):
-                n = int(round((t[k] - t[0]) / h))
+                n = int(round(t[k] / h))
                 x[k] += np.einsum("nij,nj->ni", np.array([np.linalg.matrix_power(mi, n) for mi in m[0]]), x0)
         r, s = x[..., 0], x[..., 1]
     else:
@@ -173,26 +173,30 @@ def follow(r_phys: np.ndarray, u: np.ndarray, t: np.ndarray, wn: np.ndarray, zet
         r, v = np.zeros_like(r_phys[0]), np.zeros_like(r_phys[0])
     else:
         r, v = r_phys[0] + 2.0 * zeta * u[0] / wn[0], -u[0]
+    if cold and t[0] > 0:  # the run starts at t = 0; its first sample comes later
+        r, v = _advance(r, v, r_phys[0], r_phys[0], u[0], wn[0], zeta, t[0])
     out, out_v = np.zeros_like(r_phys), np.zeros_like(r_phys)
     for p in range(passes):
         for k in range(n):
             out[k], out_v[k] = r, v
             if k + 1 < n:
-                a, b, span = r_phys[k], r_phys[k + 1], t[k + 1] - t[k]
+                r, v = _advance(r, v, r_phys[k], r_phys[k + 1], u[k], wn[k], zeta, t[k + 1] - t[k])
             elif full:
-                a, b, span = r_phys[k], r_phys[0], t[0] + period - t[k]
-            else:
-                continue
-            if span * wn[k] > QUASI_STATIC:  # the loop answers within a small part of a sample's span
-                r, v = b + 2.0 * zeta * u[k] / wn[k], -u[k]
-                continue
-            m = max(1, int(math.ceil(span * wn[k] * FILTER_SUBSTEPS)))
-            h = span / m
-            for i in range(m):
-                target = a + (b - a) * (i + 1) / m
-                v = (v + h * wn[k] ** 2 * (target - r)) / (1.0 + 2.0 * zeta * wn[k] * h)
-                r = r + h * (v + u[k])
+                r, v = _advance(r, v, r_phys[k], r_phys[0], u[k], wn[k], zeta, t[0] + period - t[k])
     return out, out_v
+
+
+def _advance(r, v, a, b, u, wn: float, zeta: float, span: float):
+    """The gap (r, s) ``span`` [s] later, r_λ going from a to b linearly."""
+    if span * wn > QUASI_STATIC:  # the loop answers within a small part of the span
+        return b + 2.0 * zeta * u / wn, -u
+    m = max(1, int(math.ceil(span * wn * FILTER_SUBSTEPS)))
+    h = span / m
+    for i in range(m):
+        target = a + (b - a) * (i + 1) / m
+        v = (v + h * wn**2 * (target - r)) / (1.0 + 2.0 * zeta * wn * h)
+        r = r + h * (v + u)
+    return r, v
 
 
 
