@@ -35,6 +35,8 @@ SEARCH_INTEGRATORS = ("implicitfast", "RK4")
 SEARCH_SCAN = 90
 # Runs made to verify candidates before the search gives up.
 MAX_VERIFY = 3
+# Seconds between two progress lines on stderr.
+PROGRESS_EVERY = 1.0
 # What MuJoCo does where the user gives no value: solver iterations and tolerance, solimp.
 MUJOCO_ITERATIONS, MUJOCO_TOLERANCE = 100, 1e-8
 MUJOCO_SOLIMP = (0.9, 0.95, 0.001, 0.5, 2.0)
@@ -190,10 +192,13 @@ def check_settings(asm: Assembly, settings: Settings, *, tolerance: float = 1e-3
         raise ArgumentError(f"--tolerance: must be > 0 (a relative error), got {tolerance!r}")
     check_supported(asm)
     t0 = time.perf_counter()
+    last = [t0]
 
-    def report(fraction: float, what: str) -> None:
-        if progress is not None and time.perf_counter() - t0 > PROGRESS_AFTER:
-            progress(fraction, time.perf_counter() - t0, what)
+    def report(fraction: float, what: str) -> None:  # once the work lasts PROGRESS_AFTER s, at most once a second
+        now = time.perf_counter()
+        if progress is not None and now - t0 > PROGRESS_AFTER and now - last[0] >= PROGRESS_EVERY:
+            last[0] = now
+            progress(fraction, now - t0, what)
 
     mech = asm.mechanism
     model = mujoco.MjModel.from_xml_string(write_mjcf(asm, PLACEHOLDER))
