@@ -247,10 +247,14 @@ def _forces_at(asm: Assembly, model: mujoco.MjModel, data: mujoco.MjData, qpos: 
     mujoco.mj_comPos(model, data)
     apply_loads(asm, model, data, phi)
     mujoco.mj_forward(model, data)
+    closures = spanning_tree(asm).closures
+    if not closures:  # nothing to impose: the tree's own forces
+        mujoco.mj_rnePostConstraint(model, data)
+        return forward_forces(asm, model, data)
     k, b, imp = data.efc_KBIP[:, 0], data.efc_KBIP[:, 1], data.efc_KBIP[:, 2]
     rows = np.concatenate([np.flatnonzero((data.efc_type == mujoco.mjtConstraint.mjCNSTR_EQUALITY)
                                           & (data.efc_id == model.equality(pair.name).id))[:2]
-                           for pair in spanning_tree(asm).closures])
+                           for pair in closures])
     jac = data.efc_J.reshape(data.nefc, model.nv)[rows]
     m_inv_jt = np.zeros((rows.size, model.nv))
     mujoco.mj_solveM(model, data, m_inv_jt, jac)

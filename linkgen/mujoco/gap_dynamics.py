@@ -61,7 +61,7 @@ def quasi_static_gap(lam, diag, u, k_ref, b_ref, solimp) -> tuple[np.ndarray, fl
         hi = np.where(too_big, mid, hi)
         lo = np.where(too_big, lo, mid)
     d = impedance(solimp, 0.5 * (lo + hi))
-    return gap(d), float(d.min())
+    return gap(d), float(d.min()) if d.size else float(impedance(solimp, np.zeros(1))[0])
 
 
 def gap_states(integrator: str, r_lam: np.ndarray, jdv: np.ndarray, s_extra: np.ndarray, wn: np.ndarray, zeta: float,
