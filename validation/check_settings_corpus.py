@@ -40,7 +40,7 @@ def one(name: str, asm) -> list[dict]:
         finite = [x for x in d["ratios"].values() if x is not None]
         worst = max(finite, key=lambda x: max(x, 1 / x)) if finite else None
         rows.append({"model": name, "settings": label, "predicted": d["predicted"]["errors"],
-                     "measured": d["measured"]["errors"], "ratios": d["ratios"], "agrees": d["agrees"],
+                     "measured": d["measured"]["errors"] or dict.fromkeys(d["predicted"]["errors"]), "ratios": d["ratios"], "agrees": d["agrees"],
                      "worst_ratio": worst, "failure": d["measured"]["failure"], "wall_s": time.perf_counter() - t0})
     return rows
 
