@@ -196,21 +196,26 @@ def predict(asm: Assembly, settings: Settings, *, omega: float | None = None, ep
     data = mujoco.MjData(model)
     rows = lam.shape[1]
     r_phys, drift = np.zeros((samples, rows)), np.zeros((samples, rows))
-    jac, wn, jdvs, jda = np.zeros((samples, rows, model.nv)), np.zeros(samples), np.zeros((samples, rows)), np.zeros((samples, rows))
+    jac, jdvs, jda = np.zeros((samples, rows, model.nv)), np.zeros((samples, rows)), np.zeros((samples, rows))
+    g, hd = np.zeros((samples, rows, rows)), np.zeros((samples, rows, rows))
     drive = model.joint(mech.drive.joint).dofadr[0]
+    m_inv_jt = np.zeros((rows, model.nv))
     for k in range(samples):
         data.qpos[:], data.qvel[:] = qpos[k], qvel[k]
         mujoco.mj_forward(model, data)
         jac[k] = closure_jacobian(asm, model, data)
         diag = _diag_approx(asm, model, data)
-        jdv, jda[k] = _jdot(asm, model, data, qacc[k])
-        drift[k] = -0.5 * settings.timestep * jdv if euler else 0.0
+        jdvs[k], jda[k] = _jdot(asm, model, data, qacc[k])
+        drift[k] = -0.5 * settings.timestep * jdvs[k] if euler else 0.0
         r_qs, d = quasi_static_gap(lam[k], diag, drift[k], k_ref, b_ref, solimp)
-        wn[k] = d / (dmax * tau * zeta)
-        r_phys[k] = r_qs - 2.0 * zeta * drift[k] / wn[k]  # B·u/(K·d) = 2ζ·u/ω_n
-        jdvs[k] = jdv
+        r_phys[k] = r_qs - b_ref * drift[k] / (k_ref * d)  # r_λ = −R·λ/(K·d): the gap without the drift
+        if rows:  # a1 = P·a0 + Q·aref, Q = A·(A + R)⁻¹: ṡ = Q·K·d·(r_λ − r) − Q·B·s
+            mujoco.mj_solveM(model, data, m_inv_jt, jac[k])
+            a_mat = jac[k] @ m_inv_jt.T
+            q = a_mat @ np.linalg.inv(a_mat + np.diag((1.0 - d) / d * diag))
+            g[k], hd[k] = q * (k_ref * d)[None, :], q * b_ref
     s_extra = jda + 0.5 * rate(jdvs, t, full)  # 2·H(q̇, q̈) + ½·T(q̇, q̇, q̇), d(J̇·q̇)/dt = T + 2·H(q̇, q̈)
-    r, s_gap, a1 = gap_states(settings.integrator, r_phys, jdvs, s_extra, wn, zeta, settings.timestep, t,
+    r, s_gap, a1 = gap_states(settings.integrator, r_phys, jdvs, s_extra, g, hd, settings.timestep, t,
                               max(abs(w), abs(wk[-1])), full, cold)
     cols = [i for i in range(model.nv) if i != drive]
     q_r, v_r = qpos.copy(), qvel.copy()  # hinge and slide joints only: qpos and qvel share their indices
