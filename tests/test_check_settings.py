@@ -22,6 +22,9 @@ MODELS = Path(__file__).resolve().parents[1] / "models"
 FACTOR = 3.0
 # MuJoCo computes its impedance and gains in float64 from the same formulas: they agree to rounding.
 MODEL_TOL = 1e-12
+# A point's position read back from MuJoCo's body frames: float64 rounding of a metre-sized
+# mechanism, a few 1e-16 (measured 5.6e-16).
+ROUNDING_POSITION = 1e-14
 
 
 @pytest.fixture(scope="module", params=["fourbar", "slider_crank_offset"])
@@ -51,6 +54,14 @@ def test_the_prediction_takes_no_mujoco_step(monkeypatch):
     monkeypatch.setattr(mujoco.rollout, "rollout", refuse)
     p = predict(asm, replace(user_settings(timestep=2e-3, integrator="Euler"), armature=1e6), samples=24)
     assert all(np.isfinite(getattr(p.errors, q)) and getattr(p.errors, q) > 0 for q in QUANTITIES)
+
+
+def test_a_linkage_without_loops_is_predicted_exact():
+    # before: the prediction of a crank alone (no loop to close) failed on an empty array
+    asm = assemble(load(MODELS / "dc_motor_startup.toml"))
+    p = predict(asm, replace(user_settings(timestep=2e-3, integrator="RK4"), armature=1e6), samples=12)
+    assert p.errors.gap == 0.0 and p.errors.reaction == 0.0 and p.errors.torque == 0.0
+    assert p.errors.position < ROUNDING_POSITION
 
 
 def test_a_time_constant_below_two_timesteps_predicts_as_two_timesteps():

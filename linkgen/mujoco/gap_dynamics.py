@@ -77,7 +77,9 @@ def gap_states(integrator: str, r_lam: np.ndarray, jdv: np.ndarray, s_extra: np.
     with its loops closed and still (r = s = 0)."""
     u = -0.5 * h * jdv if integrator != "RK4" else np.zeros_like(jdv)
     n = r_lam.shape[1]
-    if n and _slowest_rate(g, hd) >= FAST * abs(omega):
+    if n == 0:  # no loop
+        return r_lam.copy(), r_lam.copy(), r_lam.copy()
+    if _slowest_rate(g, hd) >= FAST * abs(omega):
         x, m = _fixed_point_and_lag(integrator, r_lam, jdv, s_extra, g, hd, h, t, full)
         if cold:  # the start's transient (the run starts at t = 0): the homogeneous steps from −x(0)
             x0 = -x[0]
