@@ -17,8 +17,8 @@ from dataclasses import dataclass, replace
 from linkgen.crosscheck.practical import GAP_REPORT_LIMIT, SAMPLES
 from linkgen.errors import ArgumentError, SimulationError
 from linkgen.families.planar.assembly import Assembly
-from linkgen.mujoco.accuracy import (EVALUATIONS, QUANTITIES, AccuracyPrediction, Errors, check_supported,
-                                     effective_timeconst, predict, sample_errors, settings_dict, settings_text)
+from linkgen.mujoco.accuracy import (EVALUATIONS, QUANTITIES, AccuracyPrediction, Errors, check_supported, predict,
+                                     sample_errors, settings_dict, settings_text)
 from linkgen.mujoco.options import PROGRESS_AFTER, Settings
 
 # The prediction is judged against the measurement within this factor (issue 24: "within a
