@@ -16,14 +16,17 @@ velocity the integrator adds to the gap unseen by ṙ, so per row
 Euler and implicitfast step the positions with the step's end velocity, along the loop's
 tangent at the step's end, and open the loop by −½·dt²·J̇·q̇ a step unseen by ṙ = J·q̇: u =
 −½·dt·J̇·q̇ (RK4: fourth order, u = 0). The gap reaches this value through the loop's own
-dynamics, ṡ = ω_n²·(r_λ − r) − 2ζω_n·s, ṙ = s + u (s = J·q̇, r_λ = −R·λ/(K·d), ω_n =
-d/(dmax·τ·ζ)): a lag where ω·τ is not small, and the start-up transient where a run starts with
-its loops closed. The non-driven joints move by δq = J_nc⁻¹·r (J_nc the in-plane loop
+dynamics (``mujoco.gap_dynamics``), the rows coupled through A: a1 = P·a0 + Q·aref with
+Q = A·(A + R)⁻¹, so ṡ = Q·K·d·(r_λ − r) − Q·B·s, ṙ = s + u (s = J·q̇, r_λ = −R·λ/(K·d)), stepped
+as the integrator steps it: a lag where ω·τ is not small, a slow and lightly damped mode where
+A is small (along the heavy crank), and the start-up transient where a run starts with its
+loops closed. The non-driven joints move by δq = J_nc⁻¹·r (J_nc the in-plane loop
 Jacobian without the crank column, square for a mechanism of mobility 1), and their velocities so
 that the gap velocity MuJoCo sees, J·q̇, is the s of those dynamics (for Euler and implicitfast −u
 where the gap holds still: their velocity is the step's backward difference, ½·dt·q̈ behind).
-MuJoCo's own forward dynamics at that predicted state (no step taken) gives the
-reactions and the crank torque it will report; ``sample_errors`` compares them with the closed
+MuJoCo's own forward dynamics at that predicted state (no step taken), with the loops'
+acceleration set to that of the gap dynamics (``loop_terms.forces_at``), gives the reactions and
+the crank torque it will report; ``sample_errors`` compares them with the closed
 form exactly as it compares a run's samples.
 """
 

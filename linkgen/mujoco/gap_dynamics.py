@@ -1,14 +1,15 @@
-"""The loop gap's own dynamics in MuJoCo, per constraint row, along a closed-form motion.
+"""The loop gap's own dynamics in MuJoCo, its constraint rows coupled, along a closed-form motion.
 
 With the loop force λ the closed form gives, MuJoCo's soft ``connect`` holds a gap r and a gap
-velocity s = J·q̇ that obey (``mujoco.accuracy``'s docstring has the model)
+velocity s = J·q̇ (each (rows,)) that obey (``mujoco.accuracy``'s docstring has the model)
 
-    ṡ = ω_n²·(r_λ − r) − 2ζω_n·s,   ṙ = s + u,   r_λ = −R·λ/(K·d),   ω_n = d/(dmax·τ·ζ),
+    ṡ = g·(r_λ − r) − hd·s,   ṙ = s + u,   r_λ = −R·λ/(K·d),   g = Q·K·d,   hd = Q·B,
 
-u the integrator's drift. ``gap_states`` gives r, s and the gap acceleration a1 = J·q̈ + J̇·q̇
+Q = A·(A + R)⁻¹ (rows × rows; d·I where A is diagonal: a critically damped loop of rate
+d/(dmax·τ·ζ)), u the integrator's drift. ``gap_states`` gives r, s and the gap acceleration a1 = J·q̈ + J̇·q̇
 MuJoCo computes at the sampled states, for the integrator's own steps (``step``): analytically
-where the loop is fast beside the crank (its fixed point and lag per sample, and the decay of a
-start with the loops closed), by following the dynamics where it is not.
+where every mode of the loop is fast beside the crank (its fixed point and lag per sample, and
+the decay of a start with the loops closed), by following the dynamics where one is not.
 """
 
 from __future__ import annotations
@@ -23,9 +24,10 @@ FILTER_SUBSTEPS = 20
 # Where a sample's span exceeds this many loop time constants 1/ω_n the followed gap is taken at
 # its quasi-static value (its lag, ~2ζ/ω_n, is then under 4 % of the span).
 QUASI_STATIC = 50.0
-# The loop is "fast" where ω_n is at least this many times the crank speed: the gap is then its
-# fixed point plus a first-order lag (the next term, (ω/ω_n)², under 0.25 %), computed exactly;
-# following it numerically would let the stiffness ω_n² amplify the following's own error.
+# The loop is "fast" where its slowest mode's rate is at least this many times the crank speed:
+# the gap is then its fixed point plus a first-order lag (the next term, (ω/rate)², under
+# 0.25 %), computed exactly; following it numerically would let the loop's stiffness amplify the
+# following's own error.
 FAST = 20.0
 
 
