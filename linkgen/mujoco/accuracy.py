@@ -158,9 +158,9 @@ def check_supported(asm: Assembly) -> None:
     and gears (a joint coupling)."""
     mech = asm.mechanism
     if mech.cams or mech.gears:
-        kind = "a cam" if mech.cams else "a gear pair"
-        raise UnsupportedError(f"check-settings models the loops closed by revolute joints; this linkage has {kind}, "
-                               "whose contact or coupling it does not predict")
+        kind = "a cam (a contact)" if mech.cams else "a gear pair (a joint coupling)"
+        raise UnsupportedError(f"check-settings predicts loops closed by revolute joints; this linkage has {kind}, "
+                               "which it does not model")
 
 
 @no_log_file()
