@@ -7,7 +7,6 @@ from __future__ import annotations
 import argparse
 import math
 import re
-import sys
 from pathlib import Path
 
 # What -o/--out writes, by extension (``common.output_kind``).
@@ -64,15 +63,10 @@ def tolerance_arg(text: str) -> float:
     return x
 
 
-def _progress(name: str):
-    def report(fraction: float, elapsed: float, what: str) -> None:
-        print(f"{name}: {what} ({100 * fraction:.0f}% of the work, {elapsed:.1f} s)", file=sys.stderr, flush=True)
-    return report
-
-
 def cmd_check_settings(args) -> int:
     from linkgen.cli.closed_form import _output, write_json
     from linkgen.cli.common import OptionError
+    from linkgen.cli.mujoco import _progress  # the progress line every MuJoCo command prints
     from linkgen.crosscheck.check_settings import user_settings
     from linkgen.errors import ArgumentError
     from linkgen.pipeline.registry import load, stage
