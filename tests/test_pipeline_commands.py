@@ -3,7 +3,7 @@ refuses in one line; every family's validation result has ``.ok``, ``.summary()`
 ``.to_dict()`` and its diagnosis; ``-o/--out`` is the one output option (the earlier spellings
 still work, hidden); ``validate FOLDER`` writes nothing where the user did not ask.
 
-Cheap by design: the long commands (simulate, validate, animate, render, dynamics, flywheel) run
+Cheap by design: the long commands (simulate, validate, check-settings, animate, render, dynamics, flywheel) run
 on one small model each; on every other model only the refusal path of the families that do
 not take them is exercised."""
 
@@ -30,7 +30,8 @@ ARGS = {"structure": [], "analyze": [], "forces": [], "assemble": [], "profile":
         "build": ["-o", "{tmp}/m.xml"], "draw": ["-o", "{tmp}/m.png"],
         "simulate": ["--samples", "3", "--revolutions", "0.01"], "validate": ["--no-practical"],
         "animate": ["--frames", "2", "-o", "{tmp}/m.gif"], "render": ["--width", "32", "--height", "24", "-o", "{tmp}/m.png"],
-        "dynamics": ["--duration", "0.02", "--samples", "5"], "flywheel": ["--delta", "0.05"]}
+        "dynamics": ["--duration", "0.02", "--samples", "5"], "flywheel": ["--delta", "0.05"],
+        "check-settings": ["--no-search"]}
 # Commands that take long (a MuJoCo run, an animation, an ODE): run on these models only; on
 # every other model the command must still work or refuse in one line, which for a family that
 # takes the command means running it: those pairs are left to the models below.
@@ -38,7 +39,7 @@ LONG = {"build": {m for m in ALL if not m.startswith("cam_")} | {"cam_translatin
         "simulate": {"fourbar.toml"}, "validate": {"bennett.toml"},
         "animate": {"fourbar.toml", "cam_translating.toml", "rssr.toml"},
         "render": {"fourbar.toml", "cam_translating.toml", "rssr.toml"},
-        "dynamics": {"motor_startup.toml"}, "flywheel": {"flywheel_sine.toml"}}
+        "dynamics": {"motor_startup.toml"}, "flywheel": {"flywheel_sine.toml"}, "check-settings": {"fourbar.toml"}}
 # Commands of ours (this pipeline's stages) that must work on every model whose family takes them.
 MUST_WORK = {"build", "draw"}
 

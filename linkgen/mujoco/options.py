@@ -44,10 +44,11 @@ class Settings:
     armature: float = 1e4
     solimp: tuple[float, ...] | None = None  # None: (impedance, impedance, 0.001)
     label: str = "derived"
+    dampratio: float = 1.0  # solref's damping ratio
 
     @property
     def solref(self) -> str:
-        return f"{_fmt(self.timeconst)} 1"
+        return f"{_fmt(self.timeconst)} " + ("1" if self.dampratio == 1.0 else _fmt(self.dampratio))
 
     @property
     def solimp_text(self) -> str:

@@ -266,7 +266,7 @@ def apply(model: mujoco.MjModel, settings: Settings, drive_joint: str) -> None:
     model.opt.integrator = getattr(mujoco.mjtIntegrator, f"mjINT_{settings.integrator.upper()}")
     model.opt.iterations = settings.iterations
     model.opt.tolerance = settings.tolerance
-    model.eq_solref[:] = (settings.timeconst, 1.0)
+    model.eq_solref[:] = (settings.timeconst, settings.dampratio)
     model.eq_solimp[:, :3] = [float(x) for x in settings.solimp_text.split()][:3]
     if settings.solimp is not None and len(settings.solimp) == 5:
         model.eq_solimp[:, 3:5] = settings.solimp[3:5]

@@ -104,6 +104,9 @@ STAGES: tuple[Stage, ...] = (
           "machine_progress=None)",
           "MuJoCo against the closed form: ``ok``, ``summary(wall)``, ``to_dict()``, ``diagnosis`` (options that do "
           "not apply to a family are ignored by it)", ("validate",)),
+    Stage("check_settings", "(desc, settings, *, tolerance=0.001, search=True, progress=None)",
+          "MuJoCo's accuracy at ``settings`` predicted before any step and measured, and the cheapest settings "
+          "meeting ``tolerance``; ``to_dict()``, ``text()``", ("check-settings",)),
     Stage("figures", "(desc, check, out)", "the report's entries (``figures``: file names drawn into the folder "
           "``out``, ``summary``, …) of a validated description", ("validate",)),
     Stage("report", "(entry)", "the report's (row, section) writers of one ``validate --json`` entry",

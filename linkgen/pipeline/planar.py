@@ -62,13 +62,23 @@ def _summary(desc, omega=None, epsilon=None):
     return summarize(desc if isinstance(desc, Assembly) else assemble(desc), omega, epsilon)
 
 
+def _check_settings(desc, settings, *, tolerance: float = 1e-3, search: bool = True, progress=None):
+    """``linkgen check-settings`` (``crosscheck.check_settings``): linkages the Assur groups
+    cover, their loops closed by revolute joints."""
+    from linkgen.crosscheck.check_settings import check_settings
+    from linkgen.families.planar.assembly import Assembly, assemble
+
+    asm = desc if isinstance(desc, Assembly) else assemble(desc)
+    return check_settings(asm, settings, tolerance=tolerance, search=search, progress=progress)
+
+
 PLANAR = Family(
     name="planar", title="planar linkage", plural="planar linkages", doc="docs/format.md", description=Mechanism,
     detects=lambda data: True, from_dict=_from_dict,
-    commands=("structure", "analyze", "forces", "assemble", "build", "simulate", "validate", "draw", "animate",
-              "render", "dynamics", "flywheel"),
+    commands=("structure", "analyze", "forces", "assemble", "build", "simulate", "validate", "check-settings", "draw",
+              "animate", "render", "dynamics", "flywheel"),
     stages={"angles": _angles, "structure": _structure, "kinematics": _kinematics, "forces": _forces,
-            "summary": _summary, **MUJOCO_STAGES},
+            "summary": _summary, "check_settings": _check_settings, **MUJOCO_STAGES},
     options=("--transfer", "--keep-singular", "--practical", "--robot"))
 
 __all__ = ["PLANAR"]
