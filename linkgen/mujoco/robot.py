@@ -117,11 +117,50 @@ class RobotDrive:
     notes: tuple[str, ...] = ()
 
 
-def accuracy_comment(asm, settings) -> str:
-    """One line of the accuracy MuJoCo gives this mechanism at the file's settings (the loop
-    gap, the crank torque's and the reactions' errors), for the header; empty until the
-    settings check (``linkgen check-settings``) is wired in."""
-    return ""
+def accuracy_comment(source, settings: Settings) -> str:
+    """One line of the accuracy MuJoCo gives this mechanism at the file's settings, predicted as
+    ``linkgen check-settings`` predicts it (``mujoco.accuracy.predict``: from the closed form's
+    loop forces and MuJoCo's constraint model, for the crank turning at the description's ω; no
+    MuJoCo step), or why it is not predicted."""
+    from linkgen.errors import LinkgenError
+    from linkgen.families.planar.assembly import Assembly, assemble
+    from linkgen.families.planar.description import Mechanism
+
+    if not isinstance(source, (Mechanism, Assembly)):
+        return ("not predicted here (linkgen check-settings predicts planar linkages); linkgen validate with its "
+                "practical option measures what MuJoCo's usual settings cost. ")
+    try:
+        asm = source if isinstance(source, Assembly) else assemble(source)
+        p = predict_at(asm, settings)
+    except LinkgenError as exc:
+        return f"not predicted: {exc}. "
+    e = p.errors
+    return (f"predicted for the crank turning at ω = {p.omega:g} rad/s (as linkgen check-settings predicts it: the "
+            f"closed form's loop forces through MuJoCo's constraint model, an estimate it checks by a run): loop "
+            f"gap {e.gap:.2g} of the size ({e.gap * p.size:.2g} m), point positions {e.position:.2g} of the size, "
+            f"reactions {e.reaction:.2g} of the peak reaction, crank torque {e.torque:.2g} of its peak. "
+            f"linkgen check-settings, given this file's timestep and integrator (2ms, implicitfast) and a tolerance, "
+            f"measures them and finds the cheapest settings that meet it. ")
+
+
+def predict_at(asm, settings: Settings):
+    """``mujoco.accuracy.predict`` at ``settings`` with the rotor inertia that holds the crank at
+    the description's ω (as ``check-settings`` runs it)."""
+    from dataclasses import replace
+
+    import mujoco
+
+    from linkgen.mujoco.accuracy import predict
+    from linkgen.mujoco.log import no_log_file
+    from linkgen.mujoco.mjcf import write_mjcf
+    from linkgen.mujoco.options import PLACEHOLDER
+    from linkgen.mujoco.settings import derive
+
+    mech = asm.mechanism
+    with no_log_file():
+        model = mujoco.MjModel.from_xml_string(write_mjcf(asm, PLACEHOLDER))
+    validation, _ = derive(asm, model, omega=mech.drive.omega, epsilon=mech.drive.epsilon)
+    return predict(asm, replace(settings, armature=validation.armature))
 
 
 def drive_actuator(drive: RobotDrive, opt: RobotOptions) -> tuple[str, dict, str]:
@@ -275,4 +314,4 @@ def _header(name, prefix, plane, drive, opt, said, sensors, world_g, accuracy: s
 
 
 __all__ = ["ACTUATORS", "BANDWIDTH_PER_SPEED", "POSITION_BANDWIDTH", "ROBOT_INTEGRATOR", "ROBOT_SETTINGS", "ROBOT_TIMESTEP",
-           "RobotDrive", "RobotOptions", "TORQUE_MARGIN", "accuracy_comment", "drive_actuator", "robot_model"]
+           "RobotDrive", "RobotOptions", "TORQUE_MARGIN", "accuracy_comment", "predict_at", "drive_actuator", "robot_model"]
