@@ -1,9 +1,11 @@
 """The mechanism reduced to the crank over one turn, as smooth periodic functions of φ for an
 ODE solver: J(φ) and dJ/dφ [kg·m²] by periodic cubic splines through the closed form on a grid,
-and the reduced moment of the loads M(φ) [N·m] (gravity, forces, torques, the process load).
+and the reduced moment of the loads M(φ, ω) = M₀(φ) + c(φ)·ω [N·m] (gravity, forces, torques,
+springs, the process load; dampers make it depend on the crank speed ω through the reduced
+damping c(φ) = ∂M/∂ω ≤ 0, ``planar.kinetostatics.reduced_damping``).
 
-M(φ) is piecewise linear between grid points, and jumps exactly where a stroke-switched force
-switches (``tables``: the switch angles are in its grid twice)."""
+M₀(φ) and c(φ) are piecewise linear between grid points, and M₀ jumps exactly where a
+stroke-switched force switches (``tables``: the switch angles are in its grid twice)."""
 
 from __future__ import annotations
 
@@ -32,8 +34,9 @@ class Reduced:
     inertia: CubicSpline
     inertia_derivative: CubicSpline
     moment_phi: np.ndarray  # (GRID + 1 + 2·switches,) [rad], non-decreasing; a switch angle twice
-    moment_grid: np.ndarray  # M at moment_phi [N·m]
+    moment_grid: np.ndarray  # M₀ at moment_phi [N·m] (at ω = 0)
     drive_omega: float = 0.0  # the drive's prescribed speed [rad/s]: a speed scale where a motor has none
+    damping_grid: np.ndarray | None = None  # c = ∂M/∂ω at moment_phi [N·m·s/rad]; None: no dampers
 
     def j(self, phi):
         return self.inertia(self._wrap(phi))
@@ -41,16 +44,20 @@ class Reduced:
     def dj(self, phi):
         return self.inertia_derivative(self._wrap(phi))
 
-    def moment(self, phi):
-        m = self._table.at(phi)
+    def moment(self, phi, omega=0.0):
+        """M(φ, ω) [N·m]: the loads' reduced moment at crank angle φ and speed ω (the one place
+        the machine's equation reads it)."""
+        m = self._table("moment_grid").at(phi)
+        if self.damping_grid is not None:
+            m = m + self._table("damping_grid").at(phi) * omega
         return m if np.ndim(m) else float(m)
 
-    @property
-    def _table(self) -> PeriodicTable:
-        table = self.__dict__.get("_cached_table")
+    def _table(self, name: str) -> PeriodicTable:
+        key = f"_cached_{name}"
+        table = self.__dict__.get(key)
         if table is None:
-            table = PeriodicTable(self.moment_phi, self.moment_grid)
-            object.__setattr__(self, "_cached_table", table)
+            table = PeriodicTable(self.moment_phi, getattr(self, name))
+            object.__setattr__(self, key, table)
         return table
 
     def _wrap(self, phi):
@@ -83,10 +90,15 @@ def reduce(asm: Assembly, load: ProcessLoad | None = None, grid: int = GRID) -> 
     j = np.append(f.reduced.inertia, f.reduced.inertia[0])
     dj = np.append(f.reduced.inertia_derivative, f.reduced.inertia_derivative[0])
     table_phi, where = jump_grid(d.start, grid, switch_angles(asm.mechanism, d.start))
-    m = forces(asm, where, 0.0, 0.0).reduced.moment - process_torque(load, where)
+    red = forces(asm, where, 0.0, 0.0).reduced
+    m = red.moment - process_torque(load, where)
     m[-1] = m[0]  # one turn on: the same load
+    c = None
+    if any(s.damping for s in asm.mechanism.springs) or any(t.damping for t in asm.mechanism.torsion_springs):
+        c = red.damping.copy()
+        c[-1] = c[0]
     return Reduced(phi, CubicSpline(phi, j, bc_type="periodic"), CubicSpline(phi, dj, bc_type="periodic"),
-                   table_phi, m, float(d.omega))
+                   table_phi, m, float(d.omega), c)
 
 
 __all__ = ["GRID", "Reduced", "process_torque", "process_torque_function", "reduce"]
