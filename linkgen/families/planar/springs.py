@@ -42,6 +42,9 @@ MAX_TORSION_DAMPING = limits.MAX_TORQUE / limits.MAX_OMEGA  # N·m·s/rad
 # direction u = d/|d| then rests on the rounding of the points' coordinates (~1e-16 of the size),
 # off by up to 1e-16/1e-9 = 1e-7 rad at the limit.
 COINCIDE_TOL = 1e-9
+# Crank angles over the drive's range on which ``check_apart`` looks for the points' least
+# distance before refining it: one every 0.5° over a turn.
+SAMPLES = 721
 
 
 @dataclass(frozen=True)
@@ -121,24 +124,63 @@ def check_springs(m: Mechanism) -> None:
             bounded(t.rest_angle, f"{where}.rest_angle", limits.MAX_ANGLE, "rad")
 
 
+def _coincide(mech: Mechanism, spring: Spring, phi: np.ndarray, where: str) -> DescriptionError:
+    i = mech.springs.index(spring)
+    p, q = spring.points
+    at = ", ".join(f"{math.degrees(a):.6g}°" for a in phi[:5]) + (" …" if len(phi) > 5 else "")
+    return DescriptionError(f"spring[{i}].points", f"{p!r} and {q!r} coincide {where} (crank angle {at}), where the "
+                                                   f"spring has no line of action; attach it to points that stay apart")
+
+
+def check_apart(asm) -> None:
+    """Raise DescriptionError if a spring's two points come within COINCIDE_TOL of the size of
+    each other anywhere over the drive's range: the least distance of each spring's points on a
+    grid of SAMPLES angles, each local least refined by Brent's method on |d|² (smooth, where |d|
+    has a corner at 0). Done once per assembly."""
+    from scipy.optimize import minimize_scalar
+
+    from linkgen.families.planar.kinematics import solve
+    from linkgen.families.planar.pose import mechanism_size
+
+    if asm.__dict__.get("_linkgen_springs_apart") or not asm.mechanism.springs:
+        return
+    mech = asm.mechanism
+    d = mech.drive
+    grid = np.linspace(d.start, d.stop, SAMPLES)
+    kin = solve(asm, grid, on_singular="mark")
+    tol = COINCIDE_TOL * mechanism_size(mech)
+    for spring in mech.springs:
+        def dist2(phi, spring=spring):
+            k = solve(asm, np.atleast_1d(phi), on_singular="mark")
+            r = k.points[spring.points[1]].p - k.points[spring.points[0]].p
+            return np.einsum("ij,ij->i", r, r)
+
+        r = kin.points[spring.points[1]].p - kin.points[spring.points[0]].p
+        g = np.einsum("ij,ij->i", r, r)
+        low = [j for j in range(len(g)) if g[j] <= g[max(j - 1, 0)] and g[j] <= g[min(j + 1, len(g) - 1)]]
+        for j in low:
+            a, b = grid[max(j - 1, 0)], grid[min(j + 1, len(g) - 1)]
+            best = minimize_scalar(lambda x: float(dist2(x)[0]), bounds=(a, b), method="bounded",
+                                   options={"xatol": 1e-13}) if b > a else None
+            x, v = (best.x, best.fun) if best is not None and best.fun < g[j] else (grid[j], g[j])
+            if not math.sqrt(max(v, 0.0)) > tol:
+                raise _coincide(mech, spring, np.array([x]), "along the motion")
+    asm.__dict__["_linkgen_springs_apart"] = True
+
+
 def spring_lengths(kin, spring: Spring):
     """L (n,) [m], dL/dφ (n,) [m/rad] and the unit vector u from the first point to the second
-    (n, 2) at the angles of ``kin``. Raises DescriptionError where the points (nearly) coincide."""
-    from linkgen.errors import angle_ranges
+    (n, 2) at the angles of ``kin``. Raises DescriptionError where the points (nearly) coincide,
+    at these angles or anywhere over the drive's range (``check_apart``)."""
     from linkgen.families.planar.pose import mechanism_size
 
     p, q = kin.points[spring.points[0]], kin.points[spring.points[1]]
     d = q.p - p.p
     length = np.hypot(d[:, 0], d[:, 1])
-    close = ~(length > COINCIDE_TOL * mechanism_size(kin.assembly.mechanism))
-    if np.any(close & ~kin.singular):
-        mech = kin.assembly.mechanism
-        i = mech.springs.index(spring)
-        ranges = ", ".join(f"{math.degrees(a):.6g}°..{math.degrees(b):.6g}°"
-                           for a, b in angle_ranges(kin.phi, close & ~kin.singular))
-        raise DescriptionError(f"spring[{i}].points", f"{spring.points[0]!r} and {spring.points[1]!r} coincide at "
-                                                      f"crank angles {ranges}, where the spring has no line of "
-                                                      f"action; attach it to points that stay apart")
+    close = ~(length > COINCIDE_TOL * mechanism_size(kin.assembly.mechanism)) & ~kin.singular
+    if np.any(close):
+        raise _coincide(kin.assembly.mechanism, spring, kin.phi[close], "")
+    check_apart(kin.assembly)
     u = d / np.where(close, 1.0, length)[:, None]
     return length, np.einsum("ij,ij->i", u, q.d1 - p.d1), u
 
@@ -205,5 +247,5 @@ def torsion_torque(kin, t: TorsionSpring, omega) -> np.ndarray:
 
 
 __all__ = ["MAX_DAMPING", "MAX_STIFFNESS", "MAX_TORSION_DAMPING", "MAX_TORSION_STIFFNESS", "Spring", "TorsionSpring",
-           "carrier", "check_springs", "sketch_relative", "spring_lengths", "spring_tension", "torsion_deflection", "torsion_torque",
+           "carrier", "check_apart", "check_springs", "sketch_relative", "spring_lengths", "spring_tension", "torsion_deflection", "torsion_torque",
            "winding"]
