@@ -448,7 +448,7 @@ def test_the_torsion_springs_sign_and_rest_angle_in_mujoco(joint, links, tree):
     """At a pose away from the rest angle, with the closed form's joint speeds: MuJoCo's passive
     generalised force does the closed form's work, qfrc_passive·q̇ = τ·(θ̇_b − θ̇_a), and on the
     spring's own hinge (a tree joint) it is τ itself, signed for the child link."""
-    from linkgen.families.planar.springs import torsion_torque
+    from linkgen.families.planar.spring_loads import torsion_torque
     from linkgen.mujoco.mjcf import write_mjcf
     from linkgen.mujoco.state import joint_states
     from linkgen.mujoco.tree import spanning_tree

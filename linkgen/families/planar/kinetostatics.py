@@ -122,7 +122,7 @@ def reduced_dynamics(asm: Assembly, kin: Kinematics, loads: dict | None = None, 
 def reduced_damping(asm: Assembly, kin: Kinematics) -> np.ndarray:
     """∂M/∂ω (n,) [N·m·s/rad]: −Σ c·(dL/dφ)² over the dampers between points, −Σ c·(dθ/dφ)² over
     the torsional ones (``planar.springs``)."""
-    from linkgen.families.planar.springs import spring_lengths, torsion_deflection
+    from linkgen.families.planar.spring_loads import spring_lengths, torsion_deflection
 
     mech = asm.mechanism
     out = np.zeros(kin.phi.shape[0])

@@ -17,7 +17,8 @@ from linkgen.families.planar.geometry import effective_mass_properties
 from linkgen.families.planar.cam_pair import spring_load
 from linkgen.families.planar.kinematics import Kinematics
 from linkgen.families.planar.primitives import Vec
-from linkgen.families.planar.springs import carrier, spring_tension, torsion_torque
+from linkgen.families.planar.spring_loads import spring_tension, torsion_torque
+from linkgen.families.planar.springs import carrier
 from linkgen.model.strokes import stroke_active
 
 

@@ -202,7 +202,7 @@ def summarize(asm: Assembly, omega: float | None = None, epsilon: float | None =
 def spring_peaks(asm: Assembly, phi: np.ndarray, omega: float) -> dict[str, Extreme]:
     """Each spring's largest |tension| [N] (``spring[i]``) and each torsion spring's largest
     |torque| [N·m] (``torsion_spring[i]``), dampers included at crank speed ω, over ``phi``."""
-    from linkgen.families.planar.springs import spring_tension, torsion_torque
+    from linkgen.families.planar.spring_loads import spring_tension, torsion_torque
 
     mech = asm.mechanism
     items = [(f"spring[{i}]", lambda kin, s=s: spring_tension(kin, s, omega)[0]) for i, s in enumerate(mech.springs)]
