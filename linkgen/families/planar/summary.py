@@ -1,7 +1,7 @@
 """The design summary a designer reads first: each slider's stroke and each rocker's swing with
 their limit (dead-centre) positions, the time ratio of a working and a return stroke, each
 group's least transmission angle, the peak balancing torque and joint reactions, and each
-spring's peak force (``peak_spring_forces``, where the description has springs).
+spring's peak force (``peak_spring_forces``: empty without springs).
 
 Limit positions are the crank angles where an output's first transfer function changes sign,
 found on a grid of SAMPLES angles — round the wrap from 2π to 0 over a full turn, and where it
@@ -61,17 +61,12 @@ class DesignSummary:
 
     @property
     def units(self) -> dict[str, str]:
-        units = {"phi": "rad", "drive_range": "rad", "slider": "m", "rocker": "rad", "peak_balancing_torque": "N·m",
-                 "peak_reactions": "N", "min_transmission_angle": "rad"}
-        if self.peak_spring_forces:
-            units["peak_spring_forces"] = "N (spring[i]) or N·m (torsion_spring[i])"
-        return units
+        return {"phi": "rad", "drive_range": "rad", "slider": "m", "rocker": "rad", "peak_balancing_torque": "N·m",
+                "peak_reactions": "N", "min_transmission_angle": "rad",
+                "peak_spring_forces": "N (spring[i]) or N·m (torsion_spring[i])"}
 
     def to_dict(self) -> dict:
-        d = summary_dict(self)
-        if not self.peak_spring_forces:  # a key only where the description has springs
-            d.pop("peak_spring_forces")
-        return d
+        return summary_dict(self)
 
     def text(self) -> str:
         from linkgen.families.planar.texts import summary_text
