@@ -148,6 +148,9 @@ def test_the_peak_spring_force_in_the_summary_by_hand():
     d = s.to_dict()
     assert d["peak_spring_forces"]["spring[0]"]["value"] == pytest.approx(1140.0, rel=1e-9)
     assert "peak force of spring[0]: 1140 N at φ = 90°" in s.text()
+    from linkgen.report.sections import _summary_lines
+
+    assert "- peak spring forces: spring[0] 1140 N at 90°" in _summary_lines(d)  # the validation report's
     plain = summarize(assemble(load(MODELS / "fourbar.toml"))).to_dict()
     assert plain["peak_spring_forces"] == {}  # no springs, no peaks
 
