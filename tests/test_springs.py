@@ -378,6 +378,23 @@ torque = 8.0
     np.testing.assert_allclose(run.omega, exact, rtol=0, atol=100 * RTOL * 2.0)
 
 
+def test_the_flywheels_driving_torque_pays_the_damper_at_the_mean_speed():
+    """A crank (J = 2 kg·m², 1 kg at 0.5 m off its axis, gravity) with a torsional damper
+    c = 4 N·m·s/rad at its pivot: gravity's moment averages to 0 over a turn, so the mean driving
+    torque is the damper's c·ω_m = 4·10 = 40 N·m (by hand)."""
+    from linkgen.machine.flywheel import size_flywheel
+    from linkgen.machine.reduced import reduce
+
+    d = {"mechanism": {"name": "damped_crank", "gravity": [0.0, -9.81]},
+         "points": {"O": [0.0, 0.0], "A": [0.5, 0.0]},
+         "links": {"ground": {"points": ["O"]},
+                   "crank": {"points": ["O", "A"], "inertial": {"mass": 1.0, "com": [0.5, 0.0], "inertia": 2.0}}},
+         "torsion_spring": [{"joint": "O", "links": ["ground", "crank"], "stiffness": 0.0, "damping": 4.0}],
+         "drive": {"joint": "O", "omega": 10.0}}
+    fw = size_flywheel(reduce(assemble(from_dict(d))), 10.0, 0.05)
+    assert fw.driving_torque == pytest.approx(40.0, rel=1e-9)
+
+
 # ---------------------------------------------------------------- the drawing
 
 
