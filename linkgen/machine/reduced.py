@@ -24,6 +24,12 @@ from linkgen.families.planar.kinetostatics import forces
 # Grid points over one turn. J(φ) of the bundled models is reproduced by the spline to < 1e-10
 # relative between the grid points (checked in tests/test_dynamics.py against the closed form).
 GRID = 4096
+# Cells of the table of M₀ and C over one turn: linear between them, it errs by (2π/n)²/8·|M″|,
+# 4.6e-9·|M″| here. At 4096 cells (2.9e-7·|M″|) a slider-crank's return spring (tests/test_springs.py,
+# a 2000 N/m spring on a 0.1 m crank, M″ up to ~10³ N·m) moved the machine's ω by 3.0e-6 of its
+# peak over 3 s — MuJoCo's full linkage, which has the spring itself, disagreed by as much (its
+# tolerance is 1e-6); at 32768, by 3.1e-8. A table of 32768 angles costs ~0.05 s.
+MOMENT_GRID = 32768
 
 
 @dataclass(frozen=True)
@@ -79,8 +85,10 @@ def process_torque(load: ProcessLoad | None, phi: np.ndarray) -> np.ndarray:
     return process_torque_function(load)(phi)
 
 
-def reduce(asm: Assembly, load: ProcessLoad | None = None, grid: int = GRID) -> Reduced:
-    """J, dJ/dφ and M over one turn of the crank from the drive's start angle."""
+def reduce(asm: Assembly, load: ProcessLoad | None = None, grid: int = GRID,
+           moment_grid: int = MOMENT_GRID) -> Reduced:
+    """J, dJ/dφ over one turn of the crank from the drive's start angle (splines through ``grid``
+    angles) and M (a table of ``moment_grid`` cells)."""
     d = asm.mechanism.drive
     if d.stop - d.start < 2 * math.pi - 1e-9:
         raise DescriptionError("drive.range", "a machine needs a crank that turns fully (range of 360°); this "
@@ -89,7 +97,7 @@ def reduce(asm: Assembly, load: ProcessLoad | None = None, grid: int = GRID) -> 
     f = forces(asm, phi[:-1], 0.0, 0.0)
     j = np.append(f.reduced.inertia, f.reduced.inertia[0])
     dj = np.append(f.reduced.inertia_derivative, f.reduced.inertia_derivative[0])
-    table_phi, where = jump_grid(d.start, grid, switch_angles(asm.mechanism, d.start))
+    table_phi, where = jump_grid(d.start, moment_grid, switch_angles(asm.mechanism, d.start))
     red = forces(asm, where, 0.0, 0.0).reduced
     m = red.moment - process_torque(load, where)
     m[-1] = m[0]  # one turn on: the same load
@@ -101,4 +109,4 @@ def reduce(asm: Assembly, load: ProcessLoad | None = None, grid: int = GRID) -> 
                    table_phi, m, float(d.omega), c)
 
 
-__all__ = ["GRID", "Reduced", "process_torque", "process_torque_function", "reduce"]
+__all__ = ["GRID", "MOMENT_GRID", "Reduced", "process_torque", "process_torque_function", "reduce"]
