@@ -520,3 +520,43 @@ def test_the_torsion_springs_sign_and_rest_angle_in_mujoco(joint, links, tree):
         dof = model.joint(joint).dofadr[0]
         on_child = tau if hinge[1] == links[1] else -tau
         assert data.qfrc_passive[dof] == pytest.approx(on_child, abs=PASSIVE_TOL * 40.0)
+
+
+# The inverse route at the closed form's state: both sides are the same loads at the same pose;
+# what is left is MuJoCo's rounding of a 3×3 solve and the RNE (crosscheck.compare's INVERSE_TOL,
+# 1e-10 of the peak force, or force × size for a moment).
+def test_mujocos_reactions_with_torsion_springs_at_a_tree_and_a_closing_revolute():
+    """A slider-crank with torsion springs at A (a tree hinge: the hinge's own spring) and at B
+    (the loop's closing revolute: a fixed tendon over O and A). MuJoCo applies the fixed tendon's
+    torque to the tree's hinges, so the slide joint's couple (cfrc_int) would count it as the
+    guide's: ``mujoco.springs.spring_wrenches`` puts the torques on the links for that reading
+    (without it the slider's moment was off by 11.1 N·m at φ = 0.7 rad). The rod turns fully
+    against the crank, so at φ = 2.5 and 4.4 rad the hinge at A has turned past ±π from the sketch:
+    ``mujoco.state.joint_states`` counts it along the motion, as a run does (wrapped, A's spring
+    torque was off by 30 N·m/rad·2π and A's reaction by 560 N)."""
+    from linkgen.crosscheck.compare import INVERSE_TOL
+    from linkgen.mujoco.forces import inverse_forces
+    from linkgen.mujoco.mjcf import write_mjcf
+    from linkgen.mujoco.state import joint_states
+
+    d = _desc("slider_crank_spring")
+    d["torsion_spring"] = [{"joint": "A", "links": ["crank", "rod"], "stiffness": 30.0, "rest_angle": "10deg",
+                            "damping": 0.3},
+                           {"joint": "B", "links": ["rod", "slider"], "stiffness": 20.0, "rest_angle": "-20deg",
+                            "damping": 0.2}]
+    asm = assemble(from_dict(d))
+    model = mujoco.MjModel.from_xml_string(write_mjcf(asm))
+    assert model.tendon("torsion:1").id >= 0 and model.jnt_stiffness[model.joint("A").id] == 30.0
+    data = mujoco.MjData(model)
+    phi = np.array([0.7, 2.5, 4.4])
+    w, e = np.full(3, 10.0), np.full(3, 3.0)
+    qpos, qvel, qacc = joint_states(asm, model, phi, w, e)
+    cf = forces(asm, phi, w, e)
+    force = max(np.abs(r).max() for r in cf.reactions.values())
+    for k in range(3):
+        mj = inverse_forces(asm, model, data, float(phi[k]), qpos[k], qvel[k], qacc[k])
+        for name, r in cf.reactions.items():
+            np.testing.assert_allclose(mj.reactions[name], r[k], rtol=0, atol=INVERSE_TOL * force, err_msg=name)
+        assert mj.normal_force["slider"] == pytest.approx(cf.normal_force["slider"][k], abs=INVERSE_TOL * force)
+        assert mj.moment["slider"] == pytest.approx(cf.moment["slider"][k], abs=INVERSE_TOL * force * 0.65)
+        assert mj.balancing_torque == pytest.approx(cf.balancing_torque[k], abs=INVERSE_TOL * force * 0.65)

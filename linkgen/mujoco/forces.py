@@ -208,8 +208,9 @@ class ForceSamples:
 
 def load_schedule(asm: Assembly, model: mujoco.MjModel, phi: np.ndarray) -> np.ndarray:
     """``xfrc_applied`` rows (n, 6·nbody) for crank angles φ (n,) [rad], from the closed-form
-    positions: the open-loop input ``rollout`` needs (the springs are MuJoCo's own passive forces). Per-sample values are recomputed from
-    MuJoCo's own positions by ``apply_loads``; this only feeds the stepping. Gravity is MuJoCo's own."""
+    positions: the open-loop input ``rollout`` needs. Per-sample values are recomputed from MuJoCo's
+    own positions by ``apply_loads``; this only feeds the stepping. Gravity and the springs
+    (tendons, joint springs: ``mujoco.springs``) are MuJoCo's own."""
     out = np.zeros((phi.shape[0], model.nbody, 6))
     for name, load in applied_loads(asm, solve(asm, phi), gravity=False, springs=False).items():
         b = model.body(body_name(name)).id

@@ -93,8 +93,8 @@ def add_springs(root, mech: Mechanism, pose, size: float) -> None:
     tendon = etree.SubElement(root, "tendon")
     for i, s in enumerate(mech.springs):
         el = etree.SubElement(tendon, "spatial", name=spring_name(i), stiffness=_fmt(s.stiffness),
-                              damping=_fmt(s.damping), springlength=_fmt(s.rest_length), width=_fmt(TENDON_WIDTH * size),
-                              rgba="0.9 0.75 0.1 1")
+                              damping=_fmt(s.damping), springlength=_fmt(s.rest_length),
+                              width=_fmt(TENDON_WIDTH * size), rgba="0.9 0.75 0.1 1")
         for p in s.points:
             etree.SubElement(el, "site", site=site_name(mech, carrier(mech, p), p))
     for i, t in enumerate(mech.torsion_springs):
@@ -116,20 +116,15 @@ def add_springs(root, mech: Mechanism, pose, size: float) -> None:
 
 
 def spring_wrenches(mech: Mechanism, model: mujoco.MjModel, data: mujoco.MjData) -> np.ndarray:
-    """The torsion springs' torques on the bodies (nbody, 6) as ``xfrc_applied`` rows (force,
-    then torque about each body's centre of mass), from MuJoCo's tendon and joint state
+    """The torsion springs' torques on the bodies (nbody, 6) as ``xfrc_applied`` rows (zero force,
+    the torque about z), from MuJoCo's tendon and joint state
     (``mj_kinematics``, ``mj_comPos``, ``mj_fwdVelocity`` or ``mj_forward`` done)."""
     out = np.zeros((model.nbody, 6))
     info = spanning_tree(mech)
 
-    def push(link: str, force: np.ndarray, point: np.ndarray | None, torque: float = 0.0) -> None:
-        if link == GROUND:
-            return
-        b = model.body(body_name(link)).id
-        out[b, :3] += force
-        if point is not None:
-            out[b, 3:] += np.cross(point - data.xipos[b], force)
-        out[b, 5] += torque
+    def push(link: str, torque: float) -> None:
+        if link != GROUND:
+            out[model.body(body_name(link)).id, 5] += torque
 
     for i, t in enumerate(mech.torsion_springs):
         hinge = tree_hinge(info, t)
@@ -142,8 +137,8 @@ def spring_wrenches(mech: Mechanism, model: mujoco.MjModel, data: mujoco.MjData)
             k = model.tendon(torsion_name(i)).id
             tau = -(model.tendon_stiffness[k] * (data.ten_length[k] - model.tendon_lengthspring[k, 0])
                     + model.tendon_damping[k] * data.ten_velocity[k])
-        push(t.links[1], np.zeros(3), None, tau)
-        push(t.links[0], np.zeros(3), None, -tau)
+        push(t.links[1], tau)
+        push(t.links[0], -tau)
     return out
 
 

@@ -88,9 +88,10 @@ def check_springs(m: Mechanism) -> None:
         p, q = s.points
         both = [link.name for link in m.links if p in link.points and q in link.points]
         if p == q or both:
-            raise DescriptionError(f"{where}.points", f"{p!r} and {q!r} are both on link {(both or ['the same'])[0]!r}, "
-                                                      f"so their distance never changes; a spring joins points on two "
-                                                      f"different links (one may be on the ground)")
+            on = f"link {both[0]!r}" if both else "one point"
+            raise DescriptionError(f"{where}.points", f"{p!r} and {q!r} are both on {on}, so their distance never "
+                                                      f"changes; a spring joins points on two different links (one "
+                                                      f"may be on the ground)")
         _coefficients(where, s.stiffness, s.damping, MAX_STIFFNESS, MAX_DAMPING, ("N/m", "N·s/m"))
         bounded(s.rest_length, f"{where}.rest_length", limits.MAX_LENGTH, "m")
         if s.rest_length < 0:
