@@ -15,6 +15,11 @@ and the motor torque follow from qfrc_inverse + qfrc_constraint − Jᵀ·xfrc =
 (a square n × n system), and the
 tree reactions from ``mj_rnePostConstraint`` with λ applied as body forces.
 
+Springs and dampers (``mujoco.springs``) are MuJoCo's own passive forces: ``mj_inverse`` leaves
+``qfrc_passive`` out of ``qfrc_inverse`` and the forward run integrates it, so λ and the motor's
+torque are the closed form's with the springs as loads; a torsion spring's joint torques are put
+on its links for the tree reactions (``spring_wrenches``).
+
 Planar loops closed by ``connect`` leave the force along the parallel hinge axes (z)
 undetermined, so only in-plane components are read. External loads enter MuJoCo as
 ``xfrc_applied`` computed from MuJoCo's own positions (``apply_loads``).
