@@ -233,10 +233,11 @@ def _check_forces(planar, spatial, p: dict, epsilon: float) -> None:
 
 
 # The summary keys only one family has: the planar one's least transmission angle of each Assur
-# group (the spatial family defines no transmission angle), the spatial one's chain kind (RSSR,
+# group (the spatial family defines no transmission angle) and its springs' peaks (a spatial
+# description has no springs), the spatial one's chain kind (RSSR,
 # RSSP, ...) and its degree of static indeterminacy (a planar chain is always determinate).
 # ``model`` both have, with the names of two different files.
-PLANAR_ONLY = {"min_transmission_angle"}
+PLANAR_ONLY = {"min_transmission_angle", "peak_spring_forces"}
 SPATIAL_ONLY = {"kind", "statically_indeterminate"}
 
 

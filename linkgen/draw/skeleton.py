@@ -3,7 +3,8 @@
 Ground pivots are hatched supports, bars are lines, links of three or more points are plates
 (their points' convex hull), sliders are blocks on their guides (a hatched line when the guide
 is the ground, a slot along the guide link otherwise), revolute joints are small circles, and
-every point carries its name. The crank carries an arrow for the sense of ω. Every size is a
+every point carries its name. The crank carries an arrow for the sense of ω; springs are
+zig-zags between their points and torsion springs spirals about their joints (``draw.springs``). Every size is a
 fraction of the mechanism's extent, so a 2 cm slider-crank and a 2 m press look alike."""
 
 from __future__ import annotations
@@ -16,6 +17,7 @@ import numpy as np
 from linkgen.families.planar.positions import Positions
 from linkgen.families.planar.description import GROUND
 from linkgen.families.planar.plate import convex_hull
+from linkgen.draw.springs import draw_springs
 
 # Sizes as fractions of the mechanism's extent (the diagonal of its points' bounding box).
 JOINT_RADIUS = 0.011
@@ -179,6 +181,7 @@ def draw_skeleton(ax, pos: Positions, frame: Frame, i: int, *, alpha: float = 1.
             for q in xy[1:]:
                 ax.plot([first[0], q[0]], [first[1], q[1]], color=color, lw=2.6, alpha=alpha, zorder=3,
                         solid_capstyle="round")
+    draw_springs(ax, pos, size, i, alpha)
     for pair, g in pos.guides.items():
         _, u = pos.guide_line(pair, i)
         centre = pos.local_to_world(g.slider, g.point, i)

@@ -6,6 +6,8 @@ from the cycle's start (M the reduced moment of the loads, negative when it resi
 ω_max and ω_min = ω_m·(1 ± δ/2) (ω_m their mean, the classical definition) the flywheel J_f and
 T0 follow from max_φ 2(T0 + ΔE)/(J + J_f) = ω_max² and min_φ … = ω_min²: T0 from the first for
 each J_f, and J_f from the second by bisection (ω_min grows with J_f). No linearisation in δ.
+Dampers (``[[spring]]``/``[[torsion_spring]]`` damping) make M depend on ω: they are taken at ω_m,
+which their work over the cycle matches to within the fluctuation δ.
 """
 
 from __future__ import annotations
@@ -34,9 +36,11 @@ class Flywheel:
     delta: float
 
 
-def _cycle(red: Reduced):
+def _cycle(red: Reduced, omega_mean: float):
     phi = red.moment_phi
     m = red.moment_grid
+    if red.damping_grid is not None:  # dampers at the mean speed (``Reduced.moment``'s M₀ + C·ω)
+        m = m + red.damping_grid * omega_mean
     m_d = -float(np.trapezoid(m, phi) / (phi[-1] - phi[0]))
     de = np.concatenate([[0.0], np.cumsum(0.5 * (m[1:] + m[:-1] + 2 * m_d) * np.diff(phi))])
     return phi, red.j(phi), de, m_d
@@ -55,7 +59,7 @@ def size_flywheel(red: Reduced, omega_mean: float, delta: float, added: float = 
     the flywheel itself is beyond it."""
     if not (omega_mean > 0 and 0 < delta < 2):
         raise SimulationError(f"need ω_mean > 0 and 0 < δ < 2, got {omega_mean!r}, {delta!r}")
-    phi, j, de, m_d = _cycle(red)
+    phi, j, de, m_d = _cycle(red, omega_mean)
     j = j + added
     with np.errstate(over="ignore", under="ignore"):
         e = de / omega_mean / omega_mean  # ΔE/ω_m² [kg·m²]
@@ -86,7 +90,7 @@ def size_flywheel(red: Reduced, omega_mean: float, delta: float, added: float = 
 
 def fluctuation(red: Reduced, flywheel: float, omega_mean: float, added: float = 0.0) -> float:
     """δ = (ω_max − ω_min)/ω_m that a flywheel [kg·m²] gives at mean speed ω_m = (ω_max + ω_min)/2."""
-    phi, j, de, m_d = _cycle(red)
+    phi, j, de, m_d = _cycle(red, omega_mean)
     j = j + added + flywheel
 
     def mean(t0):

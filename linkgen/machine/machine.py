@@ -145,14 +145,14 @@ class _Model:
         drive = self.u * self.eta * mm
         if self.shaft:
             ts = self.shaft_torque(y)
-            dy[1] = (red.moment(phi) + ts - 0.5 * red.dj(phi) * w * w) / (red.j(phi) + self.m.flywheel_inertia)
+            dy[1] = (red.moment(phi, w) + ts - 0.5 * red.dj(phi) * w * w) / (red.j(phi) + self.m.flywheel_inertia)
             dy[2] = y[3]
             jr = self.m.rotor_inertia * self.u**2
             if not jr > 0:
                 raise SimulationError("an elastic shaft needs a rotor inertia > 0 ([machine] rotor_inertia)")
             dy[3] = (drive - ts) / jr
         else:
-            dy[1] = (red.moment(phi) + drive - 0.5 * red.dj(phi) * w * w) / (red.j(phi) + self.m.added_inertia)
+            dy[1] = (red.moment(phi, w) + drive - 0.5 * red.dj(phi) * w * w) / (red.j(phi) + self.m.added_inertia)
         if self.current:
             dy[-1] = motors.dc_current_rate(self.m.motor, self.u * w_rotor, i)
         return dy

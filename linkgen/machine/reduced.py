@@ -1,9 +1,11 @@
 """The mechanism reduced to the crank over one turn, as smooth periodic functions of φ for an
 ODE solver: J(φ) and dJ/dφ [kg·m²] by periodic cubic splines through the closed form on a grid,
-and the reduced moment of the loads M(φ) [N·m] (gravity, forces, torques, the process load).
+and the reduced moment of the loads M(φ, ω) = M₀(φ) + c(φ)·ω [N·m] (gravity, forces, torques,
+springs, the process load; dampers make it depend on the crank speed ω through the reduced
+damping c(φ) = ∂M/∂ω ≤ 0, ``planar.kinetostatics.reduced_damping``).
 
-M(φ) is piecewise linear between grid points, and jumps exactly where a stroke-switched force
-switches (``tables``: the switch angles are in its grid twice)."""
+M₀(φ) and c(φ) are piecewise linear between grid points, and M₀ jumps exactly where a
+stroke-switched force switches (``tables``: the switch angles are in its grid twice)."""
 
 from __future__ import annotations
 
@@ -22,6 +24,12 @@ from linkgen.families.planar.kinetostatics import forces
 # Grid points over one turn. J(φ) of the bundled models is reproduced by the spline to < 1e-10
 # relative between the grid points (checked in tests/test_dynamics.py against the closed form).
 GRID = 4096
+# Cells of the table of M₀ and C over one turn: linear between them, it errs by (2π/n)²/8·|M″|,
+# 4.6e-9·|M″| here. At 4096 cells (2.9e-7·|M″|) a slider-crank's return spring (tests/test_springs.py,
+# a 2000 N/m spring on a 0.1 m crank, M″ up to ~10³ N·m) moved the machine's ω by 3.0e-6 of its
+# peak over 3 s — MuJoCo's full linkage, which has the spring itself, disagreed by as much (its
+# tolerance is 1e-6); at 32768, by 3.1e-8. A table of 32768 angles costs ~0.05 s.
+MOMENT_GRID = 32768
 
 
 @dataclass(frozen=True)
@@ -32,8 +40,9 @@ class Reduced:
     inertia: CubicSpline
     inertia_derivative: CubicSpline
     moment_phi: np.ndarray  # (GRID + 1 + 2·switches,) [rad], non-decreasing; a switch angle twice
-    moment_grid: np.ndarray  # M at moment_phi [N·m]
+    moment_grid: np.ndarray  # M₀ at moment_phi [N·m] (at ω = 0)
     drive_omega: float = 0.0  # the drive's prescribed speed [rad/s]: a speed scale where a motor has none
+    damping_grid: np.ndarray | None = None  # c = ∂M/∂ω at moment_phi [N·m·s/rad]; None: no dampers
 
     def j(self, phi):
         return self.inertia(self._wrap(phi))
@@ -41,16 +50,20 @@ class Reduced:
     def dj(self, phi):
         return self.inertia_derivative(self._wrap(phi))
 
-    def moment(self, phi):
-        m = self._table.at(phi)
+    def moment(self, phi, omega=0.0):
+        """M(φ, ω) [N·m]: the loads' reduced moment at crank angle φ and speed ω (the one place
+        the machine's equation reads it)."""
+        m = self._table("moment_grid").at(phi)
+        if self.damping_grid is not None:
+            m = m + self._table("damping_grid").at(phi) * omega
         return m if np.ndim(m) else float(m)
 
-    @property
-    def _table(self) -> PeriodicTable:
-        table = self.__dict__.get("_cached_table")
+    def _table(self, name: str) -> PeriodicTable:
+        key = f"_cached_{name}"
+        table = self.__dict__.get(key)
         if table is None:
-            table = PeriodicTable(self.moment_phi, self.moment_grid)
-            object.__setattr__(self, "_cached_table", table)
+            table = PeriodicTable(self.moment_phi, getattr(self, name))
+            object.__setattr__(self, key, table)
         return table
 
     def _wrap(self, phi):
@@ -72,8 +85,10 @@ def process_torque(load: ProcessLoad | None, phi: np.ndarray) -> np.ndarray:
     return process_torque_function(load)(phi)
 
 
-def reduce(asm: Assembly, load: ProcessLoad | None = None, grid: int = GRID) -> Reduced:
-    """J, dJ/dφ and M over one turn of the crank from the drive's start angle."""
+def reduce(asm: Assembly, load: ProcessLoad | None = None, grid: int = GRID,
+           moment_grid: int = MOMENT_GRID) -> Reduced:
+    """J, dJ/dφ over one turn of the crank from the drive's start angle (splines through ``grid``
+    angles) and M (a table of ``moment_grid`` cells)."""
     d = asm.mechanism.drive
     if d.stop - d.start < 2 * math.pi - 1e-9:
         raise DescriptionError("drive.range", "a machine needs a crank that turns fully (range of 360°); this "
@@ -82,11 +97,16 @@ def reduce(asm: Assembly, load: ProcessLoad | None = None, grid: int = GRID) -> 
     f = forces(asm, phi[:-1], 0.0, 0.0)
     j = np.append(f.reduced.inertia, f.reduced.inertia[0])
     dj = np.append(f.reduced.inertia_derivative, f.reduced.inertia_derivative[0])
-    table_phi, where = jump_grid(d.start, grid, switch_angles(asm.mechanism, d.start))
-    m = forces(asm, where, 0.0, 0.0).reduced.moment - process_torque(load, where)
+    table_phi, where = jump_grid(d.start, moment_grid, switch_angles(asm.mechanism, d.start))
+    red = forces(asm, where, 0.0, 0.0).reduced
+    m = red.moment - process_torque(load, where)
     m[-1] = m[0]  # one turn on: the same load
+    c = None
+    if any(s.damping for s in asm.mechanism.springs) or any(t.damping for t in asm.mechanism.torsion_springs):
+        c = red.damping.copy()
+        c[-1] = c[0]
     return Reduced(phi, CubicSpline(phi, j, bc_type="periodic"), CubicSpline(phi, dj, bc_type="periodic"),
-                   table_phi, m, float(d.omega))
+                   table_phi, m, float(d.omega), c)
 
 
-__all__ = ["GRID", "Reduced", "process_torque", "process_torque_function", "reduce"]
+__all__ = ["GRID", "MOMENT_GRID", "Reduced", "process_torque", "process_torque_function", "reduce"]

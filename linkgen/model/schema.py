@@ -139,6 +139,9 @@ PLANAR = {
                   "pressure_angle": parse_angle}),
     "cam": Each({"follower": string, "roller": string, "roller_radius": length, "spring_rate": finite,
                  "spring_preload": finite, "segment": Items(SEGMENT), "law": LAW}),
+    "spring": Items({"points": Items(string), "stiffness": finite, "rest_length": length, "damping": finite}),
+    "torsion_spring": Items({"joint": string, "links": Items(string), "stiffness": finite, "rest_angle": parse_angle,
+                             "damping": finite}),
     "machine": MACHINE,
 }
 

@@ -15,6 +15,11 @@ and the motor torque follow from qfrc_inverse + qfrc_constraint − Jᵀ·xfrc =
 (a square n × n system), and the
 tree reactions from ``mj_rnePostConstraint`` with λ applied as body forces.
 
+Springs and dampers (``mujoco.springs``) are MuJoCo's own passive forces: ``mj_inverse`` leaves
+``qfrc_passive`` out of ``qfrc_inverse`` and the forward run integrates it, so λ and the motor's
+torque are the closed form's with the springs as loads; a torsion spring's joint torques are put
+on its links for the tree reactions (``spring_wrenches``).
+
 Planar loops closed by ``connect`` leave the force along the parallel hinge axes (z)
 undetermined, so only in-plane components are read. External loads enter MuJoCo as
 ``xfrc_applied`` computed from MuJoCo's own positions (``apply_loads``).
@@ -36,6 +41,7 @@ from linkgen.families.planar.loads import applied_loads, stroke_active
 from linkgen.mujoco.tree import DRIVE_ACTUATOR, TreeInfo, body_name, link_name, site_name, spanning_tree
 from linkgen.mujoco.log import no_log_file
 from linkgen.mujoco.loops import closure_jacobian
+from linkgen.mujoco.springs import has_springs, spring_wrenches
 
 
 @dataclass(frozen=True)
@@ -88,6 +94,11 @@ def has_loads(asm: Assembly) -> bool:
 def forward_forces(asm: Assembly, model: mujoco.MjModel, data: mujoco.MjData) -> StateForces:
     """Forces at the current state; ``mj_forward`` and ``mj_rnePostConstraint`` must have run."""
     info = spanning_tree(asm)
+    if has_springs(asm.mechanism):  # the springs' passive forces on the bodies, for cfrc_int (mujoco.springs)
+        given = data.xfrc_applied.copy()
+        data.xfrc_applied[:] += spring_wrenches(asm.mechanism, model, data)
+        mujoco.mj_rnePostConstraint(model, data)
+        data.xfrc_applied[:] = given
     reactions, normal, moment = _tree_reactions(asm, model, data, info)
     for pair in info.closures:
         eq = model.equality(pair.name).id
@@ -140,6 +151,8 @@ def inverse_forces(asm: Assembly, model: mujoco.MjModel, data: mujoco.MjData, ph
         if b2 > 0:
             add_force(data, b2, point, -f)
         reactions[pair.name] = _on_first(asm, model, eq, pair.name, lam)
+    if has_springs(asm.mechanism):  # the springs' passive forces on the bodies, for cfrc_int (mujoco.springs)
+        data.xfrc_applied[:] += spring_wrenches(asm.mechanism, model, data)
     mujoco.mj_rnePostConstraint(model, data)
     tree_r, normal, moment = _tree_reactions(asm, model, data, info)
     reactions |= tree_r
@@ -200,10 +213,11 @@ class ForceSamples:
 
 def load_schedule(asm: Assembly, model: mujoco.MjModel, phi: np.ndarray) -> np.ndarray:
     """``xfrc_applied`` rows (n, 6·nbody) for crank angles φ (n,) [rad], from the closed-form
-    positions: the open-loop input ``rollout`` needs. Per-sample values are recomputed from
-    MuJoCo's own positions by ``apply_loads``; this only feeds the stepping. Gravity is MuJoCo's own."""
+    positions: the open-loop input ``rollout`` needs. Per-sample values are recomputed from MuJoCo's
+    own positions by ``apply_loads``; this only feeds the stepping. Gravity and the springs
+    (tendons, joint springs: ``mujoco.springs``) are MuJoCo's own."""
     out = np.zeros((phi.shape[0], model.nbody, 6))
-    for name, load in applied_loads(asm, solve(asm, phi), gravity=False).items():
+    for name, load in applied_loads(asm, solve(asm, phi), gravity=False, springs=False).items():
         b = model.body(body_name(name)).id
         out[:, b, 0:2], out[:, b, 5] = load.force, load.moment
     return out.reshape(phi.shape[0], -1)

@@ -16,6 +16,8 @@ object it names, and every name linkgen makes up contains ``:``, which user name
       compound hinge; a prismatic pair by its own name); connect = the closing revolute's name;
     * site = ``POINT`` on the first link that lists the point, ``POINT:LINK`` on the others;
     * sensor ``pos:SITE`` (the site's world position); actuator ``drive:motor`` on the drive joint;
+    * tendons ``spring:I`` (the I-th ``[[spring]]``) and ``torsion:I`` (a torsion spring at a
+      loop-closing revolute; at a tree joint it is the hinge's own stiffness), ``mujoco.springs``;
     * geoms ``LINK:bar:P-Q`` (a bar from the link's first point P to its point Q),
       ``ground:pivot:P``, ``LINK:block``, ``LINK:dot``, ``LINK:guide:PRISMATIC``; light
       ``light:sun``; materials ``mat:ground``, ``mat:crank``, ``mat:link``, ``mat:slider``.
@@ -51,6 +53,7 @@ from linkgen.mujoco.scene import add_scene, add_scene_assets, add_servo, add_ske
 from linkgen.mujoco.tree import DRIVE_ACTUATOR, body_name, sensor_name, site_name, spanning_tree
 from linkgen.mujoco.guides import GUIDE_SIZE, guide_span
 from linkgen.mujoco.log import no_log_file
+from linkgen.mujoco.springs import add_springs
 
 # Integration and constraint settings come from the mechanism (linkgen.mujoco.settings): the loop
 # time constant from the predicted loop gap and the crank speed, the timestep from it, the
@@ -263,6 +266,7 @@ def write_mjcf(source: Mechanism | Assembly, settings: Settings | None = None) -
         from linkgen.mujoco.cam_pair import add_cams
 
         add_cams(root, cam_asm, settings, size)
+    add_springs(root, mech, pose, size)
     sensor = etree.SubElement(root, "sensor")
     for link in mech.links:
         for p in link.points:

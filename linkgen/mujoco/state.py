@@ -10,13 +10,15 @@ from linkgen.families.planar.geometry import guide_shapes, link_shapes
 from linkgen.families.planar.assembly import Assembly
 from linkgen.families.planar.pose import LinkStates, reference_pose, state
 from linkgen.families.planar.kinematics import solve
+from linkgen.families.planar.spring_loads import winding
 from linkgen.mujoco.tree import spanning_tree
 
 
 def joint_states(asm: Assembly, model: mujoco.MjModel, phi: np.ndarray, omega: np.ndarray,
                  epsilon: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """The model's qpos (m, nq), qvel (m, nv) and qacc (m, nv) from the closed form at crank
-    angles φ (m,) [rad], speeds ω (m,) [rad/s] and accelerations ε (m,) [rad/s²]."""
+    angles φ (m,) [rad], speeds ω (m,) [rad/s] and accelerations ε (m,) [rad/s²]; a hinge's angle
+    counted from the reference pose along the motion (``spring_loads.winding``), as in a run."""
     phi = np.asarray(phi, dtype=float)
     m = phi.shape[0]
     omega = np.broadcast_to(np.asarray(omega, dtype=float), (m,))
@@ -29,7 +31,10 @@ def joint_states(asm: Assembly, model: mujoco.MjModel, phi: np.ndarray, omega: n
         if pair.kind == "R":
             a, b = kin.links[child].angle, kin.links[parent].angle
             rel, d1, d2 = a.v - b.v, (a.d1 - b.d1)[:m], (a.d2 - b.d2)[:m]
-            qpos[:, j.qposadr[0]] = np.remainder(rel[:m] - rel[m] + np.pi, 2 * np.pi) - np.pi
+            # continuous from the reference pose as MuJoCo's own hinge is (a torsion spring on it
+            # winds): the turns the child makes against the parent per crank turn, times the turn
+            turned = winding(asm, parent, child) * (phi - asm.sketch_phi)
+            qpos[:, j.qposadr[0]] = np.remainder(rel[:m] - rel[m] - turned + np.pi, 2 * np.pi) - np.pi + turned
         else:
             sign = 1.0 if child == asm.guides[pair.name].slider else -1.0
             s = kin.sliders[pair.name]

@@ -159,6 +159,11 @@ def _summary_lines(s: dict) -> list[str]:
                                                          for k, v in worst))
     elif s["forces_note"]:
         lines.append(f"- {s['forces_note']}")
+    springs = s.get("peak_spring_forces") or {}
+    if springs:
+        lines.append("- peak spring forces: " + ", ".join(
+            f"{k} {v['value']:.4g} {'N·m' if k.startswith('torsion') else 'N'} at {deg(v['phi']):.4g}°"
+            for k, v in springs.items()))
     return lines + [""]
 
 

@@ -11,6 +11,7 @@ from linkgen.model.names import GROUND, check_name
 from linkgen.model.defaults import DEFAULT_BLOCK_MASS, DEFAULT_DENSITY
 from linkgen.model.units import bounded, shown
 from linkgen.families.planar.higher_pairs import check_cams, check_gears
+from linkgen.families.planar.springs import check_springs
 
 if TYPE_CHECKING:
     from linkgen.families.planar.description import Mechanism
@@ -43,6 +44,7 @@ def validate(m: Mechanism) -> None:
     _check_loads(m)
     check_gears(m)
     check_cams(m)
+    check_springs(m)
     _check_mobility(m)
 
 

@@ -35,6 +35,7 @@ from typing import Mapping
 from linkgen.families.planar.checks import validate
 from linkgen.model.names import GROUND
 from linkgen.families.planar.decompose import decompose
+from linkgen.families.planar.springs import Spring, TorsionSpring
 
 
 
@@ -198,6 +199,8 @@ class Mechanism:
     title: str = ""
     gears: tuple[Gear, ...] = ()
     cams: tuple[CamPair, ...] = ()
+    springs: tuple[Spring, ...] = ()
+    torsion_springs: tuple[TorsionSpring, ...] = ()
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "points", MappingProxyType(dict(self.points)))
@@ -207,6 +210,8 @@ class Mechanism:
         object.__setattr__(self, "torques", tuple(self.torques))
         object.__setattr__(self, "gears", tuple(self.gears))
         object.__setattr__(self, "cams", tuple(self.cams))
+        object.__setattr__(self, "springs", tuple(self.springs))
+        object.__setattr__(self, "torsion_springs", tuple(self.torsion_springs))
         validate(self)
 
     def link(self, name: str) -> Link:
@@ -327,4 +332,6 @@ __all__ = [
     "PointForce",
     "LinkTorque",
     "Mechanism",
+    "Spring",
+    "TorsionSpring",
 ]

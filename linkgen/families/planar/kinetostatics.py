@@ -91,19 +91,24 @@ class ReducedDynamics:
     """The mechanism reduced to the crank, over φ (each (n,)).
 
     inertia J(φ) = Σ m·|v_S′|² + I·θ′² [kg·m²]; inertia_derivative dJ/dφ [kg·m²/rad];
-    moment: reduced moment of the given loads (gravity, forces, torques) Σ F·v′ + M·θ′ [N·m].
+    moment: reduced moment of the given loads (gravity, forces, torques, springs, dampers at the
+    crank speed ω) Σ F·v′ + M·θ′ [N·m]; damping: its part per unit ω, the reduced damping
+    ∂M/∂ω = −Σ c·(dL/dφ)² − Σ c_t·(dθ/dφ)² [N·m·s/rad] (≤ 0; 0 without dampers), so that the
+    moment at another speed ω′ is moment + damping·(ω′ − ω).
     The balancing torque then is T = J·ε + ½·J′·ω² − moment.
     """
 
     inertia: np.ndarray
     inertia_derivative: np.ndarray
     moment: np.ndarray
+    damping: np.ndarray | None = None
 
 
-def reduced_dynamics(asm: Assembly, kin: Kinematics, loads: dict | None = None) -> ReducedDynamics:
-    """J(φ), dJ/dφ and the reduced moment of the given loads at the angles of ``kin``
-    (``loads``: ``applied_loads(asm, kin)`` if already at hand)."""
-    loads = applied_loads(asm, kin) if loads is None else loads
+def reduced_dynamics(asm: Assembly, kin: Kinematics, loads: dict | None = None, omega=0.0) -> ReducedDynamics:
+    """J(φ), dJ/dφ, the reduced moment of the given loads at crank speed ``omega`` and the reduced
+    damping at the angles of ``kin`` (``loads``: ``applied_loads(asm, kin, omega=omega)`` if
+    already at hand)."""
+    loads = applied_loads(asm, kin, omega=omega) if loads is None else loads
     n = kin.phi.shape[0]
     j, dj, m_red = np.zeros(n), np.zeros(n), np.zeros(n)
     for name, mp in mass_table(asm).items():
@@ -111,7 +116,23 @@ def reduced_dynamics(asm: Assembly, kin: Kinematics, loads: dict | None = None) 
         j += mp.mass * np.einsum("ij,ij->i", s.d1, s.d1) + mp.inertia * th.d1**2
         dj += 2.0 * (mp.mass * np.einsum("ij,ij->i", s.d1, s.d2) + mp.inertia * th.d1 * th.d2)
         m_red += np.einsum("ij,ij->i", loads[name].force, s.d1) + loads[name].moment * th.d1
-    return ReducedDynamics(j, dj, m_red)
+    return ReducedDynamics(j, dj, m_red, reduced_damping(asm, kin))
+
+
+def reduced_damping(asm: Assembly, kin: Kinematics) -> np.ndarray:
+    """∂M/∂ω (n,) [N·m·s/rad]: −Σ c·(dL/dφ)² over the dampers between points, −Σ c·(dθ/dφ)² over
+    the torsional ones (``planar.springs``)."""
+    from linkgen.families.planar.spring_loads import spring_lengths, torsion_deflection
+
+    mech = asm.mechanism
+    out = np.zeros(kin.phi.shape[0])
+    for s in mech.springs:
+        if s.damping:
+            out -= s.damping * spring_lengths(kin, s)[1] ** 2
+    for t in mech.torsion_springs:
+        if t.damping:
+            out -= t.damping * torsion_deflection(kin, t)[1] ** 2
+    return out
 
 
 # The balancing torque by two routes must agree to this fraction of the torque scale S (per
@@ -161,12 +182,12 @@ def forces(mech_or_asm, phi, omega, epsilon=0.0, threads: int | None = None, *,
     bad = [r for info in infos for r in info[0]]
     if bad:
         raise BalanceError(bad, max(info[1] for info in infos), BALANCE_TOL)
-    torque, power, reactions, normal, moment, (j, dj, m_red), marked, tooth, contact = tree
+    torque, power, reactions, normal, moment, (j, dj, m_red, c_red), marked, tooth, contact = tree
     mech = asm.mechanism
     on = {r.name: r.links[0] for r in mech.revolutes} | {p.name: p.slider for p in mech.prismatics}
     by = {r.name: r.links[1] for r in mech.revolutes} | {p.name: p.guide for p in mech.prismatics}
     return Forces(phi, np.array(np.broadcast_to(w, (n,))), np.array(np.broadcast_to(e, (n,))), torque, power,
-                  reactions, normal, moment, ReducedDynamics(j, dj, m_red), marked, tooth, contact, on, by)
+                  reactions, normal, moment, ReducedDynamics(j, dj, m_red, c_red), marked, tooth, contact, on, by)
 
 
 @np.errstate(invalid="ignore", divide="ignore", over="ignore")  # found and named by angle below
@@ -175,7 +196,7 @@ def _block_forces(asm: Assembly, kin: Kinematics, w: np.ndarray, e: np.ndarray):
     mech = asm.mechanism
     n = kin.phi.shape[0]
     marked = kin.singular
-    given = applied_loads(asm, kin)
+    given = applied_loads(asm, kin, omega=w)
     masses = mass_table(asm)
     # Total load on each link (given + d'Alembert), force (n,2) and moment about its centre of mass.
     load: dict[str, list[np.ndarray]] = {}
@@ -305,11 +326,11 @@ def _block_forces(asm: Assembly, kin: Kinematics, w: np.ndarray, e: np.ndarray):
     torque, power = x[:, 2].copy(), -power
     red = reduced_dynamics(asm, kin, given)
     if marked.any():
-        for arr in (power, red.inertia, red.inertia_derivative, red.moment):
+        for arr in (power, red.inertia, red.inertia_derivative, red.moment, red.damping):
             arr[marked] = 0.0
     bad, worst = balance_failures(kin.phi, torque, power, scale, marked)
-    tree = (torque, power, reactions, normal, moment, (red.inertia, red.inertia_derivative, red.moment), marked, tooth,
-            contact)
+    tree = (torque, power, reactions, normal, moment, (red.inertia, red.inertia_derivative, red.moment, red.damping),
+            marked, tooth, contact)
     return tree, (bad, worst)
 
 

@@ -17,6 +17,8 @@ from linkgen.families.planar.geometry import effective_mass_properties
 from linkgen.families.planar.cam_pair import spring_load
 from linkgen.families.planar.kinematics import Kinematics
 from linkgen.families.planar.primitives import Vec
+from linkgen.families.planar.spring_loads import spring_tension, torsion_torque
+from linkgen.families.planar.springs import carrier
 from linkgen.model.strokes import stroke_active
 
 
@@ -36,9 +38,12 @@ class LinkLoad:
     moment: np.ndarray
 
 
-def applied_loads(asm: Assembly, kin: Kinematics, gravity: bool = True) -> dict[str, LinkLoad]:
+def applied_loads(asm: Assembly, kin: Kinematics, gravity: bool = True, omega=0.0,
+                  springs: bool = True) -> dict[str, LinkLoad]:
     """Gravity (unless ``gravity`` is False), external point forces (inside their strokes),
-    external torques and cam followers' springs per moving link."""
+    external torques, cam followers' springs and (unless ``springs`` is False: a MuJoCo model
+    has them as passive forces) the springs and dampers (``planar.springs``) per moving link;
+    the dampers at crank speed ``omega`` [rad/s] (scalar or (n,))."""
     mech = asm.mechanism
     n = kin.phi.shape[0]
     g = np.asarray(mech.gravity if gravity else (0.0, 0.0), dtype=float)
@@ -64,7 +69,31 @@ def applied_loads(asm: Assembly, kin: Kinematics, gravity: bool = True) -> dict[
         arm = kin.points[cam.roller].p - load.com.p
         load.force[:] += force
         load.moment[:] += torque + arm[:, 0] * force[:, 1] - arm[:, 1] * force[:, 0]
+    if springs:
+        _add_springs(asm, kin, omega, out)
     return out
+
+
+def _add_springs(asm: Assembly, kin: Kinematics, omega, out: dict[str, LinkLoad]) -> None:
+    """Each spring's pair of forces along its line (T·u on its first point, −T·u on its second)
+    and each torsion spring's pair of torques."""
+    mech = asm.mechanism
+    for s in mech.springs:
+        tension, u = spring_tension(kin, s, omega)
+        for point, sign in zip(s.points, (1.0, -1.0)):
+            link = carrier(mech, point)
+            if link == GROUND:
+                continue
+            load = out[link]
+            force = sign * tension[:, None] * u
+            arm = kin.points[point].p - load.com.p
+            load.force[:] += force
+            load.moment[:] += arm[:, 0] * force[:, 1] - arm[:, 1] * force[:, 0]
+    for t in mech.torsion_springs:
+        tau = torsion_torque(kin, t, omega)
+        for link, sign in zip(t.links, (-1.0, 1.0)):
+            if link != GROUND:
+                out[link].moment[:] += sign * tau
 
 
 __all__ = ["LinkLoad", "applied_loads", "mass_table", "stroke_active"]

@@ -15,6 +15,8 @@ from linkgen.families.planar.description import (
     Mechanism,
     PointForce,
     Prismatic,
+    Spring,
+    TorsionSpring,
 )
 from linkgen.model.machine import machine_from_dict
 from linkgen.model.toml_file import MAX_FILE_BYTES, parse_toml, read_bytes  # noqa: F401 (MAX_FILE_BYTES: its old home)
@@ -23,7 +25,10 @@ from linkgen.model.schema import PLANAR, check as check_types
 from linkgen.errors import DescriptionError
 from linkgen.model.units import angular_acceleration, angular_speed, finite, length, parse_angle, point2, shown, vector2
 
-_TOP = {"mechanism", "points", "links", "prismatic", "drive", "force", "torque", "machine", "gear", "cam"}
+_TOP = {"mechanism", "points", "links", "prismatic", "drive", "force", "torque", "machine", "gear", "cam", "spring",
+        "torsion_spring"}
+_SPRING = {"points", "stiffness", "rest_length", "damping"}
+_TORSION = {"joint", "links", "stiffness", "rest_angle", "damping"}
 _CAM = {"follower", "roller", "roller_radius", "spring_rate", "spring_preload", "segment", "law"}
 _GEAR = {"planet", "kind", "module", "teeth", "pressure_angle"}
 _MECH = {"name", "title", "gravity"}
@@ -118,7 +123,34 @@ def from_dict(data: dict) -> Mechanism:
         torques=tuple(_torque(i, t) for i, t in enumerate(_list(data.get("torque", []), "torque"))),
         gears=tuple(_gear(name, spec) for name, spec in _table(data.get("gear", {}), "gear").items()),
         cams=tuple(_cam(name, spec, data) for name, spec in _table(data.get("cam", {}), "cam").items()),
+        springs=tuple(_spring(i, s) for i, s in enumerate(_list(data.get("spring", []), "spring"))),
+        torsion_springs=tuple(_torsion(i, s) for i, s in enumerate(_list(data.get("torsion_spring", []),
+                                                                         "torsion_spring"))),
     )
+
+
+def _names2(value: Any, where: str) -> tuple[str, str]:
+    if not (isinstance(value, list) and len(value) == 2):
+        raise DescriptionError(where, f"must be two names [first, second], got {shown(value)}")
+    return _str(value[0], f"{where}[0]"), _str(value[1], f"{where}[1]")
+
+
+def _spring(i: int, spec: Any) -> Spring:
+    where = f"spring[{i}]"
+    t = _table(spec, where)
+    _keys(t, _SPRING, {"points", "stiffness", "rest_length"}, where)
+    return Spring(_names2(t["points"], f"{where}.points"), finite(t["stiffness"], f"{where}.stiffness"),
+                  length(t["rest_length"], f"{where}.rest_length"), finite(t.get("damping", 0.0), f"{where}.damping"))
+
+
+def _torsion(i: int, spec: Any) -> TorsionSpring:
+    where = f"torsion_spring[{i}]"
+    t = _table(spec, where)
+    _keys(t, _TORSION, {"joint", "links", "stiffness"}, where)
+    rest = parse_angle(t["rest_angle"], f"{where}.rest_angle") if "rest_angle" in t else None
+    return TorsionSpring(_str(t["joint"], f"{where}.joint"), _names2(t["links"], f"{where}.links"),
+                         finite(t["stiffness"], f"{where}.stiffness"), rest,
+                         finite(t.get("damping", 0.0), f"{where}.damping"))
 
 
 def _cam(name: str, spec: Any, data: dict) -> CamPair:

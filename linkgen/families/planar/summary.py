@@ -1,6 +1,7 @@
 """The design summary a designer reads first: each slider's stroke and each rocker's swing with
 their limit (dead-centre) positions, the time ratio of a working and a return stroke, each
-group's least transmission angle, and the peak balancing torque and joint reactions.
+group's least transmission angle, the peak balancing torque and joint reactions, and each
+spring's peak force (``peak_spring_forces``: empty without springs).
 
 Limit positions are the crank angles where an output's first transfer function changes sign,
 found on a grid of SAMPLES angles — round the wrap from 2π to 0 over a full turn, and where it
@@ -56,11 +57,13 @@ class DesignSummary:
     peak_reactions: Mapping[str, Extreme] = field(default_factory=dict)
     forces_note: str | None = None
     min_transmission_angle: Mapping[str, Extreme] = field(default_factory=dict)
+    peak_spring_forces: Mapping[str, Extreme] = field(default_factory=dict)
 
     @property
     def units(self) -> dict[str, str]:
         return {"phi": "rad", "drive_range": "rad", "slider": "m", "rocker": "rad", "peak_balancing_torque": "N·m",
-                "peak_reactions": "N", "min_transmission_angle": "rad"}
+                "peak_reactions": "N", "min_transmission_angle": "rad",
+                "peak_spring_forces": "N (spring[i]) or N·m (torsion_spring[i])"}
 
     def to_dict(self) -> dict:
         return summary_dict(self)
@@ -187,7 +190,26 @@ def summarize(asm: Assembly, omega: float | None = None, epsilon: float | None =
                 return np.hypot(r[:, 0], r[:, 1])
             at, value = _peak(mag, phi, np.hypot(r[:, 0], r[:, 1]))
             peaks[name] = Extreme(value, at)
-    return DesignSummary(mech.name, w, e, (mech.drive.start, mech.drive.stop), outputs, torque, peaks, note, trans)
+    return DesignSummary(mech.name, w, e, (mech.drive.start, mech.drive.stop), outputs, torque, peaks, note, trans,
+                         spring_peaks(asm, phi, w))
 
-__all__ = ["DesignSummary", "Extreme", "Limit", "Output", "SAMPLES", "XTOL", "summarize",
+
+def spring_peaks(asm: Assembly, phi: np.ndarray, omega: float) -> dict[str, Extreme]:
+    """Each spring's largest |tension| [N] (``spring[i]``) and each torsion spring's largest
+    |torque| [N·m] (``torsion_spring[i]``), dampers included at crank speed ω, over ``phi``."""
+    from linkgen.families.planar.spring_loads import spring_tension, torsion_torque
+
+    mech = asm.mechanism
+    items = [(f"spring[{i}]", lambda kin, s=s: spring_tension(kin, s, omega)[0]) for i, s in enumerate(mech.springs)]
+    items += [(f"torsion_spring[{i}]", lambda kin, t=t: torsion_torque(kin, t, omega))
+              for i, t in enumerate(mech.torsion_springs)]
+    out = {}
+    for name, value in items:
+        def mag(p, value=value):
+            return np.abs(value(solve(asm, p, on_singular="mark")))
+        at, top = _peak(mag, phi, mag(phi))
+        out[name] = Extreme(top, at)
+    return out
+
+__all__ = ["DesignSummary", "Extreme", "Limit", "Output", "SAMPLES", "XTOL", "spring_peaks", "summarize",
            "transmission_angles"]

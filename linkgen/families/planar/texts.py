@@ -109,7 +109,11 @@ def summary_text(s) -> str:
     family shares (``model.summary.summary_text``)."""
     from linkgen.model.summary import summary_text as common
 
-    return common(s)
+    lines = [common(s)]
+    for name, p in s.peak_spring_forces.items():
+        what, unit = ("torque", "N·m") if name.startswith("torsion") else ("force", "N")
+        lines.append(f"  peak {what} of {name}: {p.value:.6g} {unit} at φ = {math.degrees(p.phi):.6g}°")
+    return "\n".join(lines)
 
 
 __all__ = ["PlanarStructure", "StructureGroup", "structure", "summary_text", "turn_lines"]
