@@ -319,7 +319,7 @@ def test_every_command_that_refuses_a_cam_file_names_exactly_those_that_take_it(
     cam = MODELS / "cam_translating.toml"
     listed = "analyze, profile, build, validate, draw, animate, render"
     refusing = [c for c in _subcommands() if c not in CAM_COMMANDS]
-    assert sorted(refusing) == ["assemble", "dynamics", "flywheel", "forces", "simulate", "structure"]
+    assert sorted(refusing) == ["assemble", "check-settings", "dynamics", "flywheel", "forces", "simulate", "structure"]
     for command in refusing:
         extra = [a.format(tmp=tmp_path) for a in _REQUIRED.get(command, [])]
         assert main([command, str(cam), *extra]) == 2, command

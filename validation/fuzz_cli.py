@@ -69,20 +69,25 @@ COMMANDS: dict[str, tuple[list[str], list[str], str | None]] = {
     "validate": (["validate", M, "--no-practical", "--max-steps", "20000"], [], None),
     "validate_report": (["validate", M, "--no-practical", "--max-steps", "20000", "--json", "-o", "rep"],
                         ["rep/"], "report:README.md"),
+    "check_settings": (["check-settings", M, "--no-search"], [], None),
+    "check_settings_json": (["check-settings", M, "--no-search", "-o", "out.json"], ["out.json"], "out.json"),
+    "build_robot": (["build", M, "--robot", "--prefix", "p_", "-o", "out.xml"], ["out.xml"], "out.xml"),
+    "build_coupling": (["build", M, "--loops", "coupling", "-o", "out.xml"], ["out.xml"], "out.xml"),
     "render": (["render", M, "-o", "out.png", "--width", "160", "--height", "120"], ["out.png"], "out.png"),
     "animate": (["animate", M, "-o", "out.gif", "--frames", "3"], ["out.gif"], "out.gif"),
 }
 _LINKAGE = ["structure", "assemble_write", "analyze", "analyze_json", "analyze_csv", "analyze_summary",
             "analyze_summary_json", "forces", "forces_json", "forces_csv", "draw_svg", "draw_pdf", "draw_png", "build",
-            "simulate_npz", "simulate_csv", "validate", "validate_report", "render", "animate"]
+            "simulate_npz", "simulate_csv", "validate", "validate_report", "render", "animate", "check_settings",
+            "check_settings_json", "build_robot", "build_coupling"]
 FOR_FAMILY = {
     "planar": _LINKAGE, "gears": _LINKAGE, "cam_linkage": _LINKAGE,
     "machine": _LINKAGE + ["dynamics", "dynamics_csv", "dynamics_report", "flywheel", "flywheel_report"] * 2,
     "cam": ["structure", "analyze", "analyze_json", "analyze_csv", "analyze_summary", "analyze_summary_json", "draw_svg",
             "draw_png", "build", "profile", "profile", "validate", "validate_report", "render", "animate"],
     "spatial": ["structure", "analyze", "analyze_json", "analyze_csv", "analyze_summary", "analyze_summary_json",
-                "forces", "forces_json", "forces_csv", "draw_svg", "draw_pdf", "build", "validate", "validate_report",
-                "render", "animate"],
+                "forces", "forces_json", "forces_csv", "draw_svg", "draw_pdf", "build", "build_robot", "validate",
+                "validate_report", "render", "animate"],
     "special": list(COMMANDS),
 }
 PLANTS = ("none", "none", "symlink", "mode", "sigterm")

@@ -30,7 +30,7 @@ def duration_arg(text: str) -> float:
 
 
 def integrator_arg(text: str) -> str:
-    from linkgen.mujoco.accuracy import EVALUATIONS
+    from linkgen.mujoco.options import EVALUATIONS
 
     names = {k.lower(): k for k in EVALUATIONS}
     if text.lower() not in names:
@@ -95,7 +95,7 @@ def cmd_check_settings(args) -> int:
 
 def add_command(sub) -> None:
     from linkgen.cli.common import add_out_argument, allowed_text
-    from linkgen.crosscheck.check_settings import MUJOCO_SOLIMP
+    from linkgen.mujoco.options import MUJOCO_SOLIMP
 
     c = sub.add_parser("check-settings", help="MuJoCo's accuracy at your settings: predicted before any step, "
                                               "measured, and the cheapest settings meeting a tolerance")

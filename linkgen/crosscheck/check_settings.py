@@ -19,7 +19,7 @@ from linkgen.errors import ArgumentError, SimulationError
 from linkgen.families.planar.assembly import Assembly
 from linkgen.mujoco.accuracy import (EVALUATIONS, QUANTITIES, AccuracyPrediction, Errors, check_supported, predict,
                                      sample_errors, settings_dict, settings_text)
-from linkgen.mujoco.options import PROGRESS_AFTER, Settings
+from linkgen.mujoco.options import MUJOCO_SOLIMP, PROGRESS_AFTER, Settings
 
 # The prediction is judged against the measurement within this factor (issue 24: "within a
 # factor 3 of the measured value").
@@ -45,7 +45,6 @@ MAX_VERIFY = 6
 PROGRESS_EVERY = 1.0
 # What MuJoCo does where the user gives no value: solver iterations and tolerance, solimp.
 MUJOCO_ITERATIONS, MUJOCO_TOLERANCE = 100, 1e-8
-MUJOCO_SOLIMP = (0.9, 0.95, 0.001, 0.5, 2.0)
 
 
 def user_settings(*, timestep: float, integrator: str, solref: tuple[float, float] = (0.02, 1.0),

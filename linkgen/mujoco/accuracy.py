@@ -47,14 +47,11 @@ from linkgen.mujoco.forces import ForceSamples
 from linkgen.mujoco.loop_terms import diag_approx, forces_at, jdot
 from linkgen.mujoco.log import no_log_file
 from linkgen.mujoco.loops import closure_forces, closure_jacobian, mechanism_size
-from linkgen.mujoco.options import PLACEHOLDER, SOLVER_ITERATIONS, Settings
+from linkgen.mujoco.options import EVALUATIONS, PLACEHOLDER, SOLVER_ITERATIONS, Settings
 from linkgen.mujoco.sample import Samples, moving_points
 from linkgen.mujoco.state import joint_states
 from linkgen.mujoco.timing import crank_phi, crank_time
 
-# MuJoCo's integrators this prediction models, and the evaluations of the dynamics each takes
-# per step (RK4: four), the factor between steps and cost.
-EVALUATIONS = {"Euler": 1, "implicitfast": 1, "RK4": 4}
 # Crank angles the prediction evaluates MuJoCo's forward dynamics at (over the drive range).
 SCAN = 240
 # The quantities, each relative: loop gap / size, point position error / size, reaction error /

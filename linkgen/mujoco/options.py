@@ -74,8 +74,14 @@ PLACEHOLDER = Settings(timestep=5e-5, timeconst=1e-3, armature=1e4, label="place
 MUJOCO_MIN_BAR = 1e-6
 MUJOCO_MIN_MESH_VOLUME = 1e-15  # m³
 MESH_VOLUME_MARGIN = 10.0
+# What MuJoCo does where the user gives no value (its XML reference): solimp of a constraint.
+MUJOCO_SOLIMP = (0.9, 0.95, 0.001, 0.5, 2.0)
+# MuJoCo's integrators linkgen's settings check models, and the evaluations of the dynamics each
+# takes per step (RK4: four), the factor between steps and cost. (Here, not in ``accuracy``, so
+# that the command line reads them without importing MuJoCo.)
+EVALUATIONS = {"Euler": 1, "implicitfast": 1, "RK4": 4}
 # Report progress for runs that last longer than this [s].
 PROGRESS_AFTER = 2.0
 
-__all__ = ["IMPEDANCE", "MESH_VOLUME_MARGIN", "MUJOCO_MIN_BAR", "MUJOCO_MIN_MESH_VOLUME", "PLACEHOLDER", "PROGRESS_AFTER",
+__all__ = ["EVALUATIONS", "IMPEDANCE", "MUJOCO_SOLIMP", "MESH_VOLUME_MARGIN", "MUJOCO_MIN_BAR", "MUJOCO_MIN_MESH_VOLUME", "PLACEHOLDER", "PROGRESS_AFTER",
            "SOLVER_ITERATIONS", "Settings", "within_budget"]
