@@ -88,9 +88,9 @@ def cmd_check_settings(args) -> int:
                                            progress=_progress(desc.name))
     if args.json or fmt == "json":
         write_json(result.to_dict(), path)
-        return 0
-    print(result.text())
-    return 0
+    else:
+        print(result.text())
+    return 0 if result.ok else 1  # 1: the run failed, or a prediction is off by more than the factor it claims
 
 
 def add_command(sub) -> None:

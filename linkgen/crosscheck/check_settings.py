@@ -122,8 +122,13 @@ class CheckSettings:
                 out[q] = None if r is None else bool(1 / AGREEMENT <= r <= AGREEMENT)
         return out
 
+    @property
+    def ok(self) -> bool:
+        """The run at the user's settings finished and every prediction agrees with it (or is not judged)."""
+        return self.measured.failure is None and all(a is not False for a in self.agrees().values())
+
     def to_dict(self) -> dict:
-        return {"model": self.model, "tolerance": self.tolerance, "predicted": self.predicted.to_dict(),
+        return {"model": self.model, "ok": self.ok, "tolerance": self.tolerance, "predicted": self.predicted.to_dict(),
                 "measured": self.measured.to_dict(), "ratios": self.ratios(), "agrees": self.agrees(),
                 "agreement_factor": AGREEMENT, "cheapest": None if self.cheapest is None else self.cheapest.to_dict(),
                 "verified": [v.to_dict() for v in self.verified], "note": self.note}
@@ -147,7 +152,9 @@ class CheckSettings:
             lines.append(f"  the predicted errors pass {LINEAR:g}: the prediction is linear in the loop gap, so there it "
                          "says only that these settings are far off; the run's figures are what count")
         if m.failure:
-            lines.append(f"  the run failed: {m.failure}")
+            used = (f" (MuJoCo raised the loop time constant to {p.timeconst:.3g} s = 2·timestep)"
+                    if p.timeconst > p.settings.timeconst else "")
+            lines.append(f"  the run failed: {m.failure}{used}")
         else:
             lines.append(f"  cost: {p.steps_per_second:.4g} steps per simulated second, {m.wall_per_second:.3g} s of wall "
                          "time per simulated second (this mechanism alone, one thread)")
@@ -156,7 +163,9 @@ class CheckSettings:
             lines.append(f"  cheapest settings meeting {self.tolerance:g} on every error: {settings_text(c.settings)}: "
                          f"{c.steps_per_second:.4g} steps ({c.evaluations_per_second:.4g} evaluations) per simulated "
                          f"second, {v.wall_per_second:.3g} s wall per simulated second; predicted worst "
-                         f"{c.errors.worst:.2g}, measured worst {v.errors.worst:.2g}")
+                         f"{c.errors.worst:.2g}, measured worst {v.errors.worst:.2g}"
+                         + ("" if v.errors.worst == 0 or 1 / AGREEMENT <= c.errors.worst / v.errors.worst <= AGREEMENT
+                            else f" (prediction NOT within a factor {AGREEMENT:g} of this run: the run is what counts)"))
         lines.append(f"  {self.note}" if self.note else "")
         return "\n".join(x for x in lines if x)
 

@@ -38,7 +38,7 @@ from dataclasses import dataclass
 import mujoco
 import numpy as np
 
-from linkgen.errors import UnsupportedError
+from linkgen.errors import SimulationError, UnsupportedError
 from linkgen.families.planar.assembly import Assembly
 from linkgen.families.planar.kinematics import solve
 from linkgen.families.planar.kinetostatics import forces
@@ -151,9 +151,14 @@ def errors_of(asm: Assembly, crank, points: dict[str, np.ndarray], got: ForceSam
 
 
 def check_supported(asm: Assembly) -> None:
-    """Refuse, in one line, what this prediction does not model: cams (a contact, not a loop)
-    and gears (a joint coupling)."""
+    """Refuse, in one line, what this prediction does not model: cams (a contact, not a loop),
+    gears (a joint coupling), and a crank that does not turn forwards (ω ≤ 0: the run it
+    predicts drives the crank at ω > 0)."""
     mech = asm.mechanism
+    w = mech.drive.omega
+    if not (math.isfinite(w) and w > 0):  # the run drives the crank forwards at ω (mujoco.simulate's own rule)
+        raise SimulationError(f"drive.omega: must be > 0 rad/s for a MuJoCo run (it drives the crank forwards through "
+                              f"its range), got {w!r}")
     if mech.cams or mech.gears:
         kind = "a cam (a contact)" if mech.cams else "a gear pair (a joint coupling)"
         raise UnsupportedError(f"check-settings predicts loops closed by revolute joints; this linkage has {kind}, "
