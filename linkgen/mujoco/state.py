@@ -85,11 +85,14 @@ def tree_state(mech: Mechanism, model, phi, omega=0.0) -> tuple[np.ndarray, np.n
     m = st.phi.shape[0]
     qpos, qvel = np.tile(model.qpos0, (m, 1)), np.zeros((m, model.nv))
     guides = guide_shapes(mech, link_shapes(mech))
+    turns = _turns(mech)
     for parent, child, pair in spanning_tree(mech).tree:
         j = model.joint(pair.name)
         if pair.kind == "R":
             rel = st.angle[child] - st.angle[parent] - (ref.angle[child][0] - ref.angle[parent][0])
-            q, qd = np.remainder(rel + np.pi, 2 * np.pi) - np.pi, st.angular_velocity[child] - st.angular_velocity[parent]
+            turned = turns(parent, child) * (st.phi - ref.phi[0])  # continuous, as joint_states and a run count it
+            q = np.remainder(rel - turned + np.pi, 2 * np.pi) - np.pi + turned
+            qd = st.angular_velocity[child] - st.angular_velocity[parent]
         else:
             g = guides[pair.name]
             sign = 1.0 if child == g.slider else -1.0
@@ -99,6 +102,20 @@ def tree_state(mech: Mechanism, model, phi, omega=0.0) -> tuple[np.ndarray, np.n
         qpos[:, j.qposadr[0]], qvel[:, j.dofadr[0]] = q, qd
     _unwrap_gears(mech, model, qpos, st.phi - ref.phi[0])
     return qpos, qvel
+
+
+def _turns(mech: Mechanism):
+    """(parent, child) → the turns the child makes against the parent per crank turn
+    (``spring_loads.winding``) for a class-II mechanism; 0 where it has no Assur groups (class
+    III: its hinges are counted within ±π of the reference)."""
+    from linkgen.errors import LinkgenError
+    from linkgen.families.planar.assembly import assemble
+
+    try:
+        asm = assemble(mech)
+    except LinkgenError:
+        return lambda parent, child: 0
+    return lambda parent, child: winding(asm, parent, child)
 
 
 def _slide(st: LinkStates, g) -> tuple[np.ndarray, np.ndarray]:
