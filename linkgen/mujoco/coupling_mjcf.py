@@ -58,7 +58,9 @@ def header(c: Coupling, mech: Mechanism, settings: Settings) -> str:
     lines += [" Add MuJoCo's lag: its joint equality holds y = p(x) by a spring of stiffness 1/tau^2 and leaves out",
               " the curvature term p''(x)*xdot^2, so a moving coupling lags by about tau^2*|p''|*xdot^2 (it grows with",
               f" the square of the speed and of tau): at the drive's {omega:g} rad/s and tau = {settings.timeconst:g} s, up"
-              f" to {lag[worst]:.2g} {unit} ({worst})."]
+              f" to {lag[worst]:.2g} {unit} ({worst}); lags of chained couplings add up, and at a robot's settings (timestep"
+              f" 2 ms, MuJoCo's default solref 0.02 s) tau is {0.02 / settings.timeconst:.3g} times this one, the lag"
+              f" {(0.02 / settings.timeconst) ** 2:.3g} times."]
     if c.torque is not None:
         lines.append(f" Dynamics: {c.torque.text()}, worst at {math.degrees(c.torque.at):.4g} deg (MuJoCo's inverse")
         lines.append(" dynamics along the couplings, no acceleration, the loads applied): a quartic's slope and curvature")
@@ -69,7 +71,10 @@ def header(c: Coupling, mech: Mechanism, settings: Settings) -> str:
     loads += [f"[[torque]] {t.torque:g} N·m on {t.link}" for t in mech.torques]
     if loads:
         lines.append(" Not in the file (MJCF carries no such loads): " + "; ".join(loads)
-                     + "; apply them each step through data.xfrc_applied of the link's body, at the point's site.")
+                     + "; apply them each step: data.qfrc_applied[:] = 0, then for a force F at a point, "
+                     "mujoco.mj_applyFT(model, data, F, [0, 0, 0], data.site(POINT).xpos, model.body(LINK).id, "
+                     "data.qfrc_applied) (a torque M: mj_applyFT with [0, 0, 0], [0, 0, M] at the body's xipos); "
+                     "data.xfrc_applied would act at the body's centre of mass.")
     lines.append(f" Settings: timestep {settings.timestep:g} s ({settings.integrator}), Newton tolerance "
                  f"{max(settings.tolerance, MIN_TOLERANCE):g}, couplings with solref "
                  f"{settings.solref}, solimp {settings.solimp_text} ({settings.label}). Drive: the motor {DRIVE_ACTUATOR}"
