@@ -322,3 +322,31 @@ def test_a_loops_sensor_body_keeps_the_loop_as_stiff_as_the_header_states():
                 gap = max(gap, float(np.abs(data.efc_pos[:data.ne]).max()))
     assert 0.0 < gap <= GAP_FACTOR * stated, (gap, stated)
     assert model.body("fb/loop:B").invweight0 == pytest.approx(model.body("fb/rocker").invweight0)
+
+
+# --kp and --kv are the joint's stiffness and damping whatever the gear: measured by MuJoCo as the
+# actuator's joint torque for a small displacement (and speed) of the crank from the command.
+SERVO_GEAR, SERVO_KP, SERVO_KV = 10.0, 1000.0, 30.0  # -, N·m/rad, N·m·s/rad
+DISPLACEMENT = 1e-3  # rad, rad/s: small, far inside the force range
+
+
+@pytest.mark.parametrize("actuator", ["position", "velocity"])
+def test_kp_and_kv_are_the_joints_stiffness_and_damping_whatever_the_gear(tmp_path, capfd, actuator):
+    options = ["--actuator", actuator, "--gear", str(SERVO_GEAR), "--kv", str(SERVO_KV)]
+    options += ["--kp", str(SERVO_KP)] if actuator == "position" else []
+    xml = _build(tmp_path, FOURBAR, "--prefix", PREFIX, *options)
+    model, data = _compiled(xml, capfd)
+    mujoco.mj_resetData(model, data)
+    joint = model.joint(PREFIX + "O")
+    q, v = joint.qposadr[0], joint.dofadr[0]
+    if actuator == "position":
+        data.ctrl[0] = SERVO_GEAR * data.qpos[q]
+        data.qpos[q] += DISPLACEMENT
+        mujoco.mj_forward(model, data)
+        assert -data.qfrc_actuator[v] / DISPLACEMENT == pytest.approx(SERVO_KP, rel=1e-9)
+        data.qpos[q] -= DISPLACEMENT
+    data.qvel[v] = DISPLACEMENT
+    mujoco.mj_forward(model, data)
+    assert -data.qfrc_actuator[v] / DISPLACEMENT == pytest.approx(SERVO_KV, rel=1e-9)
+    header = xml.split("-->")[0]
+    assert f"damping {SERVO_KV:g} N·m·s/rad" in header and f"kv = damping/gear² {SERVO_KV / SERVO_GEAR**2:g}" in header

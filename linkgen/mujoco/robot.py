@@ -68,8 +68,9 @@ PEAK_SAMPLES = 361
 @dataclass(frozen=True)
 class RobotOptions:
     """What ``build --robot`` writes. ``prefix`` None: the mechanism's name and "/";
-    ``actuator`` on the driven joint with ``gear`` (torque = gear·force) and the position
-    servo's ``kp`` [N·m/rad at gear 1], ``kv`` [N·m·s/rad] (None: derived, ``drive_actuator``);
+    ``actuator`` on the driven joint with ``gear`` (torque = gear·force) and the servo's
+    ``kp`` [N·m/rad], ``kv`` [N·m·s/rad] at the joint, whatever the gear (None: derived,
+    ``drive_actuator``);
     ``plane`` None: "xz" (planar linkages; a spatial chain takes none); ``scene``: a floor, sky,
     light and camera; ``rotor_inertia`` [kg·m²]: the drive's own (the CLI reads the [machine])."""
 
@@ -173,35 +174,44 @@ def predict_at(asm, settings: Settings):
 
 
 def drive_actuator(drive: RobotDrive, opt: RobotOptions) -> tuple[str, dict, str]:
-    """The actuator element's tag, attributes (but its name and joint) and the header's words."""
+    """The actuator element's tag, attributes (but its name and joint) and the header's words.
+
+    ``opt.kp``, ``opt.kv`` and the derived defaults are the servo's stiffness [N·m/rad] and
+    damping [N·m·s/rad] at the joint; MuJoCo's actuator with gear g acts on the length g·φ and
+    exerts g times its force on the joint, so the joint feels g²·kp: the file holds kp/g², kv/g²
+    (and ctrlrange, forcerange) in the actuator's units."""
     g = opt.gear
     j = drive.inertia + opt.rotor_inertia
     wn = max(POSITION_BANDWIDTH, BANDWIDTH_PER_SPEED * abs(drive.omega))
     limit = None if not drive.peak_torque else TORQUE_MARGIN * drive.peak_torque / g
     peak = (f"the closed form's peak balancing torque {drive.peak_torque:.6g} N·m over the drive range at "
-            f"ω = {drive.omega:.6g} rad/s × {TORQUE_MARGIN:g}" if limit else
-            "no torque limit (the closed form gives no peak torque for this mechanism)")
+            f"ω = {drive.omega:.6g} rad/s × {TORQUE_MARGIN:g}, / gear" if limit else
+            "none: the closed form gives no peak balancing torque for this mechanism, so the file sets no limit")
     attrs = {"gear": _f(g)}
     if opt.actuator == "motor":
         if limit:
             attrs["ctrlrange"] = f"{_f(-limit)} {_f(limit)}"
-        return "motor", attrs, f"motor (control = torque / gear {g:g}, ctrlrange from {peak})"
+        return "motor", attrs, f"motor (control = torque / gear {g:g}; ctrlrange: {peak})"
     if limit:
         attrs["forcerange"] = f"{_f(-limit)} {_f(limit)}"
     if opt.actuator == "position":
-        kp = opt.kp if opt.kp is not None else j * wn**2 / g**2
-        kv = opt.kv if opt.kv is not None else 2.0 * j * wn / g**2
-        attrs |= {"kp": _f(kp), "kv": _f(kv)}
+        kp = opt.kp if opt.kp is not None else j * wn**2
+        kv = opt.kv if opt.kv is not None else 2.0 * j * wn
+        attrs |= {"kp": _f(kp / g**2), "kv": _f(kv / g**2)}
         if drive.range is not None:
             attrs["ctrlrange"] = f"{_f(g * drive.range[0])} {_f(g * drive.range[1])}"
         how = ("given" if opt.kp is not None else
                f"J_max·ω_n², J_max = {j:.6g} kg·m² the largest reduced inertia, ω_n = {wn:.4g} rad/s")
-        return "position", attrs, (f"position servo (control = gear·φ [rad], kp {kp:.6g} ({how}), kv {kv:.6g} "
-                                   f"(critically damped unless given), forcerange from {peak})")
-    kv = opt.kv if opt.kv is not None else j * wn / g**2
-    attrs["kv"] = _f(kv)
-    return "velocity", attrs, (f"velocity servo (control = gear·ω [rad/s], kv {kv:.6g} (J_max·ω_n unless given: time "
-                               f"constant 1/ω_n = {1 / wn:.3g} s), forcerange from {peak})")
+        return "position", attrs, (f"position servo (control = gear·φ [rad]; at the joint: stiffness {kp:.6g} N·m/rad "
+                                   f"({how}), damping {kv:.6g} N·m·s/rad ({'given' if opt.kv is not None else 'critically damped'}); "
+                                   f"in the file, the actuator's units: kp = stiffness/gear² {kp / g**2:.6g}, "
+                                   f"kv = damping/gear² {kv / g**2:.6g}; forcerange: {peak})")
+    kv = opt.kv if opt.kv is not None else j * wn
+    attrs["kv"] = _f(kv / g**2)
+    how = "given" if opt.kv is not None else f"J_max·ω_n: time constant 1/ω_n = {1 / wn:.3g} s"
+    return "velocity", attrs, (f"velocity servo (control = gear·ω [rad/s]; at the joint: damping {kv:.6g} N·m·s/rad "
+                               f"({how}); in the file, the actuator's units: kv = damping/gear² {kv / g**2:.6g}; "
+                               f"forcerange: {peak})")
 
 
 def _f(x: float) -> str:
