@@ -207,3 +207,15 @@ def test_the_headers_stated_accuracy_bounds_the_reactions_the_robot_scene_reads(
             sign = 1.0 if (r.on, r.by) == (f.on[j], f.by[j]) else -1.0
             worst = max(worst, float(np.linalg.norm(sign * r.force[:2] - f.reactions[j][0])) / scale)
     assert 0.0 < worst <= PREDICTION_FACTOR * stated, (worst, stated)
+
+
+def test_reactions_under_a_wrong_prefix_name_the_prefixes_the_model_has(scene):
+    from linkgen.errors import ArgumentError
+
+    data = mujoco.MjData(scene)
+    mujoco.mj_forward(scene, data)
+    with pytest.raises(ArgumentError) as err:
+        reactions(scene, data, "fb/")  # the file's own prefix, without the robot's attach prefix
+    assert str(err.value) == ("robot_sensors.reactions: prefix 'fb/': the model has no body 'fb/mount'; pass the full "
+                              "prefix of the mechanism's names, one of 'left/fb/', 'right/pr/' (its mount body is "
+                              "PREFIXmount)")

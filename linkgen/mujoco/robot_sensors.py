@@ -116,12 +116,13 @@ class Reaction:
 
 def reactions(model, data, prefix: str) -> dict[str, Reaction]:
     """Every ``reaction:J`` sensor of the robot model attached under ``prefix`` (the full
-    prefix of its names), read after ``mj_forward`` (or a step: then at the step's start state),
+    prefix of its names: the robot's attach prefix and the file's; ArgumentError naming the
+    prefixes the model has where no ``prefix``mount is), read after ``mj_forward`` (or a step: then at the step's start state),
     as the force on the pair's first link by its second, in the mount's frame."""
     import mujoco
 
     out = {}
-    mount = model.body(prefix + MOUNT).id
+    mount = _mount(model, prefix)
     to_mount = data.xmat[mount].reshape(3, 3).T
     for i in range(model.nsensor):
         s = model.sensor(i)
@@ -143,6 +144,31 @@ def reactions(model, data, prefix: str) -> dict[str, Reaction]:
             on, by = body, parent
         out[joint] = Reaction(joint, _link(model, on, prefix), _link(model, by, prefix), force)
     return out
+
+
+def _mount(model, prefix: str) -> int:
+    """The id of the body ``prefix``mount; ArgumentError naming the prefixes the model has (each
+    mount whose mechanism carries reaction sensors) where it has none such."""
+    from linkgen.errors import ArgumentError
+
+    try:
+        return model.body(prefix + MOUNT).id
+    except KeyError:
+        pass
+    sensed = {model.sensor(i).name.split(REACTION)[0] for i in range(model.nsensor) if REACTION in model.sensor(i).name}
+    have = sorted(p for p in sensed if _has_body(model, p + MOUNT))
+    raise ArgumentError(f"robot_sensors.reactions: prefix {prefix!r}: the model has no body {prefix + MOUNT!r}; "
+                        + (f"pass the full prefix of the mechanism's names, one of {', '.join(map(repr, have))} (its "
+                           f"mount body is PREFIX{MOUNT})" if have else
+                           "it holds no linkgen robot mechanism with reaction sensors"))
+
+
+def _has_body(model, name: str) -> bool:
+    try:
+        model.body(name)
+    except KeyError:
+        return False
+    return True
 
 
 def _link(model, body: int, prefix: str) -> str:
