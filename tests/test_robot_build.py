@@ -350,3 +350,19 @@ def test_kp_and_kv_are_the_joints_stiffness_and_damping_whatever_the_gear(tmp_pa
     assert -data.qfrc_actuator[v] / DISPLACEMENT == pytest.approx(SERVO_KV, rel=1e-9)
     header = xml.split("-->")[0]
     assert f"damping {SERVO_KV:g} N·m·s/rad" in header and f"kv = damping/gear² {SERVO_KV / SERVO_GEAR**2:g}" in header
+
+
+@pytest.mark.parametrize("omega", [-8.0, 0.0])
+def test_a_crank_not_turning_forward_gets_no_predicted_accuracy(tmp_path, omega):
+    # before: ω = -8 rad/s stated "loop gap 2.3 of the size" (and 8.3e+57 elsewhere), ω = 0 "omega
+    # must be finite [rad/s], got non-finite entries", each with numpy's warnings
+    doc = tomlkit.parse(FOURBAR.read_text())
+    doc["drive"]["omega"] = omega
+    path = tmp_path / "fourbar.toml"
+    path.write_text(tomlkit.dumps(doc))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        header = _build(tmp_path, path).split("-->")[0]
+    assert (f"Accuracy at these settings: not predicted: the prediction follows the crank turning forward through "
+            f"the drive range, and this description's drive.omega is {omega:g} rad/s") in header
+    assert "loop gap" not in header

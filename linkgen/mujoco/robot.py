@@ -136,6 +136,10 @@ def accuracy_comment(source, settings: Settings) -> str:
     if not isinstance(source, (Mechanism, Assembly)):
         return ("not predicted here (linkgen check-settings predicts planar linkages); linkgen validate with its "
                 "practical option measures what MuJoCo's usual settings cost. ")
+    mech = source.mechanism if isinstance(source, Assembly) else source
+    reason = _unpredictable_drive(mech.drive)
+    if reason:
+        return f"not predicted: {reason}. "
     try:
         asm = source if isinstance(source, Assembly) else assemble(source)
         p = predict_at(asm, settings)
@@ -151,6 +155,21 @@ def accuracy_comment(source, settings: Settings) -> str:
             f"times the figures above). "
             f"linkgen check-settings, given this file's timestep and integrator (2ms, implicitfast) and a tolerance, "
             f"measures them and finds the cheapest settings that meet it. ")
+
+
+def _unpredictable_drive(drive) -> str | None:
+    """Why the prediction cannot follow this drive, or None: it models the crank turning forward
+    through the whole drive range from its start at the description's ω > 0 and ε (ω² + 2·ε·Δφ
+    above 0 to the range's end); a crank turning backwards, standing or stopping inside the range
+    is a state it does not model (its figures there would be meaningless, not small)."""
+    end = drive.omega**2 + 2.0 * drive.epsilon * (drive.stop - drive.start)
+    if not (math.isfinite(drive.omega) and drive.omega > 0):
+        return (f"the prediction follows the crank turning forward through the drive range, and this description's "
+                f"drive.omega is {drive.omega:g} rad/s (give a speed above 0 to have MuJoCo's accuracy stated)")
+    if not end > 0:
+        return (f"the prediction follows the crank turning forward through the whole drive range, and at drive.omega "
+                f"{drive.omega:g} rad/s and drive.epsilon {drive.epsilon:g} rad/s² it stops before the range's end")
+    return None
 
 
 def predict_at(asm, settings: Settings):
