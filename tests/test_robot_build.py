@@ -366,3 +366,17 @@ def test_a_crank_not_turning_forward_gets_no_predicted_accuracy(tmp_path, omega)
     assert (f"Accuracy at these settings: not predicted: the prediction follows the crank turning forward through "
             f"the drive range, and this description's drive.omega is {omega:g} rad/s") in header
     assert "loop gap" not in header
+
+
+def test_the_header_says_when_its_accuracy_means_far_off_and_when_there_is_nothing_to_predict(tmp_path):
+    from linkgen.crosscheck.check_settings import LINEAR
+    from linkgen.mujoco.robot import FAR_OFF
+
+    assert FAR_OFF == LINEAR  # the header's bound is check-settings' own
+    press = _build(tmp_path, PRESS).split("-->")[0]  # its predicted reactions 0.12 of the peak pass 0.1
+    assert "reactions 0.12 of the peak reaction" in press
+    assert "Past 0.1 the prediction, linear in the loop gap, says only that these settings are far off" in press
+    rotor = _build(tmp_path, ROOT / "models" / "dc_motor_startup.toml").split("-->")[0]  # a rotor alone, balanced
+    assert "no torque limit" not in rotor and "0 of the peak reaction" not in rotor and "far off" not in rotor
+    assert "ctrlrange: none: the closed form's balancing torque at ω = 6 rad/s is 0 N·m" in rotor
+    assert "Accuracy at these settings: nothing to predict: the links form a tree with no loop to close" in rotor

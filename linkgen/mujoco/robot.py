@@ -60,6 +60,10 @@ BANDWIDTH_PER_SPEED = 4.0
 # the 8.0e-3 and 1.14e-2 predicted for a crank held by a heavy rotor (the gap 1.46e-3 against
 # 1.27e-3): the factors the header quotes for a light crank held by a servo.
 SERVO_FACTORS = (3.1, 5.4)
+# Past this relative error the prediction, linear in the loop gap, says only "far off": the
+# bound check-settings applies (crosscheck.check_settings.LINEAR, measured over the bundled models
+# and 20 generated ones; tests/test_robot_build.py holds the two equal).
+FAR_OFF = 0.1
 # Crank angles over the drive range at which the peak torque and the largest inertia are taken
 # (every 1° of a full turn).
 PEAK_SAMPLES = 361
@@ -137,6 +141,12 @@ def accuracy_comment(source, settings: Settings) -> str:
         return ("not predicted here (linkgen check-settings predicts planar linkages); linkgen validate with its "
                 "practical option measures what MuJoCo's usual settings cost. ")
     mech = source.mechanism if isinstance(source, Assembly) else source
+    from linkgen.mujoco.tree import spanning_tree
+
+    if not spanning_tree(mech).closures:
+        return ("nothing to predict: the links form a tree with no loop to close, so none of the loop errors linkgen "
+                "check-settings predicts arise (no constraint, no gap); the joint torques and reactions are MuJoCo's "
+                "rigid-body dynamics, off only by its integration step. ")
     reason = _unpredictable_drive(mech.drive)
     if reason:
         return f"not predicted: {reason}. "
@@ -149,7 +159,10 @@ def accuracy_comment(source, settings: Settings) -> str:
     return (f"predicted for the crank held at ω = {p.omega:g} rad/s by a heavy rotor (as linkgen check-settings "
             f"predicts and runs it: the closed form's loop forces through MuJoCo's constraint model): loop "
             f"gap {e.gap:.2g} of the size ({e.gap * p.size:.2g} m), point positions {e.position:.2g} of the size, "
-            f"reactions {e.reaction:.2g} of the peak reaction, crank torque {e.torque:.2g} of its peak. A crank "
+            f"reactions {e.reaction:.2g} of the peak reaction, crank torque {e.torque:.2g} of its peak. "
+            + (f"Past {FAR_OFF:g} the prediction, linear in the loop gap, says only that these settings are far off "
+               "for this mechanism: run linkgen check-settings for the measured figures. " if e.worst > FAR_OFF else "")
+            + f"A crank "
             f"without that rotor, held by this file's servo, keeps the gap and the positions but reads larger "
             f"reactions and crank torque (the four-bar at 10 rad/s: {SERVO_FACTORS[0]:g} and {SERVO_FACTORS[1]:g} "
             f"times the figures above). "
@@ -205,7 +218,11 @@ def drive_actuator(drive: RobotDrive, opt: RobotOptions) -> tuple[str, dict, str
     limit = None if not drive.peak_torque else TORQUE_MARGIN * drive.peak_torque / g
     peak = (f"the closed form's peak balancing torque {drive.peak_torque:.6g} N·m over the drive range at "
             f"ω = {drive.omega:.6g} rad/s × {TORQUE_MARGIN:g}, / gear" if limit else
-            "none: the closed form gives no peak balancing torque for this mechanism, so the file sets no limit")
+            f"none: the closed form's balancing torque at ω = {drive.omega:.6g} rad/s is 0 N·m over the whole drive "
+            "range (nothing to lift, accelerate or press), so the file sets no limit; give the actuator your motor's"
+            if drive.peak_torque == 0 else
+            "none: the closed form gives no balancing torque for this mechanism, so the file sets no limit; give the "
+            "actuator your motor's")
     attrs = {"gear": _f(g)}
     if opt.actuator == "motor":
         if limit:
@@ -351,5 +368,5 @@ def _header(name, prefix, plane, drive, opt, said, sensors, world_g, accuracy: s
     return "\n".join(re.sub(r"--", "- -", line) for line in lines) + "\n"
 
 
-__all__ = ["ACTUATORS", "BANDWIDTH_PER_SPEED", "POSITION_BANDWIDTH", "ROBOT_INTEGRATOR", "ROBOT_SETTINGS", "ROBOT_TIMESTEP",
+__all__ = ["ACTUATORS", "BANDWIDTH_PER_SPEED", "FAR_OFF", "SERVO_FACTORS", "POSITION_BANDWIDTH", "ROBOT_INTEGRATOR", "ROBOT_SETTINGS", "ROBOT_TIMESTEP",
            "RobotDrive", "RobotOptions", "TORQUE_MARGIN", "accuracy_comment", "predict_at", "drive_actuator", "robot_model"]
