@@ -380,3 +380,36 @@ def test_the_header_says_when_its_accuracy_means_far_off_and_when_there_is_nothi
     assert "no torque limit" not in rotor and "0 of the peak reaction" not in rotor and "far off" not in rotor
     assert "ctrlrange: none: the closed form's balancing torque at ω = 6 rad/s is 0 N·m" in rotor
     assert "Accuracy at these settings: nothing to predict: the links form a tree with no loop to close" in rotor
+
+
+# flywheel_sine: a crank (0.1 kg·m²) with a 49.9 kg·m² flywheel, a constant 100 N·m motor and a
+# process load of 100 + 50·sin φ N·m resisting it (the description's own comments). Applied as the
+# header says at φ = 30° (a point of the load's table: 125 N·m), the crank's acceleration is
+# (100 − 125)/(0.1 + 49.9) = −0.5 rad/s², computed by hand.
+MACHINE_PHI, MACHINE_EPSILON = math.radians(30.0), -0.5  # rad, rad/s²
+
+
+def test_the_header_lists_the_machines_motor_process_load_and_shaft_and_how_to_apply_them(tmp_path):
+    def not_in_file(name):
+        xml = _build(tmp_path, ROOT / "models" / f"{name}.toml")
+        return xml, xml.split("-->")[0].split("Not in this file:")[1]
+
+    xml, said = not_in_file("flywheel_sine")
+    assert "[machine.motor] the constant motor law" in said and "M_m = 100 N·m" in said
+    assert "[machine.process_load]" in said and "start_speed 10.1 rad/s" in said
+    with no_log_file():
+        model = mujoco.MjModel.from_xml_string(xml)
+    data = mujoco.MjData(model)
+    joint, act = model.joint("flywheel_sine/O"), model.actuator("flywheel_sine/drive:motor")
+    data.qpos[joint.qposadr[0]] = MACHINE_PHI
+    data.ctrl[act.id] = 100.0  # u·η·M_m/gear = 1·1·100/1, as the header says
+    data.qfrc_applied[joint.dofadr[0]] -= 125.0  # the table at 30°
+    mujoco.mj_forward(model, data)
+    assert data.qacc[joint.dofadr[0]] == pytest.approx(MACHINE_EPSILON, rel=1e-9)
+    _, said = not_in_file("machine_elastic_shaft")
+    assert ("[machine.shaft] the elastic shaft between the rotor and the crank (stiffness 200000 N·m/rad, damping "
+            "200 N·m·s/rad): the file lumps the rotor (250 kg·m² at the crank) rigidly onto the crank") in said
+    assert "M_m = 25000·i N·m, the current i [A] integrated alongside" in said
+    _, said = not_in_file("machine_press")
+    assert "[machine.motor] the induction motor law through the gear ratio u = 12 of efficiency η = 0.95" in said
+    assert "Kloss's formula" in said and "[[force]]" in said

@@ -52,7 +52,7 @@ def _build_one(path: Path, out: Path, practical: bool = False, robot=None, loops
 
         machine = machine_from_dict(read_toml(path))
         if machine is not None:
-            robot = replace(robot, rotor_inertia=machine.added_inertia)
+            robot = replace(robot, rotor_inertia=machine.added_inertia, machine=machine)
         xml = stage(desc, "mjcf")(desc, robot=robot)
     elif loops == "coupling":
         xml, coupled = stage(desc, "coupling")(desc, practical=practical)

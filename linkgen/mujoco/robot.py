@@ -76,7 +76,9 @@ class RobotOptions:
     ``kp`` [N·m/rad], ``kv`` [N·m·s/rad] at the joint, whatever the gear (None: derived,
     ``drive_actuator``);
     ``plane`` None: "xz" (planar linkages; a spatial chain takes none); ``scene``: a floor, sky,
-    light and camera; ``rotor_inertia`` [kg·m²]: the drive's own (the CLI reads the [machine])."""
+    light and camera; ``rotor_inertia`` [kg·m²]: the drive's own (the CLI reads the [machine]);
+    ``machine``: the description's [machine] (``linkgen.model.machine.Machine``), whose motor law,
+    process load, shaft and start speed the header says how to apply (``robot_machine``)."""
 
     prefix: str | None = None
     actuator: str = "motor"
@@ -86,6 +88,7 @@ class RobotOptions:
     plane: str | None = None
     scene: bool = False
     rotor_inertia: float = 0.0
+    machine: object | None = None
 
     def __post_init__(self) -> None:
         if self.prefix is not None:
@@ -305,6 +308,11 @@ def robot_model(xml: str, drive: RobotDrive, opt: RobotOptions, name: str, scene
     sensors = add_sensors(root, act_name, drive, prefix)
     _at_rest(root, KEY, drive, opt)
     add_prefix(root, prefix)
+    from dataclasses import replace
+
+    from linkgen.mujoco.robot_machine import machine_loads
+
+    drive = replace(drive, loads=drive.loads + machine_loads(opt.machine, drive.joint, opt.gear))
     header = _header(name, prefix, plane, drive, opt, said, sensors, world_g, accuracy_comment(source, ROBOT_SETTINGS))
     root.insert(0, etree.Comment(header))
     etree.indent(root, space="  ")
@@ -361,7 +369,7 @@ def _header(name, prefix, plane, drive, opt, said, sensors, world_g, accuracy: s
         lines.append(f" Accuracy at these settings: {accuracy}")
     lines.append(" Not in this file: the validation settings (a build without its robot option); "
                  + ("" if opt.scene else "a floor, sky, light and camera (the build's scene option adds them); ")
-                 + ("the description's loads, which MJCF cannot carry (each step, set data.qfrc_applied to 0, then "
+                 + ("what the description has that MJCF cannot carry (each step, set data.qfrc_applied to 0, then "
                     "apply each): " + "; ".join(drive.loads).replace("{P}", p)
                     if drive.loads
                     else "no loads besides gravity are described") + ".")
