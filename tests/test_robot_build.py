@@ -413,3 +413,31 @@ def test_the_header_lists_the_machines_motor_process_load_and_shaft_and_how_to_a
     _, said = not_in_file("machine_press")
     assert "[machine.motor] the induction motor law through the gear ratio u = 12 of efficiency η = 0.95" in said
     assert "Kloss's formula" in said and "[[force]]" in said
+
+
+def test_a_flat_plane_feels_no_weight_in_its_plane_and_its_limits_say_so(tmp_path, capfd):
+    xml = _build(tmp_path, FOURBAR, "--plane", "xy", "--prefix", PREFIX)
+    model, data = _compiled(xml, capfd)
+    mujoco.mj_resetDataKeyframe(model, data, 0)
+    mujoco.mj_forward(model, data)
+    assert np.abs(data.qacc).max() < 1e-9  # at rest and unpowered it stays put: no weight in its plane
+    mech = linkgen.load(FOURBAR)
+    weight = sum(model.body_mass) * G
+    ground = [r for r in reactions_of(model, data).values() if r.by == "ground" or r.on == "ground"]
+    assert sum(abs(r.force[2]) for r in ground) == pytest.approx(weight, rel=1e-6)  # carried out of the plane
+    from dataclasses import replace
+
+    phi = np.linspace(mech.drive.start, mech.drive.stop, 721)
+    flat = np.abs(linkgen.forces(replace(mech, gravity=(0.0, 0.0)), phi).balancing_torque).max()
+    weighed = np.abs(linkgen.forces(mech, phi).balancing_torque).max()
+    assert model.actuator_ctrlrange[0, 1] == pytest.approx(1.5 * flat, rel=1e-3)
+    assert abs(flat - weighed) > 0.1 * weighed  # the two differ: the test tells them apart
+    header = xml.split("-->")[0]
+    assert "its gravity turned the same way" not in header
+    assert "gravity 0 0 -9.81 m/s² is normal to the mechanism's plane" in header and "without gravity" in header
+
+
+def reactions_of(model, data):
+    from linkgen.mujoco.robot_sensors import reactions
+
+    return reactions(model, data, PREFIX)

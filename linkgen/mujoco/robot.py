@@ -345,6 +345,19 @@ def _qpos_index(root, joint: str) -> int:
     raise KeyError(joint)
 
 
+def _flat_plane(drive: RobotDrive, world_g) -> str:
+    """The header's plane line for ``--plane xy``: gravity is the plane's normal there."""
+    g = float(np.hypot(drive.gravity[0], drive.gravity[1]))
+    if g == 0:
+        return (" Plane: the description's x, y on the world's x, y (flat, z up); the description has no gravity, the "
+                f"file's is {' '.join(f'{x:g}' for x in world_g)} m/s², normal to the plane.")
+    return (f" Plane: the description's x, y on the world's x, y (flat, z up), so gravity "
+            f"{' '.join(f'{x:g}' for x in world_g)} m/s² is normal to the mechanism's plane: the description's in-plane "
+            f"gravity ({drive.gravity[0]:g}, {drive.gravity[1]:g}) m/s² is not felt, the joints carry the links' weight "
+            "out of the plane (the reaction sensors read it along z), and the actuator's limits and the accuracy below "
+            "are the closed form's without gravity.")
+
+
 def _header(name, prefix, plane, drive, opt, said, sensors, world_g, accuracy: str) -> str:
     p = prefix
     lines = [
@@ -358,9 +371,11 @@ def _header(name, prefix, plane, drive, opt, said, sensors, world_g, accuracy: s
         + ("(the description's [machine] rotor and flywheel)." if opt.rotor_inertia else "(no rotor in the description)."),
         " Sensors: " + "; ".join(sensors) + ".",
         *(f" Note: {note}." for note in drive.notes),
-        (f" Plane: the description's x, y on the world's {plane[0]}, {plane[1]} (z up), its gravity turned the same way: "
-         if drive.family == "planar" else " Frame: the description's, z up; gravity ")
-        + f"{' '.join(f'{x:g}' for x in world_g)} m/s². Attached to a robot, the robot's own <option> (gravity, "
+        (_flat_plane(drive, world_g) if drive.family == "planar" and plane == "xy" else
+         (f" Plane: the description's x, y on the world's {plane[0]}, {plane[1]} (z up), its gravity turned the same "
+          "way: " if drive.family == "planar" else " Frame: the description's, z up; gravity ")
+         + f"{' '.join(f'{x:g}' for x in world_g)} m/s².")
+        + " Attached to a robot, the robot's own <option> (gravity, "
         "timestep, integrator) wins.",
         f" Settings: timestep {ROBOT_TIMESTEP:g} s, {ROBOT_INTEGRATOR}, MuJoCo's default solver; the connects carry no "
         "solref/solimp, so MuJoCo's defaults or the scene's <default><equality> apply.",
