@@ -229,10 +229,14 @@ def test_the_robotics_guide_runs_as_written(tmp_path, monkeypatch, capsys):
     monkeypatch.chdir(tmp_path)
     assert main([command[1], str(ROOT / command[2]), *command[3:]]) == 0
     code = re.search(r"```python\n(.*?)```", text, flags=re.S).group(1)
+    scope = {}
     with no_log_file():
-        exec(compile(code, "docs/robotics.md", "exec"), {})
+        exec(compile(code, "docs/robotics.md", "exec"), scope)
     out = capsys.readouterr().out
     assert "drive torque 60.0 N·m" in out and out.count("reaction at ") == 4
+    model = scope["model"]  # the file attached twice, each copy loaded again: two mechanisms
+    assert {model.actuator(i).name for i in range(model.nu)} == {"left/fb/drive:motor", "right/fb/drive:motor"}
+    assert model.body("left/fb/mount").id != model.body("right/fb/mount").id
 
 
 def test_the_validation_model_points_a_robot_user_to_the_robot_build(tmp_path):
@@ -441,3 +445,16 @@ def reactions_of(model, data):
     from linkgen.mujoco.robot_sensors import reactions
 
     return reactions(model, data, PREFIX)
+
+
+def test_the_guide_says_which_reactions_a_spatial_file_senses():
+    from linkgen.mujoco.robot import RobotOptions
+
+    with no_log_file():
+        model = mujoco.MjModel.from_xml_string(linkgen.write_mjcf(linkgen.load(ROOT / "models" / "rssr.toml"),
+                                                                 robot=RobotOptions(prefix="S/")))
+    sensed = [model.sensor(i).name for i in range(model.nsensor) if "reaction:" in model.sensor(i).name]
+    assert len(sensed) == 1  # the loop-closing joint only
+    text = " ".join((ROOT / "docs" / "robotics.md").read_text().split())
+    assert "Every revolute of the tree has a `force` sensor" not in text
+    assert "a spatial four-bar's file senses its loop-closing joint only" in text
