@@ -356,6 +356,27 @@ def test_kp_and_kv_are_the_joints_stiffness_and_damping_whatever_the_gear(tmp_pa
     assert f"damping {SERVO_KV:g} N·m·s/rad" in header and f"kv = damping/gear² {SERVO_KV / SERVO_GEAR**2:g}" in header
 
 
+def test_a_given_kp_alone_is_critically_damped_on_the_largest_reduced_inertia(tmp_path, capfd):
+    # before: the default damping was 2·J·ω_n of the default stiffness, whatever --kp (kp 1000:
+    # damping 125 N·m·s/rad, a damping ratio 1.58 on J_max = 1.56 kg·m², not 1)
+    mech = linkgen.load(FOURBAR)
+    from linkgen.families.planar.assembly import assemble
+    from linkgen.families.planar.kinetostatics import forces
+
+    phi = np.linspace(mech.drive.start, mech.drive.stop, 361)  # every 1°, as the build samples
+    j_max = forces(assemble(mech), phi, mech.drive.omega, 0.0).reduced.inertia.max()
+    xml = _build(tmp_path, FOURBAR, "--prefix", PREFIX, "--actuator", "position", "--gear", str(SERVO_GEAR),
+                 "--kp", str(SERVO_KP))
+    model, data = _compiled(xml, capfd)
+    mujoco.mj_resetData(model, data)
+    joint = model.joint(PREFIX + "O")
+    data.ctrl[0] = SERVO_GEAR * data.qpos[joint.qposadr[0]]
+    data.qvel[joint.dofadr[0]] = DISPLACEMENT
+    mujoco.mj_forward(model, data)
+    damping = -data.qfrc_actuator[joint.dofadr[0]] / DISPLACEMENT
+    assert damping / (2.0 * math.sqrt(SERVO_KP * j_max)) == pytest.approx(1.0, rel=1e-6)  # the damping ratio
+
+
 @pytest.mark.parametrize("omega", [-8.0, 0.0])
 def test_a_crank_not_turning_forward_gets_no_predicted_accuracy(tmp_path, omega):
     # before: ω = -8 rad/s stated "loop gap 2.3 of the size" (and 8.3e+57 elsewhere), ω = 0 "omega

@@ -149,7 +149,7 @@ def drive_actuator(drive: RobotDrive, opt: RobotOptions) -> tuple[str, dict, str
         attrs["forcerange"] = f"{_f(-limit)} {_f(limit)}"
     if opt.actuator == "position":
         kp = opt.kp if opt.kp is not None else j * wn**2
-        kv = opt.kv if opt.kv is not None else 2.0 * j * wn
+        kv = opt.kv if opt.kv is not None else 2.0 * math.sqrt(kp * j)  # critically damped on J_max, kp given or not
         attrs |= {"kp": _f(kp / g**2), "kv": _f(kv / g**2)}
         if drive.range is not None:
             attrs["ctrlrange"] = f"{_f(g * drive.range[0])} {_f(g * drive.range[1])}"
