@@ -57,7 +57,8 @@ def accuracy_comment(source, settings: Settings) -> str:
             + (f"Past {FAR_OFF:g} the prediction, linear in the loop gap, says only that these settings are far off "
                "for this mechanism: run linkgen check-settings for the measured figures. " if e.worst > FAR_OFF else "")
             + f"A crank "
-            f"without that rotor, held by this file's servo, keeps the gap and the positions but reads larger "
+            f"with only this file's armature, held at ω by a servo (its position or velocity actuator), keeps the "
+            f"gap and the positions but reads larger "
             f"reactions and crank torque (the four-bar at 10 rad/s: {SERVO_FACTORS[0]:g} and {SERVO_FACTORS[1]:g} "
             f"times the figures above). "
             f"linkgen check-settings, given this file's timestep and integrator (2ms, implicitfast) and a tolerance, "
