@@ -52,7 +52,7 @@ def _build_one(path: Path, out: Path, practical: bool = False, robot=None, loops
 
         machine = machine_from_dict(read_toml(path))
         if machine is not None:
-            robot = replace(robot, rotor_inertia=machine.added_inertia)
+            robot = replace(robot, rotor_inertia=machine.added_inertia, machine=machine)
         xml = stage(desc, "mjcf")(desc, robot=robot)
     elif loops == "coupling":
         xml, coupled = stage(desc, "coupling")(desc, practical=practical)
@@ -352,10 +352,12 @@ def add_commands(sub) -> None:
     r.add_argument("--actuator", choices=("motor", "position", "velocity"),
                    help="the driven joint's actuator (default motor)")
     r.add_argument("--gear", type=_float_arg, help="the actuator's gear: joint torque = gear × actuator force (default 1)")
-    r.add_argument("--kp", type=_float_arg, help="the position servo's stiffness [N·m/rad] (default: from the reduced "
-                                                 "inertia and a 5 Hz bandwidth)")
-    r.add_argument("--kv", type=_float_arg, help="the position servo's damping or the velocity servo's gain [N·m·s/rad] "
-                                                 "(default: critically damped / from the reduced inertia)")
+    r.add_argument("--kp", type=_float_arg, help="the position servo's stiffness at the joint [N·m/rad], whatever the "
+                                                 "gear (the file holds kp/gear²; default: from the reduced inertia and "
+                                                 "a 5 Hz bandwidth)")
+    r.add_argument("--kv", type=_float_arg, help="the position servo's damping or the velocity servo's gain at the joint "
+                                                 "[N·m·s/rad], whatever the gear (the file holds kv/gear²; default: "
+                                                 "critically damped / from the reduced inertia)")
     r.add_argument("--plane", choices=("xz", "yz", "xy"),
                    help="the world plane the mechanism's plane lies in, z up (default xz; planar linkages)")
     r.add_argument("--scene", action="store_true",

@@ -29,6 +29,7 @@ from lxml import etree
 
 from linkgen.errors import ArgumentError
 from linkgen.mujoco.options import Settings
+from linkgen.mujoco.robot_accuracy import FAR_OFF, SERVO_FACTORS, accuracy_comment, predict_at
 from linkgen.mujoco.robot_xml import PLANES, check_prefix
 
 ACTUATORS = ("motor", "position", "velocity")
@@ -62,10 +63,13 @@ PEAK_SAMPLES = 361
 @dataclass(frozen=True)
 class RobotOptions:
     """What ``build --robot`` writes. ``prefix`` None: the mechanism's name and "/";
-    ``actuator`` on the driven joint with ``gear`` (torque = gear·force) and the position
-    servo's ``kp`` [N·m/rad at gear 1], ``kv`` [N·m·s/rad] (None: derived, ``drive_actuator``);
+    ``actuator`` on the driven joint with ``gear`` (torque = gear·force) and the servo's
+    ``kp`` [N·m/rad], ``kv`` [N·m·s/rad] at the joint, whatever the gear (None: derived,
+    ``drive_actuator``);
     ``plane`` None: "xz" (planar linkages; a spatial chain takes none); ``scene``: a floor, sky,
-    light and camera; ``rotor_inertia`` [kg·m²]: the drive's own (the CLI reads the [machine])."""
+    light and camera; ``rotor_inertia`` [kg·m²]: the drive's own (the CLI reads the [machine]);
+    ``machine``: the description's [machine] (``linkgen.model.machine.Machine``), whose motor law,
+    process load, shaft and start speed the header says how to apply (``robot_machine``)."""
 
     prefix: str | None = None
     actuator: str = "motor"
@@ -75,6 +79,7 @@ class RobotOptions:
     plane: str | None = None
     scene: bool = False
     rotor_inertia: float = 0.0
+    machine: object | None = None
 
     def __post_init__(self) -> None:
         if self.prefix is not None:
@@ -117,82 +122,50 @@ class RobotDrive:
     notes: tuple[str, ...] = ()
 
 
-def accuracy_comment(source, settings: Settings) -> str:
-    """One line of the accuracy MuJoCo gives this mechanism at the file's settings, predicted as
-    ``linkgen check-settings`` predicts it (``mujoco.accuracy.predict``: from the closed form's
-    loop forces and MuJoCo's constraint model, for the crank turning at the description's ω; no
-    MuJoCo step), or why it is not predicted."""
-    from linkgen.errors import LinkgenError
-    from linkgen.families.planar.assembly import Assembly, assemble
-    from linkgen.families.planar.description import Mechanism
-
-    if not isinstance(source, (Mechanism, Assembly)):
-        return ("not predicted here (linkgen check-settings predicts planar linkages); linkgen validate with its "
-                "practical option measures what MuJoCo's usual settings cost. ")
-    try:
-        asm = source if isinstance(source, Assembly) else assemble(source)
-        p = predict_at(asm, settings)
-    except LinkgenError as exc:
-        return f"not predicted: {exc}. "
-    e = p.errors
-    return (f"predicted for the crank turning at ω = {p.omega:g} rad/s (as linkgen check-settings predicts it: the "
-            f"closed form's loop forces through MuJoCo's constraint model, an estimate it checks by a run): loop "
-            f"gap {e.gap:.2g} of the size ({e.gap * p.size:.2g} m), point positions {e.position:.2g} of the size, "
-            f"reactions {e.reaction:.2g} of the peak reaction, crank torque {e.torque:.2g} of its peak. "
-            f"linkgen check-settings, given this file's timestep and integrator (2ms, implicitfast) and a tolerance, "
-            f"measures them and finds the cheapest settings that meet it. ")
-
-
-def predict_at(asm, settings: Settings):
-    """``mujoco.accuracy.predict`` at ``settings`` with the rotor inertia that holds the crank at
-    the description's ω (as ``check-settings`` runs it)."""
-    from dataclasses import replace
-
-    import mujoco
-
-    from linkgen.mujoco.accuracy import predict
-    from linkgen.mujoco.log import no_log_file
-    from linkgen.mujoco.mjcf import write_mjcf
-    from linkgen.mujoco.options import PLACEHOLDER
-    from linkgen.mujoco.settings import derive
-
-    mech = asm.mechanism
-    with no_log_file():
-        model = mujoco.MjModel.from_xml_string(write_mjcf(asm, PLACEHOLDER))
-    validation, _ = derive(asm, model, omega=mech.drive.omega, epsilon=mech.drive.epsilon)
-    return predict(asm, replace(settings, armature=validation.armature))
-
-
 def drive_actuator(drive: RobotDrive, opt: RobotOptions) -> tuple[str, dict, str]:
-    """The actuator element's tag, attributes (but its name and joint) and the header's words."""
+    """The actuator element's tag, attributes (but its name and joint) and the header's words.
+
+    ``opt.kp``, ``opt.kv`` and the derived defaults are the servo's stiffness [N·m/rad] and
+    damping [N·m·s/rad] at the joint; MuJoCo's actuator with gear g acts on the length g·φ and
+    exerts g times its force on the joint, so the joint feels g²·kp: the file holds kp/g², kv/g²
+    (and ctrlrange, forcerange) in the actuator's units."""
     g = opt.gear
     j = drive.inertia + opt.rotor_inertia
     wn = max(POSITION_BANDWIDTH, BANDWIDTH_PER_SPEED * abs(drive.omega))
     limit = None if not drive.peak_torque else TORQUE_MARGIN * drive.peak_torque / g
     peak = (f"the closed form's peak balancing torque {drive.peak_torque:.6g} N·m over the drive range at "
-            f"ω = {drive.omega:.6g} rad/s × {TORQUE_MARGIN:g}" if limit else
-            "no torque limit (the closed form gives no peak torque for this mechanism)")
+            f"ω = {drive.omega:.6g} rad/s × {TORQUE_MARGIN:g}, / gear" if limit else
+            f"none: the closed form's balancing torque at ω = {drive.omega:.6g} rad/s is 0 N·m over the whole drive "
+            "range (nothing to lift, accelerate or press), so the file sets no limit; give the actuator your motor's"
+            if drive.peak_torque == 0 else
+            "none: the closed form gives no balancing torque for this mechanism, so the file sets no limit; give the "
+            "actuator your motor's")
     attrs = {"gear": _f(g)}
     if opt.actuator == "motor":
         if limit:
             attrs["ctrlrange"] = f"{_f(-limit)} {_f(limit)}"
-        return "motor", attrs, f"motor (control = torque / gear {g:g}, ctrlrange from {peak})"
+        return "motor", attrs, f"motor (control = torque / gear {g:g}; ctrlrange: {peak})"
     if limit:
         attrs["forcerange"] = f"{_f(-limit)} {_f(limit)}"
     if opt.actuator == "position":
-        kp = opt.kp if opt.kp is not None else j * wn**2 / g**2
-        kv = opt.kv if opt.kv is not None else 2.0 * j * wn / g**2
-        attrs |= {"kp": _f(kp), "kv": _f(kv)}
+        kp = opt.kp if opt.kp is not None else j * wn**2
+        kv = opt.kv if opt.kv is not None else 2.0 * math.sqrt(kp * j)  # critically damped on J_max, kp given or not
+        attrs |= {"kp": _f(kp / g**2), "kv": _f(kv / g**2)}
         if drive.range is not None:
             attrs["ctrlrange"] = f"{_f(g * drive.range[0])} {_f(g * drive.range[1])}"
+        damped = "given" if opt.kv is not None else "critically damped"
         how = ("given" if opt.kp is not None else
                f"J_max·ω_n², J_max = {j:.6g} kg·m² the largest reduced inertia, ω_n = {wn:.4g} rad/s")
-        return "position", attrs, (f"position servo (control = gear·φ [rad], kp {kp:.6g} ({how}), kv {kv:.6g} "
-                                   f"(critically damped unless given), forcerange from {peak})")
-    kv = opt.kv if opt.kv is not None else j * wn / g**2
-    attrs["kv"] = _f(kv)
-    return "velocity", attrs, (f"velocity servo (control = gear·ω [rad/s], kv {kv:.6g} (J_max·ω_n unless given: time "
-                               f"constant 1/ω_n = {1 / wn:.3g} s), forcerange from {peak})")
+        return "position", attrs, (f"position servo (control = gear·φ [rad]; at the joint: stiffness {kp:.6g} N·m/rad "
+                                   f"({how}), damping {kv:.6g} N·m·s/rad ({damped}); "
+                                   f"in the file, the actuator's units: kp = stiffness/gear² {kp / g**2:.6g}, "
+                                   f"kv = damping/gear² {kv / g**2:.6g}; forcerange: {peak})")
+    kv = opt.kv if opt.kv is not None else j * wn
+    attrs["kv"] = _f(kv / g**2)
+    how = "given" if opt.kv is not None else f"J_max·ω_n: time constant 1/ω_n = {1 / wn:.3g} s"
+    return "velocity", attrs, (f"velocity servo (control = gear·ω [rad/s]; at the joint: damping {kv:.6g} N·m·s/rad "
+                               f"({how}); in the file, the actuator's units: kv = damping/gear² {kv / g**2:.6g}; "
+                               f"forcerange: {peak})")
 
 
 def _f(x: float) -> str:
@@ -250,6 +223,11 @@ def robot_model(xml: str, drive: RobotDrive, opt: RobotOptions, name: str, scene
     sensors = add_sensors(root, act_name, drive, prefix)
     _at_rest(root, KEY, drive, opt)
     add_prefix(root, prefix)
+    from dataclasses import replace
+
+    from linkgen.mujoco.robot_machine import machine_loads
+
+    drive = replace(drive, loads=drive.loads + machine_loads(opt.machine, drive.joint, opt.gear))
     header = _header(name, prefix, plane, drive, opt, said, sensors, world_g, accuracy_comment(source, ROBOT_SETTINGS))
     root.insert(0, etree.Comment(header))
     etree.indent(root, space="  ")
@@ -282,6 +260,19 @@ def _qpos_index(root, joint: str) -> int:
     raise KeyError(joint)
 
 
+def _flat_plane(drive: RobotDrive, world_g) -> str:
+    """The header's plane line for ``--plane xy``: gravity is the plane's normal there."""
+    g = float(np.hypot(drive.gravity[0], drive.gravity[1]))
+    if g == 0:
+        return (" Plane: the description's x, y on the world's x, y (flat, z up); the description has no gravity, the "
+                f"file's is {' '.join(f'{x:g}' for x in world_g)} m/s², normal to the plane.")
+    return (f" Plane: the description's x, y on the world's x, y (flat, z up), so gravity "
+            f"{' '.join(f'{x:g}' for x in world_g)} m/s² is normal to the mechanism's plane: the description's in-plane "
+            f"gravity ({drive.gravity[0]:g}, {drive.gravity[1]:g}) m/s² is not felt, the joints carry the links' weight "
+            "out of the plane (the reaction sensors read it along z), and the actuator's limits and the accuracy below "
+            "are the closed form's without gravity.")
+
+
 def _header(name, prefix, plane, drive, opt, said, sensors, world_g, accuracy: str) -> str:
     p = prefix
     lines = [
@@ -295,9 +286,11 @@ def _header(name, prefix, plane, drive, opt, said, sensors, world_g, accuracy: s
         + ("(the description's [machine] rotor and flywheel)." if opt.rotor_inertia else "(no rotor in the description)."),
         " Sensors: " + "; ".join(sensors) + ".",
         *(f" Note: {note}." for note in drive.notes),
-        (f" Plane: the description's x, y on the world's {plane[0]}, {plane[1]} (z up), its gravity turned the same way: "
-         if drive.family == "planar" else " Frame: the description's, z up; gravity ")
-        + f"{' '.join(f'{x:g}' for x in world_g)} m/s². Attached to a robot, the robot's own <option> (gravity, "
+        (_flat_plane(drive, world_g) if drive.family == "planar" and plane == "xy" else
+         (f" Plane: the description's x, y on the world's {plane[0]}, {plane[1]} (z up), its gravity turned the same "
+          "way: " if drive.family == "planar" else " Frame: the description's, z up; gravity ")
+         + f"{' '.join(f'{x:g}' for x in world_g)} m/s².")
+        + " Attached to a robot, the robot's own <option> (gravity, "
         "timestep, integrator) wins.",
         f" Settings: timestep {ROBOT_TIMESTEP:g} s, {ROBOT_INTEGRATOR}, MuJoCo's default solver; the connects carry no "
         "solref/solimp, so MuJoCo's defaults or the scene's <default><equality> apply.",
@@ -306,12 +299,13 @@ def _header(name, prefix, plane, drive, opt, said, sensors, world_g, accuracy: s
         lines.append(f" Accuracy at these settings: {accuracy}")
     lines.append(" Not in this file: the validation settings (a build without its robot option); "
                  + ("" if opt.scene else "a floor, sky, light and camera (the build's scene option adds them); ")
-                 + ("the description's loads, which MJCF cannot carry (each step, set data.qfrc_applied to 0, then "
+                 + ("what the description has that MJCF cannot carry (each step, set data.qfrc_applied to 0, then "
                     "apply each): " + "; ".join(drive.loads).replace("{P}", p)
                     if drive.loads
                     else "no loads besides gravity are described") + ".")
     return "\n".join(re.sub(r"--", "- -", line) for line in lines) + "\n"
 
 
-__all__ = ["ACTUATORS", "BANDWIDTH_PER_SPEED", "POSITION_BANDWIDTH", "ROBOT_INTEGRATOR", "ROBOT_SETTINGS", "ROBOT_TIMESTEP",
-           "RobotDrive", "RobotOptions", "TORQUE_MARGIN", "accuracy_comment", "predict_at", "drive_actuator", "robot_model"]
+__all__ = ["ACTUATORS", "BANDWIDTH_PER_SPEED", "FAR_OFF", "POSITION_BANDWIDTH", "ROBOT_INTEGRATOR", "ROBOT_SETTINGS",
+           "ROBOT_TIMESTEP", "SERVO_FACTORS", "RobotDrive", "RobotOptions", "TORQUE_MARGIN", "accuracy_comment",
+           "predict_at", "drive_actuator", "robot_model"]

@@ -5,6 +5,7 @@ largest reduced inertia, the revolutes to sense and the loads MJCF cannot carry.
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 
 import numpy as np
 
@@ -112,8 +113,19 @@ def planar_robot_mjcf(source: Mechanism | Assembly, options: RobotOptions) -> st
     mech = source.mechanism if isinstance(source, Assembly) else source
     src = _source(source)
     xml = write_mjcf(source, PLACEHOLDER)  # the validation model; its settings are replaced
-    return robot_model(xml, planar_drive(source), options, mech.name, scene=(motion_extent(src), src.size),
-                       source=source)
+    felt = _felt(source) if options.plane == "xy" else source
+    drive = replace(planar_drive(felt), gravity=(float(mech.gravity[0]), float(mech.gravity[1]), 0.0))
+    return robot_model(xml, drive, options, mech.name, scene=(motion_extent(src), src.size), source=felt)
+
+
+def _felt(source: Mechanism | Assembly) -> Mechanism | Assembly:
+    """The linkage as it moves with its plane flat (``--plane xy``): gravity along the plane's
+    normal, none in the plane; the closed form of the limits and of the accuracy is taken so."""
+    from linkgen.families.planar.assembly import assemble
+
+    mech = source.mechanism if isinstance(source, Assembly) else source
+    flat = replace(mech, gravity=(0.0, 0.0))
+    return assemble(flat) if isinstance(source, Assembly) else flat
 
 
 __all__ = ["planar_drive", "planar_robot_mjcf"]
