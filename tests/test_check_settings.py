@@ -168,10 +168,10 @@ class _no_warning:
         self._w = warnings.catch_warnings()
         self._w.__enter__()
         warnings.simplefilter("error")
-        np.seterr(all="raise")
+        self._np = np.seterr(all="raise")
 
     def __exit__(self, *exc):
-        np.seterr(all="warn")
+        np.seterr(**self._np)  # NumPy's own defaults back (underflow ignored)
         return self._w.__exit__(*exc)
 
 
