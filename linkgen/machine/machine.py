@@ -29,9 +29,10 @@ from scipy.integrate import solve_ivp
 
 from linkgen.machine import motors
 from linkgen.machine.cycle import CYCLE_POINTS, STEADY_TOL, SteadyCycle, peak, startup_time, steady_cycle
+from linkgen.machine.energy import EnergyBalance, energy_balance
 from linkgen.machine.reduced import Reduced
 from linkgen.errors import SimulationError
-from linkgen.model.machine import Machine
+from linkgen.model.machine import FREE, Machine
 
 # Relative tolerance of the integration; the absolute one is this times the state's scale.
 RTOL = 1e-10
@@ -92,6 +93,8 @@ class MachineRun:
     peak_motor_torque: float = math.nan
     peak_motor_torque_at: float = math.nan
     method: str = ""
+    energy: EnergyBalance | None = field(default=None, repr=False, compare=False)  # checked at every sample
+    rtol: float = RTOL  # the solver's relative tolerance (absolute: 1e-3 of it on the state)
 
     def state_at(self, t) -> tuple[np.ndarray, np.ndarray]:
         """Crank angle [rad] and speed [rad/s] at times t [s] from the solver's dense output."""
@@ -161,7 +164,7 @@ class _Model:
         w0 = self.m.start_speed
         y = [phi0, w0] + ([phi0, w0] if self.shaft else [])
         if self.current:
-            y.append(float(motors.dc_static_current(self.m.motor, self.u * w0)) if w0 > 0 else 0.0)
+            y.append(float(motors.dc_static_current(self.m.motor, self.u * w0)) if w0 != 0 else 0.0)
         return np.array(y, dtype=float)
 
 
@@ -193,9 +196,18 @@ def _jacobian_radius(model: _Model, y: np.ndarray) -> float:
 
 def _speed_scale(machine: Machine, red: Reduced) -> float:
     """The crank speed [rad/s] the machine runs at, at most: the motor's no-load or synchronous
-    speed, or the start speed; the drive's prescribed speed only where neither gives one (a
-    constant torque from rest)."""
+    speed, or the start speed; without a motor also the speed the loads' work over a turn can
+    give from the start (½·J_min·ω² = ½·J(φ0)·ω0² + max ∫M₀dφ, springs and gravity swinging
+    the mechanism); the drive's prescribed speed only where none of these gives one (a constant
+    torque from rest)."""
     top = machine.top_speed(0.0)
+    if machine.free:
+        phi0 = machine.start(float(red.phi[0]))
+        table = red._table("moment_grid")
+        work = table.integral(red.moment_phi) - table.integral(phi0)
+        j = red.j(red.phi) + machine.added_inertia
+        energy = float(red.j(phi0) + machine.added_inertia) * machine.start_speed**2 + 2 * max(float(work.max()), 0.0)
+        top = max(top, math.sqrt(energy / float(j.min())) if j.min() > 0 else 0.0)
     return top if top > 0 else abs(red.drive_omega)
 
 
@@ -205,7 +217,7 @@ def choose_method(machine: Machine, red: Reduced, duration: float) -> tuple[str,
     is beyond what any step can resolve over the duration (RESOLVABLE) or the rates leave float
     range."""
     model = _Model(machine, red)
-    y0 = model.y0(float(red.phi[0]))
+    y0 = model.y0(machine.start(float(red.phi[0])))
     top = _speed_scale(machine, red)
     states = [y0]
     if model.current:  # at rest with the stall current U/R: the largest current and torque
@@ -241,20 +253,20 @@ class _Budget:
     """The right-hand side counted: SimulationError past MAX_EVALUATIONS, and progress(fraction,
     elapsed) every PROGRESS_EVERY s once the run has lasted PROGRESS_AFTER s."""
 
-    def __init__(self, rhs, duration: float, progress, phi0: float = 0.0):
-        self.rhs, self.duration, self.progress = rhs, duration, progress
+    def __init__(self, rhs, duration: float, progress, phi0: float = 0.0, stall: bool = True):
+        self.rhs, self.duration, self.progress, self.stall = rhs, duration, progress, stall
         self.calls, self.t0, self.next, self.t = 0, time.perf_counter(), PROGRESS_AFTER, 0.0
         self.phi0, self.turns, self.turned_at = phi0, 0, 0  # the crank's turns done, and when
 
     def __call__(self, t, y):
         self.calls += 1
         self.t = t
-        turns = (y[0] - self.phi0) / (2 * math.pi)
+        turns = abs(y[0] - self.phi0) / (2 * math.pi)  # either way round
         if not math.isfinite(turns):  # a trial state of the solver's own (a Jacobian's probe)
             pass
         elif turns >= self.turns + 1:
             self.turns, self.turned_at = int(turns), self.calls
-        elif self.calls - self.turned_at > STALL_EVALUATIONS:
+        elif self.stall and self.calls - self.turned_at > STALL_EVALUATIONS:
             raise SimulationError(f"the machine stalls: the crank has completed no new turn over {STALL_EVALUATIONS:,} "
                                   f"evaluations, rocking near φ = {math.degrees(y[0]):.2f}° at t = {t:.6g} s; its motor "
                                   "(and the flywheel's energy) cannot carry it past the load there; check "
@@ -272,30 +284,42 @@ class _Budget:
 
 
 def run_machine(machine: Machine, red: Reduced, *, samples: int = 2000, duration: float | None = None,
-                progress=None) -> MachineRun:
-    """Integrate the machine from its start speed over ``duration`` [s] (default the
-    description's) and sample it at ``samples`` equal time steps (the steady cycle, the start-up
-    and the peak motor torque come from the solver's dense output, not from the samples).
-    ``progress(fraction, elapsed seconds)`` is called during a long integration."""
+                progress=None, rtol: float = RTOL) -> MachineRun:
+    """Integrate the machine from its start state (``Machine.start``, ``start_speed``) over
+    ``duration`` [s] (default the description's), or until the crank has turned ``turns`` turns
+    either way, and sample it at ``samples`` equal time steps (the steady cycle, the start-up and
+    the peak motor torque come from the solver's dense output, not from the samples), at the
+    relative tolerance ``rtol`` (absolute: 1e-3 of it on the state). ``progress(fraction,
+    elapsed seconds)`` is called during a long integration. The energy balance is checked at
+    every sample (``MachineRun.energy``)."""
     model = _Model(machine, red)
     T = machine.duration if duration is None else float(duration)
-    phi0 = float(red.phi[0])
+    phi0 = machine.start(float(red.phi[0]))
     method, _ = choose_method(machine, red, T)
     top = _speed_scale(machine, red)
     max_step = 2 * math.pi / top / STEPS_PER_TURN if top > 0 else math.inf
     scale = np.ones(model.n)
-    budget = _Budget(model.rhs, T, progress, phi0)
+    budget = _Budget(model.rhs, T, progress, phi0, stall=not machine.free)
     motor_top = machine.top_speed(0.0)
-    limit = RUNAWAY * motor_top if motor_top > 0 and math.isfinite(motor_top) else math.inf
+    # A constant torque has no top speed, nor has free motion: no runaway stop for either.
+    limit = (RUNAWAY * motor_top if motor_top > 0 and math.isfinite(motor_top)
+             and machine.motor.kind not in ("constant", FREE) else math.inf)
 
     def runaway(t, y):
         return limit - abs(y[1])
 
     runaway.terminal = True
+
+    def turned(t, y):
+        return 2 * math.pi * machine.turns - abs(y[0] - phi0)
+
+    turned.terminal = True
+    events = ([runaway] if math.isfinite(limit) else []) + ([turned] if machine.turns is not None else [])
+
     def solve(how: str):
         with np.errstate(over="ignore", invalid="ignore"):
-            return solve_ivp(budget, (0.0, T), model.y0(phi0), method=how, rtol=RTOL, atol=RTOL * scale * 1e-3,
-                             dense_output=True, max_step=max_step, events=runaway if math.isfinite(limit) else None)
+            return solve_ivp(budget, (0.0, T), model.y0(phi0), method=how, rtol=rtol, atol=rtol * scale * 1e-3,
+                             dense_output=True, max_step=max_step, events=events or None)
 
     try:
         try:
@@ -307,12 +331,12 @@ def run_machine(machine: Machine, red: Reduced, *, samples: int = 2000, duration
             # stiff and non-stiff steps itself, takes the run over from the start.
             if method != "Radau":
                 raise
-            budget = _Budget(model.rhs, T, progress, phi0)
+            budget = _Budget(model.rhs, T, progress, phi0, stall=not machine.free)
             sol, method = solve("LSODA"), "LSODA"
     except (ValueError, np.linalg.LinAlgError) as exc:  # the solver's own check of its Jacobian or states
         raise SimulationError(f"the machine's state left float64's range near t = {budget.t:.6g} s ({exc}); check "
                               "the [machine.motor] parameters and the inertias") from None
-    if sol.status == 1:  # the runaway event
+    if sol.status == 1 and math.isfinite(limit) and sol.t_events[0].size:  # the runaway event
         t_run, w_run = float(sol.t_events[0][0]), float(sol.y_events[0][0][1])
         raise SimulationError(f"the crank's speed reached {w_run:.4g} rad/s at t = {t_run:.6g} s, {RUNAWAY:g} times the "
                               f"motor's top speed ({motor_top:.4g} rad/s at the crank){' turning backwards' if w_run < 0 else ''}: "
@@ -320,6 +344,7 @@ def run_machine(machine: Machine, red: Reduced, *, samples: int = 2000, duration
                               "mechanism's loads against the motor")
     if not sol.success or not np.isfinite(sol.y).all():
         raise SimulationError(f"the machine's integration stopped at t = {sol.t[-1]:.6g} s: {sol.message}")
+    T = float(sol.t[-1])  # the duration, or when the crank completed its turns
     t = np.linspace(0.0, T, samples)
     y = sol.sol(t)
     eps = model.rhs(t, y)[1]
@@ -327,13 +352,12 @@ def run_machine(machine: Machine, red: Reduced, *, samples: int = 2000, duration
     mm, cur = model.motor(w_rotor, y)
     twist = (y[2] - y[0]) if model.shaft else None
     ts = model.shaft_torque(y) if model.shaft else None
-    steady = steady_cycle(sol, phi0, RTOL)
+    steady = steady_cycle(sol, phi0, rtol)
     startup = None if steady is None else startup_time(sol, steady, T)
     top, top_at = peak(sol, lambda s: motor_torque_at(machine, red, s), T)
     return MachineRun(t, y[0], y[1], np.asarray(eps, dtype=float), np.asarray(mm, dtype=float) * np.ones_like(t),
                       None if cur is None else np.asarray(cur, dtype=float) * np.ones_like(t), twist, ts, steady,
-                      startup, sol.sol, model.rhs, top, top_at, method)
-
+                      startup, sol.sol, model.rhs, top, top_at, method, energy_balance(model, sol, t), rtol)
 
 
 def speed_range(solution, a: float, b: float, *, periodic: bool, n: int = 64 * CYCLE_POINTS) -> tuple[float, float]:

@@ -33,8 +33,8 @@ def load_machine(path: str | Path) -> tuple[Assembly, Machine]:
     data = read_toml(path)
     machine = machine_from_dict(data)
     if machine is None:
-        raise DescriptionError("machine", "is missing: a machine study needs a [machine] table with a "
-                               "[machine.motor] (see docs/format.md)", str(path))
+        raise DescriptionError("machine", "is missing: a machine study needs a [machine] table (with a "
+                               "[machine.motor], or none for free motion; see docs/machine.md)", str(path))
     return asm, machine
 
 
