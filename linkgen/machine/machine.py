@@ -31,7 +31,7 @@ from linkgen.machine import motors
 from linkgen.machine.cycle import CYCLE_POINTS, STEADY_TOL, SteadyCycle, peak, startup_time, steady_cycle
 from linkgen.machine.energy import EnergyBalance, energy_balance
 from linkgen.machine.reduced import Reduced
-from linkgen.errors import SimulationError
+from linkgen.errors import DescriptionError, SimulationError
 from linkgen.model.machine import FREE, Machine
 
 # Relative tolerance of the integration; the absolute one is this times the state's scale.
@@ -295,6 +295,11 @@ def run_machine(machine: Machine, red: Reduced, *, samples: int = 2000, duration
     model = _Model(machine, red)
     T = machine.duration if duration is None else float(duration)
     phi0 = machine.start(float(red.phi[0]))
+    lo, hi = float(red.phi[0]), red.stop
+    if hi is not None and not lo <= phi0 <= hi:
+        raise DescriptionError("machine.start_angle", f"is {math.degrees(phi0):.6g}°, outside the drive's range "
+                               f"[{math.degrees(lo):.6g}°, {math.degrees(hi):.6g}°] (drive.range), where the "
+                               "mechanism is known to assemble")
     method, _ = choose_method(machine, red, T)
     top = _speed_scale(machine, red)
     max_step = 2 * math.pi / top / STEPS_PER_TURN if top > 0 else math.inf
@@ -314,7 +319,13 @@ def run_machine(machine: Machine, red: Reduced, *, samples: int = 2000, duration
         return 2 * math.pi * machine.turns - abs(y[0] - phi0)
 
     turned.terminal = True
-    events = ([runaway] if math.isfinite(limit) else []) + ([turned] if machine.turns is not None else [])
+
+    def left(t, y):  # a crank that does not turn fully: past its range the tables end
+        return min(y[0] - lo, hi - y[0])
+
+    left.terminal = True
+    events = ([runaway] if math.isfinite(limit) else []) + ([turned] if machine.turns is not None else []) + \
+        ([left] if hi is not None else [])
 
     def solve(how: str):
         with np.errstate(over="ignore", invalid="ignore"):
@@ -342,6 +353,13 @@ def run_machine(machine: Machine, red: Reduced, *, samples: int = 2000, duration
                               f"motor's top speed ({motor_top:.4g} rad/s at the crank){' turning backwards' if w_run < 0 else ''}: "
                               "the loads drive the machine, not its motor; check [machine.process_load] and the "
                               "mechanism's loads against the motor")
+    if sol.status == 1 and hi is not None and sol.t_events[-1].size:  # left the drive's range
+        t_out, at = float(sol.t_events[-1][0]), float(sol.y_events[-1][0][0])
+        raise SimulationError(f"the crank left its range [{math.degrees(lo):.6g}°, {math.degrees(hi):.6g}°] "
+                              f"(drive.range) at t = {t_out:.6g} s, φ = {math.degrees(at):.6g}°, moving at "
+                              f"{float(sol.y_events[-1][0][1]):.6g} rad/s: the machine's motion is known only where "
+                              "the mechanism assembles; widen drive.range if it assembles further, give a shorter "
+                              "duration, or change the start state or the loads")
     if not sol.success or not np.isfinite(sol.y).all():
         raise SimulationError(f"the machine's integration stopped at t = {sol.t[-1]:.6g} s: {sol.message}")
     T = float(sol.t[-1])  # the duration, or when the crank completed its turns

@@ -1,5 +1,6 @@
-"""The mechanism reduced to the crank over one turn, as smooth periodic functions of φ for an
-ODE solver: J(φ) and dJ/dφ [kg·m²] by periodic cubic splines through the closed form on a grid,
+"""The mechanism reduced to the crank over one turn (or over the drive's range where the crank
+cannot turn fully: then the tables end there and ``stop`` says where), as smooth functions of φ
+for an ODE solver, periodic over a full turn: J(φ) and dJ/dφ [kg·m²] by periodic cubic splines through the closed form on a grid,
 and the reduced moment of the loads M(φ, ω) = M₀(φ) + c(φ)·ω [N·m] (gravity, forces, torques,
 springs, the process load; dampers make it depend on the crank speed ω through the reduced
 damping c(φ) = ∂M/∂ω ≤ 0, ``planar.kinetostatics.reduced_damping``).
@@ -43,6 +44,12 @@ class Reduced:
     moment_grid: np.ndarray  # M₀ at moment_phi [N·m] (at ω = 0)
     drive_omega: float = 0.0  # the drive's prescribed speed [rad/s]: a speed scale where a motor has none
     damping_grid: np.ndarray | None = None  # c = ∂M/∂ω at moment_phi [N·m·s/rad]; None: no dampers
+    stop: float | None = None  # the drive range's end [rad] where the crank does not turn fully; None: it does
+
+    @property
+    def full_turn(self) -> bool:
+        """Whether the tables cover a full turn (periodic in φ)."""
+        return self.stop is None
 
     def j(self, phi):
         return self.inertia(self._wrap(phi))
@@ -88,25 +95,36 @@ def process_torque(load: ProcessLoad | None, phi: np.ndarray) -> np.ndarray:
 def reduce(asm: Assembly, load: ProcessLoad | None = None, grid: int = GRID,
            moment_grid: int = MOMENT_GRID) -> Reduced:
     """J, dJ/dφ over one turn of the crank from the drive's start angle (splines through ``grid``
-    angles) and M (a table of ``moment_grid`` cells)."""
+    angles) and M (a table of ``moment_grid`` cells); over the drive's range only where it spans
+    less than a turn (``Reduced.stop``: a motion that leaves it is stopped there)."""
     d = asm.mechanism.drive
-    if d.stop - d.start < 2 * math.pi - 1e-9:
-        raise DescriptionError("drive.range", "a machine needs a crank that turns fully (range of 360°); this "
-                               f"one spans {math.degrees(d.stop - d.start):.6g}°")
-    phi = d.start + np.linspace(0.0, 2 * math.pi, grid + 1)
-    f = forces(asm, phi[:-1], 0.0, 0.0)
-    j = np.append(f.reduced.inertia, f.reduced.inertia[0])
-    dj = np.append(f.reduced.inertia_derivative, f.reduced.inertia_derivative[0])
-    table_phi, where = jump_grid(d.start, moment_grid, switch_angles(asm.mechanism, d.start))
+    full = d.stop - d.start >= 2 * math.pi - 1e-9
+    span = 2 * math.pi if full else d.stop - d.start
+    phi = d.start + np.linspace(0.0, span, grid + 1)
+    f = forces(asm, phi[:-1] if full else phi, 0.0, 0.0)
+    j, dj = f.reduced.inertia, f.reduced.inertia_derivative
+    if full:
+        j, dj = np.append(j, j[0]), np.append(dj, dj[0])
+    bc = "periodic" if full else "not-a-knot"
+    table_phi, where = jump_grid(d.start, moment_grid, switch_angles(asm.mechanism, d.start), span)
     red = forces(asm, where, 0.0, 0.0).reduced
     m = red.moment - process_torque(load, where)
-    m[-1] = m[0]  # one turn on: the same load
     c = None
     if any(s.damping for s in asm.mechanism.springs) or any(t.damping for t in asm.mechanism.torsion_springs):
         c = red.damping.copy()
-        c[-1] = c[0]
-    return Reduced(phi, CubicSpline(phi, j, bc_type="periodic"), CubicSpline(phi, dj, bc_type="periodic"),
-                   table_phi, m, float(d.omega), c)
+    if full:  # one turn on: the same load
+        m[-1] = m[0]
+        if c is not None:
+            c[-1] = c[0]
+    return Reduced(phi, CubicSpline(phi, j, bc_type=bc), CubicSpline(phi, dj, bc_type=bc),
+                   table_phi, m, float(d.omega), c, None if full else float(d.stop))
 
 
-__all__ = ["GRID", "MOMENT_GRID", "Reduced", "process_torque", "process_torque_function", "reduce"]
+def require_full_turn(red: Reduced, what: str) -> None:
+    """DescriptionError unless the crank turns fully: ``what`` needs a periodic machine."""
+    if not red.full_turn:
+        raise DescriptionError("drive.range", f"{what} needs a crank that turns fully (range of 360°); this one "
+                               f"spans {math.degrees(red.stop - red.phi[0]):.6g}°")
+
+
+__all__ = ["GRID", "MOMENT_GRID", "Reduced", "process_torque", "process_torque_function", "reduce", "require_full_turn"]

@@ -32,11 +32,13 @@ def switch_angles(mech, start: float) -> list[float]:
     return sorted(out)
 
 
-def jump_grid(start: float, cells: int, switches: list[float]) -> tuple[np.ndarray, np.ndarray]:
-    """The table's angles (m,) — ``cells`` equal cells over one turn from ``start``, each switch
-    angle added twice — and the angles (m,) to evaluate the load at (a switch's first copy just
-    before it, its second just after)."""
-    base = start + np.linspace(0.0, 2 * math.pi, cells + 1)
+def jump_grid(start: float, cells: int, switches: list[float], span: float = 2 * math.pi
+              ) -> tuple[np.ndarray, np.ndarray]:
+    """The table's angles (m,) — ``cells`` equal cells over ``span`` [rad] (one turn by default)
+    from ``start``, each switch angle within it added twice — and the angles (m,) to evaluate
+    the load at (a switch's first copy just before it, its second just after)."""
+    switches = [s for s in switches if start < s < start + span]
+    base = start + np.linspace(0.0, span, cells + 1)
     grid = np.sort(np.concatenate([base, switches, switches]))
     where = grid.copy()
     for s in switches:
