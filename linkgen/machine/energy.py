@@ -76,7 +76,7 @@ def _powers(model, y: np.ndarray) -> np.ndarray:
     mm, _ = model.motor(w_rotor, y)
     drive = model.u * model.eta * np.asarray(mm, dtype=float) * w_rotor
     red = model.red
-    damp = red._table("damping_grid").at(phi) * w * w if red.damping_grid is not None else np.zeros_like(w)
+    damp = red.table("damping_grid").at(phi) * w * w if red.damping_grid is not None else np.zeros_like(w)
     shaft = -model.shaft.damping * (w_rotor - w) ** 2 if model.shaft else np.zeros_like(w)
     return np.vstack([drive, damp, shaft])
 
@@ -95,21 +95,21 @@ def _shaft_energy(model, y: np.ndarray) -> np.ndarray:
     return 0.5 * s.stiffness * dz * dz
 
 
-def energy_balance(model, sol, t: np.ndarray) -> EnergyBalance:
+def energy_balance(model, dense, steps: np.ndarray, t: np.ndarray) -> EnergyBalance:
     """The balance at sample times ``t`` (n,) [s], increasing from 0, of the run whose dense
-    output is ``sol.sol`` (scipy's ``solve_ivp`` result, its step times ``sol.t``) and whose right-hand
-    side is ``model`` (``machine._Model``)."""
+    output is ``dense`` (t → states), whose solver stepped at times ``steps`` and whose
+    right-hand side is ``model`` (``machine._Model``), judged against ENERGY_TOL."""
     t = np.asarray(t, dtype=float)
-    knots = np.union1d(sol.t[(sol.t > t[0]) & (sol.t < t[-1])], t)
+    knots = np.union1d(steps[(steps > t[0]) & (steps < t[-1])], t)
     x, wts = np.polynomial.legendre.leggauss(GAUSS)
     a, b = knots[:-1], knots[1:]
     nodes = (0.5 * (b - a)[:, None] * (x[None, :] + 1.0) + a[:, None]).ravel()
-    p = _powers(model, sol.sol(nodes)).reshape(3, a.size, GAUSS)
+    p = _powers(model, dense(nodes)).reshape(3, a.size, GAUSS)
     cells = (p * wts).sum(axis=2) * 0.5 * (b - a)
     cumulative = np.concatenate([np.zeros((3, 1)), np.cumsum(cells, axis=1)], axis=1)
     at = cumulative[:, np.searchsorted(knots, t)]
-    y = sol.sol(t)
-    table = model.red._table("moment_grid")
+    y = dense(t)
+    table = model.red.table("moment_grid")
     loads = table.integral(y[0]) - table.integral(y[0][0])
     kinetic = _kinetic(model, y)
     shaft_energy = _shaft_energy(model, y) if model.shaft else None
@@ -117,7 +117,8 @@ def energy_balance(model, sol, t: np.ndarray) -> EnergyBalance:
     residual = stored - (loads + at[0] + at[1] + at[2])
     terms = [kinetic, loads, at[0], at[1]] + ([shaft_energy, at[2]] if model.shaft else [])
     scale = float(max(np.abs(v).max() for v in terms))
-    return EnergyBalance(kinetic, loads, at[1], at[0], shaft_energy, at[2] if model.shaft else None, residual, scale)
+    return EnergyBalance(kinetic, loads, at[1], at[0], shaft_energy, at[2] if model.shaft else None, residual, scale,
+                         ENERGY_TOL)
 
 
 __all__ = ["ENERGY_TOL", "EnergyBalance", "GAUSS", "energy_balance"]

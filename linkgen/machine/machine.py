@@ -203,7 +203,7 @@ def _speed_scale(machine: Machine, red: Reduced) -> float:
     top = machine.top_speed(0.0)
     if machine.free:
         phi0 = machine.start(float(red.phi[0]))
-        table = red._table("moment_grid")
+        table = red.table("moment_grid")
         work = table.integral(red.moment_phi) - table.integral(phi0)
         j = red.j(red.phi) + machine.added_inertia
         energy = float(red.j(phi0) + machine.added_inertia) * machine.start_speed**2 + 2 * max(float(work.max()), 0.0)
@@ -375,7 +375,7 @@ def run_machine(machine: Machine, red: Reduced, *, samples: int = 2000, duration
     top, top_at = peak(sol, lambda s: motor_torque_at(machine, red, s), T)
     return MachineRun(t, y[0], y[1], np.asarray(eps, dtype=float), np.asarray(mm, dtype=float) * np.ones_like(t),
                       None if cur is None else np.asarray(cur, dtype=float) * np.ones_like(t), twist, ts, steady,
-                      startup, sol.sol, model.rhs, top, top_at, method, energy_balance(model, sol, t), rtol)
+                      startup, sol.sol, model.rhs, top, top_at, method, energy_balance(model, sol.sol, sol.t, t), rtol)
 
 
 def speed_range(solution, a: float, b: float, *, periodic: bool, n: int = 64 * CYCLE_POINTS) -> tuple[float, float]:

@@ -81,7 +81,6 @@ class Reduced:
             object.__setattr__(self, key, table)
         return table
 
-    _table = table
 
     def _wrap(self, phi):
         x = np.asarray(phi, dtype=float)
