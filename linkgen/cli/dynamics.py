@@ -159,8 +159,9 @@ def cmd_dynamics(args) -> int:
           f"{e.worst:.2e} of the run's energy scale {e.scale:.6g} J — "
           + ("ok" if e.ok else "VIOLATED") + f" (tolerance {e.tolerance:g})")
     if run.steady is None:
-        print("  no steady cycle within the duration (two successive turns never repeated): give a longer "
-              "--duration or [machine] duration")
+        stopped = (f"the run stopped after its {machine.turns:g} turns ([machine] turns)" if machine.turns is not None
+                   and run.t[-1] < duration else "give a longer --duration or [machine] duration")
+        print(f"  no steady cycle within the run (two successive turns never repeated): {stopped}")
     else:
         s = run.steady
         print(f"  steady cycle from t = {s.t_start:.4g} s: period {s.period:.6g} s, ω_mean {s.omega_mean:.6g} rad/s, "

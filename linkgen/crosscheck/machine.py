@@ -121,6 +121,8 @@ def compare_machine_run(asm: Assembly, machine: Machine, cycles: int | None = No
         out |= {"steady_from_s": steady_from, "cycles": cycles}
     if run.steady is None:
         out["no_steady_cycle"] = True
+    if machine.free:
+        out["free"] = True  # no motor: the mechanism released from its start state
     if native and machine.motor.kind == "dc":
         out["dcmotor"] = _native_dc(asm, machine, run, mj.t)
     return out, mj, run
