@@ -226,3 +226,19 @@ def test_mujoco_runs_the_same_release():
     assert compared["errors_relative"]["omega"] <= compared["tolerance"]
     assert compared["errors_relative"]["reactions"] <= compared["tolerance"]
     assert compared["omega_reached"] > 10.0  # it swung through its lowest position within the window
+
+
+def test_mujoco_compares_a_run_that_stops_after_its_turns_up_to_there(tmp_path):
+    """The lone crank thrown at 30 rad/s with ``turns = 2``: the ODE stops after two turns
+    (~0.4 s) and the comparison's window is that run, not the first second it asked for."""
+    from linkgen.crosscheck.machine import compare_machine_run
+
+    path = tmp_path / "thrown.toml"
+    path.write_text(PENDULUM.format(start="-90deg", duration=10.0) + "start_speed = 30.0\nturns = 2\n")
+    asm, machine = load_machine(path)
+    run = run_machine(machine, reduce(asm), samples=11)
+    assert run.phi[-1] - run.phi[0] == pytest.approx(4 * math.pi, rel=1e-12) and run.t[-1] < 0.6
+    out = compare_machine_run(asm, machine)
+    compared = out[0] if isinstance(out, tuple) else out
+    assert compared["duration_s"] == pytest.approx(run.t[-1], rel=1e-12)
+    assert compared["ok"], compared
