@@ -30,9 +30,10 @@ GAUSS = 6
 # The residual's bound, relative to the run's energy scale. The solver holds each step's local
 # error to RTOL = 1e-10 of the state; over the N ≤ 1e5 steps of a long run these add up to
 # at most N·RTOL = 1e-5 if all of one sign, RTOL·√N ≈ 3e-8 if independent. Measured on the
-# bundled machines (docs/machine.md): 1.4e-11 to 4e-9 (the largest on a press whose stroke
-# force switches inside a solver step). 1e-7 leaves a factor 25 over the worst measured
-# while still catching a wrong term: a missing damper or spring term costs 1e-2 or more.
+# bundled machines (docs/machine.md): 8e-13 to 1.3e-9 (the largest on the released four-bar,
+# then 7e-10 on a press whose stroke force switches inside a solver step). 1e-7 leaves a
+# factor 75 over the worst measured while still catching a wrong term: a missing damper or
+# spring term costs 1e-2 or more.
 ENERGY_TOL = 1e-7
 
 
