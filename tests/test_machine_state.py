@@ -242,3 +242,19 @@ def test_mujoco_compares_a_run_that_stops_after_its_turns_up_to_there(tmp_path):
     compared = out[0] if isinstance(out, tuple) else out
     assert compared["duration_s"] == pytest.approx(run.t[-1], rel=1e-12)
     assert compared["ok"], compared
+
+
+def test_a_balance_that_leaves_a_term_out_is_not_ok():
+    """The same run judged by a balance without the dampers' work (their 1879 J of the 1885 J
+    that the constant torque puts in over ten turns): flagged, not ok."""
+    from dataclasses import replace
+
+    from linkgen.machine.energy import energy_balance
+    from linkgen.machine.machine import _Model
+
+    asm, machine = load_machine(MODELS / "slider_crank_torque.toml")
+    red = reduce(asm)
+    run = run_machine(machine, red, samples=101)
+    assert run.energy.ok and run.energy.dampers[-1] < -0.99 * run.energy.drive[-1]
+    wrong = energy_balance(_Model(machine, replace(red, damping_grid=None)), run.solution, run.t, run.t)
+    assert not wrong.ok and wrong.worst > 0.9

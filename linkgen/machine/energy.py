@@ -32,8 +32,8 @@ GAUSS = 6
 # at most N·RTOL = 1e-5 if all of one sign, RTOL·√N ≈ 3e-8 if independent. Measured on the
 # bundled machines (docs/machine.md): 8e-13 to 1.3e-9 (the largest on the released four-bar,
 # then 7e-10 on a press whose stroke force switches inside a solver step). 1e-7 leaves a
-# factor 75 over the worst measured while still catching a wrong term: a missing damper or
-# spring term costs 1e-2 or more.
+# factor 75 over the worst measured while still catching a wrong term: leaving the dampers'
+# work out of slider_crank_torque's balance gives 1.0 (tests/test_machine_state.py).
 ENERGY_TOL = 1e-7
 
 
