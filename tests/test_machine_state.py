@@ -250,11 +250,11 @@ def test_a_balance_that_leaves_a_term_out_is_not_ok():
     from dataclasses import replace
 
     from linkgen.machine.energy import energy_balance
-    from linkgen.machine.machine import _Model
+    from linkgen.machine.equation import Model
 
     asm, machine = load_machine(MODELS / "slider_crank_torque.toml")
     red = reduce(asm)
     run = run_machine(machine, red, samples=101)
     assert run.energy.ok and run.energy.dampers[-1] < -0.99 * run.energy.drive[-1]
-    wrong = energy_balance(_Model(machine, replace(red, damping_grid=None)), run.solution, run.t, run.t)
+    wrong = energy_balance(Model(machine, replace(red, damping_grid=None)), run.solution, run.t, run.t)
     assert not wrong.ok and wrong.worst > 0.9

@@ -99,7 +99,7 @@ def _shaft_energy(model, y: np.ndarray) -> np.ndarray:
 def energy_balance(model, dense, steps: np.ndarray, t: np.ndarray) -> EnergyBalance:
     """The balance at sample times ``t`` (n,) [s], increasing from 0, of the run whose dense
     output is ``dense`` (t → states), whose solver stepped at times ``steps`` and whose
-    right-hand side is ``model`` (``machine._Model``), judged against ENERGY_TOL."""
+    right-hand side is ``model`` (``equation.Model``), judged against ENERGY_TOL."""
     t = np.asarray(t, dtype=float)
     knots = np.union1d(steps[(steps > t[0]) & (steps < t[-1])], t)
     x, wts = np.polynomial.legendre.leggauss(GAUSS)
