@@ -9,6 +9,7 @@ tighter; MuJoCo's full linkage."""
 
 import json
 import math
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -151,7 +152,7 @@ def test_ten_turns_reproduce_at_a_hundred_times_tighter_tolerance():
     assert default.rtol == RTOL and tight.rtol == RTOL / 100
     assert default.phi[-1] - default.phi[0] == pytest.approx(20 * math.pi, rel=1e-12)
     assert default.t[-1] == pytest.approx(tight.t[-1], rel=REPRODUCE_TOL)
-    fixed = machine.__class__(**{**machine.__dict__, "turns": None})
+    fixed = replace(machine, turns=None)  # the same machine run for a fixed time
     a = run_machine(fixed, red, samples=3, duration=0.95 * default.t[-1])
     b = run_machine(fixed, red, samples=3, duration=0.95 * default.t[-1], rtol=RTOL / 100)
     assert a.phi[-1] == pytest.approx(b.phi[-1], rel=REPRODUCE_TOL)
@@ -247,8 +248,6 @@ def test_mujoco_compares_a_run_that_stops_after_its_turns_up_to_there(tmp_path):
 def test_a_balance_that_leaves_a_term_out_is_not_ok():
     """The same run judged by a balance without the dampers' work (their 1879 J of the 1885 J
     that the constant torque puts in over ten turns): flagged, not ok."""
-    from dataclasses import replace
-
     from linkgen.machine.energy import energy_balance
     from linkgen.machine.equation import Model
 
