@@ -257,3 +257,20 @@ def test_a_balance_that_leaves_a_term_out_is_not_ok():
     assert run.energy.ok and run.energy.dampers[-1] < -0.99 * run.energy.drive[-1]
     wrong = energy_balance(Model(machine, replace(red, damping_grid=None)), run.solution, run.t, run.t)
     assert not wrong.ok and wrong.worst > 0.9
+
+
+@pytest.mark.parametrize("switch", [math.pi, math.pi / 2, 1.0])
+def test_a_jump_on_a_grid_angle_is_kept_by_the_smooth_table(switch):
+    """A load switching exactly on one of the table's angles (a stroke from 90° or 180°: the
+    32768 cells have both) was in the grid three times and the smooth table's spline got a piece
+    of one point. Here sin φ plus 1 from the switch on: the jump is there, exact on either side,
+    and the integral over the turn is ∫sin + (2π − s) = 2π − s."""
+    from linkgen.machine.tables import SIDE, SmoothTable, jump_grid
+
+    tol = 10 * SIDE  # the two values at a switch are taken SIDE either side of it (tables.SIDE)
+    grid, where = jump_grid(0.0, 32768, [switch])
+    assert np.count_nonzero(grid == switch) == 2
+    table = SmoothTable(grid, np.sin(where) + (where > switch))
+    assert table.at(switch - 1e-7) == pytest.approx(math.sin(switch - 1e-7), abs=tol)
+    assert table.at(switch) == pytest.approx(math.sin(switch) + 1.0, abs=tol)
+    assert table.integral(2 * math.pi) == pytest.approx(2 * math.pi - switch, abs=tol)

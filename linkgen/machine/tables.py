@@ -39,6 +39,7 @@ def jump_grid(start: float, cells: int, switches: list[float], span: float = 2 *
     the load at (a switch's first copy just before it, its second just after)."""
     switches = [s for s in switches if start < s < start + span]
     base = start + np.linspace(0.0, span, cells + 1)
+    base = base[~np.isin(base, switches)]  # a switch on a grid angle (90° of 32768 cells): twice, not three times
     grid = np.sort(np.concatenate([base, switches, switches]))
     where = grid.copy()
     for s in switches:
