@@ -21,6 +21,7 @@ from linkgen.cli.main import main
 from linkgen.errors import DescriptionError, SimulationError
 from linkgen.families.planar.kinematics import solve_motion
 from linkgen.machine.energy import ENERGY_TOL
+from linkgen.machine.cycle import STEADY_TOL
 from linkgen.machine.machine import RTOL, run_machine
 from linkgen.machine.reduced import reduce
 from linkgen.machine.study import load_machine
@@ -274,3 +275,51 @@ def test_a_jump_on_a_grid_angle_is_kept_by_the_smooth_table(switch):
     assert table.at(switch - 1e-7) == pytest.approx(math.sin(switch - 1e-7), abs=tol)
     assert table.at(switch) == pytest.approx(math.sin(switch) + 1.0, abs=tol)
     assert table.integral(2 * math.pi) == pytest.approx(2 * math.pi - switch, abs=tol)
+
+
+DAMPED = """
+[mechanism]
+name = "damped_crank"
+[points]
+O = [0.0, 0.0]
+A = [0.5, 0.0]
+[links.ground]
+points = ["O"]
+[links.crank]
+points = ["O", "A"]
+[links.crank.inertial]
+mass = 1.0
+com = [0.0, 0.0]
+inertia = 2.0
+[[torsion_spring]]
+joint = "O"
+links = ["ground", "crank"]
+stiffness = 0.0
+damping = 4.0
+[drive]
+joint = "O"
+omega = 2.0
+[machine]
+start_speed = -1.0
+duration = 20.0
+[machine.motor]
+kind = "constant"
+torque = -8.0
+"""
+
+
+def test_a_crank_driven_the_negative_way_finds_its_steady_cycle(tmp_path):
+    """J = 2 kg·m², a damper of 4 N·m·s/rad, −8 N·m: ω settles at −M/c = −2 rad/s by hand
+    (exponentially, τ = J/c = 0.5 s). The turns, the steady cycle and the start-up are counted
+    the way the crank runs (before: forward turns only, so no steady cycle at all)."""
+    path = tmp_path / "damped.toml"
+    path.write_text(DAMPED)
+    asm, machine = load_machine(path)
+    run = run_machine(machine, reduce(asm), samples=101)
+    s = run.steady
+    assert s is not None
+    assert s.omega_mean == pytest.approx(-2.0, rel=STEADY_TOL * 10)
+    assert s.period == pytest.approx(math.pi, rel=STEADY_TOL * 10)
+    assert 0.0 <= s.delta < STEADY_TOL * 10
+    # ω(t) = −2 + (−1 + 2)·e^(−2t): within 1 % of 2 rad/s from t = ln(50)/2 on
+    assert run.startup_time == pytest.approx(math.log(50.0) / 2.0, abs=1e-6)
