@@ -187,8 +187,8 @@ def test_validates_machine_line_names_the_failing_quantity():
 
 def test_the_machine_docs_say_where_a_machine_starts():
     text = (ROOT / "docs" / "machine.md").read_text()
-    assert "starts at the crank angle `drive.range[0]`" in text
-    # and it does: the run's first crank angle is the drive's start
+    assert "starts at the crank angle `[machine] start_angle` (by\ndefault `drive.range[0]`" in text
+    # and it does: without a start_angle the run's first crank angle is the drive's start
     asm, machine = load_machine(MODELS / "motor_startup.toml")
     run = run_machine(machine, reduce(asm), samples=3)
     assert run.phi[0] == asm.mechanism.drive.start

@@ -93,6 +93,12 @@ def cmd_dynamics(args) -> int:
     run = run_machine(machine, reduce(asm, machine.process_load), samples=args.samples, duration=duration,
                       progress=integration_progress(name))
     forces = cycle_forces(asm, run)
+    kinds = [k for k in ("links", "points", "reactions") if getattr(args, k, False)]
+    extra = {}
+    if kinds:
+        from linkgen.machine.along import along_time
+
+        extra = along_time(asm, run.phi, run.omega, run.epsilon, kinds)
     mj = compared = mj_run = None
     if args.mujoco:
         from linkgen.crosscheck.machine import compare_machine_run
@@ -108,8 +114,14 @@ def cmd_dynamics(args) -> int:
            "added_inertia": machine.added_inertia,
            "steady": run.steady.to_json() if run.steady else None, "startup_time": run.startup_time,
            "peak_motor_torque": run.peak_motor_torque, "peak_motor_torque_at": run.peak_motor_torque_at,
-           "integrator": run.method,
+           "integrator": {"method": run.method, "rtol": run.rtol, "atol": run.rtol * 1e-3},
+           "start": {"phi": float(run.phi[0]), "omega": float(run.omega[0])},
+           "end": {"t": float(run.t[-1]), "phi": float(run.phi[-1]), "omega": float(run.omega[-1]),
+                   "turns": float((run.phi[-1] - run.phi[0]) / (2 * math.pi))},
+           "energy_balance": run.energy.to_json(),
            "forces_over_steady_cycle": forces.to_json() if forces else None}
+    if extra:
+        out["along_time"] = {"t [s]": run.t.tolist()} | {k: np.asarray(v, dtype=float).tolist() for k, v in extra.items()}
     if compared is not None:
         out["mujoco"] = compared
     if outs["mjcf"] is not None:
@@ -130,22 +142,34 @@ def cmd_dynamics(args) -> int:
             if arr is not None:
                 cols.append(c)
                 data.append(arr)
+        cols += list(extra)
+        data += list(extra.values())
         write_rows(cols, data, outs["csv"], rows="time samples")
+    e = run.energy
     if args.json:
         print_json(out)
-        return 0
-    print(f"{name}: {machine.motor.kind} motor, {duration:g} s from {machine.start_speed:g} rad/s, "
+        return 0 if e.ok else 1
+    drive = "free motion (no motor)" if machine.free else f"{machine.motor.kind} motor"
+    print(f"{name}: {drive}, {run.t[-1]:.6g} s from φ = {math.degrees(run.phi[0]):.6g}°, ω = {run.omega[0]:.6g} rad/s, "
           f"rotor + flywheel {machine.added_inertia:.6g} kg·m² at the crank")
+    print(f"  at the end: φ = {math.degrees(run.phi[-1]):.10g}° ({out['end']['turns']:.6g} turns), "
+          f"ω = {run.omega[-1]:.10g} rad/s; integrated by {run.method} at rtol {run.rtol:g}, atol "
+          f"{run.rtol * 1e-3:g} (rad, rad/s)")
+    print(f"  energy balance (ΔT = work of the drive, loads, springs, dampers) at every sample: worst residual "
+          f"{e.worst:.2e} of the run's energy scale {e.scale:.6g} J — "
+          + ("ok" if e.ok else "VIOLATED") + f" (tolerance {e.tolerance:g})")
     if run.steady is None:
-        print("  no steady cycle within the duration (two successive turns never repeated): give a longer "
-              "--duration or [machine] duration")
+        stopped = (f"the run stopped after its {machine.turns:g} turns ([machine] turns)" if machine.turns is not None
+                   and run.t[-1] < duration else "give a longer --duration or [machine] duration")
+        print(f"  no steady cycle within the run (two successive turns never repeated): {stopped}")
     else:
         s = run.steady
         print(f"  steady cycle from t = {s.t_start:.4g} s: period {s.period:.6g} s, ω_mean {s.omega_mean:.6g} rad/s, "
               f"ω_min {s.omega_min:.6g}, ω_max {s.omega_max:.6g}, δ = {s.delta:.4g}")
         print(f"  start-up time {run.startup_time:.4g} s (ω within the steady band ±1 % of ω_mean from then on)"
               if run.startup_time is not None else "  start-up: ω had not settled into the steady band by the end")
-    print(f"  peak motor torque {out['peak_motor_torque']:.6g} N·m at t = {out['peak_motor_torque_at']:.4g} s")
+    if not machine.free:
+        print(f"  peak motor torque {out['peak_motor_torque']:.6g} N·m at t = {out['peak_motor_torque_at']:.4g} s")
     if forces:
         t = forces.peak_balancing_torque
         print(f"  along the real motion: peak balancing torque {t.value:.6g} N·m at {math.degrees(t.phi):.1f}°")
@@ -170,7 +194,10 @@ def cmd_dynamics(args) -> int:
         print(f"  figure: {out['figure']}")
     if "mjcf" in out:
         print(f"  MuJoCo file of the machine: {out['mjcf']} (keyframe 'start'; the motor is machine:motor)")
-    return 0
+    if not e.ok:
+        print(f"{name}: the energy balance is violated: {e.worst:.2e} of the energy scale, over its tolerance "
+              f"{e.tolerance:g}; the integration cannot be trusted", file=sys.stderr)
+    return 0 if e.ok else 1
 
 
 def cmd_flywheel(args) -> int:
@@ -220,6 +247,11 @@ def add_command(sub) -> None:
                         ".pdf the figure ω(t), M(t), ω(M), or a folder for it (NAME_machine.png)",
                      old=("--csv", "--report", "--mjcf"), append=True)
     d.add_argument("--json", action="store_true", help="print one JSON object")
+    from linkgen.machine.along import KINDS
+
+    for k, what in KINDS.items():
+        d.add_argument(f"--{k}", action="store_true",
+                       help=f"add to the time samples (-o FILE.csv, and --json's along_time) {what}")
     d.add_argument("--mujoco", action="store_true",
                    help="also run the full linkage in MuJoCo over the start-up and --cycles steady cycles and compare "
                         "ω(t), φ(t), the motor torque and the shaft twist")

@@ -34,17 +34,22 @@ def _window(asm: Assembly, machine: Machine, cycles: int | None, progress=None
     """The ODE run over the compared window: the first COMPARE_SECONDS, or with ``cycles`` the
     start-up and that many steady cycles (the ODE is run long enough to find them); a machine
     that never settles (e.g. a constant torque without friction) is compared over its whole
-    duration instead (then the cycles compared are None)."""
+    duration instead (then the cycles compared are None). A run that stops after its
+    ``[machine] turns`` is compared up to there (the window returned is the run's)."""
     red = reduce(asm, machine.process_load)
     if cycles is None:
         duration = min(machine.duration, COMPARE_SECONDS)
-        return run_machine(machine, red, samples=COMPARE_SAMPLES, duration=duration, progress=progress), duration, red, None
+        run = run_machine(machine, red, samples=COMPARE_SAMPLES, duration=duration, progress=progress)
+        return run, float(run.t[-1]), red, None  # the run's end: its duration, or its [machine] turns
     run = run_machine(machine, red, samples=16, progress=progress)
     if run.steady is None:
-        return (run_machine(machine, red, samples=COMPARE_SAMPLES, duration=machine.duration, progress=progress),
-                machine.duration, red, None)
+        run = run_machine(machine, red, samples=COMPARE_SAMPLES, duration=machine.duration, progress=progress)
+        return run, float(run.t[-1]), red, None
     duration = run.steady.t_start + cycles * run.steady.period
-    return run_machine(machine, red, samples=COMPARE_SAMPLES, duration=duration, progress=progress), duration, red, cycles
+    run = run_machine(machine, red, samples=COMPARE_SAMPLES, duration=duration, progress=progress)
+    if run.t[-1] < duration:  # it stopped first, after its [machine] turns: the cycles it ran
+        cycles = int((run.t[-1] - run.steady.t_start) // run.steady.period)
+    return run, float(run.t[-1]), red, cycles
 
 
 def _settled(asm: Assembly, mj) -> np.ndarray:
@@ -121,6 +126,8 @@ def compare_machine_run(asm: Assembly, machine: Machine, cycles: int | None = No
         out |= {"steady_from_s": steady_from, "cycles": cycles}
     if run.steady is None:
         out["no_steady_cycle"] = True
+    if machine.free:
+        out["free"] = True  # no motor: the mechanism released from its start state
     if native and machine.motor.kind == "dc":
         out["dcmotor"] = _native_dc(asm, machine, run, mj.t)
     return out, mj, run

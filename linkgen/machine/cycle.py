@@ -35,8 +35,8 @@ SUBSTEPS = 16
 
 @dataclass(frozen=True)
 class SteadyCycle:
-    """One steady turn: start time [s], period [s], mean speed 2π/period, ω_min, ω_max [rad/s],
-    δ = (ω_max − ω_min)/ω_mean; ``tolerance``: the relative turn-to-turn difference accepted."""
+    """One steady turn: start time [s], period [s], mean speed ±2π/period (negative for a crank
+    turning the negative way), ω_min, ω_max [rad/s], δ = (ω_max − ω_min)/|ω_mean|; ``tolerance``: the relative turn-to-turn difference accepted."""
 
     t_start: float
     period: float
@@ -47,7 +47,7 @@ class SteadyCycle:
 
     @property
     def delta(self) -> float:
-        return (self.omega_max - self.omega_min) / self.omega_mean
+        return (self.omega_max - self.omega_min) / abs(self.omega_mean)
 
     def to_json(self) -> dict:
         return {"t_start": self.t_start, "period": self.period, "omega_mean": self.omega_mean,
@@ -63,17 +63,25 @@ def fine_times(sol, a: float, b: float) -> np.ndarray:
                            for i in range(knots.size - 1)] + [[b]])
 
 
+def direction(sol, phi0: float) -> float:
+    """+1 for a crank that ends the run ahead of φ0, −1 for one that ends behind it (turning the
+    negative way)."""
+    return 1.0 if sol.y[0][-1] >= phi0 else -1.0
+
+
 def turn_times(sol, phi0: float) -> np.ndarray:
-    """Times [s] at which the crank has turned by 2π·k from φ0 (k = 1, 2, …), from the dense
-    output (root of φ(t) − φ0 − 2πk by bisection between the solver's steps)."""
-    turns = (sol.y[0] - phi0) / (2 * math.pi)
+    """Times [s] at which the crank has turned by 2π·k from φ0 (k = 1, 2, …) the way it runs
+    (``direction``), from the dense output (root of ±(φ(t) − φ0) − 2πk by bisection between the
+    solver's steps)."""
+    d = direction(sol, phi0)
+    turns = d * (sol.y[0] - phi0) / (2 * math.pi)
     out = []
     for k in range(1, int(math.floor(turns.max())) + 1):
         j = int(np.argmax(turns >= k))
         a, b = sol.t[j - 1], sol.t[j]
         for _ in range(100):
             mid = 0.5 * (a + b)
-            if (sol.sol(mid)[0] - phi0) / (2 * math.pi) >= k:
+            if d * (sol.sol(mid)[0] - phi0) / (2 * math.pi) >= k:
                 b = mid
             else:
                 a = mid
@@ -101,18 +109,19 @@ def _extrema(sol, a: float, b: float) -> tuple[float, float]:
 def steady_cycle(sol, phi0: float, rtol: float) -> SteadyCycle | None:
     """The first turn whose ω(φ) repeats the previous turn's (module docstring), or None."""
     times = turn_times(sol, phi0)
+    d = direction(sol, phi0)
     prev = None
     for k in range(len(times) - 1):
         a, b = times[k], times[k + 1]
         ts = np.linspace(a, b, 8 * CYCLE_POINTS)
         y = sol.sol(ts)
-        grid = phi0 + 2 * math.pi * (k + 1) + np.linspace(0.0, 2 * math.pi, CYCLE_POINTS, endpoint=False)
-        w = np.interp(grid, y[0], y[1])
+        grid = 2 * math.pi * (k + 1) + np.linspace(0.0, 2 * math.pi, CYCLE_POINTS, endpoint=False)
+        w = np.interp(grid, d * (y[0] - phi0), y[1])  # over the turn the way the crank runs
         if prev is not None:
-            mean = 2 * math.pi / (b - a)
+            mean = d * 2 * math.pi / (b - a)
             steps = int(((sol.t > times[k - 1]) & (sol.t <= b)).sum())
             tol = max(STEADY_TOL, rtol * math.sqrt(steps))
-            if np.abs(w - prev).max() <= tol * mean:
+            if np.abs(w - prev).max() <= tol * abs(mean):
                 lo, hi = _extrema(sol, a, b)
                 return SteadyCycle(float(a), float(b - a), mean, lo, hi, float(tol))
         prev = w
@@ -123,7 +132,7 @@ def startup_time(sol, steady: SteadyCycle, t_end: float) -> float | None:
     """The time [s] from which ω stays within the steady band widened by STARTUP_BAND of the
     mean speed (0 if it always was, None if it is outside at the end), as a root of the dense
     output between the solver's steps."""
-    band = STARTUP_BAND * steady.omega_mean
+    band = STARTUP_BAND * abs(steady.omega_mean)
     lo, hi = steady.omega_min - band, steady.omega_max + band
 
     def outside(t):

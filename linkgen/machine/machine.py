@@ -15,7 +15,8 @@ A DC motor with inductance adds its current i (``motors.dc_current_rate``). Inte
 ``solve_ivp`` from the start speed to ``duration``: DOP853, or Radau with a current or a shaft
 or where the machine's time constants make it stiff (``choose_method``), in steps of at most a
 64th of a turn; the steady cycle, the start-up and the peak motor torque are found on the dense
-output (``dynamics.cycle``).
+output (``dynamics.cycle``). The right-hand side and the choice of integrator are
+``machine.equation``'s; the energy balance at every sample ``machine.energy``'s.
 """
 
 from __future__ import annotations
@@ -27,23 +28,15 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy.integrate import solve_ivp
 
-from linkgen.machine import motors
 from linkgen.machine.cycle import CYCLE_POINTS, STEADY_TOL, SteadyCycle, peak, startup_time, steady_cycle
+from linkgen.machine.energy import EnergyBalance, energy_balance
+from linkgen.machine.equation import Model as _Model, choose_method, motor_torque_at, speed_scale as _speed_scale
 from linkgen.machine.reduced import Reduced
-from linkgen.errors import SimulationError
-from linkgen.model.machine import Machine
+from linkgen.errors import DescriptionError, SimulationError
+from linkgen.model.machine import FREE, Machine
 
 # Relative tolerance of the integration; the absolute one is this times the state's scale.
 RTOL = 1e-10
-# The integrator: DOP853 unless a current or a shaft is present (Radau, as validated) or the
-# machine's fastest time constant τ would hold an explicit method to steps far shorter than a
-# turn needs for accuracy: its stability bound is a step of about 3τ, so beyond STIFF_STEPS
-# such steps per turn at the top speed the implicit Radau takes over (whose step follows the
-# accuracy alone). DOP853 takes some hundreds to a few thousand steps per turn at RTOL.
-STIFF_STEPS = 1000
-# A time constant shorter than this fraction of the duration cannot be resolved at all: a step
-# of τ at t = duration would be below the spacing of float64 numbers (2.2e-16 of t) times 1e3.
-RESOLVABLE = 1e3 * np.finfo(float).eps
 # The solver's step is at most this fraction of a turn at the top speed: the load table M(φ) is
 # linear between 4096+ angles, and a step over hundreds of its kinks has an error the solver's
 # estimate does not see (dynamics.cycle).
@@ -92,6 +85,8 @@ class MachineRun:
     peak_motor_torque: float = math.nan
     peak_motor_torque_at: float = math.nan
     method: str = ""
+    energy: EnergyBalance | None = field(default=None, repr=False, compare=False)  # checked at every sample
+    rtol: float = RTOL  # the solver's relative tolerance (absolute: 1e-3 of it on the state)
 
     def state_at(self, t) -> tuple[np.ndarray, np.ndarray]:
         """Crank angle [rad] and speed [rad/s] at times t [s] from the solver's dense output."""
@@ -106,155 +101,24 @@ class MachineRun:
         return y[0], y[1], np.asarray(self.rate(t, y)[1], dtype=float)
 
 
-class _Model:
-    """The right-hand side, state layout [φ, ω, (θ, ω_r), (i)]."""
-
-    def __init__(self, machine: Machine, red: Reduced):
-        self.m, self.red = machine, red
-        self.u, self.eta = machine.gear_ratio, machine.gear_efficiency
-        self.shaft = machine.shaft
-        self.current = motors.has_current(machine.motor)
-        self.n = 2 + (2 if self.shaft else 0) + (1 if self.current else 0)
-
-    def motor(self, omega_rotor, y):
-        """Motor torque on its shaft and its current (or None), from the rotor speed at the crank."""
-        w_m = self.u * omega_rotor
-        mot = self.m.motor
-        if self.current:
-            i = y[-1]
-            return motors.torque(mot, w_m, i), i
-        if mot.kind == "dc":
-            i = motors.dc_static_current(mot, w_m)
-            return motors.torque(mot, w_m, i), i
-        return motors.torque(mot, w_m), None
-
-    def shaft_torque(self, y):
-        s = self.shaft
-        twist = y[2] - y[0]
-        half = 0.5 * s.backlash
-        spring = np.where(twist > half, twist - half, np.where(twist < -half, twist + half, 0.0))
-        return s.stiffness * spring + s.damping * (y[3] - y[1])
-
-    def rhs(self, t, y):
-        phi, w = y[0], y[1]
-        red = self.red
-        dy = np.empty_like(y)
-        dy[0] = w
-        w_rotor = y[3] if self.shaft else w
-        mm, i = self.motor(w_rotor, y)
-        drive = self.u * self.eta * mm
-        if self.shaft:
-            ts = self.shaft_torque(y)
-            dy[1] = (red.moment(phi, w) + ts - 0.5 * red.dj(phi) * w * w) / (red.j(phi) + self.m.flywheel_inertia)
-            dy[2] = y[3]
-            jr = self.m.rotor_inertia * self.u**2
-            if not jr > 0:
-                raise SimulationError("an elastic shaft needs a rotor inertia > 0 ([machine] rotor_inertia)")
-            dy[3] = (drive - ts) / jr
-        else:
-            dy[1] = (red.moment(phi, w) + drive - 0.5 * red.dj(phi) * w * w) / (red.j(phi) + self.m.added_inertia)
-        if self.current:
-            dy[-1] = motors.dc_current_rate(self.m.motor, self.u * w_rotor, i)
-        return dy
-
-    def y0(self, phi0: float) -> np.ndarray:
-        w0 = self.m.start_speed
-        y = [phi0, w0] + ([phi0, w0] if self.shaft else [])
-        if self.current:
-            y.append(float(motors.dc_static_current(self.m.motor, self.u * w0)) if w0 > 0 else 0.0)
-        return np.array(y, dtype=float)
-
-
-def motor_torque_at(machine: Machine, red: Reduced, y: np.ndarray) -> np.ndarray:
-    """The motor torque [N·m] on the motor shaft at ODE states ``y`` (k, n) (``MachineRun.solution``)."""
-    model = _Model(machine, red)
-    w_rotor = y[3] if model.shaft else y[1]
-    mm, _ = model.motor(w_rotor, y)
-    return np.asarray(mm, dtype=float) * np.ones(y.shape[1])
-
-
-
-def _jacobian_radius(model: _Model, y: np.ndarray) -> float:
-    """The largest |eigenvalue| [1/s] of the right-hand side's Jacobian at state y (central
-    differences); inf where the machine's rates leave float range."""
-    n = y.size
-    jac = np.empty((n, n))
-    with np.errstate(all="ignore"):
-        for j in range(n):
-            h = 1e-6 * max(1.0, abs(y[j]))
-            a, b = y.copy(), y.copy()
-            a[j] -= h
-            b[j] += h
-            jac[:, j] = (model.rhs(0.0, b) - model.rhs(0.0, a)) / (2 * h)
-    if not np.isfinite(jac).all():
-        return math.inf
-    return float(np.abs(np.linalg.eigvals(jac)).max())
-
-
-def _speed_scale(machine: Machine, red: Reduced) -> float:
-    """The crank speed [rad/s] the machine runs at, at most: the motor's no-load or synchronous
-    speed, or the start speed; the drive's prescribed speed only where neither gives one (a
-    constant torque from rest)."""
-    top = machine.top_speed(0.0)
-    return top if top > 0 else abs(red.drive_omega)
-
-
-def choose_method(machine: Machine, red: Reduced, duration: float) -> tuple[str, float]:
-    """The integrator (see STIFF_STEPS) and the machine's fastest time constant τ [s] (1/the
-    largest |eigenvalue| of the Jacobian at the start and at the top speed); SimulationError if τ
-    is beyond what any step can resolve over the duration (RESOLVABLE) or the rates leave float
-    range."""
-    model = _Model(machine, red)
-    y0 = model.y0(float(red.phi[0]))
-    top = _speed_scale(machine, red)
-    states = [y0]
-    if model.current:  # at rest with the stall current U/R: the largest current and torque
-        stall = y0.copy()
-        stall[1:-1] = 0.0
-        stall[-1] = float(motors.dc_static_current(machine.motor, 0.0))
-        states.append(stall)
-    if top > 0 and math.isfinite(top):
-        y1 = y0.copy()
-        y1[1] = top
-        if model.shaft:
-            y1[3] = top
-        if model.current:
-            y1[-1] = float(motors.dc_static_current(machine.motor, machine.gear_ratio * top))
-        states.append(y1)
-    with np.errstate(all="ignore"):
-        finite = all(np.isfinite(model.rhs(0.0, y)).all() for y in states)
-    radius = max(_jacobian_radius(model, y) for y in states) if finite else math.inf
-    tau = 1.0 / radius if radius > 0 else math.inf
-    if not tau > RESOLVABLE * duration:
-        what = ("its accelerations leave the range of float64 numbers" if not math.isfinite(radius) else
-                f"its fastest time constant is {tau:.3g} s, {tau / duration:.2g} of the duration of {duration:g} s, "
-                f"finer than any step can resolve")
-        raise SimulationError(f"the machine cannot be integrated: {what}; check the [machine.motor] parameters "
-                              f"({', '.join(f'{k} = {v:g}' for k, v in machine.motor.params)}), the gear ratio, "
-                              "the inertias, the loads" + (" and the duration" if math.isfinite(radius) else ""))
-    scale = min(duration, 2 * math.pi / top) if top > 0 else duration
-    stiff = model.current or model.shaft is not None or scale / (3 * tau) > STIFF_STEPS
-    return ("Radau" if stiff else "DOP853"), tau
-
-
 class _Budget:
     """The right-hand side counted: SimulationError past MAX_EVALUATIONS, and progress(fraction,
     elapsed) every PROGRESS_EVERY s once the run has lasted PROGRESS_AFTER s."""
 
-    def __init__(self, rhs, duration: float, progress, phi0: float = 0.0):
-        self.rhs, self.duration, self.progress = rhs, duration, progress
+    def __init__(self, rhs, duration: float, progress, phi0: float = 0.0, stall: bool = True):
+        self.rhs, self.duration, self.progress, self.stall = rhs, duration, progress, stall
         self.calls, self.t0, self.next, self.t = 0, time.perf_counter(), PROGRESS_AFTER, 0.0
         self.phi0, self.turns, self.turned_at = phi0, 0, 0  # the crank's turns done, and when
 
     def __call__(self, t, y):
         self.calls += 1
         self.t = t
-        turns = (y[0] - self.phi0) / (2 * math.pi)
+        turns = abs(y[0] - self.phi0) / (2 * math.pi)  # either way round
         if not math.isfinite(turns):  # a trial state of the solver's own (a Jacobian's probe)
             pass
         elif turns >= self.turns + 1:
             self.turns, self.turned_at = int(turns), self.calls
-        elif self.calls - self.turned_at > STALL_EVALUATIONS:
+        elif self.stall and self.calls - self.turned_at > STALL_EVALUATIONS:
             raise SimulationError(f"the machine stalls: the crank has completed no new turn over {STALL_EVALUATIONS:,} "
                                   f"evaluations, rocking near φ = {math.degrees(y[0]):.2f}° at t = {t:.6g} s; its motor "
                                   "(and the flywheel's energy) cannot carry it past the load there; check "
@@ -272,30 +136,53 @@ class _Budget:
 
 
 def run_machine(machine: Machine, red: Reduced, *, samples: int = 2000, duration: float | None = None,
-                progress=None) -> MachineRun:
-    """Integrate the machine from its start speed over ``duration`` [s] (default the
-    description's) and sample it at ``samples`` equal time steps (the steady cycle, the start-up
-    and the peak motor torque come from the solver's dense output, not from the samples).
-    ``progress(fraction, elapsed seconds)`` is called during a long integration."""
+                progress=None, rtol: float = RTOL) -> MachineRun:
+    """Integrate the machine from its start state (``Machine.start``, ``start_speed``) over
+    ``duration`` [s] (default the description's), or until the crank has turned ``turns`` turns
+    either way, and sample it at ``samples`` equal time steps (the steady cycle, the start-up and
+    the peak motor torque come from the solver's dense output, not from the samples), at the
+    relative tolerance ``rtol`` (absolute: 1e-3 of it on the state). ``progress(fraction,
+    elapsed seconds)`` is called during a long integration. The energy balance is checked at
+    every sample (``MachineRun.energy``)."""
     model = _Model(machine, red)
     T = machine.duration if duration is None else float(duration)
-    phi0 = float(red.phi[0])
+    phi0 = machine.start(float(red.phi[0]))
+    lo, hi = float(red.phi[0]), red.stop
+    if hi is not None and not lo <= phi0 <= hi:
+        raise DescriptionError("machine.start_angle", f"is {math.degrees(phi0):.6g}°, outside the drive's range "
+                               f"[{math.degrees(lo):.6g}°, {math.degrees(hi):.6g}°] (drive.range), where the "
+                               "mechanism is known to assemble")
     method, _ = choose_method(machine, red, T)
     top = _speed_scale(machine, red)
     max_step = 2 * math.pi / top / STEPS_PER_TURN if top > 0 else math.inf
     scale = np.ones(model.n)
-    budget = _Budget(model.rhs, T, progress, phi0)
+    budget = _Budget(model.rhs, T, progress, phi0, stall=not machine.free)
     motor_top = machine.top_speed(0.0)
-    limit = RUNAWAY * motor_top if motor_top > 0 and math.isfinite(motor_top) else math.inf
+    # A constant torque has no top speed, nor has free motion: no runaway stop for either.
+    limit = (RUNAWAY * motor_top if motor_top > 0 and math.isfinite(motor_top)
+             and machine.motor.kind not in ("constant", FREE) else math.inf)
 
     def runaway(t, y):
         return limit - abs(y[1])
 
     runaway.terminal = True
+
+    def turned(t, y):
+        return 2 * math.pi * machine.turns - abs(y[0] - phi0)
+
+    turned.terminal = True
+
+    def left(t, y):  # a crank that does not turn fully: past its range the tables end
+        return min(y[0] - lo, hi - y[0])
+
+    left.terminal = True
+    events = ([runaway] if math.isfinite(limit) else []) + ([turned] if machine.turns is not None else []) + \
+        ([left] if hi is not None else [])
+
     def solve(how: str):
         with np.errstate(over="ignore", invalid="ignore"):
-            return solve_ivp(budget, (0.0, T), model.y0(phi0), method=how, rtol=RTOL, atol=RTOL * scale * 1e-3,
-                             dense_output=True, max_step=max_step, events=runaway if math.isfinite(limit) else None)
+            return solve_ivp(budget, (0.0, T), model.y0(phi0), method=how, rtol=rtol, atol=rtol * scale * 1e-3,
+                             dense_output=True, max_step=max_step, events=events or None)
 
     try:
         try:
@@ -307,19 +194,27 @@ def run_machine(machine: Machine, red: Reduced, *, samples: int = 2000, duration
             # stiff and non-stiff steps itself, takes the run over from the start.
             if method != "Radau":
                 raise
-            budget = _Budget(model.rhs, T, progress, phi0)
+            budget = _Budget(model.rhs, T, progress, phi0, stall=not machine.free)
             sol, method = solve("LSODA"), "LSODA"
     except (ValueError, np.linalg.LinAlgError) as exc:  # the solver's own check of its Jacobian or states
         raise SimulationError(f"the machine's state left float64's range near t = {budget.t:.6g} s ({exc}); check "
                               "the [machine.motor] parameters and the inertias") from None
-    if sol.status == 1:  # the runaway event
+    if sol.status == 1 and math.isfinite(limit) and sol.t_events[0].size:  # the runaway event
         t_run, w_run = float(sol.t_events[0][0]), float(sol.y_events[0][0][1])
         raise SimulationError(f"the crank's speed reached {w_run:.4g} rad/s at t = {t_run:.6g} s, {RUNAWAY:g} times the "
                               f"motor's top speed ({motor_top:.4g} rad/s at the crank){' turning backwards' if w_run < 0 else ''}: "
                               "the loads drive the machine, not its motor; check [machine.process_load] and the "
                               "mechanism's loads against the motor")
+    if sol.status == 1 and hi is not None and sol.t_events[-1].size:  # left the drive's range
+        t_out, at = float(sol.t_events[-1][0]), float(sol.y_events[-1][0][0])
+        raise SimulationError(f"the crank left its range [{math.degrees(lo):.6g}°, {math.degrees(hi):.6g}°] "
+                              f"(drive.range) at t = {t_out:.6g} s, φ = {math.degrees(at):.6g}°, moving at "
+                              f"{float(sol.y_events[-1][0][1]):.6g} rad/s: the machine's motion is known only where "
+                              "the mechanism assembles; widen drive.range if it assembles further, give a shorter "
+                              "duration, or change the start state or the loads")
     if not sol.success or not np.isfinite(sol.y).all():
         raise SimulationError(f"the machine's integration stopped at t = {sol.t[-1]:.6g} s: {sol.message}")
+    T = float(sol.t[-1])  # the duration, or when the crank completed its turns
     t = np.linspace(0.0, T, samples)
     y = sol.sol(t)
     eps = model.rhs(t, y)[1]
@@ -327,13 +222,12 @@ def run_machine(machine: Machine, red: Reduced, *, samples: int = 2000, duration
     mm, cur = model.motor(w_rotor, y)
     twist = (y[2] - y[0]) if model.shaft else None
     ts = model.shaft_torque(y) if model.shaft else None
-    steady = steady_cycle(sol, phi0, RTOL)
+    steady = steady_cycle(sol, phi0, rtol)
     startup = None if steady is None else startup_time(sol, steady, T)
     top, top_at = peak(sol, lambda s: motor_torque_at(machine, red, s), T)
     return MachineRun(t, y[0], y[1], np.asarray(eps, dtype=float), np.asarray(mm, dtype=float) * np.ones_like(t),
                       None if cur is None else np.asarray(cur, dtype=float) * np.ones_like(t), twist, ts, steady,
-                      startup, sol.sol, model.rhs, top, top_at, method)
-
+                      startup, sol.sol, model.rhs, top, top_at, method, energy_balance(model, sol.sol, sol.t, t), rtol)
 
 
 def speed_range(solution, a: float, b: float, *, periodic: bool, n: int = 64 * CYCLE_POINTS) -> tuple[float, float]:

@@ -1,6 +1,7 @@
 """Motor laws on the motor shaft: torque [N·m] from the shaft speed ω [rad/s] (and, for the DC
 motor, the armature current i [A], whose rate is ``dc_current_rate``).
 
+- none: M = 0 (no motor: free motion under the loads).
 - constant: M = torque.
 - linear static characteristic: M = M0·(1 − ω/ω0).
 - induction motor, Kloss's formula from catalogue data: synchronous speed ω_s, rated slip s_n,
@@ -30,6 +31,8 @@ def kloss_constants(m: Motor) -> tuple[float, float]:
 def torque(m: Motor, omega, current=None):
     """Motor torque [N·m] at shaft speed ω [rad/s] (scalar or array); ``current`` [A] for dc."""
     omega = np.asarray(omega, dtype=float)
+    if m.kind == "none":
+        return np.zeros_like(omega)
     if m.kind == "constant":
         return np.full_like(omega, m.torque)
     if m.kind == "linear":

@@ -1,11 +1,16 @@
-"""The mechanism reduced to the crank over one turn, as smooth periodic functions of φ for an
-ODE solver: J(φ) and dJ/dφ [kg·m²] by periodic cubic splines through the closed form on a grid,
+"""The mechanism reduced to the crank over one turn (or over the drive's range where the crank
+cannot turn fully: then the tables end there and ``stop`` says where), as smooth functions of φ
+for an ODE solver, periodic over a full turn: J(φ) [kg·m²] by a cubic Hermite spline through the
+closed form's J and dJ/dφ on a grid, and dJ/dφ as its derivative,
 and the reduced moment of the loads M(φ, ω) = M₀(φ) + c(φ)·ω [N·m] (gravity, forces, torques,
 springs, the process load; dampers make it depend on the crank speed ω through the reduced
 damping c(φ) = ∂M/∂ω ≤ 0, ``planar.kinetostatics.reduced_damping``).
 
-M₀(φ) and c(φ) are piecewise linear between grid points, and M₀ jumps exactly where a
-stroke-switched force switches (``tables``: the switch angles are in its grid twice)."""
+M₀(φ) and c(φ) are cubic splines through a fine grid (``tables.SmoothTable``), and M₀ jumps
+exactly where a stroke-switched force switches (``tables``: the switch angles are in its grid
+twice). MuJoCo's side of the comparison applies the same grid's values as a linear table
+(``tables.PeriodicTable``: its step means), which differs from the spline by
+(2π/n)²/8·|M″| ≈ 4.6e-9·|M″|, far inside that comparison's tolerance."""
 
 from __future__ import annotations
 
@@ -13,9 +18,9 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.interpolate import CubicSpline
+from scipy.interpolate import CubicHermiteSpline, CubicSpline
 
-from linkgen.machine.tables import PeriodicTable, jump_grid, switch_angles
+from linkgen.machine.tables import SmoothTable, jump_grid, switch_angles
 from linkgen.errors import DescriptionError
 from linkgen.model.machine import ProcessLoad
 from linkgen.families.planar.assembly import Assembly
@@ -34,40 +39,52 @@ MOMENT_GRID = 32768
 
 @dataclass(frozen=True)
 class Reduced:
-    """Periodic splines of J, dJ/dφ over [0, 2π) and the table of M (linear, with its jumps)."""
+    """J (a Hermite spline) and dJ/dφ (its derivative) over a turn from the drive's start (or the
+    drive's range) and the grid of M₀ and C (read through ``table``: cubic, with its jumps)."""
 
     phi: np.ndarray  # (GRID + 1,) [rad], from the drive's start over one turn
-    inertia: CubicSpline
-    inertia_derivative: CubicSpline
+    inertia: CubicHermiteSpline  # J(φ) [kg·m²]
+    inertia_derivative: object  # its derivative dJ/dφ (a PPoly) [kg·m²/rad]
     moment_phi: np.ndarray  # (GRID + 1 + 2·switches,) [rad], non-decreasing; a switch angle twice
     moment_grid: np.ndarray  # M₀ at moment_phi [N·m] (at ω = 0)
     drive_omega: float = 0.0  # the drive's prescribed speed [rad/s]: a speed scale where a motor has none
     damping_grid: np.ndarray | None = None  # c = ∂M/∂ω at moment_phi [N·m·s/rad]; None: no dampers
+    stop: float | None = None  # the drive range's end [rad] where the crank does not turn fully; None: it does
+
+    @property
+    def full_turn(self) -> bool:
+        """Whether the tables cover a full turn (periodic in φ)."""
+        return self.stop is None
 
     def j(self, phi):
         return self.inertia(self._wrap(phi))
 
     def dj(self, phi):
+        """dJ/dφ: the derivative of the very function ``j`` is (so that ½·J·ω² is the equation's
+        kinetic energy to the last digit: ``machine.energy``)."""
         return self.inertia_derivative(self._wrap(phi))
 
     def moment(self, phi, omega=0.0):
         """M(φ, ω) [N·m]: the loads' reduced moment at crank angle φ and speed ω (the one place
         the machine's equation reads it)."""
-        m = self._table("moment_grid").at(phi)
+        m = self.table("moment_grid").at(phi)
         if self.damping_grid is not None:
-            m = m + self._table("damping_grid").at(phi) * omega
+            m = m + self.table("damping_grid").at(phi) * omega
         return m if np.ndim(m) else float(m)
 
-    def _table(self, name: str) -> PeriodicTable:
+    def table(self, name: str) -> SmoothTable:
+        """The smooth table (``tables.SmoothTable``) of ``moment_grid`` or ``damping_grid``."""
         key = f"_cached_{name}"
         table = self.__dict__.get(key)
         if table is None:
-            table = PeriodicTable(self.moment_phi, getattr(self, name))
+            table = SmoothTable(self.moment_phi, getattr(self, name), periodic=self.full_turn)
             object.__setattr__(self, key, table)
         return table
 
+
     def _wrap(self, phi):
-        return self.phi[0] + np.mod(np.asarray(phi, dtype=float) - self.phi[0], 2 * math.pi)
+        x = np.asarray(phi, dtype=float)
+        return self.phi[0] + np.mod(x - self.phi[0], 2 * math.pi) if self.full_turn else x
 
 
 def process_torque_function(load: ProcessLoad | None):
@@ -88,25 +105,35 @@ def process_torque(load: ProcessLoad | None, phi: np.ndarray) -> np.ndarray:
 def reduce(asm: Assembly, load: ProcessLoad | None = None, grid: int = GRID,
            moment_grid: int = MOMENT_GRID) -> Reduced:
     """J, dJ/dφ over one turn of the crank from the drive's start angle (splines through ``grid``
-    angles) and M (a table of ``moment_grid`` cells)."""
+    angles) and M (a table of ``moment_grid`` cells); over the drive's range only where it spans
+    less than a turn (``Reduced.stop``: a motion that leaves it is stopped there)."""
     d = asm.mechanism.drive
-    if d.stop - d.start < 2 * math.pi - 1e-9:
-        raise DescriptionError("drive.range", "a machine needs a crank that turns fully (range of 360°); this "
-                               f"one spans {math.degrees(d.stop - d.start):.6g}°")
-    phi = d.start + np.linspace(0.0, 2 * math.pi, grid + 1)
-    f = forces(asm, phi[:-1], 0.0, 0.0)
-    j = np.append(f.reduced.inertia, f.reduced.inertia[0])
-    dj = np.append(f.reduced.inertia_derivative, f.reduced.inertia_derivative[0])
-    table_phi, where = jump_grid(d.start, moment_grid, switch_angles(asm.mechanism, d.start))
+    full = d.stop - d.start >= 2 * math.pi - 1e-9
+    span = 2 * math.pi if full else d.stop - d.start
+    phi = d.start + np.linspace(0.0, span, grid + 1)
+    f = forces(asm, phi[:-1] if full else phi, 0.0, 0.0)
+    j, dj = f.reduced.inertia, f.reduced.inertia_derivative
+    if full:
+        j, dj = np.append(j, j[0]), np.append(dj, dj[0])
+    table_phi, where = jump_grid(d.start, moment_grid, switch_angles(asm.mechanism, d.start), span)
     red = forces(asm, where, 0.0, 0.0).reduced
     m = red.moment - process_torque(load, where)
-    m[-1] = m[0]  # one turn on: the same load
     c = None
     if any(s.damping for s in asm.mechanism.springs) or any(t.damping for t in asm.mechanism.torsion_springs):
         c = red.damping.copy()
-        c[-1] = c[0]
-    return Reduced(phi, CubicSpline(phi, j, bc_type="periodic"), CubicSpline(phi, dj, bc_type="periodic"),
-                   table_phi, m, float(d.omega), c)
+    if full:  # one turn on: the same load
+        m[-1] = m[0]
+        if c is not None:
+            c[-1] = c[0]
+    inertia = CubicHermiteSpline(phi, j, dj)  # J and dJ/dφ at each grid angle, one function
+    return Reduced(phi, inertia, inertia.derivative(), table_phi, m, float(d.omega), c, None if full else float(d.stop))
 
 
-__all__ = ["GRID", "MOMENT_GRID", "Reduced", "process_torque", "process_torque_function", "reduce"]
+def require_full_turn(red: Reduced, what: str) -> None:
+    """DescriptionError unless the crank turns fully: ``what`` needs a periodic machine."""
+    if not red.full_turn:
+        raise DescriptionError("drive.range", f"{what} needs a crank that turns fully (range of 360°); this one "
+                               f"spans {math.degrees(red.stop - red.phi[0]):.6g}°")
+
+
+__all__ = ["GRID", "MOMENT_GRID", "Reduced", "process_torque", "process_torque_function", "reduce", "require_full_turn"]

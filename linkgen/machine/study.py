@@ -12,7 +12,7 @@ import numpy as np
 
 from linkgen.machine.flywheel import Flywheel, size_flywheel
 from linkgen.machine.machine import MachineRun, run_machine, speed_range
-from linkgen.machine.reduced import Reduced, reduce
+from linkgen.machine.reduced import Reduced, reduce, require_full_turn
 from linkgen.errors import DescriptionError, SimulationError
 from linkgen.extrema import peak, samples as grid
 from linkgen.model.summary import Extreme
@@ -33,8 +33,8 @@ def load_machine(path: str | Path) -> tuple[Assembly, Machine]:
     data = read_toml(path)
     machine = machine_from_dict(data)
     if machine is None:
-        raise DescriptionError("machine", "is missing: a machine study needs a [machine] table with a "
-                               "[machine.motor] (see docs/format.md)", str(path))
+        raise DescriptionError("machine", "is missing: a machine study needs a [machine] table (with a "
+                               "[machine.motor], or none for free motion; see docs/machine.md)", str(path))
     return asm, machine
 
 
@@ -106,6 +106,7 @@ def check_flywheel(red: Reduced, machine: Machine, fw: Flywheel) -> float:
 def flywheel_study(asm: Assembly, machine: Machine, delta: float, omega_mean: float | None = None) -> tuple[Flywheel, float]:
     """The sized flywheel (beyond the mechanism and the rotor) and δ of its integration check."""
     red = reduce(asm, machine.process_load)
+    require_full_turn(red, "a flywheel")
     w = asm.mechanism.drive.omega if omega_mean is None else omega_mean
     fw = size_flywheel(red, w, delta, added=machine.rotor_inertia * machine.gear_ratio**2)
     return fw, check_flywheel(red, machine, fw)

@@ -32,11 +32,14 @@ def switch_angles(mech, start: float) -> list[float]:
     return sorted(out)
 
 
-def jump_grid(start: float, cells: int, switches: list[float]) -> tuple[np.ndarray, np.ndarray]:
-    """The table's angles (m,) — ``cells`` equal cells over one turn from ``start``, each switch
-    angle added twice — and the angles (m,) to evaluate the load at (a switch's first copy just
-    before it, its second just after)."""
-    base = start + np.linspace(0.0, 2 * math.pi, cells + 1)
+def jump_grid(start: float, cells: int, switches: list[float], span: float = 2 * math.pi
+              ) -> tuple[np.ndarray, np.ndarray]:
+    """The table's angles (m,) — ``cells`` equal cells over ``span`` [rad] (one turn by default)
+    from ``start``, each switch angle within it added twice — and the angles (m,) to evaluate
+    the load at (a switch's first copy just before it, its second just after)."""
+    switches = [s for s in switches if start < s < start + span]
+    base = start + np.linspace(0.0, span, cells + 1)
+    base = base[~np.isin(base, switches)]  # a switch on a grid angle (90° of 32768 cells): twice, not three times
     grid = np.sort(np.concatenate([base, switches, switches]))
     where = grid.copy()
     for s in switches:
@@ -87,4 +90,48 @@ class PeriodicTable:
         return (self.integral(b) - self.integral(a)) / (b - a)
 
 
-__all__ = ["PeriodicTable", "SIDE", "jump_grid", "switch_angles"]
+class SmoothTable:
+    """The same values (m,) at the same angles as ``PeriodicTable``, through cubic splines
+    between the jumps: a periodic spline over the turn where nothing jumps, else a not-a-knot
+    spline from each jump (and the table's start) to the next. What the machine's equation
+    reads: a table linear between its 32768 angles has a kink at each of them, which an ODE
+    solver at a tolerance of 1e-12 must resolve one by one (a slider-crank's ten turns took
+    112 s instead of 1 s), and errs by (2π/n)²/8·|M″| between them against the cubic's
+    (2π/n)⁴·|M⁗|/384. ``periodic``: the angles span one turn and repeat beyond it; else
+    (a drive's partial range) the end pieces extend past the ends."""
+
+    def __init__(self, phi: np.ndarray, values: np.ndarray, periodic: bool = True):
+        from scipy.interpolate import CubicSpline, PPoly
+
+        x, v = np.asarray(phi, dtype=float), np.asarray(values, dtype=float)
+        self.start, self.period, self.periodic = float(x[0]), float(x[-1] - x[0]), periodic
+        cuts = np.flatnonzero(np.diff(x) == 0.0) + 1  # each jump's second copy starts a piece
+        pieces = np.split(np.arange(x.size), cuts)
+        if len(pieces) == 1 and periodic:
+            self.poly = CubicSpline(x, v, bc_type="periodic")
+        else:
+            splines = [CubicSpline(x[k], v[k]) if k.size > 2 else CubicSpline(x[k], v[k], bc_type="natural")
+                       for k in pieces]
+            self.poly = PPoly(np.hstack([sp.c for sp in splines]), np.concatenate(
+                [splines[0].x] + [sp.x[1:] for sp in splines[1:]]), extrapolate=True)
+        self.anti = self.poly.antiderivative()
+        self.total = float(self.anti(x[-1]) - self.anti(x[0]))
+
+    def _unwrap(self, phi):
+        x = np.asarray(phi, dtype=float)
+        if not self.periodic:
+            return np.zeros_like(x), x
+        turns = np.floor((x - self.start) / self.period)
+        return turns, x - turns * self.period
+
+    def at(self, phi):
+        """The value at crank angles φ [rad] (any turn; right-continuous at a jump)."""
+        return self.poly(self._unwrap(phi)[1])
+
+    def integral(self, phi):
+        """∫ from the table's start to φ [rad] of the values (over whole turns too) [value·rad]."""
+        turns, u = self._unwrap(phi)
+        return turns * self.total + self.anti(u) - self.anti(self.start)
+
+
+__all__ = ["PeriodicTable", "SIDE", "SmoothTable", "jump_grid", "switch_angles"]

@@ -7,10 +7,13 @@ elastic shaft between rotor and crank, and a process load over the crank angle.
     gear_ratio = 1.0             # motor speed / crank speed (> 0)
     gear_efficiency = 1.0        # (0, 1]: the crank gets ratio·efficiency·motor torque
     flywheel_inertia = 0.0       # kg·m², on the crank
-    start_speed = 0.0            # crank speed at t = 0 [rad/s] (from rest by default)
+    start_angle = "30deg"        # crank angle at t = 0 (default: the drive's start, drive.range[0])
+    start_speed = 0.0            # crank speed at t = 0 [rad/s] (from rest by default; either sign)
     duration = 5.0               # s of machine time to integrate (default 10 s)
+    turns = 10                   # optional: stop once the crank has turned this many turns either way
 
-    [machine.motor]              # kind = "constant" | "linear" | "induction" | "dc"
+    [machine.motor]              # kind = "constant" | "linear" | "induction" | "dc" | "none";
+                                 # no [machine.motor] table: "none", free motion under the loads
     kind = "linear"
     stall_torque = 2000.0        # N·m at standstill
     no_load_speed = 6.0          # rad/s where the torque falls to 0
@@ -27,6 +30,7 @@ elastic shaft between rotor and crank, and a process load over the crank angle.
 Motor kinds and their keys (SI): ``constant``: torque [N·m]; ``linear``: stall_torque [N·m],
 no_load_speed [rad/s] (M = M0·(1 − ω/ω0)); ``induction`` (Kloss's formula from catalogue data):
 rated_power [W], synchronous_speed [rad/s], rated_slip, breakdown_ratio (M_max/M_rated > 1);
+``none``: no keys, no motor torque (free motion under gravity, springs and loads);
 ``dc`` (armature circuit L·di/dt = U − R·i − k_e·ω, M = k_t·i): voltage [V], resistance [Ω],
 inductance [H], torque_constant [N·m/A], emf_constant [V·s/rad].
 """
@@ -44,14 +48,17 @@ from linkgen.model import limits
 from linkgen.model.units import angular_speed, bounded, finite, parse_angle, shown
 
 MOTOR_KEYS = {
+    "none": (),
     "constant": ("torque",),
     "linear": ("stall_torque", "no_load_speed"),
     "induction": ("rated_power", "synchronous_speed", "rated_slip", "breakdown_ratio"),
     "dc": ("voltage", "resistance", "inductance", "torque_constant", "emf_constant"),
 }
-_MACHINE = {"rotor_inertia", "gear_ratio", "gear_efficiency", "flywheel_inertia", "start_speed", "duration",
-            "motor", "shaft", "process_load"}
+_MACHINE = {"rotor_inertia", "gear_ratio", "gear_efficiency", "flywheel_inertia", "start_angle", "start_speed", "duration",
+            "turns", "motor", "shaft", "process_load"}
 DEFAULT_DURATION = 10.0  # s
+# No motor: free motion of the mechanism under its loads from the start state.
+FREE = "none"
 
 
 @dataclass(frozen=True)
@@ -96,12 +103,23 @@ class Machine:
     duration: float = DEFAULT_DURATION
     shaft: Shaft | None = None
     process_load: ProcessLoad | None = None
+    start_angle: float | None = None  # rad; None: the drive's start angle
+    turns: float | None = None  # the run stops after this many crank turns (either way); None: duration only
+
+    def start(self, drive_start: float) -> float:
+        """The crank angle at t = 0 [rad]: ``start_angle``, or the drive's start angle if not given."""
+        return drive_start if self.start_angle is None else self.start_angle
+
+    @property
+    def free(self) -> bool:
+        """No motor: the mechanism moves under its loads alone."""
+        return self.motor.kind == FREE
 
     def top_speed(self, drive_omega: float) -> float:
         """The largest crank speed the machine can reach [rad/s]: the motor's no-load or
         synchronous speed through the gearbox, or the start or prescribed speed if higher."""
         m, u = self.motor, self.gear_ratio
-        w = max(drive_omega, self.start_speed)
+        w = max(drive_omega, abs(self.start_speed))
         if m.kind == "linear":
             w = max(w, m.no_load_speed / u)
         elif m.kind == "induction":
@@ -186,8 +204,6 @@ def machine_from_dict(data: dict) -> Machine | None:
     check_types(data["machine"], MACHINE_TYPES, "machine")
     t = _table(data["machine"], "machine")
     _only(t, _MACHINE, "machine")
-    if "motor" not in t:
-        raise DescriptionError("machine.motor", "is required: a [machine.motor] table with a kind")
     shaft = None
     if "shaft" in t:
         s = _table(t["shaft"], "machine.shaft")
@@ -214,12 +230,15 @@ def machine_from_dict(data: dict) -> Machine | None:
     if eff > 1.0:
         raise DescriptionError("machine.gear_efficiency", f"must be in (0, 1], got {eff!r}")
     machine = Machine(
-        motor=_motor(_table(t["motor"], "machine.motor")),
+        motor=_motor(_table(t["motor"], "machine.motor")) if "motor" in t else Motor(FREE, ()),
         rotor_inertia=_number(t, "rotor_inertia", "machine", low=0.0, default=0.0),
         gear_ratio=_number(t, "gear_ratio", "machine", low=MIN_GEAR_RATIO, default=1.0),
         gear_efficiency=eff,
         flywheel_inertia=_number(t, "flywheel_inertia", "machine", low=0.0, default=0.0),
-        start_speed=_number(t, "start_speed", "machine", low=0.0, default=0.0),
+        start_speed=_number(t, "start_speed", "machine", default=0.0),
+        start_angle=bounded(parse_angle(t["start_angle"], "machine.start_angle"), "machine.start_angle",
+                            limits.MAX_ANGLE, "rad") if "start_angle" in t else None,
+        turns=_number(t, "turns", "machine", low=0.0, strict=True) if "turns" in t else None,
         duration=_number(t, "duration", "machine", low=0.0, strict=True, default=DEFAULT_DURATION),
         shaft=shaft,
         process_load=load,
@@ -235,4 +254,4 @@ def machine_from_dict(data: dict) -> Machine | None:
     return machine
 
 
-__all__ = ["MOTOR_KEYS", "Machine", "Motor", "ProcessLoad", "Shaft", "machine_from_dict"]
+__all__ = ["FREE", "MOTOR_KEYS", "Machine", "Motor", "ProcessLoad", "Shaft", "machine_from_dict"]

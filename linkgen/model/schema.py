@@ -116,7 +116,7 @@ MECHANISM = {"name": string, "title": title, "space": string}
 
 MACHINE = {
     "rotor_inertia": finite, "gear_ratio": finite, "gear_efficiency": finite, "flywheel_inertia": finite,
-    "start_speed": angular_speed, "duration": finite,
+    "start_angle": parse_angle, "start_speed": angular_speed, "duration": finite, "turns": finite,
     "motor": {"kind": string, "torque": finite, "stall_torque": finite, "no_load_speed": angular_speed,
               "rated_power": finite, "synchronous_speed": angular_speed, "rated_slip": finite,
               "breakdown_ratio": finite, "voltage": finite, "resistance": finite, "inductance": finite,

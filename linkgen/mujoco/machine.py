@@ -66,15 +66,16 @@ class MujocoMachineRun:
 
 
 class _LoadTable:
-    """The mechanism's [[force]]/[[torque]] wrenches (nbody, 6) over one turn, with their jumps
+    """The mechanism's [[force]]/[[torque]] wrenches (nbody, 6) over one turn (or the drive's range), with their jumps
     (``dynamics.tables``)."""
 
     def __init__(self, asm: Assembly, model: mujoco.MjModel):
         from linkgen.machine.tables import PeriodicTable, jump_grid, switch_angles
         from linkgen.mujoco.forces import load_schedule
 
-        start = asm.mechanism.drive.start
-        grid, where = jump_grid(start, LOAD_GRID, switch_angles(asm.mechanism, start))
+        d = asm.mechanism.drive
+        span = min(d.stop - d.start, 2 * math.pi)  # a crank that does not turn fully: its range
+        grid, where = jump_grid(d.start, LOAD_GRID, switch_angles(asm.mechanism, d.start), span)
         self.table = PeriodicTable(grid, load_schedule(asm, model, where))
         self.shape = (model.nbody, 6)
 
@@ -128,14 +129,14 @@ def run_machine_mujoco(asm: Assembly, machine: Machine, t: np.ndarray, reactions
     load = process_torque_function(machine.process_load)
     table = _LoadTable(asm, model) if has_loads(asm) else None
     rotor_adr = model.joint(ROTOR).qposadr[0] if machine.shaft is not None else None
-    phi0 = mech.drive.start
+    phi0 = machine.start(mech.drive.start)
     qpos, qvel = initial_state(asm, model, phi0, machine.start_speed)
     adr = model.joint(mech.drive.joint).qposadr[0]
     if machine.shaft is not None:  # the rotor starts with the crank: no twist
         qpos[model.joint(ROTOR).qposadr[0]], qvel[dof] = qpos[adr], qvel[crank]
     data.qpos[:], data.qvel[:] = qpos, qvel
     current = (float(motors.dc_static_current(mot, u * machine.start_speed))
-               if motors.has_current(mot) and machine.start_speed > 0 else 0.0)
+               if motors.has_current(mot) and machine.start_speed != 0 else 0.0)
     dt = model.opt.timestep
     t = np.asarray(t, dtype=float)
     out_t, out_phi, out_w, out_m, out_twist, out_eps = (np.empty_like(t) for _ in range(6))

@@ -76,7 +76,8 @@ def machine_mjcf(asm: Assembly, machine: Machine) -> str:
         etree.SubElement(fixed, "joint", joint=mech.drive.joint, coef="-1")
     _motor(actuator, target, machine)
     _start_key(root, asm, machine)
-    notes = ["the motor is machine:motor"]
+    notes = (["no motor: machine:motor exerts no torque (free motion under the loads)"] if machine.free else
+             ["the motor is machine:motor"])
     if machine.motor.kind == "induction":
         notes.append("an induction motor's Kloss torque has no MuJoCo element: set machine:motor's control to "
                      "the motor-shaft torque each step")
@@ -100,8 +101,8 @@ def _motor(actuator, joint: str, machine: Machine) -> None:
             f"(the control) and current (the activation) being the motor's times {c:.6g} "))
         etree.SubElement(actuator, "dcmotor", name=MOTOR, joint=joint, gear=_f(u * a), motorconst="1 1",
                          resistance=_f(m.resistance), input="voltage", **lag)
-    elif m.kind in ("linear", "constant"):
-        m0 = m.stall_torque if m.kind == "linear" else m.torque
+    elif m.kind in ("linear", "constant", "none"):
+        m0 = m.stall_torque if m.kind == "linear" else m.torque if m.kind == "constant" else 0.0
         slope = -u * u * eta * m.stall_torque / m.no_load_speed if m.kind == "linear" else 0.0
         etree.SubElement(actuator, "general", name=MOTOR, joint=joint, gainprm="0", biastype="affine",
                          biasprm=f"{_f(u * eta * m0)} 0 {_f(slope)}")
@@ -128,7 +129,7 @@ def _start_key(root, asm: Assembly, machine: Machine) -> None:
         model = mujoco.MjModel.from_xml_string(etree.tostring(root, encoding="unicode"))
     except ValueError:
         return
-    qpos, qvel = initial_state(asm, model, asm.mechanism.drive.start, machine.start_speed)
+    qpos, qvel = initial_state(asm, model, machine.start(asm.mechanism.drive.start), machine.start_speed)
     crank = model.joint(asm.mechanism.drive.joint)
     if machine.shaft is not None:
         rotor = model.joint(ROTOR)
@@ -142,7 +143,7 @@ def _start_key(root, asm: Assembly, machine: Machine) -> None:
     if model.na:
         mot = machine.motor
         i0 = float(motors.dc_static_current(mot, machine.gear_ratio * machine.start_speed)) \
-            if machine.start_speed > 0 else 0.0
+            if machine.start_speed != 0 else 0.0
         attrs["act"] = " ".join(_f(x) for x in np.full(model.na, dc_scales(machine)[1] * i0))
     keyframe = root.find("keyframe") if root.find("keyframe") is not None else etree.SubElement(root, "keyframe")
     etree.SubElement(keyframe, "key", **attrs)
@@ -175,7 +176,7 @@ def run_native(asm: Assembly, machine: Machine, t: np.ndarray, timestep: float |
     dt = model.opt.timestep
     t = np.asarray(t, dtype=float)
     out = {k: np.empty_like(t) for k in ("t", "phi", "w", "m", "twist")}
-    phi_c, q_prev, k, steps = mech.drive.start, float(data.qpos[adr]), 0, 0
+    phi_c, q_prev, k, steps = machine.start(mech.drive.start), float(data.qpos[adr]), 0, 0
 
     def shaft_torque(w_motor: float) -> float:
         if mot.kind == "dc":

@@ -140,7 +140,8 @@ class PlanarForces:
 
 def forces(source, phi, omega=None, epsilon=None, *, on_singular: str = "raise") -> PlanarForces:
     """The planar family's ``forces`` stage (``families.planar.kinetostatics.forces``) at crank
-    angles ``phi`` [rad] (scalar or (n,)), speed and acceleration (default the drive's)."""
+    angles ``phi`` [rad] (scalar or (n,)), speed and acceleration (default the drive's; each a
+    scalar or one per angle, as along a machine's real motion)."""
     from linkgen.families.planar.assembly import Assembly, assemble
     from linkgen.families.planar.kinetostatics import forces as solve_forces
 
@@ -148,8 +149,8 @@ def forces(source, phi, omega=None, epsilon=None, *, on_singular: str = "raise")
     mech = asm.mechanism
     scalar = np.ndim(phi) == 0
     phis = np.atleast_1d(np.asarray(phi, dtype=float))
-    w = float(mech.drive.omega if omega is None else omega)
-    e = float(mech.drive.epsilon if epsilon is None else epsilon)
+    w, e = (float(x) if np.ndim(x) == 0 else np.asarray(x, dtype=float)
+            for x in (mech.drive.omega if omega is None else omega, mech.drive.epsilon if epsilon is None else epsilon))
     f = solve_forces(asm, phis, w, e, on_singular=on_singular)
     first = {r.name: r.links for r in mech.revolutes}
     pairs = {p.name: p for p in mech.prismatics}
