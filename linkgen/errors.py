@@ -189,6 +189,20 @@ class BalanceError(LinkgenError):
         )
 
 
+class FrictionError(LinkgenError):
+    """The kinetostatics with Coulomb friction has no solution (self-locking: no finite balancing
+    torque moves the mechanism) or its iteration does not converge. Attributes: ranges."""
+
+    def __init__(self, ranges: list[tuple[float, float]]):
+        self.ranges = ranges
+        super().__init__(
+            f"the kinetostatics with friction has no solution at crank angles {format_ranges(ranges)}: the friction the "
+            f"pairs' reactions call for grows faster than the reactions themselves (the mechanism self-locks there, or "
+            f"nearly: no finite balancing torque moves it); lower the friction coefficients or pin radii, or lengthen "
+            f"the sliders' blocks"
+        )
+
+
 class SimulationError(LinkgenError):
     """MuJoCo warned, diverged or broke a constraint; names the step and the time."""
 

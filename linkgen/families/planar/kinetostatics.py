@@ -16,8 +16,11 @@ links are in ``Forces.on`` and ``Forces.by``):
       the force [N] the *second* link exerts on the *first*, world frame, shape (n, 2).
     * Prismatic pair: ``normal_force`` [N] is the guide's force on the slider along the
       guide line's left normal; ``moment`` [N·m] is the couple the guide exerts on the
-      slider (about +z) when the normal force is placed at the slider's ``point``. The
-      pair is frictionless: no force along the line.
+      slider (about +z) when the normal force is placed at the slider's ``point``. Along the
+      line the pair carries only its Coulomb friction, if it has any (``Forces.friction``).
+    * Friction (``[[friction]]``, ``planar.friction``): the reactions depend on it and it on
+      them; solved by fixed-point iteration from the frictionless solution (FRICTION_TOL), the
+      power balance then adding the friction's losses; FrictionError where it has no solution.
     * ``balancing_torque`` [N·m]: the torque the drive applies to the crank, about +z.
 """
 
@@ -33,7 +36,8 @@ from linkgen.families.planar.assembly import Assembly, assemble
 from linkgen.families.planar.blocks import in_blocks
 from linkgen.families.planar.description import GROUND
 from linkgen.families.planar.equilibrium import Column, dyad, three
-from linkgen.errors import BalanceError, MagnitudeError, SingularityError, angle_ranges
+from linkgen.errors import BalanceError, FrictionError, MagnitudeError, SingularityError, angle_ranges
+from linkgen.families.planar.friction import FrictionLoads, friction_loads
 from linkgen.families.planar.cam_pair import contact as cam_contact, ground_pair
 from linkgen.families.planar.kinematics import BlockFailed, Kinematics, checked_angles, checked_mode, raise_failure, solve_block
 from linkgen.families.planar.motion import rate
@@ -64,6 +68,9 @@ class Forces:
         on, by: pair name → the link its reaction acts on and the link that exerts it: a
             revolute's first and second link in the description's order, a prismatic pair's
             slider and guide.
+        friction: pair name → (n,) its Coulomb friction (``planar.friction``): the couple on a
+            revolute's first link [N·m], the force on a slider along its guide's direction [N].
+        friction_power: (n,) [W] the power the friction takes out (≥ 0; zeros without friction).
     """
 
     def __repr__(self) -> str:
@@ -84,6 +91,8 @@ class Forces:
     contact: dict = field(default_factory=dict)
     on: dict = field(default_factory=dict)
     by: dict = field(default_factory=dict)
+    friction: dict = field(default_factory=dict)
+    friction_power: np.ndarray | None = None
 
 
 @dataclass(frozen=True)
@@ -172,27 +181,32 @@ def forces(mech_or_asm, phi, omega, epsilon=0.0, threads: int | None = None, *,
             raise BlockFailed
         kin = Kinematics(asm, phi[rows], poses, points, sliders, near, marked)
         wr, er = (w if np.ndim(w) == 0 else w[rows]), (e if np.ndim(e) == 0 else e[rows])
-        return _block_forces(asm, kin, np.broadcast_to(wr, kin.phi.shape), np.broadcast_to(er, kin.phi.shape))
+        return _block_forces(asm, kin, np.broadcast_to(wr, kin.phi.shape), np.broadcast_to(er, kin.phi.shape), mark)
 
     try:
         tree, infos = in_blocks(block, n, threads)
     except BlockFailed:
         raise_failure(asm, phi, mark)
         raise
+    locked = [r for info in infos for r in info[2]]
+    if locked:
+        raise FrictionError(locked)
     bad = [r for info in infos for r in info[0]]
     if bad:
         raise BalanceError(bad, max(info[1] for info in infos), BALANCE_TOL)
-    torque, power, reactions, normal, moment, (j, dj, m_red, c_red), marked, tooth, contact = tree
+    torque, power, reactions, normal, moment, (j, dj, m_red, c_red), marked, tooth, contact, friction, loss = tree
     mech = asm.mechanism
     on = {r.name: r.links[0] for r in mech.revolutes} | {p.name: p.slider for p in mech.prismatics}
     by = {r.name: r.links[1] for r in mech.revolutes} | {p.name: p.guide for p in mech.prismatics}
     return Forces(phi, np.array(np.broadcast_to(w, (n,))), np.array(np.broadcast_to(e, (n,))), torque, power,
-                  reactions, normal, moment, ReducedDynamics(j, dj, m_red, c_red), marked, tooth, contact, on, by)
+                  reactions, normal, moment, ReducedDynamics(j, dj, m_red, c_red), marked, tooth, contact, on, by,
+                  friction, loss * np.abs(np.broadcast_to(w, (n,))))
 
 
 @np.errstate(invalid="ignore", divide="ignore", over="ignore")  # found and named by angle below
-def _block_forces(asm: Assembly, kin: Kinematics, w: np.ndarray, e: np.ndarray):
-    """One block's forces: (tree, (balance failures as angle ranges, worst relative deviation))."""
+def _block_forces(asm: Assembly, kin: Kinematics, w: np.ndarray, e: np.ndarray, mark: bool = False):
+    """One block's forces: (tree, (balance failures as angle ranges, worst relative deviation,
+    angle ranges where the friction has no solution))."""
     mech = asm.mechanism
     n = kin.phi.shape[0]
     marked = kin.singular
@@ -212,8 +226,91 @@ def _block_forces(asm: Assembly, kin: Kinematics, w: np.ndarray, e: np.ndarray):
         m_term = load[name][1] * kin.links[name].angle.d1
         power += f_term + m_term
         scale += np.hypot(*load[name][0].T) * np.hypot(*given[name].com.d1.T) + np.abs(m_term)
-
     com = {name: given[name].com.p for name in masses}
+    locked: list = []
+    sol = _solve(asm, kin, load, com, marked)
+    friction, loss = {}, np.zeros(n)
+    if mech.frictions:
+        sol, applied, marked, locked = _with_friction(asm, kin, w, load, com, marked, sol, mark)
+        friction, loss = applied.pair, applied.loss
+        # The losses, from the pairs' relative rates (``friction``), add sgn(ω)·loss to the torque.
+        power = power - np.sign(w) * loss
+        scale = scale + loss
+    torque, reactions, normal, moment, tooth, contact, sol_scale = sol
+    scale = scale + sol_scale
+    power = -power
+    red = reduced_dynamics(asm, kin, given)
+    if marked.any():
+        for arr in (power, red.inertia, red.inertia_derivative, red.moment, red.damping, loss):
+            arr[marked] = 0.0
+    bad, worst = balance_failures(kin.phi, torque, power, scale, marked)
+    tree = (torque, power, reactions, normal, moment, (red.inertia, red.inertia_derivative, red.moment, red.damping),
+            marked, tooth, contact, friction, loss)
+    return tree, (bad, worst, locked)
+
+
+# The friction iteration (``_with_friction``) stops at an angle when no pair's friction changes by
+# more than this fraction of its value from one pass to the next. Each pass is the frictionless
+# solution's arithmetic (rounding ~1e-15 relative, times the groups' condition ≲ 1e2 as for
+# BALANCE_TOL), so 1e-12 is reachable, and it leaves the reactions within ~1e-12 of the fixed point
+# times 1/(1 − contraction), the contraction being ~μ·r/arm (≲ 0.5 where the pass converges in
+# MAX_FRICTION_PASSES).
+FRICTION_TOL = 1e-12
+# Passes: a contraction of 0.7 reaches FRICTION_TOL in ~78; more than this is a mechanism so close
+# to self-locking that its torques are not worth reporting.
+MAX_FRICTION_PASSES = 100
+# An angle whose total friction grows past this multiple of the first pass's diverges (self-locks).
+FRICTION_GROWTH = 1e6
+
+
+def _with_friction(asm: Assembly, kin: Kinematics, w: np.ndarray, load: dict, com: dict, marked: np.ndarray, sol,
+                   mark: bool):
+    """Fixed-point iteration on the reactions from the frictionless solution ``sol``: each pass
+    applies the friction of the previous pass's reactions as given loads and solves again.
+    Returns (the last solution, the friction loads it was solved with, the angles marked
+    singular (with the self-locked ones if ``mark``: ``on_singular="mark"``),
+    angle ranges where it self-locks (raise))."""
+    n = kin.phi.shape[0]
+    tiny = np.finfo(float).tiny
+    applied = friction_loads(asm, kin, w, com, *sol[1:4])
+    first = sum(np.abs(v) for v in applied.pair.values()) + tiny
+    done = np.zeros(n, dtype=bool)
+    failed = np.zeros(n, dtype=bool)
+    for _ in range(MAX_FRICTION_PASSES):
+        sol = _solve(asm, kin, load, com, marked | failed, applied.link)
+        new = friction_loads(asm, kin, w, com, *sol[1:4])
+        change = np.zeros(n, dtype=bool)
+        for k, v in new.pair.items():
+            change |= ~(np.abs(v - applied.pair[k]) <= FRICTION_TOL * np.maximum(np.abs(v), np.abs(applied.pair[k])))
+        done = ~change | marked
+        failed |= ~(sum(np.abs(v) for v in new.pair.values()) <= FRICTION_GROWTH * first)
+        if np.all(done | failed):
+            break
+        applied = _zeroed(new, failed)
+    failed |= ~done & ~marked
+    if mark and failed.any():
+        marked = marked | failed
+        sol = _solve(asm, kin, load, com, marked, _zeroed(applied, failed).link)
+    return sol, _zeroed(applied, failed), marked, [] if mark else angle_ranges(kin.phi, failed)
+
+
+def _zeroed(fl: FrictionLoads, rows: np.ndarray) -> FrictionLoads:
+    """``fl`` with no friction at ``rows`` (angles that diverged: kept finite for the next pass)."""
+    if not rows.any():
+        return fl
+    keep = ~rows
+    return FrictionLoads({k: [f * keep[:, None], m * keep] for k, (f, m) in fl.link.items()},
+                         {k: v * keep for k, v in fl.pair.items()}, fl.loss * keep)
+
+
+def _solve(asm: Assembly, kin: Kinematics, given_load: dict, com: dict, marked: np.ndarray, extra: dict | None = None):
+    """The group-by-group solution for the links' total loads ``given_load`` plus ``extra`` (the
+    friction's): (torque, reactions, normal forces, moments, tooth and contact forces, the torque
+    scale the reactions on the crank add)."""
+    mech = asm.mechanism
+    n = kin.phi.shape[0]
+    scale = np.zeros(n)
+    load = {k: [f + extra[k][0], m + extra[k][1]] if extra and k in extra else [f, m] for k, (f, m) in given_load.items()}
     reactions: dict[str, np.ndarray] = {}
     normal: dict[str, np.ndarray] = {}
     moment: dict[str, np.ndarray] = {}
@@ -323,15 +420,7 @@ def _block_forces(asm: Assembly, kin: Kinematics, w: np.ndarray, e: np.ndarray):
     x, singular = three(*column3(drive, crank), (0.0, 0.0, 1.0), given3(crank))
     x = _checked(x, singular, kin.phi, marked, "I(0,1) crank (equilibrium equations)")
     store(drive, x[:, 0:2])
-    torque, power = x[:, 2].copy(), -power
-    red = reduced_dynamics(asm, kin, given)
-    if marked.any():
-        for arr in (power, red.inertia, red.inertia_derivative, red.moment, red.damping):
-            arr[marked] = 0.0
-    bad, worst = balance_failures(kin.phi, torque, power, scale, marked)
-    tree = (torque, power, reactions, normal, moment, (red.inertia, red.inertia_derivative, red.moment, red.damping),
-            marked, tooth, contact)
-    return tree, (bad, worst)
+    return x[:, 2].copy(), reactions, normal, moment, tooth, contact, scale
 
 
 def balance_failures(phi: np.ndarray, torque: np.ndarray, power: np.ndarray, scale: np.ndarray,
