@@ -196,10 +196,10 @@ class FrictionError(LinkgenError):
     def __init__(self, ranges: list[tuple[float, float]]):
         self.ranges = ranges
         super().__init__(
-            f"the kinetostatics with friction has no solution at crank angles {format_ranges(ranges)}: the friction the "
-            f"pairs' reactions call for grows faster than the reactions themselves (the mechanism self-locks there, or "
-            f"nearly: no finite balancing torque moves it); lower the friction coefficients or pin radii, or lengthen "
-            f"the sliders' blocks"
+            f"the kinetostatics with friction finds no solution at crank angles {format_ranges(ranges)}: the friction "
+            f"the pairs' reactions call for changes faster than the reactions themselves, so the mechanism self-locks "
+            f"there (no finite balancing torque moves it) or is close to it; lower the friction coefficients or pin "
+            f"radii, or lengthen the sliders' blocks"
         )
 
 

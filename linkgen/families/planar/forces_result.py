@@ -17,6 +17,9 @@ from linkgen.model.results import ContactForce, Reaction, Record, column, per_sa
 UNITS = {"phi": "rad", "omega": "rad/s", "epsilon": "rad/s²", "force": "N", "torque": "N·m", "moment": "N·m",
          "normal_force": "N", "reduced_inertia": "kg·m²", "reduced_inertia_derivative": "kg·m²/rad",
          "reduced_moment": "N·m"}
+# With friction (``[[friction]]``): each pair's friction (a couple [N·m] or a force [N]) and the power lost.
+FRICTION_UNITS = {"friction": "N·m at a revolute (the couple on its first link), N at a prismatic pair (along the "
+                              "guide on the slider)", "friction_power": "W"}
 # The crank-level quantities, their units, in the order the CSV gives them.
 SCALARS = (("balancing_torque", "N·m"), ("power_balance_torque", "N·m"), ("reduced_inertia", "kg·m²"),
            ("reduced_inertia_derivative", "kg·m²/rad"), ("reduced_moment", "N·m"))
@@ -70,6 +73,8 @@ class PlanarForces:
     reduced_moment: np.ndarray | float
     singular: np.ndarray | bool
     solution: object = field(default=None, compare=False)  # the planar ``Forces``
+    friction: Mapping[str, np.ndarray | float] = field(default_factory=dict)
+    friction_power: np.ndarray | float = 0.0
 
     def to_dict(self, transfer: bool = True) -> dict:
         out = {"model": self.model, "phi": plain(self.phi), "omega": plain(self.omega), "epsilon": plain(self.epsilon),
@@ -84,6 +89,10 @@ class PlanarForces:
             out["tooth"] = {k: t.to_dict() for k, t in self.tooth.items()}
         if self.contact:
             out["contact"] = {k: c.to_dict() for k, c in self.contact.items()}
+        if self.friction:
+            out["friction"] = {k: plain(v) for k, v in self.friction.items()}
+            out["friction_power"] = plain(self.friction_power)
+            out["units"] = UNITS | FRICTION_UNITS
         if np.ndim(self.phi):  # samples: which are marked singular (one state never is: it raises)
             out["singular"] = plain(self.singular)
         return out
@@ -94,7 +103,16 @@ class PlanarForces:
         for table in (self.reactions, self.prismatic, self.tooth, self.contact):
             for k, r in table.items():
                 cols |= r.columns(k)
+        for k, v in self.friction.items():
+            cols[f"friction.{k} [{self.friction_units[k]}]"] = column(v)
+        if self.friction:
+            cols["friction_power [W]"] = column(self.friction_power)
         return cols
+
+    @property
+    def friction_units(self) -> dict[str, str]:
+        """Pair → the unit of its friction: a revolute's couple [N·m], a prismatic pair's force [N]."""
+        return {k: "N" if k in self.prismatic else "N·m" for k in self.friction}
 
     def singular_lines(self) -> list[str]:
         """The groups singular somewhere (a second kinematic pass, only when some sample is marked)."""
@@ -130,6 +148,11 @@ class PlanarForces:
             lines.append(f"contact force of cam {k!r} on its follower {c.on!r} by {c.by!r}: {n:.6g} N along the profile's normal"
                          + ("" if n >= 0 else " — negative: the follower would leave the cam here (a stronger spring "
                                               "keeps it on)"))
+        for k, v in self.friction.items():
+            what = "force along the guide on the slider" if k in self.prismatic else "couple on the first link"
+            lines.append(f"friction in {k!r}: {float(v):.6g} {self.friction_units[k]} ({what})")
+        if self.friction:
+            lines.append(f"power lost to friction: {float(self.friction_power):.6g} W")
         return "\n".join(lines)
 
     def __repr__(self) -> str:
@@ -164,7 +187,8 @@ def forces(source, phi, omega=None, epsilon=None, *, on_singular: str = "raise")
         {k: ToothForce(s(v), g.planet, GROUND) for (k, v), g in zip(f.tooth.items(), mech.gears)},
         {c.name: ContactForce(s(f.contact[c.name]), c.follower, mech.crank) for c in mech.cams if c.name in f.contact},
         s(f.reduced.inertia), s(f.reduced.inertia_derivative), s(f.reduced.moment),
-        bool(f.singular[0]) if scalar else f.singular, (asm, phis))
+        bool(f.singular[0]) if scalar else f.singular, (asm, phis),
+        {k: s(v) for k, v in f.friction.items()}, s(f.friction_power) if f.friction else 0.0)
 
 
 __all__ = ["ContactForce", "PlanarForces", "PrismaticLoad", "ToothForce", "forces"]

@@ -253,12 +253,12 @@ def _block_forces(asm: Assembly, kin: Kinematics, w: np.ndarray, e: np.ndarray, 
 # more than this fraction of its value from one pass to the next. Each pass is the frictionless
 # solution's arithmetic (rounding ~1e-15 relative, times the groups' condition ≲ 1e2 as for
 # BALANCE_TOL), so 1e-12 is reachable, and it leaves the reactions within ~1e-12 of the fixed point
-# times 1/(1 − contraction), the contraction being ~μ·r/arm (≲ 0.5 where the pass converges in
-# MAX_FRICTION_PASSES).
+# times 1/(1 − contraction), the contraction being ~μ·r/arm or μ·tan(pressure angle) (< 1 where it
+# converges in MAX_FRICTION_PASSES).
 FRICTION_TOL = 1e-12
-# Passes: a contraction of 0.7 reaches FRICTION_TOL in ~78; more than this is a mechanism so close
+# Passes: a contraction of 0.93 reaches FRICTION_TOL in ~380; more than this is a mechanism so close
 # to self-locking that its torques are not worth reporting.
-MAX_FRICTION_PASSES = 100
+MAX_FRICTION_PASSES = 400
 # An angle whose total friction grows past this multiple of the first pass's diverges (self-locks).
 FRICTION_GROWTH = 1e6
 
