@@ -219,3 +219,75 @@ def test_friction_tends_to_frictionless_on_generated_mechanisms(seed):
                                atol=1e-9 * scale)
     assert np.abs(d2 - 2 * d1).max() <= LINEAR_TOL * np.abs(d2).max() + 1e-9 * scale, seed
     assert np.abs(d1).max() > 0
+
+
+def test_the_summary_gives_the_power_lost_to_friction():
+    """Peak and mean of the lost power over the range; none without friction."""
+    from linkgen.families.planar.summary import summarize
+
+    asm = assemble(load(MODEL))
+    s = summarize(asm)
+    phi = np.linspace(0.0, 2 * math.pi, 3601)
+    lost = forces(asm, phi, asm.mechanism.drive.omega).friction_power
+    assert s.peak_friction_power.value >= lost.max() and s.peak_friction_power.value == pytest.approx(lost.max(), rel=1e-4)
+    assert s.mean_friction_power == pytest.approx(lost[:-1].mean(), rel=1e-12)
+    assert "power lost to friction: peak" in s.text()
+    assert summarize(assemble(load(MODELS / "slider_crank_spring.toml"))).peak_friction_power is None
+
+
+def test_the_machine_refuses_friction_in_one_line():
+    from linkgen.machine.reduced import reduce
+
+    with pytest.raises(DescriptionError, match=r"^friction: the machine's equation of motion does not model friction"):
+        reduce(assemble(load(MODEL)))
+
+
+# ---------------------------------------------------------------- MuJoCo
+
+
+@pytest.fixture(scope="module")
+def comparison():
+    """One MuJoCo run of the friction model compared with the closed form (shared by the tests)."""
+    from linkgen.crosscheck.compare import compare
+    from linkgen.mujoco.simulate import simulate
+
+    asm = assemble(load(MODEL))
+    return compare(asm, simulate(asm))
+
+
+def test_mujoco_validates_the_friction_model(comparison):
+    """Friction applied each step by linkgen: MuJoCo's reactions and driving torque (forward run and
+    inverse route) agree with the closed form's at the usual tolerances (linkgen.mujoco.tolerances)."""
+    bad = {k: q.relative_error for k, q in comparison.quantities.items() if not q.ok}
+    assert not bad, bad
+    for name in ("balancing_torque", "reactions.A.force", "prismatic.slider.normal_force", "inverse.balancing_torque"):
+        assert name in comparison.quantities
+
+
+def test_the_friction_from_mujocos_own_reactions_is_the_one_applied(comparison):
+    """The fixed point in MuJoCo's terms: the friction law applied to MuJoCo's reactions of the run
+    gives back the friction linkgen applied (the closed form's), within what the reactions agree to."""
+    from linkgen.mujoco.friction import friction_from_reactions
+    from linkgen.mujoco.tolerances import FORCE_TOL
+
+    s = comparison.run.samples
+    phi, omega, _ = s.crank
+    mj = s.forces
+    ours = friction_from_reactions(comparison.assembly, phi, omega, mj.reactions, mj.normal_force, mj.moment)
+    applied = comparison.closed_forces.friction
+    mech = comparison.assembly.mechanism
+    scale = max(float(np.abs(r).max()) for r in comparison.closed_forces.reactions.values())
+    for fr in mech.frictions:
+        # |Δ(μ·r·|R|)| ≤ μ·r·|ΔR| and |Δ(μ·max(|N|, 2|M|/L))| ≤ μ·(|ΔN| + 2|ΔM|/L): the reactions within FORCE_TOL
+        arm = fr.pin_radius if fr.pin_radius is not None else 1.0
+        tol = fr.coefficient * arm * FORCE_TOL * scale
+        moving = applied[fr.pair] != 0
+        assert np.abs(ours[fr.pair] - applied[fr.pair])[moving].max() <= tol, fr.pair
+
+
+def test_the_mjcf_says_friction_is_applied_each_step():
+    from linkgen.mujoco.mjcf import write_mjcf
+
+    head = write_mjcf(assemble(load(MODEL))).split("-->")[0]
+    assert "Friction in the pairs ([[friction]]) is not in this file" in head
+    assert "[[friction]]" not in write_mjcf(assemble(load(MODELS / "slider_crank_spring.toml"))).split("-->")[0]
