@@ -38,8 +38,6 @@ def friction_at(asm: Assembly, phi, omega, epsilon) -> dict[str, np.ndarray]:
 def add_friction(asm: Assembly, model: mujoco.MjModel, data: mujoco.MjData, friction: dict[str, float]) -> None:
     """Add the pairs' friction (``friction_at`` at one angle) to ``xfrc_applied`` at MuJoCo's
     current positions (``mj_kinematics`` done)."""
-    from linkgen.mujoco.forces import add_force
-
     mech = asm.mechanism
     for fr in mech.frictions:
         value = float(friction[fr.pair])
@@ -52,8 +50,10 @@ def add_friction(asm: Assembly, model: mujoco.MjModel, data: mujoco.MjData, fric
         u = np.array([*data.joint(fr.pair).xaxis[:2], 0.0])
         at = data.site(site_name(asm, g.slider, mech.prismatic(fr.pair).point)).xpos
         for link, sign in ((g.slider, 1.0), (g.guide, -1.0)):
-            if link != GROUND:
-                add_force(data, model.body(body_name(link)).id, at, sign * value * u)
+            if link != GROUND:  # at the body's centre of mass, with its moment about it
+                b, f = model.body(body_name(link)).id, sign * value * u
+                data.xfrc_applied[b, :3] += f
+                data.xfrc_applied[b, 3:] += np.cross(at - data.xipos[b], f)
 
 
 def friction_schedule(asm: Assembly, model: mujoco.MjModel, phi: np.ndarray, omega, epsilon) -> np.ndarray:
