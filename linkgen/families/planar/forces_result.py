@@ -18,8 +18,7 @@ UNITS = {"phi": "rad", "omega": "rad/s", "epsilon": "rad/s²", "force": "N", "to
          "normal_force": "N", "reduced_inertia": "kg·m²", "reduced_inertia_derivative": "kg·m²/rad",
          "reduced_moment": "N·m"}
 # With friction (``[[friction]]``): each pair's friction (a couple [N·m] or a force [N]) and the power lost.
-FRICTION_UNITS = {"friction": "N·m at a revolute (the couple on its first link), N at a prismatic pair (along the "
-                              "guide on the slider)", "friction_power": "W"}
+FRICTION_UNITS = {"friction_couple": "N·m", "friction_force": "N", "friction_power": "W"}
 # The crank-level quantities, their units, in the order the CSV gives them.
 SCALARS = (("balancing_torque", "N·m"), ("power_balance_torque", "N·m"), ("reduced_inertia", "kg·m²"),
            ("reduced_inertia_derivative", "kg·m²/rad"), ("reduced_moment", "N·m"))
@@ -37,6 +36,20 @@ class PrismaticLoad(Record):
     moment: np.ndarray | float
     UNIT: ClassVar[str] = "N"
     UNITS: ClassVar[dict[str, str]] = {"moment": "N·m"}
+
+
+@dataclass(frozen=True, repr=False)
+class PairFriction(Record):
+    """A pair's Coulomb friction (``[[friction]]``): at a revolute the ``friction_couple`` [N·m] on
+    its first link ``on`` from its second ``by``; at a prismatic pair the ``friction_force`` [N] on
+    the slider ``on`` along its guide's direction, from the guide ``by``."""
+
+    on: str
+    by: str
+    friction_couple: np.ndarray | float | None = None
+    friction_force: np.ndarray | float | None = None
+    UNIT: ClassVar[str] = "N"
+    UNITS: ClassVar[dict[str, str]] = {"friction_couple": "N·m"}
 
 
 @dataclass(frozen=True, repr=False)
@@ -73,8 +86,8 @@ class PlanarForces:
     reduced_moment: np.ndarray | float
     singular: np.ndarray | bool
     solution: object = field(default=None, compare=False)  # the planar ``Forces``
-    friction: Mapping[str, np.ndarray | float] = field(default_factory=dict)
-    friction_power: np.ndarray | float = 0.0
+    friction: Mapping[str, PairFriction] = field(default_factory=dict)
+    friction_power: np.ndarray | float | None = None
 
     def to_dict(self, transfer: bool = True) -> dict:
         out = {"model": self.model, "phi": plain(self.phi), "omega": plain(self.omega), "epsilon": plain(self.epsilon),
@@ -90,7 +103,7 @@ class PlanarForces:
         if self.contact:
             out["contact"] = {k: c.to_dict() for k, c in self.contact.items()}
         if self.friction:
-            out["friction"] = {k: plain(v) for k, v in self.friction.items()}
+            out["friction"] = {k: v.to_dict() for k, v in self.friction.items()}
             out["friction_power"] = plain(self.friction_power)
             out["units"] = UNITS | FRICTION_UNITS
         if np.ndim(self.phi):  # samples: which are marked singular (one state never is: it raises)
@@ -100,19 +113,12 @@ class PlanarForces:
     def columns(self, transfer: bool = True) -> dict[str, np.ndarray]:
         cols = {"phi [rad]": column(self.phi), "singular": np.atleast_1d(np.asarray(self.singular, dtype=bool))}
         cols |= {f"{q} [{u}]": column(getattr(self, q)) for q, u in SCALARS}
-        for table in (self.reactions, self.prismatic, self.tooth, self.contact):
+        for table in (self.reactions, self.prismatic, self.tooth, self.contact, self.friction):
             for k, r in table.items():
                 cols |= r.columns(k)
-        for k, v in self.friction.items():
-            cols[f"friction.{k} [{self.friction_units[k]}]"] = column(v)
         if self.friction:
             cols["friction_power [W]"] = column(self.friction_power)
         return cols
-
-    @property
-    def friction_units(self) -> dict[str, str]:
-        """Pair → the unit of its friction: a revolute's couple [N·m], a prismatic pair's force [N]."""
-        return {k: "N" if k in self.prismatic else "N·m" for k in self.friction}
 
     def singular_lines(self) -> list[str]:
         """The groups singular somewhere (a second kinematic pass, only when some sample is marked)."""
@@ -149,8 +155,11 @@ class PlanarForces:
                          + ("" if n >= 0 else " — negative: the follower would leave the cam here (a stronger spring "
                                               "keeps it on)"))
         for k, v in self.friction.items():
-            what = "force along the guide on the slider" if k in self.prismatic else "couple on the first link"
-            lines.append(f"friction in {k!r}: {float(v):.6g} {self.friction_units[k]} ({what})")
+            if v.friction_couple is not None:
+                lines.append(f"friction couple in {k!r} on {v.on!r} by {v.by!r}: {float(v.friction_couple):.6g} N·m")
+            else:
+                lines.append(f"friction force in {k!r} on {v.on!r} by {v.by!r}: {float(v.friction_force):.6g} N "
+                             f"along the guide")
         if self.friction:
             lines.append(f"power lost to friction: {float(self.friction_power):.6g} W")
         return "\n".join(lines)
@@ -188,7 +197,8 @@ def forces(source, phi, omega=None, epsilon=None, *, on_singular: str = "raise")
         {c.name: ContactForce(s(f.contact[c.name]), c.follower, mech.crank) for c in mech.cams if c.name in f.contact},
         s(f.reduced.inertia), s(f.reduced.inertia_derivative), s(f.reduced.moment),
         bool(f.singular[0]) if scalar else f.singular, (asm, phis),
-        {k: s(v) for k, v in f.friction.items()}, s(f.friction_power) if f.friction else 0.0)
+        {k: PairFriction(f.on[k], f.by[k], *((None, s(v)) if k in pairs else (s(v), None)))
+         for k, v in f.friction.items()}, s(f.friction_power) if f.friction else None)
 
 
-__all__ = ["ContactForce", "PlanarForces", "PrismaticLoad", "ToothForce", "forces"]
+__all__ = ["ContactForce", "PairFriction", "PlanarForces", "PrismaticLoad", "ToothForce", "forces"]
