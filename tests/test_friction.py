@@ -260,7 +260,8 @@ def test_mujoco_validates_the_friction_model(comparison):
     inverse route) agree with the closed form's at the usual tolerances (linkgen.mujoco.tolerances)."""
     bad = {k: q.relative_error for k, q in comparison.quantities.items() if not q.ok}
     assert not bad, bad
-    for name in ("balancing_torque", "reactions.A.force", "prismatic.slider.normal_force", "inverse.balancing_torque"):
+    for name in ("balancing_torque", "reactions.A.force", "prismatic.slider.normal_force", "inverse.balancing_torque",
+                 "friction.slider", "friction.O", "friction.A", "friction.B"):
         assert name in comparison.quantities
 
 
