@@ -292,3 +292,17 @@ def test_the_mjcf_says_friction_is_applied_each_step():
     head = write_mjcf(assemble(load(MODEL))).split("-->")[0]
     assert "Friction in the pairs ([[friction]]) is not in this file" in head
     assert "[[friction]]" not in write_mjcf(assemble(load(MODELS / "slider_crank_spring.toml"))).split("-->")[0]
+
+
+def test_friction_turned_against_the_pull_converges_where_a_plain_iteration_would_not():
+    """At 270° the slider moves away from the crank: the friction μ·T·|e_y| opposes the gas force,
+    so T = P / (e_x + μ·|e_y|) exists for any μ; with μ = LOCK_MU each plain pass overshoots by
+    μ·|e_y|/e_x ≈ 1.5 (it diverged, reported as self-locking) and the under-relaxed one converges."""
+    mech = from_dict(_hand_desc([{"pair": "slider", "coefficient": LOCK_MU, "block_length": 0.04}]))
+    for deg in (250.0, 270.0, 300.0):
+        phi = math.radians(deg)
+        a, e = _pose(phi)
+        assert LOCK_MU * abs(e[1]) / e[0] > 1.0  # where a plain iteration diverges
+        tension = P / (e[0] + LOCK_MU * abs(e[1]))
+        f = forces(mech, np.array([phi]), W)
+        assert f.balancing_torque[0] == pytest.approx(-(a[0] * tension * e[1] - a[1] * tension * e[0]), rel=HAND_TOL)

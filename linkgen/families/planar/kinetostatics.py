@@ -261,32 +261,54 @@ FRICTION_GROWTH = 1e6
 def _with_friction(asm: Assembly, kin: Kinematics, w: np.ndarray, load: dict, com: dict, marked: np.ndarray, sol,
                    mark: bool):
     """Fixed-point iteration on the reactions from the frictionless solution ``sol``: each pass
-    applies the friction of the previous pass's reactions as given loads and solves again.
+    applies a friction as given loads, solves again and takes the friction of the new reactions,
+    until that is the one applied (FRICTION_TOL). The next pass applies the new friction, or where
+    the residual (new − applied) did not shrink, a step λ of the way to it, λ halved each time
+    (under-relaxation: a pass whose friction overshoots, as where the friction's share of a pair's
+    reaction turns against it, then converges; a mechanism that self-locks still does not).
     Returns (the last solution, the friction loads it was solved with, the angles marked
-    singular (with the self-locked ones if ``mark``: ``on_singular="mark"``),
-    angle ranges where it self-locks (raise))."""
+    singular (with the self-locked ones if ``mark``: ``on_singular="mark"``), angle ranges where
+    it finds no solution (raise))."""
     n = kin.phi.shape[0]
     tiny = np.finfo(float).tiny
     applied = friction_loads(asm, kin, w, com, *sol[1:4])
     first = sum(np.abs(v) for v in applied.pair.values()) + tiny
     done = np.zeros(n, dtype=bool)
     failed = np.zeros(n, dtype=bool)
+    step, last = np.ones(n), np.full(n, np.inf)
     for _ in range(MAX_FRICTION_PASSES):
         sol = solve_reactions(asm, kin, load, com, marked | failed, applied.link)
         new = friction_loads(asm, kin, w, com, *sol[1:4])
         change = np.zeros(n, dtype=bool)
+        residual = np.zeros(n)
         for k, v in new.pair.items():
-            change |= ~(np.abs(v - applied.pair[k]) <= FRICTION_TOL * np.maximum(np.abs(v), np.abs(applied.pair[k])))
+            gap = np.abs(v - applied.pair[k])
+            change |= ~(gap <= FRICTION_TOL * np.maximum(np.abs(v), np.abs(applied.pair[k])))
+            residual += gap
         done = ~change | marked
         failed |= ~(sum(np.abs(v) for v in new.pair.values()) <= FRICTION_GROWTH * first)
         if np.all(done | failed):
             break
-        applied = _zeroed(new, failed)
+        step = np.where(residual >= last, 0.5 * step, step)
+        last = residual
+        applied = _zeroed(_toward(applied, new, step), failed)
     failed |= ~done & ~marked
     if mark and failed.any():
         marked = marked | failed
         sol = solve_reactions(asm, kin, load, com, marked, _zeroed(applied, failed).link)
     return sol, _zeroed(applied, failed), marked, [] if mark else angle_ranges(kin.phi, failed)
+
+
+def _toward(a: FrictionLoads, b: FrictionLoads, step: np.ndarray) -> FrictionLoads:
+    """a + step·(b − a) per angle: every part of the friction loads is linear in the pairs' values,
+    whose signs the kinematics fix, so a step between two of them is itself one."""
+    if np.all(step == 1.0):
+        return b
+    s2 = step[:, None]
+    return FrictionLoads({k: [a.link[k][0] + s2 * (f - a.link[k][0]), a.link[k][1] + step * (m - a.link[k][1])]
+                          for k, (f, m) in b.link.items()},
+                         {k: a.pair[k] + step * (v - a.pair[k]) for k, v in b.pair.items()},
+                         a.loss + step * (b.loss - a.loss))
 
 
 def _zeroed(fl: FrictionLoads, rows: np.ndarray) -> FrictionLoads:
