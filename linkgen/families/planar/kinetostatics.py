@@ -47,8 +47,8 @@ class Forces:
 
     Attributes:
         balancing_torque: (n,) [N·m] from the group-by-group solution.
-        power_balance_torque: (n,) [N·m] the same from virtual work (Σ F·v′ + M·θ′ = 0),
-            an independent check.
+        power_balance_torque: (n,) [N·m] the same from virtual work (Σ F·v′ + M·θ′ = 0), plus
+            the friction's lost power over ω from the pairs' relative rates: an independent check.
         reactions: revolute name → (n, 2) [N].
         normal_force, moment: prismatic name → (n,) [N], [N·m].
         reduced: the reduced dynamics at these angles.
