@@ -92,8 +92,8 @@ def reduce(asm: Assembly, load: ProcessLoad | None = None, grid: int = GRID,
     d = asm.mechanism.drive
     if asm.mechanism.frictions:  # its moment would depend on the reactions, so on φ̈: not modelled yet
         raise DescriptionError("friction", "the machine's equation of motion does not model friction in the pairs "
-                                           "yet; the kinetostatics (forces, validate) does: remove [[friction]] to "
-                                           "run the machine")
+                                           "yet (the kinetostatics does: linkgen forces); remove [[friction]] to run "
+                                           "the machine")
     if d.stop - d.start < 2 * math.pi - 1e-9:
         raise DescriptionError("drive.range", "a machine needs a crank that turns fully (range of 360°); this "
                                f"one spans {math.degrees(d.stop - d.start):.6g}°")
