@@ -36,7 +36,7 @@ def _worst(quantities: dict, kind: str) -> str:
     def group(k: str) -> str:
         if k.startswith("inverse."):
             return "inv"
-        return "fwd" if k.startswith(("reactions.", "prismatic.", "balancing", "reduced")) else "kin"
+        return "fwd" if k.startswith(("reactions.", "prismatic.", "balancing", "reduced", "friction.")) else "kin"
 
     g = {k: q for k, q in quantities.items() if group(k) == kind}
     if not g:
