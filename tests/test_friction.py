@@ -306,3 +306,14 @@ def test_friction_turned_against_the_pull_converges_where_a_plain_iteration_woul
         tension = P / (e[0] + LOCK_MU * abs(e[1]))
         f = forces(mech, np.array([phi]), W)
         assert f.balancing_torque[0] == pytest.approx(-(a[0] * tension * e[1] - a[1] * tension * e[0]), rel=HAND_TOL)
+
+
+def test_the_robot_model_names_each_pairs_friction(tmp_path):
+    """A robot scene cannot carry the load-dependent friction either: its header says how to apply it."""
+    from linkgen.cli.main import main
+
+    out = tmp_path / "robot.xml"
+    assert main(["build", "--robot", str(MODEL), "-o", str(out)]) == 0
+    head = out.read_text().split("-->")[0]
+    assert "[[friction]] in pair O: a couple μ·r·|R| (μ = 0.1, r = 0.006 m) between links ground and crank" in head
+    assert "[[friction]] in pair slider: a force μ·max(|N|, 2|M|/L) (μ = 0.15, L = 0.04 m)" in head
