@@ -317,3 +317,20 @@ def test_the_robot_model_names_each_pairs_friction(tmp_path):
     head = out.read_text().split("-->")[0]
     assert "[[friction]] in pair O: a couple μ·r·|R| (μ = 0.1, r = 0.006 m) between links ground and crank" in head
     assert "[[friction]] in pair slider: a force μ·max(|N|, 2|M|/L) (μ = 0.15, L = 0.04 m)" in head
+
+
+def test_a_runs_lead_in_before_a_dead_centre_gets_zero_friction():
+    """tangent_prp turns over 40°..140°, between dead centres; a coarse (practical-settings) run's
+    lead-in starts ~65° early and crosses the one at 0°, where the closed form is singular: the
+    loads scheduled there (friction included) are zero instead of an error (validate failed:
+    SingularityError at −0.004°). Those steps only settle the run; no sample is compared there."""
+    import mujoco
+
+    from linkgen.mujoco.forces import load_schedule
+    from linkgen.mujoco.mjcf import write_mjcf
+
+    desc = tomllib.loads((MODELS / "tangent_prp.toml").read_text())
+    asm = assemble(from_dict(_with_friction(desc, 0.1)))
+    model = mujoco.MjModel.from_xml_string(write_mjcf(asm))
+    rows = load_schedule(asm, model, np.radians([-0.004, 10.0]), asm.mechanism.drive.omega)
+    assert np.isfinite(rows).all() and not rows[0].any() and rows[1].any()

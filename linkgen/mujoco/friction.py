@@ -27,12 +27,13 @@ HEADER_NOTE = ("Friction in the pairs ([[friction]]) is not in this file: MuJoCo
                "xfrc_applied (docs/format.md, [[friction]]). ")
 
 
-def friction_at(asm: Assembly, phi, omega, epsilon) -> dict[str, np.ndarray]:
+def friction_at(asm: Assembly, phi, omega, epsilon, mark: str = "raise") -> dict[str, np.ndarray]:
     """Each pair's friction (couple on a revolute's first link [N·m], force on a slider along its
-    guide [N]) from the closed form at crank angles ``phi`` (n,), speed and acceleration."""
+    guide [N]) from the closed form at crank angles ``phi`` (n,), speed and acceleration
+    (``mark="mark"``: zero where the closed form is singular or finds no solution)."""
     from linkgen.families.planar.kinetostatics import forces
 
-    return forces(asm, np.atleast_1d(np.asarray(phi, dtype=float)), omega, epsilon).friction
+    return forces(asm, np.atleast_1d(np.asarray(phi, dtype=float)), omega, epsilon, on_singular=mark).friction
 
 
 def add_friction(asm: Assembly, model: mujoco.MjModel, data: mujoco.MjData, friction: dict[str, float]) -> None:
@@ -65,8 +66,9 @@ def friction_schedule(asm: Assembly, model: mujoco.MjModel, phi: np.ndarray, ome
     mech = asm.mechanism
     n = phi.shape[0]
     out = np.zeros((n, model.nbody, 6))
-    friction = friction_at(asm, phi, omega, epsilon)
-    kin = solve(asm, phi)
+    # a run's lead-in starts before the range: zero friction where the closed form has none there
+    friction = friction_at(asm, phi, omega, epsilon, "mark")
+    kin = solve(asm, phi, on_singular="mark")
     com = {name: kin.point(name, np.asarray(mp.com, dtype=float)).p for name, mp in mass_table(asm).items()}
     for fr in mech.frictions:
         value = friction[fr.pair]
