@@ -334,3 +334,17 @@ def test_a_runs_lead_in_before_a_dead_centre_gets_zero_friction():
     model = mujoco.MjModel.from_xml_string(write_mjcf(asm))
     rows = load_schedule(asm, model, np.radians([-0.004, 10.0]), asm.mechanism.drive.omega)
     assert np.isfinite(rows).all() and not rows[0].any() and rows[1].any()
+
+
+def test_sampled_forces_name_the_self_locked_samples(tmp_path, capsys):
+    """`linkgen forces --samples` marks the samples where the friction has no solution and says so
+    (they were marked singular silently, exit status 0)."""
+    from linkgen.cli.main import main
+    from linkgen.model.toml_text import to_toml
+
+    desc = _hand_desc([{"pair": "slider", "coefficient": LOCK_MU, "block_length": 0.04}], omega=1.0)
+    path = tmp_path / "lock.toml"
+    path.write_text(to_toml(desc))
+    assert main(["forces", str(path), "--samples", "37", "-o", str(tmp_path / "f.csv")]) == 3
+    err = capsys.readouterr().err
+    assert "the kinetostatics with friction finds no solution at crank angles 48.649°..136.216° (10 of 37" in err

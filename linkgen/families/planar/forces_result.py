@@ -121,12 +121,22 @@ class PlanarForces:
         return cols
 
     def singular_lines(self) -> list[str]:
-        """The groups singular somewhere (a second kinematic pass, only when some sample is marked)."""
+        """The groups singular somewhere (a second kinematic pass, only when some sample is marked),
+        and the samples where the friction has no solution."""
         if not np.any(self.singular) or self.solution is None:
             return []
+        from linkgen.errors import angle_ranges, format_ranges
         from linkgen.families.planar.motion_result import kinematics
 
-        return kinematics(self.solution[0], self.solution[1], on_singular="mark").singular_lines()
+        kin = kinematics(self.solution[0], self.solution[1], on_singular="mark")
+        lines = kin.singular_lines()
+        locked = np.asarray(self.singular, dtype=bool) & ~np.asarray(kin.singular, dtype=bool)
+        if locked.any():  # marked by the friction's iteration, not by a group (``kinetostatics``)
+            phi = np.atleast_1d(self.phi)
+            lines.append(f"the kinetostatics with friction finds no solution at crank angles "
+                         f"{format_ranges(angle_ranges(phi, locked))} ({int(np.count_nonzero(locked))} of {len(phi)} "
+                         f"samples: the mechanism self-locks there, or is close to it)")
+        return lines
 
     @per_sample
     def text(self, transfer: bool = False) -> str:
