@@ -348,3 +348,16 @@ def test_sampled_forces_name_the_self_locked_samples(tmp_path, capsys):
     assert main(["forces", str(path), "--samples", "37", "-o", str(tmp_path / "f.csv")]) == 3
     err = capsys.readouterr().err
     assert "the kinetostatics with friction finds no solution at crank angles 48.649°..136.216° (10 of 37" in err
+
+
+def test_no_sample_is_compared_on_a_friction_switch(comparison):
+    """The rod's rate turns round at 90° (the pin B's friction jumps there, through zero): the
+    sample at 90° saw the jump and carried the run's worst error (7.1e-7 of the scale, against
+    5.1e-8 elsewhere); each switch's settling window now starts just before it."""
+    from linkgen.mujoco.friction import friction_switches
+
+    phi = comparison.run.samples.crank[0]
+    switches = friction_switches(comparison.assembly, 0.0, 2 * math.pi)
+    assert any(abs(s - math.pi / 2) < 1e-5 for s in switches)
+    for s in switches:
+        assert not np.any((phi >= s) & (phi <= s + 2e-6)), math.degrees(s)
