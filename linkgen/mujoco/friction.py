@@ -93,10 +93,6 @@ def friction_schedule(asm: Assembly, model: mujoco.MjModel, phi: np.ndarray, ome
 # by bisection to SWITCH_BISECTIONS halvings: 0.25°/2^40 ≈ 4e-15 rad, float64's resolution of an angle).
 SWITCH_GRID = np.radians(0.25)
 SWITCH_BISECTIONS = 40
-# A switch counts from this much [rad] before the sign change: around it the pair is still (its
-# friction zero, ``families.planar.friction.STILL_TOL``: ~STILL_TOL/|rate′| ≈ 1e-8 rad wide), so a
-# sample on it already sees the jump. Far below a run's sample spacing (~1e-2 rad).
-SWITCH_LEAD = 1e-6
 
 
 def friction_switches(asm: Assembly, phi_a: float, phi_b: float) -> list[float]:
@@ -133,7 +129,7 @@ def friction_switches(asm: Assembly, phi_a: float, phi_b: float) -> list[float]:
                 hi = mid
         found.append(float(0.5 * (lo + hi)))
     found += [float(g) for i, k in zip(*np.nonzero(r == 0)) for g in (grid[k],)]
-    return sorted({max(phi_a, a - SWITCH_LEAD) for a in found})
+    return sorted(set(found))
 
 
 def friction_from_reactions(asm: Assembly, phi: np.ndarray, omega, reactions: dict, normal: dict,

@@ -199,7 +199,9 @@ def _run(asm: Assembly | Posed, model: mujoco.MjModel, settings: Settings, scale
         switches = sorted(switches + friction_switches(asm, phi_a, phi_b))
     for sw in switches:
         t_sw = float(crank_time(np.array([sw]), phi_a, w0, eps)[0])
-        hit = (t_s >= t_sw) & (t_s <= t_sw + window)
+        # a sample is read at its nearest step, up to dt/2 from its time: one due just before the
+        # switch may be read after it
+        hit = (t_s >= t_sw - dt) & (t_s <= t_sw + window)
         if hit.any():
             keep &= ~hit
             left.append(LeftOut("load switch", sw, float(phi_s[hit].max()), int(hit.sum())))
