@@ -31,6 +31,7 @@ from linkgen.errors import (
     BalanceError,
     CouplingError,
     DescriptionError,
+    FrictionError,
     LinkgenError,
     MagnitudeError,
     RenderError,
@@ -50,7 +51,7 @@ from linkgen.api import (ForcesResult, KinematicsResult, assemble, decompose, fo
 __all__ = [
     "Drive", "Link", "LinkTorque", "MassProperties", "Mechanism", "PointForce", "Prismatic", "Revolute",
     "ArgumentError", "AssemblyError", "DescriptionError", "LinkgenError", "SimulationError", "SingularityError",
-    "StructureError", "UnsupportedError", "ValidationError", "BalanceError", "MagnitudeError", "RenderError",
+    "StructureError", "UnsupportedError", "ValidationError", "BalanceError", "FrictionError", "MagnitudeError", "RenderError",
     "CouplingError",
     "Assembly", "Kinematics", "Motion", "assemble", "solve", "solve_motion", "from_dict", "load", "Group", "GroupKind",
     "Structure", "decompose",

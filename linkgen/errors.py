@@ -189,6 +189,20 @@ class BalanceError(LinkgenError):
         )
 
 
+class FrictionError(LinkgenError):
+    """The kinetostatics with Coulomb friction has no solution (self-locking: no finite balancing
+    torque moves the mechanism) or its iteration does not converge. Attributes: ranges."""
+
+    def __init__(self, ranges: list[tuple[float, float]]):
+        self.ranges = ranges
+        super().__init__(
+            f"the kinetostatics with friction finds no solution at crank angles {format_ranges(ranges)}: the friction "
+            f"the pairs' reactions call for changes faster than the reactions themselves, so the mechanism self-locks "
+            f"there (no finite balancing torque moves it) or is close to it; lower the friction coefficients or pin "
+            f"radii, or lengthen the sliders' blocks"
+        )
+
+
 class SimulationError(LinkgenError):
     """MuJoCo warned, diverged or broke a constraint; names the step and the time."""
 

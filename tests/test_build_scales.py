@@ -22,7 +22,7 @@ SPATIAL = ["rssr.toml", "rssp.toml", "bennett.toml", "spherical_fourbar.toml"]
 
 # Keys holding a length [m] (besides [points] and plate shapes): a number, or text with a unit.
 _LENGTH_KEYS = {"length", "offset", "base_radius", "roller_radius", "arm_length", "pivot_distance", "module",
-                "height", "com"}
+                "height", "com", "pin_radius", "block_length"}
 _LENGTH_UNITS = {"mm": 1e-3, "cm": 1e-2, "m": 1.0}
 # Exponent of the length scale s in each other dimensional key, the material (density in kg/m³)
 # kept: masses ∝ s³, so kg/m ∝ s², kg/m² ∝ s, kg·m² ∝ s⁵; forces ∝ s³ (weights), torques and

@@ -41,9 +41,12 @@ def test_balancing_torque_equals_power_balance_and_reduced_dynamics(path):
         f = forces(mech, phi, omega, eps)
         peak = max(np.abs(f.balancing_torque).max(), 1e-300)
         assert np.abs(f.balancing_torque - f.power_balance_torque).max() <= POWER_BALANCE_TOL * peak
-        # T = J·ε + ½·J′·ω² − M_red: the reduced-dynamics route (kinetic energy) to the same torque
+        # T = J·ε + ½·J′·ω² − M_red (+ the friction's lost power over ω, [[friction]]): the
+        # reduced-dynamics route (kinetic energy) to the same torque
         r = f.reduced
         t_red = r.inertia * eps + 0.5 * r.inertia_derivative * omega**2 - r.moment
+        if omega:
+            t_red = t_red + f.friction_power / omega
         assert np.abs(f.balancing_torque - t_red).max() <= POWER_BALANCE_TOL * peak
 
 
@@ -265,7 +268,7 @@ def test_forces_raise_when_the_two_torques_disagree(monkeypatch):
     # Inject a wrong crank equilibrium (the drive torque off by 1e-6 of its size): every call
     # compares it with the power balance and must refuse the result, naming the angles.
     from linkgen import BalanceError
-    import linkgen.families.planar.kinetostatics as ks
+    import linkgen.families.planar.reactions as ks  # the group-by-group solver of the kinetostatics
 
     solve_systems = ks._checked
 
@@ -381,7 +384,7 @@ def test_closed_form_equilibrium_solutions_are_backward_stable():
 
 @pytest.mark.parametrize("name", ["seven_link", "press", "tangent_prp", "ga32", "cam_rocker_slider", "planetary_lever"])
 def test_equilibrium_systems_agree_with_a_general_solver(monkeypatch, name):
-    import linkgen.families.planar.kinetostatics as ks
+    import linkgen.families.planar.reactions as ks  # the group-by-group solver of the kinetostatics
 
     asm = assemble(load(ROOT / "models" / f"{name}.toml"))
     drive = asm.mechanism.drive

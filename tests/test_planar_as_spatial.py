@@ -233,11 +233,11 @@ def _check_forces(planar, spatial, p: dict, epsilon: float) -> None:
 
 
 # The summary keys only one family has: the planar one's least transmission angle of each Assur
-# group (the spatial family defines no transmission angle) and its springs' peaks (a spatial
-# description has no springs), the spatial one's chain kind (RSSR,
+# group (the spatial family defines no transmission angle) and its springs' peaks and friction losses (a spatial
+# description has neither), the spatial one's chain kind (RSSR,
 # RSSP, ...) and its degree of static indeterminacy (a planar chain is always determinate).
 # ``model`` both have, with the names of two different files.
-PLANAR_ONLY = {"min_transmission_angle", "peak_spring_forces"}
+PLANAR_ONLY = {"min_transmission_angle", "peak_spring_forces", "peak_friction_power", "mean_friction_power"}
 SPATIAL_ONLY = {"kind", "statically_indeterminate"}
 
 

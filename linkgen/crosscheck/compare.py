@@ -156,6 +156,8 @@ def compare(asm: Assembly, run: Run, *, inverse: bool = True) -> Comparison:
     inv = _inverse(asm, run) if inverse else None
     f_scale = force_scale(cf, asm, size, scale["acceleration"])
     _force_errors(cf, s.forces, "", FORCE_TOL, size, out, f_scale)
+    if asm.mechanism.frictions:
+        _friction_errors(asm, cf, s, out, f_scale, size)
     if inv is not None:
         _force_errors(cf, inv, "inverse.", INVERSE_TOL, size, out, f_scale)
     j = cf.reduced.inertia
@@ -174,6 +176,22 @@ def _inverse(asm: Assembly, run: Run) -> ForceSamples:
     qpos, qvel, qacc = joint_states(asm, run.model, *run.samples.crank)
     return ForceSamples.stack([inverse_forces(asm, run.model, d, float(phi[k]), qpos[k], qvel[k], qacc[k])
                                for k in range(phi.shape[0])])
+
+
+def _friction_errors(asm: Assembly, cf: Forces, s, out: dict[str, QuantityError], f_scale: float,
+                     size: float) -> None:
+    """``friction.PAIR``: the friction law applied to MuJoCo's own reactions of the run against the
+    friction linkgen applied (the closed form's, ``mujoco.friction``): the fixed point in MuJoCo's
+    terms. μ·r·|R| moves by μ·r·|ΔR| and μ·max(|N|, 2|M|/L) by μ·(|ΔN| + 2|ΔM|/L), so the scale is
+    that of the reactions (F, and F·size for the moment) carried through the law."""
+    from linkgen.mujoco.friction import friction_from_reactions
+
+    phi, omega, _ = s.crank
+    theirs = friction_from_reactions(asm, phi, omega, s.forces.reactions, s.forces.normal_force, s.forces.moment)
+    for fr in asm.mechanism.frictions:
+        arm = fr.pin_radius if fr.pin_radius is not None else 1.0 + 2.0 * size / fr.block_length
+        out[f"friction.{fr.pair}"] = _error(cf.friction[fr.pair], theirs[fr.pair], fr.coefficient * arm * f_scale,
+                                            FORCE_TOL)
 
 
 def _force_errors(cf: Forces, mj: ForceSamples, prefix: str, tol: float, size: float,

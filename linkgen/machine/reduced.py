@@ -108,6 +108,10 @@ def reduce(asm: Assembly, load: ProcessLoad | None = None, grid: int = GRID,
     angles) and M (a table of ``moment_grid`` cells); over the drive's range only where it spans
     less than a turn (``Reduced.stop``: a motion that leaves it is stopped there)."""
     d = asm.mechanism.drive
+    if asm.mechanism.frictions:  # its moment would depend on the reactions, so on φ̈: not modelled yet
+        raise DescriptionError("friction", "the machine's equation of motion does not model friction in the pairs "
+                                           "yet (the kinetostatics does: linkgen forces); remove [[friction]] to run "
+                                           "the machine")
     full = d.stop - d.start >= 2 * math.pi - 1e-9
     span = 2 * math.pi if full else d.stop - d.start
     phi = d.start + np.linspace(0.0, span, grid + 1)

@@ -142,6 +142,7 @@ PLANAR = {
     "spring": Items({"points": Items(string), "stiffness": finite, "rest_length": length, "damping": finite}),
     "torsion_spring": Items({"joint": string, "links": Items(string), "stiffness": finite, "rest_angle": parse_angle,
                              "damping": finite}),
+    "friction": Items({"pair": string, "coefficient": finite, "pin_radius": length, "block_length": length}),
     "machine": MACHINE,
 }
 

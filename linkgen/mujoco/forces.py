@@ -55,11 +55,19 @@ class StateForces:
     moment: dict[str, float]
 
 
-def apply_loads(asm: Assembly, model: mujoco.MjModel, data: mujoco.MjData, phi: float) -> None:
+def apply_loads(asm: Assembly, model: mujoco.MjModel, data: mujoco.MjData, phi: float, epsilon=None) -> None:
     """Set ``xfrc_applied`` from the description's forces and torques at crank angle φ [rad]
-    (the stroke test), at MuJoCo's current positions (needs ``mj_kinematics`` done)."""
+    (the stroke test), at MuJoCo's current positions (needs ``mj_kinematics`` done), and the
+    pairs' friction (``mujoco.friction``: the closed form's at φ, MuJoCo's crank speed and
+    ``epsilon``, default the drive's)."""
     mech = asm.mechanism
     data.xfrc_applied[:] = 0.0
+    if mech.frictions:
+        from linkgen.mujoco.friction import add_friction, friction_at
+
+        w = float(data.qvel[model.joint(mech.drive.joint).dofadr[0]])
+        e = mech.drive.epsilon if epsilon is None else epsilon
+        add_friction(asm, model, data, {k: v[0] for k, v in friction_at(asm, phi, w, e).items()})
     for f in mech.forces:
         if f.link == GROUND or not stroke_active(f, np.array([phi]))[0]:
             continue
@@ -88,7 +96,7 @@ def applied_generalized(model: mujoco.MjModel, data: mujoco.MjData) -> np.ndarra
 
 def has_loads(asm: Assembly) -> bool:
     m = asm.mechanism
-    return any(f.link != GROUND for f in m.forces) or any(t.link != GROUND for t in m.torques)
+    return any(f.link != GROUND for f in m.forces) or any(t.link != GROUND for t in m.torques) or bool(m.frictions)
 
 
 def forward_forces(asm: Assembly, model: mujoco.MjModel, data: mujoco.MjData) -> StateForces:
@@ -119,7 +127,7 @@ def inverse_forces(asm: Assembly, model: mujoco.MjModel, data: mujoco.MjData, ph
     data.qpos[:], data.qvel[:], data.qacc[:] = qpos, qvel, qacc
     mujoco.mj_kinematics(model, data)
     mujoco.mj_comPos(model, data)
-    apply_loads(asm, model, data, phi)
+    apply_loads(asm, model, data, phi, float(qacc[model.joint(asm.mechanism.drive.joint).dofadr[0]]))
     mujoco.mj_inverse(model, data)
     applied = applied_generalized(model, data)
     crank = model.joint(asm.mechanism.drive.joint)
@@ -211,15 +219,25 @@ class ForceSamples:
         )
 
 
-def load_schedule(asm: Assembly, model: mujoco.MjModel, phi: np.ndarray) -> np.ndarray:
+def load_schedule(asm: Assembly, model: mujoco.MjModel, phi: np.ndarray, omega=None, epsilon=None) -> np.ndarray:
     """``xfrc_applied`` rows (n, 6·nbody) for crank angles φ (n,) [rad], from the closed-form
     positions: the open-loop input ``rollout`` needs. Per-sample values are recomputed from MuJoCo's
     own positions by ``apply_loads``; this only feeds the stepping. Gravity and the springs
-    (tendons, joint springs: ``mujoco.springs``) are MuJoCo's own."""
+    (tendons, joint springs: ``mujoco.springs``) are MuJoCo's own; the pairs' friction
+    (``mujoco.friction``) is the closed form's at crank speed ``omega`` (scalar or (n,)) and
+    ``epsilon`` (default the drive's)."""
+    mech = asm.mechanism
     out = np.zeros((phi.shape[0], model.nbody, 6))
-    for name, load in applied_loads(asm, solve(asm, phi), gravity=False, springs=False).items():
+    # marked: a run's lead-in may start a little before a range that ends at a dead centre (its
+    # steps there only settle the run, their loads are not compared)
+    for name, load in applied_loads(asm, solve(asm, phi, on_singular="mark"), gravity=False, springs=False).items():
         b = model.body(body_name(name)).id
         out[:, b, 0:2], out[:, b, 5] = load.force, load.moment
+    if mech.frictions:  # added to the loads just set
+        from linkgen.mujoco.friction import friction_schedule
+
+        w = mech.drive.omega if omega is None else omega
+        out += friction_schedule(asm, model, phi, w, mech.drive.epsilon if epsilon is None else epsilon)
     return out.reshape(phi.shape[0], -1)
 
 

@@ -49,6 +49,7 @@ from linkgen.mujoco.options import MESH_VOLUME_MARGIN, MUJOCO_MIN_BAR, MUJOCO_MI
 from linkgen.mujoco.options import PLACEHOLDER, Settings
 from linkgen.families.planar.pose import mechanism_size, reference_pose
 from linkgen.mujoco.settings import crank_only, derive
+from linkgen.mujoco.friction import HEADER_NOTE as FRICTION_NOTE
 from linkgen.mujoco.scene import add_scene, add_scene_assets, add_servo, add_sketch_key, motion_extent, settings_comment
 from linkgen.mujoco.tree import DRIVE_ACTUATOR, body_name, sensor_name, site_name, spanning_tree
 from linkgen.mujoco.guides import GUIDE_SIZE, guide_span
@@ -272,7 +273,7 @@ def write_mjcf(source: Mechanism | Assembly, settings: Settings | None = None) -
         for p in link.points:
             etree.SubElement(sensor, "framepos", name=sensor_name(mech, link.name, p), objtype="site",
                              objname=site_name(mech, link.name, p))
-    root.insert(0, etree.Comment(settings_comment(settings)))
+    root.insert(0, etree.Comment(settings_comment(settings) + (FRICTION_NOTE if mech.frictions else "")))
     add_sketch_key(root, source, mech)
     return etree.tostring(root, pretty_print=True, encoding="unicode")
 

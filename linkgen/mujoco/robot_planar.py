@@ -72,6 +72,13 @@ def _loads(mech: Mechanism) -> tuple[str, ...]:
         out.append(f"[[torque]] M = {t.torque:g} N·m on link {t.link} about the plane's normal: each step "
                    f"mujoco.mj_applyFT(model, data, [0, 0, 0], M·R[:, 2], data.body('{{P}}{body_name(t.link)}').xipos, "
                    f"model.body('{{P}}{body_name(t.link)}').id, data.qfrc_applied)")
+    for fr in mech.frictions:  # load-dependent: a value per state, from linkgen's kinetostatics (mujoco.friction)
+        what = (f"a couple μ·r·|R| (μ = {fr.coefficient:g}, r = {fr.pin_radius:g} m) between links "
+                f"{' and '.join(mech.revolute(fr.pair).links)}" if fr.pin_radius is not None
+                else f"a force μ·max(|N|, 2|M|/L) (μ = {fr.coefficient:g}, L = {fr.block_length:g} m) along the guide "
+                     f"between the slider and its guide")
+        out.append(f"[[friction]] in pair {fr.pair}: {what}, against their relative motion; its value at each state "
+                   f"is linkgen.forces(...).friction['{fr.pair}'] at the crank's angle and speed")
     return tuple(out)
 
 

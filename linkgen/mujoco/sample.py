@@ -123,6 +123,10 @@ def read_samples(asm: Assembly, model: mujoco.MjModel, time: np.ndarray, qpos: n
         crank_body = d.body(body_name(mech.crank))
         apply_loads(asm, model, d, math.atan2(crank_body.xmat[3], crank_body.xmat[0]))
         mujoco.mj_forward(model, d)
+        if mech.frictions:  # the friction at the state's own crank acceleration (mujoco.friction)
+            apply_loads(asm, model, d, math.atan2(crank_body.xmat[3], crank_body.xmat[0]),
+                        float(d.qacc[crank_j.dofadr[0]]))
+            mujoco.mj_forward(model, d)
         mujoco.mj_rnePostConstraint(model, d)
         states.append(forward_forces(asm, model, d))
         mujoco.mj_mulM(model, d, mv, d.qvel)

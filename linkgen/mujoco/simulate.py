@@ -192,9 +192,16 @@ def _run(asm: Assembly | Posed, model: mujoco.MjModel, settings: Settings, scale
     t_s = crank_time(phi_s, phi_a, w0, eps)
     keep = np.ones(samples, dtype=bool)
     left: list[LeftOut] = []
-    for sw in switch_angles(mech, phi_a, phi_b):
+    switches = switch_angles(mech, phi_a, phi_b)
+    if getattr(mech, "frictions", ()):  # a pair's friction turns round where its relative motion does
+        from linkgen.mujoco.friction import friction_switches
+
+        switches = sorted(switches + friction_switches(asm, phi_a, phi_b))
+    for sw in switches:
         t_sw = float(crank_time(np.array([sw]), phi_a, w0, eps)[0])
-        hit = (t_s >= t_sw) & (t_s <= t_sw + window)
+        # a sample is read at its nearest step, up to dt/2 from its time: one due just before the
+        # switch may be read after it
+        hit = (t_s >= t_sw - dt) & (t_s <= t_sw + window)
         if hit.any():
             keep &= ~hit
             left.append(LeftOut("load switch", sw, float(phi_s[hit].max()), int(hit.sum())))
@@ -244,7 +251,8 @@ def _run(asm: Assembly | Posed, model: mujoco.MjModel, settings: Settings, scale
         if loads:
             phis = crank_phi(t_step - dt, phi_a, w0, eps)  # the angle at the step's start
             xfrc = np.stack([torque_schedule(asm, model, n) if isinstance(asm, Posed)
-                             else load_schedule(asm, model, phis[k]) for k in range(nseg)])
+                             else load_schedule(asm, model, phis[k], w0 + eps * (t_step[k] - dt), eps)
+                             for k in range(nseg)])
             ctrl = np.concatenate([ctrl, xfrc], axis=2)
         states, sensors = rollout.rollout(model, datas, state, ctrl, control_spec=spec, nstep=n)
         steps_total += n * nseg

@@ -36,7 +36,7 @@ def _worst(quantities: dict, kind: str) -> str:
     def group(k: str) -> str:
         if k.startswith("inverse."):
             return "inv"
-        return "fwd" if k.startswith(("reactions.", "prismatic.", "balancing", "reduced")) else "kin"
+        return "fwd" if k.startswith(("reactions.", "prismatic.", "balancing", "reduced", "friction.")) else "kin"
 
     g = {k: q for k, q in quantities.items() if group(k) == kind}
     if not g:
@@ -164,6 +164,10 @@ def _summary_lines(s: dict) -> list[str]:
         lines.append("- peak spring forces: " + ", ".join(
             f"{k} {v['value']:.4g} {'N·m' if k.startswith('torsion') else 'N'} at {deg(v['phi']):.4g}°"
             for k, v in springs.items()))
+    if s.get("peak_friction_power"):
+        p = s["peak_friction_power"]
+        lines.append(f"- power lost to friction in the pairs: peak {p['value']:.4g} W at {deg(p['phi']):.4g}°, mean "
+                     f"{s['mean_friction_power']:.4g} W")
     return lines + [""]
 
 

@@ -11,6 +11,7 @@ from linkgen.model.names import GROUND, check_name
 from linkgen.model.defaults import DEFAULT_BLOCK_MASS, DEFAULT_DENSITY
 from linkgen.model.units import bounded, shown
 from linkgen.families.planar.higher_pairs import check_cams, check_gears
+from linkgen.families.planar.friction import check_friction
 from linkgen.families.planar.springs import check_springs
 
 if TYPE_CHECKING:
@@ -46,6 +47,7 @@ def validate(m: Mechanism) -> None:
     check_cams(m)
     check_springs(m)
     _check_mobility(m)
+    check_friction(m)
 
 
 def _check_links(m: Mechanism) -> None:

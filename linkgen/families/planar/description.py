@@ -35,6 +35,7 @@ from typing import Mapping
 from linkgen.families.planar.checks import validate
 from linkgen.model.names import GROUND
 from linkgen.families.planar.decompose import decompose
+from linkgen.families.planar.friction import Friction
 from linkgen.families.planar.springs import Spring, TorsionSpring
 
 
@@ -201,6 +202,7 @@ class Mechanism:
     cams: tuple[CamPair, ...] = ()
     springs: tuple[Spring, ...] = ()
     torsion_springs: tuple[TorsionSpring, ...] = ()
+    frictions: tuple[Friction, ...] = ()
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "points", MappingProxyType(dict(self.points)))
@@ -212,6 +214,7 @@ class Mechanism:
         object.__setattr__(self, "cams", tuple(self.cams))
         object.__setattr__(self, "springs", tuple(self.springs))
         object.__setattr__(self, "torsion_springs", tuple(self.torsion_springs))
+        object.__setattr__(self, "frictions", tuple(self.frictions))
         validate(self)
 
     def link(self, name: str) -> Link:
@@ -332,6 +335,7 @@ __all__ = [
     "PointForce",
     "LinkTorque",
     "Mechanism",
+    "Friction",
     "Spring",
     "TorsionSpring",
 ]

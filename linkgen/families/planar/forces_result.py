@@ -17,6 +17,8 @@ from linkgen.model.results import ContactForce, Reaction, Record, column, per_sa
 UNITS = {"phi": "rad", "omega": "rad/s", "epsilon": "rad/s²", "force": "N", "torque": "N·m", "moment": "N·m",
          "normal_force": "N", "reduced_inertia": "kg·m²", "reduced_inertia_derivative": "kg·m²/rad",
          "reduced_moment": "N·m"}
+# With friction (``[[friction]]``): each pair's friction (a couple [N·m] or a force [N]) and the power lost.
+FRICTION_UNITS = {"friction_couple": "N·m", "friction_force": "N", "friction_power": "W"}
 # The crank-level quantities, their units, in the order the CSV gives them.
 SCALARS = (("balancing_torque", "N·m"), ("power_balance_torque", "N·m"), ("reduced_inertia", "kg·m²"),
            ("reduced_inertia_derivative", "kg·m²/rad"), ("reduced_moment", "N·m"))
@@ -34,6 +36,20 @@ class PrismaticLoad(Record):
     moment: np.ndarray | float
     UNIT: ClassVar[str] = "N"
     UNITS: ClassVar[dict[str, str]] = {"moment": "N·m"}
+
+
+@dataclass(frozen=True, repr=False)
+class PairFriction(Record):
+    """A pair's Coulomb friction (``[[friction]]``): at a revolute the ``friction_couple`` [N·m] on
+    its first link ``on`` from its second ``by``; at a prismatic pair the ``friction_force`` [N] on
+    the slider ``on`` along its guide's direction, from the guide ``by``."""
+
+    on: str
+    by: str
+    friction_couple: np.ndarray | float | None = None
+    friction_force: np.ndarray | float | None = None
+    UNIT: ClassVar[str] = "N"
+    UNITS: ClassVar[dict[str, str]] = {"friction_couple": "N·m"}
 
 
 @dataclass(frozen=True, repr=False)
@@ -70,6 +86,8 @@ class PlanarForces:
     reduced_moment: np.ndarray | float
     singular: np.ndarray | bool
     solution: object = field(default=None, compare=False)  # the planar ``Forces``
+    friction: Mapping[str, PairFriction] = field(default_factory=dict)
+    friction_power: np.ndarray | float | None = None
 
     def to_dict(self, transfer: bool = True) -> dict:
         out = {"model": self.model, "phi": plain(self.phi), "omega": plain(self.omega), "epsilon": plain(self.epsilon),
@@ -84,6 +102,10 @@ class PlanarForces:
             out["tooth"] = {k: t.to_dict() for k, t in self.tooth.items()}
         if self.contact:
             out["contact"] = {k: c.to_dict() for k, c in self.contact.items()}
+        if self.friction:
+            out["friction"] = {k: v.to_dict() for k, v in self.friction.items()}
+            out["friction_power"] = plain(self.friction_power)
+            out["units"] = UNITS | FRICTION_UNITS
         if np.ndim(self.phi):  # samples: which are marked singular (one state never is: it raises)
             out["singular"] = plain(self.singular)
         return out
@@ -91,18 +113,30 @@ class PlanarForces:
     def columns(self, transfer: bool = True) -> dict[str, np.ndarray]:
         cols = {"phi [rad]": column(self.phi), "singular": np.atleast_1d(np.asarray(self.singular, dtype=bool))}
         cols |= {f"{q} [{u}]": column(getattr(self, q)) for q, u in SCALARS}
-        for table in (self.reactions, self.prismatic, self.tooth, self.contact):
+        for table in (self.reactions, self.prismatic, self.tooth, self.contact, self.friction):
             for k, r in table.items():
                 cols |= r.columns(k)
+        if self.friction:
+            cols["friction_power [W]"] = column(self.friction_power)
         return cols
 
     def singular_lines(self) -> list[str]:
-        """The groups singular somewhere (a second kinematic pass, only when some sample is marked)."""
+        """The groups singular somewhere (a second kinematic pass, only when some sample is marked),
+        and the samples where the friction has no solution."""
         if not np.any(self.singular) or self.solution is None:
             return []
+        from linkgen.errors import angle_ranges, format_ranges
         from linkgen.families.planar.motion_result import kinematics
 
-        return kinematics(self.solution[0], self.solution[1], on_singular="mark").singular_lines()
+        kin = kinematics(self.solution[0], self.solution[1], on_singular="mark")
+        lines = kin.singular_lines()
+        locked = np.asarray(self.singular, dtype=bool) & ~np.asarray(kin.singular, dtype=bool)
+        if locked.any():  # marked by the friction's iteration, not by a group (``kinetostatics``)
+            phi = np.atleast_1d(self.phi)
+            lines.append(f"the kinetostatics with friction finds no solution at crank angles "
+                         f"{format_ranges(angle_ranges(phi, locked))} ({int(np.count_nonzero(locked))} of {len(phi)} "
+                         f"samples: the mechanism self-locks there, or is close to it)")
+        return lines
 
     @per_sample
     def text(self, transfer: bool = False) -> str:
@@ -130,6 +164,14 @@ class PlanarForces:
             lines.append(f"contact force of cam {k!r} on its follower {c.on!r} by {c.by!r}: {n:.6g} N along the profile's normal"
                          + ("" if n >= 0 else " — negative: the follower would leave the cam here (a stronger spring "
                                               "keeps it on)"))
+        for k, v in self.friction.items():
+            if v.friction_couple is not None:
+                lines.append(f"friction couple in {k!r} on {v.on!r} by {v.by!r}: {float(v.friction_couple):.6g} N·m")
+            else:
+                lines.append(f"friction force in {k!r} on {v.on!r} by {v.by!r}: {float(v.friction_force):.6g} N "
+                             f"along the guide")
+        if self.friction:
+            lines.append(f"power lost to friction: {float(self.friction_power):.6g} W")
         return "\n".join(lines)
 
     def __repr__(self) -> str:
@@ -165,7 +207,9 @@ def forces(source, phi, omega=None, epsilon=None, *, on_singular: str = "raise")
         {k: ToothForce(s(v), g.planet, GROUND) for (k, v), g in zip(f.tooth.items(), mech.gears)},
         {c.name: ContactForce(s(f.contact[c.name]), c.follower, mech.crank) for c in mech.cams if c.name in f.contact},
         s(f.reduced.inertia), s(f.reduced.inertia_derivative), s(f.reduced.moment),
-        bool(f.singular[0]) if scalar else f.singular, (asm, phis))
+        bool(f.singular[0]) if scalar else f.singular, (asm, phis),
+        {k: PairFriction(f.on[k], f.by[k], *((None, s(v)) if k in pairs else (s(v), None)))
+         for k, v in f.friction.items()}, s(f.friction_power) if f.friction else None)
 
 
-__all__ = ["ContactForce", "PlanarForces", "PrismaticLoad", "ToothForce", "forces"]
+__all__ = ["ContactForce", "PairFriction", "PlanarForces", "PrismaticLoad", "ToothForce", "forces"]

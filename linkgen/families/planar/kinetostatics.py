@@ -16,14 +16,15 @@ links are in ``Forces.on`` and ``Forces.by``):
       the force [N] the *second* link exerts on the *first*, world frame, shape (n, 2).
     * Prismatic pair: ``normal_force`` [N] is the guide's force on the slider along the
       guide line's left normal; ``moment`` [N·m] is the couple the guide exerts on the
-      slider (about +z) when the normal force is placed at the slider's ``point``. The
-      pair is frictionless: no force along the line.
+      slider (about +z) when the normal force is placed at the slider's ``point``. Along the
+      line the pair carries only its Coulomb friction, if it has any (``Forces.friction``).
+    * Friction (``[[friction]]``, ``planar.friction``): the reactions depend on it and it on
+      them; solved by fixed-point iteration from the frictionless solution (FRICTION_TOL), the
+      power balance then adding the friction's losses; FrictionError where it has no solution.
     * ``balancing_torque`` [N·m]: the torque the drive applies to the crank, about +z.
 """
 
 from __future__ import annotations
-
-import math
 
 from dataclasses import dataclass, field
 
@@ -31,14 +32,12 @@ import numpy as np
 
 from linkgen.families.planar.assembly import Assembly, assemble
 from linkgen.families.planar.blocks import in_blocks
-from linkgen.families.planar.description import GROUND
-from linkgen.families.planar.equilibrium import Column, dyad, three
-from linkgen.errors import BalanceError, MagnitudeError, SingularityError, angle_ranges
-from linkgen.families.planar.cam_pair import contact as cam_contact, ground_pair
+from linkgen.errors import BalanceError, FrictionError, angle_ranges
+from linkgen.families.planar.friction import FrictionLoads, friction_loads
 from linkgen.families.planar.kinematics import BlockFailed, Kinematics, checked_angles, checked_mode, raise_failure, solve_block
 from linkgen.families.planar.motion import rate
 from linkgen.families.planar.loads import applied_loads, mass_table
-from linkgen.families.planar.structure import Pair
+from linkgen.families.planar.reactions import solve_reactions
 
 
 @dataclass(frozen=True)
@@ -48,8 +47,8 @@ class Forces:
 
     Attributes:
         balancing_torque: (n,) [N·m] from the group-by-group solution.
-        power_balance_torque: (n,) [N·m] the same from virtual work (Σ F·v′ + M·θ′ = 0),
-            an independent check.
+        power_balance_torque: (n,) [N·m] the same from virtual work (Σ F·v′ + M·θ′ = 0), plus
+            the friction's lost power over ω from the pairs' relative rates: an independent check.
         reactions: revolute name → (n, 2) [N].
         normal_force, moment: prismatic name → (n,) [N], [N·m].
         reduced: the reduced dynamics at these angles.
@@ -64,6 +63,9 @@ class Forces:
         on, by: pair name → the link its reaction acts on and the link that exerts it: a
             revolute's first and second link in the description's order, a prismatic pair's
             slider and guide.
+        friction: pair name → (n,) its Coulomb friction (``planar.friction``): the couple on a
+            revolute's first link [N·m], the force on a slider along its guide's direction [N].
+        friction_power: (n,) [W] the power the friction takes out (≥ 0; zeros without friction).
     """
 
     def __repr__(self) -> str:
@@ -84,6 +86,8 @@ class Forces:
     contact: dict = field(default_factory=dict)
     on: dict = field(default_factory=dict)
     by: dict = field(default_factory=dict)
+    friction: dict = field(default_factory=dict)
+    friction_power: np.ndarray | None = None
 
 
 @dataclass(frozen=True)
@@ -172,27 +176,32 @@ def forces(mech_or_asm, phi, omega, epsilon=0.0, threads: int | None = None, *,
             raise BlockFailed
         kin = Kinematics(asm, phi[rows], poses, points, sliders, near, marked)
         wr, er = (w if np.ndim(w) == 0 else w[rows]), (e if np.ndim(e) == 0 else e[rows])
-        return _block_forces(asm, kin, np.broadcast_to(wr, kin.phi.shape), np.broadcast_to(er, kin.phi.shape))
+        return _block_forces(asm, kin, np.broadcast_to(wr, kin.phi.shape), np.broadcast_to(er, kin.phi.shape), mark)
 
     try:
         tree, infos = in_blocks(block, n, threads)
     except BlockFailed:
         raise_failure(asm, phi, mark)
         raise
+    locked = [r for info in infos for r in info[2]]
+    if locked:
+        raise FrictionError(locked)
     bad = [r for info in infos for r in info[0]]
     if bad:
         raise BalanceError(bad, max(info[1] for info in infos), BALANCE_TOL)
-    torque, power, reactions, normal, moment, (j, dj, m_red, c_red), marked, tooth, contact = tree
+    torque, power, reactions, normal, moment, (j, dj, m_red, c_red), marked, tooth, contact, friction, loss = tree
     mech = asm.mechanism
     on = {r.name: r.links[0] for r in mech.revolutes} | {p.name: p.slider for p in mech.prismatics}
     by = {r.name: r.links[1] for r in mech.revolutes} | {p.name: p.guide for p in mech.prismatics}
     return Forces(phi, np.array(np.broadcast_to(w, (n,))), np.array(np.broadcast_to(e, (n,))), torque, power,
-                  reactions, normal, moment, ReducedDynamics(j, dj, m_red, c_red), marked, tooth, contact, on, by)
+                  reactions, normal, moment, ReducedDynamics(j, dj, m_red, c_red), marked, tooth, contact, on, by,
+                  friction, loss * np.abs(np.broadcast_to(w, (n,))))
 
 
 @np.errstate(invalid="ignore", divide="ignore", over="ignore")  # found and named by angle below
-def _block_forces(asm: Assembly, kin: Kinematics, w: np.ndarray, e: np.ndarray):
-    """One block's forces: (tree, (balance failures as angle ranges, worst relative deviation))."""
+def _block_forces(asm: Assembly, kin: Kinematics, w: np.ndarray, e: np.ndarray, mark: bool = False):
+    """One block's forces: (tree, (balance failures as angle ranges, worst relative deviation,
+    angle ranges where the friction has no solution))."""
     mech = asm.mechanism
     n = kin.phi.shape[0]
     marked = kin.singular
@@ -212,126 +221,103 @@ def _block_forces(asm: Assembly, kin: Kinematics, w: np.ndarray, e: np.ndarray):
         m_term = load[name][1] * kin.links[name].angle.d1
         power += f_term + m_term
         scale += np.hypot(*load[name][0].T) * np.hypot(*given[name].com.d1.T) + np.abs(m_term)
-
     com = {name: given[name].com.p for name in masses}
-    reactions: dict[str, np.ndarray] = {}
-    normal: dict[str, np.ndarray] = {}
-    moment: dict[str, np.ndarray] = {}
-
-    def columns(pair: Pair, link: str) -> list[tuple[np.ndarray, np.ndarray]]:
-        """The load on ``link`` per unit value of each of ``pair``'s two unknowns."""
-        if pair.kind == "R":
-            joint = mech.revolute(pair.name)
-            sign = 1.0 if link == joint.links[0] else -1.0
-            d = kin.points[joint.point].p - com[link]
-            ex, ey = np.zeros((n, 2)), np.zeros((n, 2))
-            ex[:, 0], ey[:, 1] = sign, sign
-            return [(ex, -sign * d[:, 1]), (ey, sign * d[:, 0])]
-        g = asm.guides[pair.name]
-        sign = 1.0 if link == g.slider else -1.0
-        u = kin.links[g.guide].direction(g.alpha).p
-        nrm = np.stack([-u[:, 1], u[:, 0]], axis=1)
-        d = kin.links[g.slider].point(g.point).p - com[link]
-        return [(sign * nrm, sign * (d[:, 0] * nrm[:, 1] - d[:, 1] * nrm[:, 0])),
-                (np.zeros((n, 2)), np.full(n, sign))]
-
-    def store(pair: Pair, x: np.ndarray) -> None:
-        if pair.kind == "R":
-            reactions[pair.name] = x.copy()
-        else:
-            normal[pair.name], moment[pair.name] = x[:, 0].copy(), x[:, 1].copy()
-
-    def transmit(pair: Pair, link: str, x: np.ndarray) -> None:
-        """Add the solved pair's load on ``link`` (a link solved later) to its given load."""
-        if link == GROUND:
-            return
-        for k, (f, m) in enumerate(columns(pair, link)):
-            load[link][0] = load[link][0] + f * x[:, k:k + 1]
-            load[link][1] = load[link][1] + m * x[:, k]
-
-    def column3(pair: Pair, link: str) -> tuple[Column, Column]:
-        """``columns`` as (x force, y force, moment) triples (``equilibrium``); ±1 and 0 stay scalars."""
-        if pair.kind == "R":
-            joint = mech.revolute(pair.name)
-            sign = 1.0 if link == joint.links[0] else -1.0
-            d = kin.points[joint.point].p - com[link]
-            return (sign, 0.0, -sign * d[:, 1]), (0.0, sign, sign * d[:, 0])
-        (f0, m0), _ = columns(pair, link)
-        sign = 1.0 if link == asm.guides[pair.name].slider else -1.0
-        return (f0[:, 0], f0[:, 1], m0), (0.0, 0.0, sign)
-
-    def given3(link: str) -> Column:
-        """−(the link's total load), the right side of its three equations."""
-        f, m = load[link]
-        return -f[:, 0], -f[:, 1], -m
-
-    crank, drive = asm.structure.crank, asm.structure.drive
-    span = asm.shapes[crank].span()
-    for group in reversed(asm.structure.groups):
-        (l1, l2), (o1, inner, o2) = group.links, group.pairs
-        x, singular = dyad(column3(o1, l1), column3(inner, l1), column3(inner, l2), column3(o2, l2), given3(l1),
-                           given3(l2))
-        x = _checked(x, singular, kin.phi, marked, f"{group.label} (equilibrium equations)")
-        for col, pair in ((0, o1), (2, inner), (4, o2)):
-            store(pair, x[:, col:col + 2])
-            if crank in pair.links:
-                scale += span * np.hypot(*x[:, col:col + 2].T)
-        transmit(o1, group.known[0], x[:, 0:2])
-        transmit(o2, group.known[1], x[:, 4:6])
-
-    contact: dict[str, np.ndarray] = {}
-    for cam in mech.cams:  # each follower: the contact force along the cam's normal and its pair with the ground
-        follower = cam.follower
-        kind, gp = ground_pair(mech, cam)
-        pair = Pair(kind, gp.name, gp.links if kind == "R" else (gp.slider, gp.guide))
-        c, nrm, _ = cam_contact(kin, cam)
-        d = c - com[follower]
-        x, singular = three((nrm[:, 0], nrm[:, 1], d[:, 0] * nrm[:, 1] - d[:, 1] * nrm[:, 0]),
-                            *column3(pair, follower), given3(follower))
-        x = _checked(x, singular, kin.phi, marked,
-                     f"the follower {follower!r} of cam {cam.name!r} (equilibrium equations)")
-        contact[cam.name] = x[:, 0].copy()
-        store(pair, x[:, 1:3])
-        on_cam = -x[:, :1] * nrm  # through C, on the line of the contact
-        dc = c - com[crank]
-        load[crank][0] = load[crank][0] + on_cam
-        load[crank][1] = load[crank][1] + dc[:, 0] * on_cam[:, 1] - dc[:, 1] * on_cam[:, 0]
-        scale += np.abs(x[:, 0]) * np.hypot(*(c - kin.points[mech.revolute(drive.name).point].p).T)
-
-    tooth: dict[str, np.ndarray] = {}
-    for g in mech.gears:  # each planet: its tooth force from the moment about its centre, then its pin
-        planet, centre = g.planet, mech.link(g.planet).points[0]
-        pin = next(Pair("R", r.name, r.links) for r in mech.revolutes
-                   if r.point == centre and set(r.links) == {crank, planet})
-        c = kin.points[centre].p
-        pivot = kin.points[mech.revolute(drive.name).point].p
-        radial = (c - pivot) / np.hypot(*(c - pivot).T)[:, None]
-        tangent = np.stack([-radial[:, 1], radial[:, 0]], axis=1)
-        side = 1.0 if g.kind == "internal" else -1.0  # the pitch point beyond the centre, or before it
-        f_load, m_load = load[planet]
-        d = com[planet] - c
-        m_centre = m_load + d[:, 0] * f_load[:, 1] - d[:, 1] * f_load[:, 0]
-        f_t = -m_centre / (side * g.planet_radius)
-        f_tooth = f_t[:, None] * tangent + (np.abs(f_t) * math.tan(g.pressure_angle))[:, None] * (-side * radial)
-        tooth[g.name] = f_tooth
-        r = -(f_load + f_tooth)  # on the planet from the crank
-        x = r if planet == pin.links[0] else -r
-        store(pin, x)
-        transmit(pin, crank, x)
-        scale += span * np.hypot(*x.T)
-
-    x, singular = three(*column3(drive, crank), (0.0, 0.0, 1.0), given3(crank))
-    x = _checked(x, singular, kin.phi, marked, "I(0,1) crank (equilibrium equations)")
-    store(drive, x[:, 0:2])
-    torque, power = x[:, 2].copy(), -power
+    locked: list = []
+    sol = solve_reactions(asm, kin, load, com, marked)
+    friction, loss = {}, np.zeros(n)
+    if mech.frictions:
+        sol, applied, marked, locked = _with_friction(asm, kin, w, load, com, marked, sol, mark)
+        friction, loss = applied.pair, applied.loss
+        # The losses, from the pairs' relative rates (``friction``), add sgn(ω)·loss to the torque.
+        power = power - np.sign(w) * loss
+        scale = scale + loss
+    torque, reactions, normal, moment, tooth, contact, sol_scale = sol
+    scale = scale + sol_scale
+    power = -power
     red = reduced_dynamics(asm, kin, given)
     if marked.any():
-        for arr in (power, red.inertia, red.inertia_derivative, red.moment, red.damping):
+        for arr in (power, red.inertia, red.inertia_derivative, red.moment, red.damping, loss):
             arr[marked] = 0.0
     bad, worst = balance_failures(kin.phi, torque, power, scale, marked)
     tree = (torque, power, reactions, normal, moment, (red.inertia, red.inertia_derivative, red.moment, red.damping),
-            marked, tooth, contact)
-    return tree, (bad, worst)
+            marked, tooth, contact, friction, loss)
+    return tree, (bad, worst, locked)
+
+
+# The friction iteration (``_with_friction``) stops at an angle when no pair's friction changes by
+# more than this fraction of its value from one pass to the next. Each pass is the frictionless
+# solution's arithmetic (rounding ~1e-15 relative, times the groups' condition ≲ 1e2 as for
+# BALANCE_TOL), so 1e-12 is reachable, and it leaves the reactions within ~1e-12 of the fixed point
+# times 1/(1 − contraction), the contraction being ~μ·r/arm or μ·tan(pressure angle) (< 1 where it
+# converges in MAX_FRICTION_PASSES).
+FRICTION_TOL = 1e-12
+# Passes: a contraction of 0.93 reaches FRICTION_TOL in ~380; more than this is a mechanism so close
+# to self-locking that its torques are not worth reporting.
+MAX_FRICTION_PASSES = 400
+# An angle whose total friction grows past this multiple of the first pass's diverges (self-locks).
+FRICTION_GROWTH = 1e6
+
+
+def _with_friction(asm: Assembly, kin: Kinematics, w: np.ndarray, load: dict, com: dict, marked: np.ndarray, sol,
+                   mark: bool):
+    """Fixed-point iteration on the reactions from the frictionless solution ``sol``: each pass
+    applies a friction as given loads, solves again and takes the friction of the new reactions,
+    until that is the one applied (FRICTION_TOL). The next pass applies the new friction, or where
+    the residual (new − applied) did not shrink, a step λ of the way to it, λ halved each time
+    (under-relaxation: a pass whose friction overshoots, as where the friction's share of a pair's
+    reaction turns against it, then converges; a mechanism that self-locks still does not).
+    Returns (the last solution, the friction loads it was solved with, the angles marked
+    singular (with the self-locked ones if ``mark``: ``on_singular="mark"``), angle ranges where
+    it finds no solution (raise))."""
+    n = kin.phi.shape[0]
+    tiny = np.finfo(float).tiny
+    applied = friction_loads(asm, kin, w, com, *sol[1:4])
+    first = sum(np.abs(v) for v in applied.pair.values()) + tiny
+    done = np.zeros(n, dtype=bool)
+    failed = np.zeros(n, dtype=bool)
+    step, last = np.ones(n), np.full(n, np.inf)
+    for _ in range(MAX_FRICTION_PASSES):
+        sol = solve_reactions(asm, kin, load, com, marked | failed, applied.link)
+        new = friction_loads(asm, kin, w, com, *sol[1:4])
+        change = np.zeros(n, dtype=bool)
+        residual = np.zeros(n)
+        for k, v in new.pair.items():
+            gap = np.abs(v - applied.pair[k])
+            change |= ~(gap <= FRICTION_TOL * np.maximum(np.abs(v), np.abs(applied.pair[k])))
+            residual += gap
+        done = ~change | marked
+        failed |= ~(sum(np.abs(v) for v in new.pair.values()) <= FRICTION_GROWTH * first)
+        if np.all(done | failed):
+            break
+        step = np.where(residual >= last, 0.5 * step, step)
+        last = residual
+        applied = _zeroed(_toward(applied, new, step), failed)
+    failed |= ~done & ~marked
+    if mark and failed.any():
+        marked = marked | failed
+        sol = solve_reactions(asm, kin, load, com, marked, _zeroed(applied, failed).link)
+    return sol, _zeroed(applied, failed), marked, [] if mark else angle_ranges(kin.phi, failed)
+
+
+def _toward(a: FrictionLoads, b: FrictionLoads, step: np.ndarray) -> FrictionLoads:
+    """a + step·(b − a) per angle: every part of the friction loads is linear in the pairs' values,
+    whose signs the kinematics fix, so a step between two of them is itself one."""
+    if np.all(step == 1.0):
+        return b
+    s2 = step[:, None]
+    return FrictionLoads({k: [a.link[k][0] + s2 * (f - a.link[k][0]), a.link[k][1] + step * (m - a.link[k][1])]
+                          for k, (f, m) in b.link.items()},
+                         {k: a.pair[k] + step * (v - a.pair[k]) for k, v in b.pair.items()},
+                         a.loss + step * (b.loss - a.loss))
+
+
+def _zeroed(fl: FrictionLoads, rows: np.ndarray) -> FrictionLoads:
+    """``fl`` with no friction at ``rows`` (angles that diverged: kept finite for the next pass)."""
+    if not rows.any():
+        return fl
+    keep = ~rows
+    return FrictionLoads({k: [f * keep[:, None], m * keep] for k, (f, m) in fl.link.items()},
+                         {k: v * keep for k, v in fl.pair.items()}, fl.loss * keep)
 
 
 def balance_failures(phi: np.ndarray, torque: np.ndarray, power: np.ndarray, scale: np.ndarray,
@@ -341,25 +327,6 @@ def balance_failures(phi: np.ndarray, torque: np.ndarray, power: np.ndarray, sca
     rel = np.abs(torque - power) / np.maximum(scale, np.finfo(float).tiny)
     bad = ~(rel <= BALANCE_TOL) & ~skip
     return (angle_ranges(phi, bad), float(rel[bad].max())) if bad.any() else ([], 0.0)
-
-
-def _checked(x: tuple[np.ndarray, ...], singular: np.ndarray, phi: np.ndarray, marked: np.ndarray,
-             label: str) -> np.ndarray:
-    """The unknowns of one system (``equilibrium``) as (n, k), zero at the ``marked`` (singular)
-    angles. A system that is exactly singular elsewhere raises SingularityError naming the
-    angles; a non-finite solution, MagnitudeError."""
-    n = phi.shape[0]
-    out = np.empty((n, len(x)))
-    for k, v in enumerate(x):
-        out[:, k] = v
-    out[marked] = 0.0
-    bad = np.broadcast_to(singular, (n,)) & ~marked
-    if np.any(bad):
-        raise SingularityError(label, angle_ranges(phi, bad), "the equilibrium equations are singular")
-    bad = ~np.all(np.isfinite(out), axis=1)
-    if np.any(bad):
-        raise MagnitudeError(f"the solution of {label}", angle_ranges(phi, bad))
-    return out
 
 
 __all__ = ["BALANCE_TOL", "Forces", "ReducedDynamics", "balance_failures", "forces", "reduced_dynamics"]

@@ -8,6 +8,7 @@ from typing import Any
 from linkgen.families.planar.description import (
     CamPair,
     Drive,
+    Friction,
     Gear,
     Link,
     LinkTorque,
@@ -26,7 +27,8 @@ from linkgen.errors import DescriptionError
 from linkgen.model.units import angular_acceleration, angular_speed, finite, length, parse_angle, point2, shown, vector2
 
 _TOP = {"mechanism", "points", "links", "prismatic", "drive", "force", "torque", "machine", "gear", "cam", "spring",
-        "torsion_spring"}
+        "torsion_spring", "friction"}
+_FRICTION = {"pair", "coefficient", "pin_radius", "block_length"}
 _SPRING = {"points", "stiffness", "rest_length", "damping"}
 _TORSION = {"joint", "links", "stiffness", "rest_angle", "damping"}
 _CAM = {"follower", "roller", "roller_radius", "spring_rate", "spring_preload", "segment", "law"}
@@ -126,6 +128,7 @@ def from_dict(data: dict) -> Mechanism:
         springs=tuple(_spring(i, s) for i, s in enumerate(_list(data.get("spring", []), "spring"))),
         torsion_springs=tuple(_torsion(i, s) for i, s in enumerate(_list(data.get("torsion_spring", []),
                                                                          "torsion_spring"))),
+        frictions=tuple(_friction(i, f) for i, f in enumerate(_list(data.get("friction", []), "friction"))),
     )
 
 
@@ -151,6 +154,14 @@ def _torsion(i: int, spec: Any) -> TorsionSpring:
     return TorsionSpring(_str(t["joint"], f"{where}.joint"), _names2(t["links"], f"{where}.links"),
                          finite(t["stiffness"], f"{where}.stiffness"), rest,
                          finite(t.get("damping", 0.0), f"{where}.damping"))
+
+
+def _friction(i: int, spec: Any) -> Friction:
+    where = f"friction[{i}]"
+    t = _table(spec, where)
+    _keys(t, _FRICTION, {"pair", "coefficient"}, where)
+    radius, block = (length(t[k], f"{where}.{k}") if k in t else None for k in ("pin_radius", "block_length"))
+    return Friction(_str(t["pair"], f"{where}.pair"), finite(t["coefficient"], f"{where}.coefficient"), radius, block)
 
 
 def _cam(name: str, spec: Any, data: dict) -> CamPair:

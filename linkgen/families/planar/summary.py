@@ -1,7 +1,8 @@
 """The design summary a designer reads first: each slider's stroke and each rocker's swing with
 their limit (dead-centre) positions, the time ratio of a working and a return stroke, each
 group's least transmission angle, the peak balancing torque and joint reactions, and each
-spring's peak force (``peak_spring_forces``: empty without springs).
+spring's peak force (``peak_spring_forces``: empty without springs), and with friction in the pairs
+the power it takes out, its peak and its mean over the range's samples (None without friction).
 
 Limit positions are the crank angles where an output's first transfer function changes sign,
 found on a grid of SAMPLES angles — round the wrap from 2π to 0 over a full turn, and where it
@@ -58,12 +59,15 @@ class DesignSummary:
     forces_note: str | None = None
     min_transmission_angle: Mapping[str, Extreme] = field(default_factory=dict)
     peak_spring_forces: Mapping[str, Extreme] = field(default_factory=dict)
+    peak_friction_power: Extreme | None = None
+    mean_friction_power: float | None = None
 
     @property
     def units(self) -> dict[str, str]:
         return {"phi": "rad", "drive_range": "rad", "slider": "m", "rocker": "rad", "peak_balancing_torque": "N·m",
                 "peak_reactions": "N", "min_transmission_angle": "rad",
-                "peak_spring_forces": "N (spring[i]) or N·m (torsion_spring[i])"}
+                "peak_spring_forces": "N (spring[i]) or N·m (torsion_spring[i])", "peak_friction_power": "W",
+                "mean_friction_power": "W"}
 
     def to_dict(self) -> dict:
         return summary_dict(self)
@@ -175,7 +179,7 @@ def summarize(asm: Assembly, omega: float | None = None, epsilon: float | None =
     for label, mu in transmission_angles(asm, phi).items():
         at, least = _peak(lambda p, n=label: transmission_angles(asm, p)[n], phi, mu, "min")
         trans[label] = Extreme(least, at)
-    torque, peaks, note = None, {}, None
+    torque, peaks, note, lost = None, {}, None, (None, None)
     try:
         f = forces(asm, phi, w, e)
     except LinkgenError as exc:
@@ -190,8 +194,11 @@ def summarize(asm: Assembly, omega: float | None = None, epsilon: float | None =
                 return np.hypot(r[:, 0], r[:, 1])
             at, value = _peak(mag, phi, np.hypot(r[:, 0], r[:, 1]))
             peaks[name] = Extreme(value, at)
+        if mech.frictions:  # the mean over equal steps of φ: over time too at constant ω
+            at, value = _peak(lambda p: forces(asm, p, w, e).friction_power, phi, f.friction_power)
+            lost = (Extreme(value, at), float(np.mean(f.friction_power[:-1] if full else f.friction_power)))
     return DesignSummary(mech.name, w, e, (mech.drive.start, mech.drive.stop), outputs, torque, peaks, note, trans,
-                         spring_peaks(asm, phi, w))
+                         spring_peaks(asm, phi, w), *lost)
 
 
 def spring_peaks(asm: Assembly, phi: np.ndarray, omega: float) -> dict[str, Extreme]:

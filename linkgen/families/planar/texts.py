@@ -113,6 +113,10 @@ def summary_text(s) -> str:
     for name, p in s.peak_spring_forces.items():
         what, unit = ("torque", "N·m") if name.startswith("torsion") else ("force", "N")
         lines.append(f"  peak {what} of {name}: {p.value:.6g} {unit} at φ = {math.degrees(p.phi):.6g}°")
+    if s.peak_friction_power is not None:
+        p = s.peak_friction_power
+        lines.append(f"  power lost to friction: peak {p.value:.6g} W at φ = {math.degrees(p.phi):.6g}°, mean "
+                     f"{s.mean_friction_power:.6g} W")
     return "\n".join(lines)
 
 
