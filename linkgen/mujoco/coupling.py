@@ -42,6 +42,7 @@ from linkgen.families.planar.description import GROUND, Mechanism
 from linkgen.families.planar.geometry import guide_shapes, link_shapes
 from linkgen.families.planar.polyfit import MIDDLE, PolyFit, fit, grid, minimax
 from linkgen.families.planar.structure import Pair, pairs_of
+from linkgen.mujoco.tree import grow_tree
 
 if TYPE_CHECKING:
     from linkgen.mujoco.coupling_torque import TorqueError
@@ -154,30 +155,7 @@ def coupled_tree(mech: Mechanism) -> tuple[tuple[tuple[str, str, Pair], ...], tu
     drive = next(p for p in pairs if p.kind == "R" and p.name == mech.drive.joint)
     grounded = [p for p in pairs if p is not drive and GROUND in p.links]
     ordered = [drive] + grounded + [p for p in pairs if p is not drive and p not in grounded]
-    root = {n: n for n in mech.link_names}
-
-    def find(n):
-        while root[n] != n:
-            n = root[n]
-        return n
-
-    edges, left = [], []
-    for p in ordered:
-        a, b = find(p.links[0]), find(p.links[1])
-        if a == b:
-            left.append(p)
-        else:
-            root[a] = b
-            edges.append(p)
-    tree, seen, frontier = [], {GROUND}, [GROUND]
-    while frontier:
-        parent = frontier.pop(0)
-        for p in edges:
-            if parent in p.links and p.other(parent) not in seen:
-                tree.append((parent, p.other(parent), p))
-                seen.add(p.other(parent))
-                frontier.append(p.other(parent))
-    return tuple(tree), tuple(left)
+    return grow_tree(mech.link_names, ordered)
 
 
 def link_poses(source: Mechanism | Assembly, phi: np.ndarray) -> tuple[dict, dict]:

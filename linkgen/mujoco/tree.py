@@ -61,6 +61,38 @@ class TreeInfo:
         raise KeyError(link)
 
 
+def grow_tree(links, ordered) -> tuple[tuple[tuple[str, str, Pair], ...], tuple[Pair, ...]]:
+    """The spanning tree the pairs ``ordered`` make over ``links``, taken in that order (a pair
+    that would close a loop is left out): ((parent, child, pair) breadth first from the ground,
+    the pairs left out)."""
+    root = {n: n for n in links}
+
+    def find(n):
+        while root[n] != n:
+            root[n] = root[root[n]]
+            n = root[n]
+        return n
+
+    edges, left = [], []
+    for p in ordered:
+        a, b = find(p.links[0]), find(p.links[1])
+        if a == b:
+            left.append(p)
+        else:
+            root[a] = b
+            edges.append(p)
+    tree, seen, frontier = [], {GROUND}, [GROUND]
+    while frontier:
+        parent = frontier.pop(0)
+        for p in edges:
+            if parent in p.links and p.other(parent) not in seen:
+                child = p.other(parent)
+                tree.append((parent, child, p))
+                seen.add(child)
+                frontier.append(child)
+    return tuple(tree), tuple(left)
+
+
 def spanning_tree(source: Mechanism | Assembly) -> TreeInfo:
     """The drive pair first, then every prismatic, then revolutes (Kruskal) from the lightest
     pair up; the rest close loops.
@@ -92,33 +124,10 @@ def spanning_tree(source: Mechanism | Assembly) -> TreeInfo:
     # a planet hangs on the crank by its pin, so its gear coupling ties two joints of the tree
     ordered = ([drive] + planet_pins + follower_pins + [p for p in pairs if p.kind == "P" and p not in follower_pins]
                + revolutes)
-    root = {n: n for n in mech.link_names}
-
-    def find(n):
-        while root[n] != n:
-            root[n] = root[root[n]]
-            n = root[n]
-        return n
-
-    edges, closures = [], []
-    for p in ordered:
-        a, b = find(p.links[0]), find(p.links[1])
-        if a == b:
-            if p.kind == "P":
-                raise StructureError(f"prismatic pair {p.name!r} closes a loop of prismatic pairs; not supported")
-            closures.append(p)
-        else:
-            root[a] = b
-            edges.append(p)
-    tree, seen, frontier = [], {GROUND}, [GROUND]
-    while frontier:
-        parent = frontier.pop(0)
-        for p in edges:
-            if parent in p.links and p.other(parent) not in seen:
-                child = p.other(parent)
-                tree.append((parent, child, p))
-                seen.add(child)
-                frontier.append(child)
-    info = TreeInfo(tuple(tree), tuple(closures))
+    tree, closures = grow_tree(mech.link_names, ordered)
+    for p in closures:
+        if p.kind == "P":
+            raise StructureError(f"prismatic pair {p.name!r} closes a loop of prismatic pairs; not supported")
+    info = TreeInfo(tree, closures)
     mech.__dict__["_linkgen_spanning_tree"] = info  # the Mechanism is frozen: derived once
     return info
