@@ -15,7 +15,12 @@ The mechanism's own [[force]]/[[torque]] loads are body wrenches (``xfrc_applied
 applies their mean over the crank angles the step sweeps (predicted from the speed and the last
 acceleration), read from a table over one turn (LOAD_GRID cells, linear between them, a
 stroke-switched force's switch angles exact; the closed-form positions at each grid angle: the
-linkage has one degree of freedom, so its loads are functions of φ alone). Gravity is MuJoCo's own."""
+linkage has one degree of freedom, so its loads are functions of φ alone). Gravity is MuJoCo's own.
+
+Friction in the pairs ([[friction]]), which MuJoCo's frictionloss cannot model (``mujoco.friction``),
+is applied each step as a wrench: the closed form's friction at the step's mid-point crank angle and
+speed and the last step's acceleration (MuJoCo's own state, not the ODE's), regularised near rest
+as the machine's equation is (``machine.friction.scale``)."""
 
 from __future__ import annotations
 
@@ -38,11 +43,16 @@ from linkgen.mujoco.state import initial_state
 from linkgen.mujoco.timing import settle_window
 from linkgen.mujoco.tree import DRIVE_ACTUATOR
 from linkgen.families.planar.assembly import Assembly
+from linkgen.model.names import GROUND
 
 ROTOR, SHAFT, MOTOR = "machine:rotor", "machine:shaft", "machine:motor"
 # Cells of the load table over one turn: linear interpolation errs by (2π/LOAD_GRID)²/8 of the
 # loads' second derivative in φ, 3e-9 of a load that varies like cos φ.
 LOAD_GRID = 16384
+# Passes of the friction's loop through MuJoCo's acceleration at a sample (and at the start): the
+# friction depends on ε only through the inertia loads' share of the reactions (~μ·r/arm of them),
+# so each pass shrinks the gap by that factor, ~1e-2 on the bundled models: 4 passes reach ~1e-8.
+SAMPLE_PASSES = 4
 # Seconds of wall time between progress reports of a long run.
 PROGRESS_EVERY = 2.0
 
@@ -76,7 +86,7 @@ class _LoadTable:
         d = asm.mechanism.drive
         span = min(d.stop - d.start, 2 * math.pi)  # a crank that does not turn fully: its range
         grid, where = jump_grid(d.start, LOAD_GRID, switch_angles(asm.mechanism, d.start), span)
-        self.table = PeriodicTable(grid, load_schedule(asm, model, where))
+        self.table = PeriodicTable(grid, load_schedule(asm, model, where, friction=False))
         self.shape = (model.nbody, 6)
 
     def over(self, a: float, b: float) -> np.ndarray:
@@ -93,8 +103,6 @@ def run_machine_mujoco(asm: Assembly, machine: Machine, t: np.ndarray, reactions
     settings are derived for the largest crank speed [rad/s]: the motor's top speed or ``omega``
     (the speed the ODE reaches) if higher. ``progress(fraction, elapsed s)`` is called every
     PROGRESS_EVERY s of a run that lasts longer than that."""
-    from linkgen.mujoco.forces import has_loads
-
     mech = asm.mechanism
     xml = write_mjcf(asm, PLACEHOLDER)
     model = mujoco.MjModel.from_xml_string(xml)
@@ -127,7 +135,9 @@ def run_machine_mujoco(asm: Assembly, machine: Machine, t: np.ndarray, reactions
         model.actuator_biasprm[act, 2] = -u * u * eta * mot.stall_torque / mot.no_load_speed
     data = mujoco.MjData(model)
     load = process_torque_function(machine.process_load)
-    table = _LoadTable(asm, model) if has_loads(asm) else None
+    # the friction is not a function of φ alone: applied at each step's own state below
+    wrenches = any(f.link != GROUND for f in mech.forces) or any(t.link != GROUND for t in mech.torques)
+    table = _LoadTable(asm, model) if wrenches else None
     rotor_adr = model.joint(ROTOR).qposadr[0] if machine.shaft is not None else None
     phi0 = machine.start(mech.drive.start)
     qpos, qvel = initial_state(asm, model, phi0, machine.start_speed)
@@ -144,6 +154,7 @@ def run_machine_mujoco(asm: Assembly, machine: Machine, t: np.ndarray, reactions
     phi_c = phi0  # the crank angle, unwrapped
     q_prev = float(data.qpos[adr])
     k, steps = 0, 0
+    start_eps = _start_acceleration(asm, model, data, crank, phi0) if mech.frictions else 0.0
     wall0 = time.perf_counter()
     report_at = PROGRESS_EVERY
     while k < t.size:
@@ -169,6 +180,11 @@ def run_machine_mujoco(asm: Assembly, machine: Machine, t: np.ndarray, reactions
             sweep = dt * w_c + (0.5 * dt * dt * float(data.qacc[crank]) if steps else 0.0)
             data.xfrc_applied[:] = table.over(phi_c, phi_c + sweep)
         w_mid = float(data.qvel[dof]) + (0.5 * dt * float(data.qacc[dof]) if steps else 0.0)
+        if mech.frictions:
+            if table is None:
+                data.xfrc_applied[:] = 0.0
+            w_c = float(data.qvel[crank]) + (0.5 * dt * float(data.qacc[crank]) if steps else 0.0)
+            _add_friction(asm, model, data, mid, w_c, float(data.qacc[crank]) if steps else start_eps)
         if per_step:
             i_mid = _current_after(mot, u * w_mid, current, 0.5 * dt) if motors.has_current(mot) else current
             data.qfrc_applied[dof] += u * eta * _motor_torque(mot, u * w_mid, i_mid)
@@ -195,13 +211,45 @@ def _sample_forces(asm, model, data, phi: float, load, table, crank: int, dof: i
 
     data.qfrc_applied[:] = 0.0
     data.qfrc_applied[crank] = -float(load(phi))
-    if table is not None:
-        data.xfrc_applied[:] = np.asarray(table.table.at(phi)).reshape(table.shape)
+    data.xfrc_applied[:] = 0.0 if table is None else np.asarray(table.table.at(phi)).reshape(table.shape)
     if per_step:
         data.qfrc_applied[dof] += drive(float(data.qvel[dof]))
+    if asm.mechanism.frictions:  # at the last step's acceleration (the ODE's friction is at its own)
+        base = data.xfrc_applied.copy()
+        for _ in range(SAMPLE_PASSES):
+            eps = float(data.qacc[crank])
+            data.xfrc_applied[:] = base
+            _add_friction(asm, model, data, phi, float(data.qvel[crank]), eps)
+            mujoco.mj_forward(model, data)
     mujoco.mj_forward(model, data)
     mujoco.mj_rnePostConstraint(model, data)
     return float(data.qacc[crank]), forward_forces(asm, model, data)
+
+
+def _add_friction(asm, model, data, phi: float, omega: float, epsilon: float) -> None:
+    """Add the pairs' friction (``mujoco.friction``: the closed form's at the crank angle, speed and
+    acceleration, scaled by ``machine.friction.scale`` as the machine's equation is) to ``xfrc_applied``."""
+    from linkgen.machine.friction import scale
+    from linkgen.mujoco.friction import add_friction, friction_at
+
+    s = float(scale(omega))
+    if s == 0.0:
+        return
+    mujoco.mj_kinematics(model, data)
+    value = {k: s * float(v[0]) for k, v in friction_at(asm, [phi], omega, epsilon).items()}
+    add_friction(asm, model, data, value)
+
+
+def _start_acceleration(asm, model, data, crank: int, phi: float) -> float:
+    """The crank's acceleration at the start state with the friction at it (SAMPLE_PASSES passes
+    from the frictionless one)."""
+    mujoco.mj_forward(model, data)
+    for _ in range(SAMPLE_PASSES):
+        data.xfrc_applied[:] = 0.0
+        _add_friction(asm, model, data, phi, float(data.qvel[crank]), float(data.qacc[crank]))
+        mujoco.mj_forward(model, data)
+    data.xfrc_applied[:] = 0.0
+    return float(data.qacc[crank])
 
 
 def _with_shaft(xml: str, mech, machine: Machine) -> str:
