@@ -13,11 +13,13 @@ of them), starting from the last state's friction moment (a single state, the OD
 none. M_f is nearly affine in ε (its slope is the friction's share of the inertia loads, ~μ·r/arm
 of J), so the iteration converges in 2–3 calls to EPSILON_TOL.
 
-Near ω = 0 (a start from rest, a reversal) the Coulomb law is regularised: s(ω) = min(1,
-|ω|/STICK_SPEED) ramps the friction linearly from zero at rest to its full value at STICK_SPEED.
-A crank that the drive and the loads cannot move against the friction then creeps at a speed
-below STICK_SPEED instead of sticking exactly (a stated velocity scale, not static friction);
-above it the law is Coulomb's exactly.
+Near ω = 0 (a start from rest, a reversal) the Coulomb law is regularised: s(ω) =
+tanh(|ω|/STICK_SPEED), so that the friction moment s·sgn(ω)·loss = tanh(ω/STICK_SPEED)·loss is a
+smooth function of ω through zero (a ramp with a kink would break the ODE solver's and the
+energy quadrature's orders at each reversal). A crank that the drive and the loads cannot move
+against the friction then creeps at a speed of order STICK_SPEED instead of sticking exactly (a
+stated velocity scale, not static friction); from 19·STICK_SPEED on, tanh is 1 to float64's
+precision and the law is Coulomb's exactly.
 
 Where the friction has no solution at a state (the mechanism self-locks, ``FrictionError``), or
 the equation's effective inertia ∂(torque)/∂ε turns ≤ 0 (friction that grows with ε faster than
@@ -32,7 +34,7 @@ import numpy as np
 from linkgen.errors import FrictionError, SimulationError
 from linkgen.families.planar.assembly import Assembly
 
-# The regularisation's speed [rad/s]: below it the friction is s = |ω|/STICK_SPEED of Coulomb's.
+# The regularisation's speed [rad/s]: the friction is s = tanh(|ω|/STICK_SPEED) of Coulomb's.
 # 1e-3 rad/s is 1e-4 of the bundled machines' speeds (~10–30 rad/s): a crank held by friction
 # creeps by at most ~0.06°/s, and a run that never comes within it of rest is pure Coulomb.
 STICK_SPEED = 1e-3
@@ -73,8 +75,8 @@ class PairFriction:
 
 
 def scale(omega) -> np.ndarray:
-    """s(ω) = min(1, |ω|/STICK_SPEED): the share of Coulomb's friction at crank speed ω."""
-    return np.minimum(1.0, np.abs(np.asarray(omega, dtype=float)) / STICK_SPEED)
+    """s(ω) = tanh(|ω|/STICK_SPEED): the share of Coulomb's friction at crank speed ω."""
+    return np.tanh(np.abs(np.asarray(omega, dtype=float)) / STICK_SPEED)
 
 
 def acceleration(friction: PairFriction, phi, omega, free, inertia, t=None):
