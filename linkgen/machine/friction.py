@@ -58,9 +58,27 @@ class PairFriction:
     """The closed form's friction moment of one mechanism (``Reduced.friction``)."""
 
     def __init__(self, asm: Assembly):
+        from linkgen.families.planar.friction_switches import friction_switches
+
         self.asm = asm
+        d = asm.mechanism.drive
+        # crank angles in [start, start + 2π) where a pair's friction changes direction: M_f jumps
+        # there (for a crank that turns fully; the integration restarts at each, ``machine.machine``)
+        full = d.stop - d.start >= 2 * math.pi - 1e-9
+        self.switches = np.array(friction_switches(asm, d.start, d.start + 2 * math.pi) if full else [])
+        self.switches = np.unique(np.mod(self.switches - d.start, 2 * math.pi)) + d.start
         self.calls = 0
         self.last = None  # the last single state's s·M_f [N·m]: the next one's starting guess
+
+    def neighbours(self, phi: float, margin: float = 1e-9) -> tuple[float, float]:
+        """The nearest switch angles [rad] ahead of φ and behind it, each more than ``margin``
+        [rad] away (±inf without switches)."""
+        if not self.switches.size:
+            return math.inf, -math.inf
+        two = 2 * math.pi
+        ahead = self.switches + two * np.ceil((phi + margin - self.switches) / two)
+        behind = self.switches + two * np.floor((phi - margin - self.switches) / two)
+        return float(ahead.min()), float(behind.max())
 
     def moment(self, phi, omega, epsilon) -> np.ndarray:
         """M_f = sgn(ω)·loss [N·m] at the states (φ, ω, ε) (each (k,)), unscaled (Coulomb)."""
