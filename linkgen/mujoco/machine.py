@@ -156,6 +156,7 @@ def run_machine_mujoco(asm: Assembly, machine: Machine, t: np.ndarray, reactions
     q_prev = float(data.qpos[adr])
     k, steps = 0, 0
     start_eps = _start_acceleration(asm, model, data, crank, phi0) if mech.frictions else 0.0
+    switches = _switches(asm)
     wall0 = time.perf_counter()
     report_at = PROGRESS_EVERY
     while k < t.size:
@@ -184,8 +185,10 @@ def run_machine_mujoco(asm: Assembly, machine: Machine, t: np.ndarray, reactions
         if mech.frictions:
             if table is None:
                 data.xfrc_applied[:] = 0.0
-            w_c = float(data.qvel[crank]) + (0.5 * dt * float(data.qacc[crank]) if steps else 0.0)
-            _add_friction(asm, model, data, mid, w_c, float(data.qacc[crank]) if steps else start_eps)
+            e_c = float(data.qacc[crank]) if steps else start_eps
+            w_c = float(data.qvel[crank]) + 0.5 * dt * e_c
+            sweep = dt * float(data.qvel[crank]) + 0.5 * dt * dt * e_c
+            _add_friction(asm, model, data, mid, w_c, e_c, _split(switches, phi_c, phi_c + sweep))
         if per_step:
             i_mid = _current_after(mot, u * w_mid, current, 0.5 * dt) if motors.has_current(mot) else current
             data.qfrc_applied[dof] += u * eta * _motor_torque(mot, u * w_mid, i_mid)
@@ -227,9 +230,13 @@ def _sample_forces(asm, model, data, phi: float, load, table, crank: int, dof: i
     return float(data.qacc[crank]), forward_forces(asm, model, data)
 
 
-def _add_friction(asm, model, data, phi: float, omega: float, epsilon: float) -> None:
+def _add_friction(asm, model, data, phi: float, omega: float, epsilon: float, split=None) -> None:
     """Add the pairs' friction (``mujoco.friction``: the closed form's at the crank angle, speed and
-    acceleration, scaled by ``machine.friction.scale`` as the machine's equation is) to ``xfrc_applied``."""
+    acceleration, scaled by ``machine.friction.scale`` as the machine's equation is) to
+    ``xfrc_applied``. ``split`` (a step that sweeps a friction switch, ``_split``): the step's
+    mean instead, the friction at the middle of the part before the switch and of the part after
+    it weighted by their shares of the sweep (the jump is then where it falls in the step, to first
+    order, not at the step's mid-point)."""
     from linkgen.machine.friction import scale
     from linkgen.mujoco.friction import add_friction, friction_at
 
@@ -237,8 +244,37 @@ def _add_friction(asm, model, data, phi: float, omega: float, epsilon: float) ->
     if s == 0.0:
         return
     mujoco.mj_kinematics(model, data)
-    value = {k: s * float(v[0]) for k, v in friction_at(asm, [phi], omega, epsilon).items()}
+    if split is None:
+        value = {k: s * float(v[0]) for k, v in friction_at(asm, [phi], omega, epsilon).items()}
+    else:
+        angles, weights = split
+        value = {k: s * float(np.dot(weights, v)) for k, v in friction_at(asm, angles, omega, epsilon).items()}
     add_friction(asm, model, data, value)
+
+
+def _switches(asm) -> np.ndarray:
+    """The crank angles in [0, 2π) where a pair's friction changes direction (none without friction)."""
+    from linkgen.mujoco.friction import friction_switches
+
+    d = asm.mechanism.drive
+    if not asm.mechanism.frictions:
+        return np.array([])
+    return np.unique(np.mod(friction_switches(asm, d.start, d.start + 2 * math.pi), 2 * math.pi))
+
+
+def _split(switches: np.ndarray, a: float, b: float):
+    """For a step sweeping the crank from a to b [rad]: None unless a friction switch lies strictly
+    between; else (the middles of the parts between a, the switches and b, their shares of b − a)."""
+    if not switches.size or a == b:
+        return None
+    lo, hi = min(a, b), max(a, b)
+    inside = (switches[None, :] + 2 * math.pi * np.arange(math.floor(lo / (2 * math.pi)),
+                                                         math.floor(hi / (2 * math.pi)) + 1)[:, None]).ravel()
+    inside = np.sort(inside[(inside > lo) & (inside < hi)])
+    if not inside.size:
+        return None
+    edges = np.concatenate([[lo], inside, [hi]])
+    return 0.5 * (edges[:-1] + edges[1:]), np.diff(edges) / (hi - lo)
 
 
 def _start_acceleration(asm, model, data, crank: int, phi: float) -> float:
