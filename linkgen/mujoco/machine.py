@@ -157,6 +157,7 @@ def run_machine_mujoco(asm: Assembly, machine: Machine, t: np.ndarray, reactions
     k, steps = 0, 0
     start_eps = _start_acceleration(asm, model, data, crank, phi0) if mech.frictions else 0.0
     switches = _switches(asm)
+    e_last = start_eps
     wall0 = time.perf_counter()
     report_at = PROGRESS_EVERY
     while k < t.size:
@@ -185,7 +186,9 @@ def run_machine_mujoco(asm: Assembly, machine: Machine, t: np.ndarray, reactions
         if mech.frictions:
             if table is None:
                 data.xfrc_applied[:] = 0.0
-            e_c = float(data.qacc[crank]) if steps else start_eps
+            # the crank's acceleration at the step's mid-point, extrapolated from the last two steps'
+            e_c = (1.5 * float(data.qacc[crank]) - 0.5 * e_last) if steps > 1 else (float(data.qacc[crank]) if steps else start_eps)
+            e_last = float(data.qacc[crank]) if steps else start_eps
             w_c = float(data.qvel[crank]) + 0.5 * dt * e_c
             sweep = dt * float(data.qvel[crank]) + 0.5 * dt * dt * e_c
             _add_friction(asm, model, data, mid, w_c, e_c, _split(switches, phi_c, phi_c + sweep))
