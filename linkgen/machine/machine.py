@@ -240,7 +240,8 @@ def _across_switches(one, y0: np.ndarray, n: int, friction, T: float):
     crank reaches a friction switch (``PairFriction.switches``, either way), each restarting
     there: the friction's jump is then a piece's end, not inside a step the solver would have to
     shrink around (ten turns of models/machine_friction.toml: the 10th turn's time agreed with a
-    100× tighter run to 2.2e-8 stepped over, XXX in pieces). Returns the pieces joined (``_Joined``)."""
+    100× tighter run to 2.2e-8 stepped over, 6.2e-9 in pieces; the energy balance's worst
+    residual 2.1e-8, 6.8e-9). Returns the pieces joined (``_Joined``)."""
     parts, t0 = [], 0.0
     while True:
         ahead, behind = friction.neighbours(float(y0[0]))
