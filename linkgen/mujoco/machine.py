@@ -157,7 +157,12 @@ def run_machine_mujoco(asm: Assembly, machine: Machine, t: np.ndarray, reactions
     k, steps = 0, 0
     start_eps = _start_acceleration(asm, model, data, crank, phi0) if mech.frictions else 0.0
     switches = _switches(asm)
-    e_last = start_eps
+    e_last, mf_last, ode = start_eps, 0.0, None
+    if mech.frictions and machine.shaft is None:
+        from linkgen.machine.equation import Model
+        from linkgen.machine.reduced import reduce
+
+        ode = Model(machine, reduce(asm, machine.process_load))
     wall0 = time.perf_counter()
     report_at = PROGRESS_EVERY
     while k < t.size:
@@ -191,7 +196,12 @@ def run_machine_mujoco(asm: Assembly, machine: Machine, t: np.ndarray, reactions
             e_last = float(data.qacc[crank]) if steps else start_eps
             w_c = float(data.qvel[crank]) + 0.5 * dt * e_c
             sweep = dt * float(data.qvel[crank]) + 0.5 * dt * dt * e_c
-            _add_friction(asm, model, data, mid, w_c, e_c, _split(switches, phi_c, phi_c + sweep))
+            if ode is not None:  # ε from the machine's equation at this state with the last friction moment
+                red = ode.red
+                mm, _ = ode.motor(w_c, np.array([mid, w_c, current]))
+                free = float(red.moment(mid, w_c)) + u * eta * float(mm) - 0.5 * float(red.dj(mid)) * w_c * w_c
+                e_c = (free - mf_last) / (float(red.j(mid)) + machine.added_inertia)
+            mf_last = _add_friction(asm, model, data, mid, w_c, e_c, _split(switches, phi_c, phi_c + sweep))
         if per_step:
             i_mid = _current_after(mot, u * w_mid, current, 0.5 * dt) if motors.has_current(mot) else current
             data.qfrc_applied[dof] += u * eta * _motor_torque(mot, u * w_mid, i_mid)
@@ -236,23 +246,23 @@ def _sample_forces(asm, model, data, phi: float, load, table, crank: int, dof: i
 def _add_friction(asm, model, data, phi: float, omega: float, epsilon: float, split=None) -> None:
     """Add the pairs' friction (``mujoco.friction``: the closed form's at the crank angle, speed and
     acceleration, scaled by ``machine.friction.scale`` as the machine's equation is) to
-    ``xfrc_applied``. ``split`` (a step that sweeps a friction switch, ``_split``): the step's
+    ``xfrc_applied``; returns the friction's reduced moment s·M_f [N·m]. ``split`` (a step that sweeps a friction switch, ``_split``): the step's
     mean instead, the friction at the middle of the part before the switch and of the part after
     it weighted by their shares of the sweep (the jump is then where it falls in the step, to first
     order, not at the step's mid-point)."""
     from linkgen.machine.friction import scale
-    from linkgen.mujoco.friction import add_friction, friction_at
+    from linkgen.mujoco.friction import add_friction
+
+    from linkgen.families.planar.kinetostatics import forces
 
     s = float(scale(omega))
     if s == 0.0:
-        return
+        return 0.0
     mujoco.mj_kinematics(model, data)
-    if split is None:
-        value = {k: s * float(v[0]) for k, v in friction_at(asm, [phi], omega, epsilon).items()}
-    else:
-        angles, weights = split
-        value = {k: s * float(np.dot(weights, v)) for k, v in friction_at(asm, angles, omega, epsilon).items()}
-    add_friction(asm, model, data, value)
+    angles, weights = (np.array([phi]), np.ones(1)) if split is None else split
+    f = forces(asm, angles, omega, epsilon)
+    add_friction(asm, model, data, {k: s * float(np.dot(weights, v)) for k, v in f.friction.items()})
+    return s * math.copysign(1.0, omega) * float(np.dot(weights, f.friction_power)) / abs(omega)
 
 
 def _switches(asm) -> np.ndarray:
