@@ -243,11 +243,7 @@ def test_the_summary_gives_the_power_lost_to_friction():
     assert summarize(assemble(load(MODELS / "slider_crank_spring.toml"))).peak_friction_power is None
 
 
-def test_the_machine_refuses_friction_in_one_line():
-    from linkgen.machine.reduced import reduce
-
-    with pytest.raises(DescriptionError, match=r"^friction: the machine's equation of motion does not model friction"):
-        reduce(assemble(load(MODEL)))
+# A machine with friction in its pairs: tests/test_machine_friction.py.
 
 
 # ---------------------------------------------------------------- MuJoCo

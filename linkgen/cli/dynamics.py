@@ -155,9 +155,15 @@ def cmd_dynamics(args) -> int:
     print(f"  at the end: φ = {math.degrees(run.phi[-1]):.10g}° ({out['end']['turns']:.6g} turns), "
           f"ω = {run.omega[-1]:.10g} rad/s; integrated by {run.method} at rtol {run.rtol:g}, atol "
           f"{run.rtol * 1e-3:g} (rad, rad/s)")
-    print(f"  energy balance (ΔT = work of the drive, loads, springs, dampers) at every sample: worst residual "
+    what = "drive, loads, springs, dampers" + (", friction" if e.friction is not None else "")
+    print(f"  energy balance (ΔT = work of the {what}) at every sample: worst residual "
           f"{e.worst:.2e} of the run's energy scale {e.scale:.6g} J — "
           + ("ok" if e.ok else "VIOLATED") + f" (tolerance {e.tolerance:g})")
+    if e.friction is not None:
+        from linkgen.machine.friction import STICK_SPEED
+
+        print(f"  friction in the pairs: {-e.friction[-1]:.6g} J lost over the run (Coulomb's law, ramped from zero "
+              f"at rest to its full value at |ω| = {STICK_SPEED:g} rad/s)")
     if run.steady is None:
         stopped = (f"the run stopped after its {machine.turns:g} turns ([machine] turns)" if machine.turns is not None
                    and run.t[-1] < duration else "give a longer --duration or [machine] duration")

@@ -2,14 +2,16 @@
 
 Along the motion the kinetic energy changes by the work done on the machine:
 
-    T(t) − T(0) + ΔV_shaft = W_loads + W_dampers + W_drive + W_shaft_damper,
+    T(t) − T(0) + ΔV_shaft = W_loads + W_dampers + W_drive + W_shaft_damper + W_friction,
 
 T = ½·(J(φ) + J_add)·ω² (with an elastic shaft ½·(J(φ) + J_f)·ω² + ½·J_rotor·u²·ω_r²),
 W_loads = ∫ M₀(φ) dφ the work of every load that depends on the crank angle only (gravity,
 springs, forces, torques, the process load: minus their potential where they have one), exact
 over the same table M₀ the equation reads (``PeriodicTable.integral``), W_dampers = ∫ C(φ)·ω² dt
 (≤ 0), W_drive = ∫ u·η·M_motor·ω_r dt, and with a shaft ΔV_shaft = ½·c·dz(θ − φ)² − its start
-value and W_shaft_damper = −∫ b·(ω_r − ω)² dt. The time integrals are Gauss–Legendre quadratures
+value and W_shaft_damper = −∫ b·(ω_r − ω)² dt; with friction in the pairs W_friction =
+−∫ s·M_f·ω dt ≤ 0, the friction's reduced moment at each quadrature point's state and its
+acceleration (``machine.friction``: the same solve the equation makes). The time integrals are Gauss–Legendre quadratures
 of the solver's dense output between its own steps and the samples (GAUSS points each, exact to
 degree 2·GAUSS − 1, beyond the dense output's own order 7), so the residual measures the
 integration, not the quadrature.
@@ -53,6 +55,7 @@ class EnergyBalance:
     residual: np.ndarray
     scale: float
     tolerance: float = ENERGY_TOL
+    friction: np.ndarray | None = None  # the friction's work since t = 0 [J] (≤ 0); None without friction
 
     @property
     def worst(self) -> float:
@@ -67,11 +70,12 @@ class EnergyBalance:
         return {"worst_residual_relative": self.worst, "worst_residual_J": float(np.abs(self.residual).max()),
                 "energy_scale_J": self.scale, "tolerance": self.tolerance, "ok": self.ok,
                 "final": {"kinetic_J": float(self.kinetic[-1]), "loads_work_J": float(self.loads[-1]),
-                          "dampers_work_J": float(self.dampers[-1]), "drive_work_J": float(self.drive[-1])}}
+                          "dampers_work_J": float(self.dampers[-1]), "drive_work_J": float(self.drive[-1])}
+                | ({} if self.friction is None else {"friction_work_J": float(self.friction[-1])})}
 
 
 def _powers(model, y: np.ndarray) -> np.ndarray:
-    """Rows: the drive's, the dampers' and the shaft damper's power [W] at states y (n, k)."""
+    """Rows: the drive's, the dampers', the shaft damper's and the friction's power [W] at states y (n, k)."""
     phi, w = y[0], y[1]
     w_rotor = y[3] if model.shaft else w
     mm, _ = model.motor(w_rotor, y)
@@ -79,7 +83,8 @@ def _powers(model, y: np.ndarray) -> np.ndarray:
     red = model.red
     damp = red.table("damping_grid").at(phi) * w * w if red.damping_grid is not None else np.zeros_like(w)
     shaft = -model.shaft.damping * (w_rotor - w) ** 2 if model.shaft else np.zeros_like(w)
-    return np.vstack([drive, damp, shaft])
+    friction = -model.friction_moment(y) * w if red.friction is not None else np.zeros_like(w)
+    return np.vstack([drive, damp, shaft, friction])
 
 
 def _kinetic(model, y: np.ndarray) -> np.ndarray:
@@ -105,9 +110,9 @@ def energy_balance(model, dense, steps: np.ndarray, t: np.ndarray) -> EnergyBala
     x, wts = np.polynomial.legendre.leggauss(GAUSS)
     a, b = knots[:-1], knots[1:]
     nodes = (0.5 * (b - a)[:, None] * (x[None, :] + 1.0) + a[:, None]).ravel()
-    p = _powers(model, dense(nodes)).reshape(3, a.size, GAUSS)
+    p = _powers(model, dense(nodes)).reshape(4, a.size, GAUSS)
     cells = (p * wts).sum(axis=2) * 0.5 * (b - a)
-    cumulative = np.concatenate([np.zeros((3, 1)), np.cumsum(cells, axis=1)], axis=1)
+    cumulative = np.concatenate([np.zeros((4, 1)), np.cumsum(cells, axis=1)], axis=1)
     at = cumulative[:, np.searchsorted(knots, t)]
     y = dense(t)
     table = model.red.table("moment_grid")
@@ -115,11 +120,12 @@ def energy_balance(model, dense, steps: np.ndarray, t: np.ndarray) -> EnergyBala
     kinetic = _kinetic(model, y)
     shaft_energy = _shaft_energy(model, y) if model.shaft else None
     stored = kinetic - kinetic[0] + (shaft_energy - shaft_energy[0] if model.shaft else 0.0)
-    residual = stored - (loads + at[0] + at[1] + at[2])
-    terms = [kinetic, loads, at[0], at[1]] + ([shaft_energy, at[2]] if model.shaft else [])
+    residual = stored - (loads + at[0] + at[1] + at[2] + at[3])
+    friction = model.red.friction is not None
+    terms = [kinetic, loads, at[0], at[1]] + ([shaft_energy, at[2]] if model.shaft else []) + ([at[3]] if friction else [])
     scale = float(max(np.abs(v).max() for v in terms))
     return EnergyBalance(kinetic, loads, at[1], at[0], shaft_energy, at[2] if model.shaft else None, residual, scale,
-                         ENERGY_TOL)
+                         ENERGY_TOL, at[3] if friction else None)
 
 
 __all__ = ["ENERGY_TOL", "EnergyBalance", "GAUSS", "energy_balance"]

@@ -63,17 +63,48 @@ class Model:
         drive = self.u * self.eta * mm
         if self.shaft:
             ts = self.shaft_torque(y)
-            dy[1] = (red.moment(phi, w) + ts - 0.5 * red.dj(phi) * w * w) / (red.j(phi) + self.m.flywheel_inertia)
+            dy[1] = self.crank_rate(t, phi, w, red.moment(phi, w) + ts - 0.5 * red.dj(phi) * w * w,
+                                    red.j(phi) + self.m.flywheel_inertia)
             dy[2] = y[3]
             jr = self.m.rotor_inertia * self.u**2
             if not jr > 0:
                 raise SimulationError("an elastic shaft needs a rotor inertia > 0 ([machine] rotor_inertia)")
             dy[3] = (drive - ts) / jr
         else:
-            dy[1] = (red.moment(phi, w) + drive - 0.5 * red.dj(phi) * w * w) / (red.j(phi) + self.m.added_inertia)
+            dy[1] = self.crank_rate(t, phi, w, red.moment(phi, w) + drive - 0.5 * red.dj(phi) * w * w,
+                                    red.j(phi) + self.m.added_inertia)
         if self.current:
             dy[-1] = motors.dc_current_rate(self.m.motor, self.u * w_rotor, i)
         return dy
+
+    def crank_rate(self, t, phi, w, free, inertia):
+        """ε from the frictionless right-hand side ``free`` [N·m] and the crank's inertia; with
+        friction in the pairs, the solution of the equation with its moment (``machine.friction``)."""
+        if self.red.friction is None:
+            return free / inertia
+        return self.friction_terms(t, phi, w, free, inertia)[0]
+
+    def friction_terms(self, t, phi, w, free, inertia):
+        """(ε, the friction's reduced moment s·M_f [N·m]) at the states, shaped as ``phi``."""
+        from linkgen.machine.friction import acceleration
+
+        shape = np.shape(phi)
+        eps, mf = acceleration(self.red.friction, np.ravel(phi), np.ravel(w), np.ravel(free * np.ones(shape)),
+                               np.ravel(inertia * np.ones(shape)), None if t is None else np.ravel(t * np.ones(shape)))
+        return (eps.reshape(shape), mf.reshape(shape)) if shape else (float(eps[0]), float(mf[0]))
+
+    def friction_moment(self, y):
+        """s·M_f [N·m] (the friction's reduced moment, ≥ 0 times sgn ω) at states y (n, k)."""
+        phi, w = y[0], y[1]
+        red = self.red
+        if self.shaft:
+            free = red.moment(phi, w) + self.shaft_torque(y) - 0.5 * red.dj(phi) * w * w
+            inertia = red.j(phi) + self.m.flywheel_inertia
+        else:
+            mm, _ = self.motor(w, y)
+            free = red.moment(phi, w) + self.u * self.eta * mm - 0.5 * red.dj(phi) * w * w
+            inertia = red.j(phi) + self.m.added_inertia
+        return self.friction_terms(None, phi, w, free, inertia)[1]
 
     def y0(self, phi0: float) -> np.ndarray:
         w0 = self.m.start_speed

@@ -4,7 +4,8 @@ for an ODE solver, periodic over a full turn: J(φ) [kg·m²] by a cubic Hermite
 closed form's J and dJ/dφ on a grid, and dJ/dφ as its derivative,
 and the reduced moment of the loads M(φ, ω) = M₀(φ) + c(φ)·ω [N·m] (gravity, forces, torques,
 springs, the process load; dampers make it depend on the crank speed ω through the reduced
-damping c(φ) = ∂M/∂ω ≤ 0, ``planar.kinetostatics.reduced_damping``).
+damping c(φ) = ∂M/∂ω ≤ 0, ``planar.kinetostatics.reduced_damping``). Friction in the pairs is
+not a table: its moment depends on the acceleration too (``machine.friction``, ``Reduced.friction``).
 
 M₀(φ) and c(φ) are cubic splines through a fine grid (``tables.SmoothTable``), and M₀ jumps
 exactly where a stroke-switched force switches (``tables``: the switch angles are in its grid
@@ -50,6 +51,7 @@ class Reduced:
     drive_omega: float = 0.0  # the drive's prescribed speed [rad/s]: a speed scale where a motor has none
     damping_grid: np.ndarray | None = None  # c = ∂M/∂ω at moment_phi [N·m·s/rad]; None: no dampers
     stop: float | None = None  # the drive range's end [rad] where the crank does not turn fully; None: it does
+    friction: object = None  # ``machine.friction.PairFriction`` with [[friction]]: M_f(φ, ω, ε); None without
 
     @property
     def full_turn(self) -> bool:
@@ -108,13 +110,11 @@ def reduce(asm: Assembly, load: ProcessLoad | None = None, grid: int = GRID,
     angles) and M (a table of ``moment_grid`` cells); over the drive's range only where it spans
     less than a turn (``Reduced.stop``: a motion that leaves it is stopped there)."""
     d = asm.mechanism.drive
-    if asm.mechanism.frictions:  # its moment would depend on the reactions, so on φ̈: not modelled yet
-        raise DescriptionError("friction", "the machine's equation of motion does not model friction in the pairs "
-                                           "yet (the kinetostatics does: linkgen forces); remove [[friction]] to run "
-                                           "the machine")
     full = d.stop - d.start >= 2 * math.pi - 1e-9
     span = 2 * math.pi if full else d.stop - d.start
     phi = d.start + np.linspace(0.0, span, grid + 1)
+    # J, J′ and M₀ at ω = 0, where the closed form's friction is zero: the friction enters the
+    # equation as its own moment M_f(φ, ω, ε) (``machine.friction``).
     f = forces(asm, phi[:-1] if full else phi, 0.0, 0.0)
     j, dj = f.reduced.inertia, f.reduced.inertia_derivative
     if full:
@@ -130,7 +130,13 @@ def reduce(asm: Assembly, load: ProcessLoad | None = None, grid: int = GRID,
         if c is not None:
             c[-1] = c[0]
     inertia = CubicHermiteSpline(phi, j, dj)  # J and dJ/dφ at each grid angle, one function
-    return Reduced(phi, inertia, inertia.derivative(), table_phi, m, float(d.omega), c, None if full else float(d.stop))
+    friction = None
+    if asm.mechanism.frictions:
+        from linkgen.machine.friction import PairFriction
+
+        friction = PairFriction(asm)
+    return Reduced(phi, inertia, inertia.derivative(), table_phi, m, float(d.omega), c, None if full else float(d.stop),
+                   friction)
 
 
 def require_full_turn(red: Reduced, what: str) -> None:

@@ -219,13 +219,15 @@ class ForceSamples:
         )
 
 
-def load_schedule(asm: Assembly, model: mujoco.MjModel, phi: np.ndarray, omega=None, epsilon=None) -> np.ndarray:
+def load_schedule(asm: Assembly, model: mujoco.MjModel, phi: np.ndarray, omega=None, epsilon=None,
+                  friction: bool = True) -> np.ndarray:
     """``xfrc_applied`` rows (n, 6·nbody) for crank angles φ (n,) [rad], from the closed-form
     positions: the open-loop input ``rollout`` needs. Per-sample values are recomputed from MuJoCo's
     own positions by ``apply_loads``; this only feeds the stepping. Gravity and the springs
     (tendons, joint springs: ``mujoco.springs``) are MuJoCo's own; the pairs' friction
     (``mujoco.friction``) is the closed form's at crank speed ``omega`` (scalar or (n,)) and
-    ``epsilon`` (default the drive's)."""
+    ``epsilon`` (default the drive's); ``friction`` False leaves it out (a machine applies its
+    own at each state: ``mujoco.machine``)."""
     mech = asm.mechanism
     out = np.zeros((phi.shape[0], model.nbody, 6))
     # marked: a run's lead-in may start a little before a range that ends at a dead centre (its
@@ -233,7 +235,7 @@ def load_schedule(asm: Assembly, model: mujoco.MjModel, phi: np.ndarray, omega=N
     for name, load in applied_loads(asm, solve(asm, phi, on_singular="mark"), gravity=False, springs=False).items():
         b = model.body(body_name(name)).id
         out[:, b, 0:2], out[:, b, 5] = load.force, load.moment
-    if mech.frictions:  # added to the loads just set
+    if mech.frictions and friction:  # added to the loads just set
         from linkgen.mujoco.friction import friction_schedule
 
         w = mech.drive.omega if omega is None else omega

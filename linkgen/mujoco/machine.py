@@ -15,7 +15,15 @@ The mechanism's own [[force]]/[[torque]] loads are body wrenches (``xfrc_applied
 applies their mean over the crank angles the step sweeps (predicted from the speed and the last
 acceleration), read from a table over one turn (LOAD_GRID cells, linear between them, a
 stroke-switched force's switch angles exact; the closed-form positions at each grid angle: the
-linkage has one degree of freedom, so its loads are functions of φ alone). Gravity is MuJoCo's own."""
+linkage has one degree of freedom, so its loads are functions of φ alone). Gravity is MuJoCo's own.
+
+Friction in the pairs ([[friction]]), which MuJoCo's frictionloss cannot model (``mujoco.friction``),
+is applied each step as a wrench: the closed form's friction at the step's mid-point crank angle and
+speed (MuJoCo's own state, not the ODE's) and at the crank acceleration the machine's equation
+gives there with the last step's friction moment (MuJoCo's own qacc lags a step and carries its
+soft loops' ripple: with it, extrapolated, ω erred by 4.3e-7 over 0.1 s of machine_friction, with
+this 3.4e-8), regularised near rest as the machine's equation is (``machine.friction.scale``); an
+elastic shaft's machine extrapolates qacc from the last two steps instead."""
 
 from __future__ import annotations
 
@@ -38,11 +46,17 @@ from linkgen.mujoco.state import initial_state
 from linkgen.mujoco.timing import settle_window
 from linkgen.mujoco.tree import DRIVE_ACTUATOR
 from linkgen.families.planar.assembly import Assembly
+from linkgen.model.names import GROUND
 
 ROTOR, SHAFT, MOTOR = "machine:rotor", "machine:shaft", "machine:motor"
 # Cells of the load table over one turn: linear interpolation errs by (2π/LOAD_GRID)²/8 of the
 # loads' second derivative in φ, 3e-9 of a load that varies like cos φ.
 LOAD_GRID = 16384
+# Passes of the friction's loop through MuJoCo's acceleration at a sample (and at the start): the
+# friction depends on ε only through the inertia loads' share of the reactions (~μ·r/arm of them),
+# so each pass shrinks the gap by that factor, ~1e-2 on the bundled models; the first starts from the
+# last step's acceleration (friction included), already within ~dt·|dε/dt| of it: 2 passes suffice.
+SAMPLE_PASSES = 2
 # Seconds of wall time between progress reports of a long run.
 PROGRESS_EVERY = 2.0
 
@@ -76,7 +90,7 @@ class _LoadTable:
         d = asm.mechanism.drive
         span = min(d.stop - d.start, 2 * math.pi)  # a crank that does not turn fully: its range
         grid, where = jump_grid(d.start, LOAD_GRID, switch_angles(asm.mechanism, d.start), span)
-        self.table = PeriodicTable(grid, load_schedule(asm, model, where))
+        self.table = PeriodicTable(grid, load_schedule(asm, model, where, friction=False))
         self.shape = (model.nbody, 6)
 
     def over(self, a: float, b: float) -> np.ndarray:
@@ -93,8 +107,6 @@ def run_machine_mujoco(asm: Assembly, machine: Machine, t: np.ndarray, reactions
     settings are derived for the largest crank speed [rad/s]: the motor's top speed or ``omega``
     (the speed the ODE reaches) if higher. ``progress(fraction, elapsed s)`` is called every
     PROGRESS_EVERY s of a run that lasts longer than that."""
-    from linkgen.mujoco.forces import has_loads
-
     mech = asm.mechanism
     xml = write_mjcf(asm, PLACEHOLDER)
     model = mujoco.MjModel.from_xml_string(xml)
@@ -127,7 +139,9 @@ def run_machine_mujoco(asm: Assembly, machine: Machine, t: np.ndarray, reactions
         model.actuator_biasprm[act, 2] = -u * u * eta * mot.stall_torque / mot.no_load_speed
     data = mujoco.MjData(model)
     load = process_torque_function(machine.process_load)
-    table = _LoadTable(asm, model) if has_loads(asm) else None
+    # the friction is not a function of φ alone: applied at each step's own state below
+    wrenches = any(f.link != GROUND for f in mech.forces) or any(t.link != GROUND for t in mech.torques)
+    table = _LoadTable(asm, model) if wrenches else None
     rotor_adr = model.joint(ROTOR).qposadr[0] if machine.shaft is not None else None
     phi0 = machine.start(mech.drive.start)
     qpos, qvel = initial_state(asm, model, phi0, machine.start_speed)
@@ -144,6 +158,14 @@ def run_machine_mujoco(asm: Assembly, machine: Machine, t: np.ndarray, reactions
     phi_c = phi0  # the crank angle, unwrapped
     q_prev = float(data.qpos[adr])
     k, steps = 0, 0
+    start_eps = _start_acceleration(asm, model, data, crank, phi0) if mech.frictions else 0.0
+    switches = _switches(asm)
+    e_last, mf_last, ode = start_eps, 0.0, None
+    if mech.frictions and machine.shaft is None:
+        from linkgen.machine.equation import Model
+        from linkgen.machine.reduced import reduce
+
+        ode = Model(machine, reduce(asm, machine.process_load))
     wall0 = time.perf_counter()
     report_at = PROGRESS_EVERY
     while k < t.size:
@@ -169,6 +191,20 @@ def run_machine_mujoco(asm: Assembly, machine: Machine, t: np.ndarray, reactions
             sweep = dt * w_c + (0.5 * dt * dt * float(data.qacc[crank]) if steps else 0.0)
             data.xfrc_applied[:] = table.over(phi_c, phi_c + sweep)
         w_mid = float(data.qvel[dof]) + (0.5 * dt * float(data.qacc[dof]) if steps else 0.0)
+        if mech.frictions:
+            if table is None:
+                data.xfrc_applied[:] = 0.0
+            # the crank's acceleration at the step's mid-point, extrapolated from the last two steps'
+            e_c = (1.5 * float(data.qacc[crank]) - 0.5 * e_last) if steps > 1 else (float(data.qacc[crank]) if steps else start_eps)
+            e_last = float(data.qacc[crank]) if steps else start_eps
+            w_c = float(data.qvel[crank]) + 0.5 * dt * e_c
+            sweep = dt * float(data.qvel[crank]) + 0.5 * dt * dt * e_c
+            if ode is not None:  # ε from the machine's equation at this state with the last friction moment
+                red = ode.red
+                mm, _ = ode.motor(w_c, np.array([mid, w_c, current]))
+                free = float(red.moment(mid, w_c)) + u * eta * float(mm) - 0.5 * float(red.dj(mid)) * w_c * w_c
+                e_c = (free - mf_last) / (float(red.j(mid)) + machine.added_inertia)
+            mf_last = _add_friction(asm, model, data, mid, w_c, e_c, _split(switches, phi_c, phi_c + sweep))
         if per_step:
             i_mid = _current_after(mot, u * w_mid, current, 0.5 * dt) if motors.has_current(mot) else current
             data.qfrc_applied[dof] += u * eta * _motor_torque(mot, u * w_mid, i_mid)
@@ -195,13 +231,78 @@ def _sample_forces(asm, model, data, phi: float, load, table, crank: int, dof: i
 
     data.qfrc_applied[:] = 0.0
     data.qfrc_applied[crank] = -float(load(phi))
-    if table is not None:
-        data.xfrc_applied[:] = np.asarray(table.table.at(phi)).reshape(table.shape)
+    data.xfrc_applied[:] = 0.0 if table is None else np.asarray(table.table.at(phi)).reshape(table.shape)
     if per_step:
         data.qfrc_applied[dof] += drive(float(data.qvel[dof]))
+    if asm.mechanism.frictions:  # at the last step's acceleration (the ODE's friction is at its own)
+        base = data.xfrc_applied.copy()
+        for _ in range(SAMPLE_PASSES):
+            eps = float(data.qacc[crank])
+            data.xfrc_applied[:] = base
+            _add_friction(asm, model, data, phi, float(data.qvel[crank]), eps)
+            mujoco.mj_forward(model, data)
     mujoco.mj_forward(model, data)
     mujoco.mj_rnePostConstraint(model, data)
     return float(data.qacc[crank]), forward_forces(asm, model, data)
+
+
+def _add_friction(asm, model, data, phi: float, omega: float, epsilon: float, split=None) -> None:
+    """Add the pairs' friction (``mujoco.friction``: the closed form's at the crank angle, speed and
+    acceleration, scaled by ``machine.friction.scale`` as the machine's equation is) to
+    ``xfrc_applied``; returns the friction's reduced moment s·M_f [N·m]. ``split`` (a step that sweeps a friction switch, ``_split``): the step's
+    mean instead, the friction at the middle of the part before the switch and of the part after
+    it weighted by their shares of the sweep (the jump is then where it falls in the step, to first
+    order, not at the step's mid-point)."""
+    from linkgen.machine.friction import scale
+    from linkgen.mujoco.friction import add_friction
+
+    from linkgen.families.planar.kinetostatics import forces
+
+    s = float(scale(omega))
+    if s == 0.0:
+        return 0.0
+    mujoco.mj_kinematics(model, data)
+    angles, weights = (np.array([phi]), np.ones(1)) if split is None else split
+    f = forces(asm, angles, omega, epsilon)
+    add_friction(asm, model, data, {k: s * float(np.dot(weights, v)) for k, v in f.friction.items()})
+    return s * math.copysign(1.0, omega) * float(np.dot(weights, f.friction_power)) / abs(omega)
+
+
+def _switches(asm) -> np.ndarray:
+    """The crank angles in [0, 2π) where a pair's friction changes direction (none without friction)."""
+    from linkgen.mujoco.friction import friction_switches
+
+    d = asm.mechanism.drive
+    if not asm.mechanism.frictions:
+        return np.array([])
+    return np.unique(np.mod(friction_switches(asm, d.start, d.start + 2 * math.pi), 2 * math.pi))
+
+
+def _split(switches: np.ndarray, a: float, b: float):
+    """For a step sweeping the crank from a to b [rad]: None unless a friction switch lies strictly
+    between; else (the middles of the parts between a, the switches and b, their shares of b − a)."""
+    if not switches.size or a == b:
+        return None
+    lo, hi = min(a, b), max(a, b)
+    inside = (switches[None, :] + 2 * math.pi * np.arange(math.floor(lo / (2 * math.pi)),
+                                                         math.floor(hi / (2 * math.pi)) + 1)[:, None]).ravel()
+    inside = np.sort(inside[(inside > lo) & (inside < hi)])
+    if not inside.size:
+        return None
+    edges = np.concatenate([[lo], inside, [hi]])
+    return 0.5 * (edges[:-1] + edges[1:]), np.diff(edges) / (hi - lo)
+
+
+def _start_acceleration(asm, model, data, crank: int, phi: float) -> float:
+    """The crank's acceleration at the start state with the friction at it (SAMPLE_PASSES passes
+    from the frictionless one)."""
+    mujoco.mj_forward(model, data)
+    for _ in range(SAMPLE_PASSES):
+        data.xfrc_applied[:] = 0.0
+        _add_friction(asm, model, data, phi, float(data.qvel[crank]), float(data.qacc[crank]))
+        mujoco.mj_forward(model, data)
+    data.xfrc_applied[:] = 0.0
+    return float(data.qacc[crank])
 
 
 def _with_shaft(xml: str, mech, machine: Machine) -> str:
