@@ -69,6 +69,8 @@ class PairFriction:
         self.switches = np.unique(np.mod(self.switches - d.start, 2 * math.pi)) + d.start
         self.calls = 0
         self.last = None  # the last single state's s·M_f [N·m]: the next one's starting guess
+        self.last_pairs = None  # the last single state's pair frictions (table route): the same
+        self._table = False  # not built yet
 
     def neighbours(self, phi: float, margin: float = 1e-9) -> tuple[float, float]:
         """The nearest switch angles [rad] ahead of φ and behind it, each more than ``margin``
@@ -80,8 +82,19 @@ class PairFriction:
         behind = self.switches + two * np.floor((phi - margin - self.switches) / two)
         return float(ahead.min()), float(behind.max())
 
+    @property
+    def table(self):
+        """The mechanism's ``friction_table.FrictionTable`` (built on first use; None where it has
+        none: then every state goes through the closed form's kinetostatics)."""
+        if self._table is False:
+            from linkgen.machine.friction_table import build
+
+            self._table = build(self.asm)
+        return self._table
+
     def moment(self, phi, omega, epsilon) -> np.ndarray:
-        """M_f = sgn(ω)·loss [N·m] at the states (φ, ω, ε) (each (k,)), unscaled (Coulomb)."""
+        """M_f = sgn(ω)·loss [N·m] at the states (φ, ω, ε) (each (k,)), unscaled (Coulomb), by the
+        closed form's kinetostatics (the reference the table's route is checked against)."""
         from linkgen.families.planar.kinetostatics import forces
 
         self.calls += 1
@@ -90,6 +103,31 @@ class PairFriction:
         f = forces(self.asm, phi, w, np.broadcast_to(np.asarray(epsilon, dtype=float), phi.shape), threads=1)
         with np.errstate(invalid="ignore", divide="ignore"):
             return np.where(w != 0, f.friction_power / np.where(w != 0, np.abs(w), 1.0), 0.0) * np.sign(w)
+
+    def values(self, phi, omega, epsilon) -> tuple[dict[str, np.ndarray], np.ndarray]:
+        """Each pair's Coulomb friction (``Forces.friction``: name → (k,)) and M_f (k,) [N·m] at the
+        states (φ, ω, ε) (each (k,)): by the table where it has one and converges, else by the
+        closed form's kinetostatics (which raises FrictionError where the pairs self-lock)."""
+        from linkgen.families.planar.kinetostatics import forces
+
+        phi = np.atleast_1d(np.asarray(phi, dtype=float))
+        w = np.broadcast_to(np.asarray(omega, dtype=float), phi.shape)
+        e = np.broadcast_to(np.asarray(epsilon, dtype=float), phi.shape)
+        names = [fr.pair for fr in self.asm.mechanism.frictions]
+        ok = np.zeros(phi.shape, dtype=bool)
+        if self.table is not None:
+            f, _, rel, ok = self.table.solve(phi, w, epsilon=e)
+            mf = -np.einsum("nk,nk->n", f, rel)
+        if not ok.all():
+            bad = ~ok
+            exact = forces(self.asm, phi[bad], w[bad], e[bad], threads=1)
+            if self.table is None:
+                f, mf = np.zeros((phi.size, len(names))), np.zeros(phi.size)
+            f[bad] = np.stack([exact.friction[name] for name in names], axis=1)
+            with np.errstate(invalid="ignore", divide="ignore"):
+                mf[bad] = np.where(w[bad] != 0, exact.friction_power / np.where(w[bad] != 0, np.abs(w[bad]), 1.0),
+                                   0.0) * np.sign(w[bad])
+        return {name: f[:, k] for k, name in enumerate(names)}, mf
 
 
 def scale(omega) -> np.ndarray:
@@ -113,6 +151,17 @@ def acceleration(friction: PairFriction, phi, omega, free, inertia, t=None):
     if not moving.any():
         return eps, mf
     idx = np.flatnonzero(moving)
+    eps, mf = eps.copy(), mf
+    if friction.table is not None:  # Newton on (ε, the pairs' friction) over the table (``friction_table``)
+        guess = friction.last_pairs if idx.size == 1 else None
+        f, e, rel, ok = friction.table.solve(phi[idx], w[idx], free=free[idx], inertia=inertia[idx], s=s[idx],
+                                             guess=guess)
+        eps[idx], mf[idx] = e, -s[idx] * np.einsum("nk,nk->n", f, rel)
+        if idx.size == 1:
+            friction.last_pairs = f if ok[0] else None
+        idx = idx[~ok]  # the rest (locking, or no table) by the closed form's kinetostatics, below
+        if not idx.size:
+            return eps, mf
     tt = None if t is None else np.broadcast_to(np.asarray(t, dtype=float), phi.shape)[idx]
 
     def residual(e):  # g(ε) = J·ε − free + s·M_f(ε) [N·m] at the states twice: ε (k,) and ε + δ (k,)
@@ -149,9 +198,7 @@ def acceleration(friction: PairFriction, phi, omega, free, inertia, t=None):
                                             f"{MAX_ITERATIONS} steps")
     if idx.size == 1:
         friction.last = float(m0[0])
-    e1, m1 = e0, m0
-    eps = eps.copy()
-    eps[idx], mf[idx] = e1, m1
+    eps[idx], mf[idx] = e0, m0
     return eps, mf
 
 

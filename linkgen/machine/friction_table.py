@@ -1,0 +1,208 @@
+"""The pairs' friction at a state (φ, ω, ε) of a machine without building the kinetostatics: the
+frictionless reactions are affine in the loads, so at each crank angle those of the pairs with
+friction are
+
+    R(φ) = A₀(φ) + ω²·A₂(φ) + ε·A_ε(φ) + ω·A_c(φ) + Σ_k f_k·G_k(φ),
+
+A₀ from the given loads at rest (gravity, forces, torques, springs), A₂ and A_ε from the inertia
+loads per unit ω² and ε, A_c from the dampers per unit ω, and G_k the reactions one unit of pair
+k's friction f_k (its couple [N·m] or force along the guide [N], ``planar.friction``) makes. These
+columns, with each pair's relative rate per unit crank rate, are cubic splines over one turn
+(``tables.SmoothTable``: a stroke-switched force's jumps exact) through the closed form's values
+(``reactions.solve_reactions``) on a grid that is refined until the splines meet the closed form
+at every cell's middle within TABLE_TOL (``FrictionTable.error`` is what they reached).
+
+At a state the friction then is the fixed point f_k = −sgn(ω·rel_k)·μ_k·ρ_k(R), ρ = r·|R| at a
+revolute and max(|N|, 2|M|/L) at a prismatic pair, of K unknowns (``kinetostatics``' own law);
+with the machine's equation J·ε = free + s·Σ f_k·rel_k (−Σ f_k·rel_k is M_f, ``machine.friction``)
+it is solved jointly with ε by Newton's method on the K + 1 unknowns, the Jacobian exact (ρ is
+piecewise linear or a norm of affine functions). Superposition needs reactions linear in the loads:
+a mechanism with gears (whose tooth force has |F_t|·tan α) has no table (``build`` returns None)."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from linkgen.families.planar.assembly import Assembly
+from linkgen.machine.tables import SmoothTable, jump_grid, switch_angles
+
+# The splines must meet the closed form at every cell's middle within this fraction of each
+# column block's peak (the worst place between two grid angles for a cubic: its error there is
+# (h/2)⁴·|f⁗|/24 at most). 1e-11 of the reactions moves the friction moment by 1e-11 of itself,
+# 1e-1 of the machine ODE's RTOL = 1e-10: the friction is then exact for the integration.
+TABLE_TOL = 1e-11
+# The first grid (cells over one turn) and the finest one tried; a mechanism whose reactions need
+# more (near a singular pose) is solved by the closed form at each state instead (slower, exact).
+FIRST_CELLS, MAX_CELLS = 2048, 32768
+# Newton's iteration stops once its step moves each friction by at most this fraction of itself
+# and ε by this fraction of its scale (kinetostatics.FRICTION_TOL: the closed form's own fixed point).
+NEWTON_TOL = 1e-12
+MAX_NEWTON = 30
+
+
+class FrictionTable:
+    """The columns of the module docstring over one turn (``build``); ``pairs`` the friction
+    entries in order, ``error`` the worst relative gap of the splines at the cells' middles."""
+
+    def __init__(self, asm: Assembly, table: SmoothTable, error: float, cells: int):
+        mech = asm.mechanism
+        self.pairs = list(mech.frictions)
+        self.table, self.error, self.cells = table, error, cells
+        k = len(self.pairs)
+        self.k, self.c = k, 2 * k
+        self.revolute = np.array([fr.pin_radius is not None for fr in self.pairs])
+        self.mu_r = np.array([fr.coefficient * (fr.pin_radius if fr.pin_radius is not None else 1.0)
+                              for fr in self.pairs])
+        self.two_over_l = np.array([2.0 / fr.block_length if fr.block_length else 0.0 for fr in self.pairs])
+        from linkgen.families.planar.friction import STILL_TOL, asm_size
+
+        self.still = np.where(self.revolute, STILL_TOL, STILL_TOL * max(asm_size(asm), np.finfo(float).tiny))
+
+    def columns(self, phi: np.ndarray):
+        """(A (n, C, 4), G (n, C, K), rel (n, K)) at crank angles φ (n,)."""
+        v = np.atleast_2d(self.table.at(phi))
+        n, c, k = v.shape[0], self.c, self.k
+        a = v[:, :4 * c].reshape(n, 4, c).transpose(0, 2, 1)
+        g = v[:, 4 * c:4 * c + c * k].reshape(n, k, c).transpose(0, 2, 1)
+        return a, g, v[:, 4 * c + c * k:]
+
+    def solve(self, phi, omega, epsilon=None, free=None, inertia=None, s=None, guess=None):
+        """Each pair's Coulomb friction f (n, K) at crank angles φ, speeds ω (each (n,)) and
+        either the given accelerations ``epsilon`` (n,) or the ε (n,) that solves the machine's
+        equation inertia·ε = free + s·Σ f_k·rel_k (``free``, ``inertia``, ``s`` (n,)), from the
+        friction ``guess`` (n, K) or the frictionless reactions' one. Returns (f, ε, rel (n, K), ok
+        (n,)): ok where Newton converged to a fixed point the closed form's own iteration reaches
+        (the friction's Jacobian I + coef·∂ρ/∂R·G has a positive determinant) and, solving for ε,
+        where the effective inertia J − s·Σ rel_k·∂f_k/∂ε is > 0; the caller solves the other
+        states by the closed form (``machine.friction``), which names why they lock.
+
+        With ε unknown it is eliminated first: ε = (free + s·rel·f)/J makes R = P + Q·f with
+        P = base + A_ε·free/J and Q = G + A_ε ⊗ s·rel/J, and the effective inertia is
+        J·det(I + coef·∂ρ·Q)/det(I + coef·∂ρ·G) (the joint system's two Schur complements)."""
+        a, g, rel = self.columns(phi)
+        n, k = rel.shape[0], self.k
+        w = np.broadcast_to(np.asarray(omega, dtype=float), (n,))
+        coef = np.where(np.abs(rel) > self.still, np.sign(w[:, None] * rel), 0.0) * self.mu_r  # f = −coef·ρ(R)
+        de = a[:, :, 2]
+        base = a[:, :, 0] + (w * w)[:, None] * a[:, :, 1] + w[:, None] * a[:, :, 3]
+        joint = epsilon is None
+        if joint:
+            free, inertia, s = (np.broadcast_to(np.asarray(v, dtype=float), (n,)) for v in (free, inertia, s))
+            base = base + (free / inertia)[:, None] * de
+            q = g + de[:, :, None] * (s / inertia)[:, None, None] * rel[:, None, :]
+        else:
+            base = base + np.asarray(epsilon, dtype=float).reshape(-1, 1) * de
+            q = g
+        qx, qy = q[:, 0::2, :], q[:, 1::2, :]
+        f = -coef * self._rho(base)[0] if guess is None else np.array(np.broadcast_to(guess, (n, k)), dtype=float)
+        eye = np.eye(k)
+        ok = np.zeros(n, dtype=bool)
+        for _ in range(MAX_NEWTON):
+            rho, dx, dy = self._rho(base + np.matmul(q, f[:, :, None])[:, :, 0])
+            jac = coef[:, :, None] * (dx[:, :, None] * qx + dy[:, :, None] * qy) + eye
+            with np.errstate(all="ignore"):
+                step = np.linalg.solve(jac, (f + coef * rho)[:, :, None])[:, :, 0]
+            f = f - step
+            if not np.isfinite(step).all():
+                break
+            if (np.abs(step) <= NEWTON_TOL * np.abs(f)).all() or not np.any(step):
+                ok[:] = True
+                break
+        eps = (free + s * np.einsum("nk,nk->n", rel, f)) / inertia if joint else np.broadcast_to(epsilon, (n,))
+        if ok.all():
+            with np.errstate(all="ignore"):
+                ok = np.linalg.det(jac) > 0
+                if joint:  # the friction's own fixed point (Q → G) must be one the closed form reaches too
+                    gx, gy = g[:, 0::2, :], g[:, 1::2, :]
+                    ok &= np.linalg.det(coef[:, :, None] * (dx[:, :, None] * gx + dy[:, :, None] * gy) + eye) > 0
+        return f, eps, rel, ok
+
+    def _rho(self, r: np.ndarray):
+        """ρ_k (n, K) and its derivatives by each pair's two components (n, K) each, for the pairs'
+        reaction components R (n, C): a revolute's (Rx, Ry), a prismatic pair's (N, M)."""
+        x, y = r[:, 0::2], r[:, 1::2]
+        norm = np.hypot(x, y)
+        safe = np.where(norm > 0, norm, 1.0)
+        lever = self.two_over_l * np.abs(y)
+        by_n = np.abs(x) >= lever
+        rho = np.where(self.revolute, norm, np.where(by_n, np.abs(x), lever))
+        dx = np.where(self.revolute, x / safe, np.where(by_n, np.sign(x), 0.0))
+        dy = np.where(self.revolute, y / safe, np.where(by_n, 0.0, self.two_over_l * np.sign(y)))
+        return rho, dx, dy
+
+
+def build(asm: Assembly) -> FrictionTable | None:
+    """The table of ``asm``'s friction pairs (None: gears, or a grid of MAX_CELLS not enough)."""
+    mech = asm.mechanism
+    if mech.gears or not mech.frictions:
+        return None
+    d = mech.drive
+    full = d.stop - d.start >= 2 * math.pi - 1e-9
+    span = 2 * math.pi if full else d.stop - d.start
+    switches = switch_angles(mech, d.start)
+    cells = FIRST_CELLS
+    while cells <= MAX_CELLS:
+        grid, where = jump_grid(d.start, cells, switches, span)
+        table = SmoothTable(grid, _values(asm, where), periodic=full)
+        wide = np.diff(grid) > 0
+        middle = 0.5 * (grid[:-1] + grid[1:])[wide]
+        error = _gap(asm, table.at(middle), _values(asm, middle))
+        if error <= TABLE_TOL:
+            return FrictionTable(asm, table, error, cells)
+        cells *= 2
+    return None
+
+
+def _gap(asm: Assembly, spline: np.ndarray, exact: np.ndarray) -> float:
+    """The worst gap between the splines and the closed form, relative to each block's peak."""
+    k = len(asm.mechanism.frictions)
+    c = 2 * k
+    edges = [0, c, 2 * c, 3 * c, 4 * c] + [4 * c + c * (j + 1) for j in range(k)] + [4 * c + c * k + k]
+    worst = 0.0
+    for lo, hi in zip(edges[:-1], edges[1:]):
+        peak = float(np.abs(exact[:, lo:hi]).max())
+        if peak > 0:
+            worst = max(worst, float(np.abs(spline[:, lo:hi] - exact[:, lo:hi]).max()) / peak)
+    return worst
+
+
+def _values(asm: Assembly, phi: np.ndarray) -> np.ndarray:
+    """The columns (n, 4C + C·K + K) at crank angles φ (n,) from the closed form."""
+    from linkgen.families.planar.friction import pair_loads, relative_rate
+    from linkgen.families.planar.kinematics import solve
+    from linkgen.families.planar.loads import applied_loads, mass_table
+    from linkgen.families.planar.reactions import solve_reactions
+
+    mech = asm.mechanism
+    kin = solve(asm, phi)
+    n = phi.shape[0]
+    masses = mass_table(asm)
+    rest, moving = applied_loads(asm, kin, omega=0.0), applied_loads(asm, kin, omega=1.0)
+    com = {name: rest[name].com.p for name in masses}
+    zero = {name: [np.zeros((n, 2)), np.zeros(n)] for name in masses}
+
+    def inertia(order: str):
+        return {name: [-mp.mass * getattr(rest[name].com, order), -mp.inertia * getattr(kin.links[name].angle, order)]
+                for name, mp in masses.items()}
+
+    cases = [{name: [rest[name].force, rest[name].moment] for name in masses}, inertia("d2"), inertia("d1"),
+             {name: [moving[name].force - rest[name].force, moving[name].moment - rest[name].moment] for name in masses}]
+    for fr in mech.frictions:
+        case = dict(zero)
+        case.update(pair_loads(asm, kin, com, fr, np.ones(n)))
+        cases.append(case)
+    out = []
+    for case in cases:
+        _, reactions, normal, moment, *_ = solve_reactions(asm, kin, case, com, kin.singular)
+        for fr in mech.frictions:
+            if fr.pin_radius is not None:
+                out += [reactions[fr.pair][:, 0], reactions[fr.pair][:, 1]]
+            else:
+                out += [normal[fr.pair], moment[fr.pair]]
+    out += [relative_rate(asm, kin, fr)[0] for fr in mech.frictions]
+    return np.stack([np.broadcast_to(v, (n,)) for v in out], axis=1)
+
+
+__all__ = ["FrictionTable", "MAX_CELLS", "NEWTON_TOL", "TABLE_TOL", "build"]
