@@ -27,9 +27,16 @@ STEADY_CYCLES = 10
 MACHINE_TOL = 1e-6
 # Samples of the compared window.
 COMPARE_SAMPLES = 2001
+# A machine with friction in its pairs is compared over at most this many MuJoCo steps: each step
+# solves the pairs' friction at MuJoCo's state in Python (``mujoco.machine``), ~0.1–0.2 ms a step
+# besides MuJoCo's own, so validate's 1 s at machine_friction's 7.5 µs steps (133 333 steps) took
+# ~10 min; 20 000 steps keep its validation ~15 s and still cover most of a turn of the crank from
+# the start (every pair's friction switch of machine_friction but one). The window is stated in the
+# result ("window": seconds, steps, why) and the CLI's line.
+FRICTION_STEPS = 20000
 
 
-def _window(asm: Assembly, machine: Machine, cycles: int | None, progress=None
+def _window(asm: Assembly, machine: Machine, cycles: int | None, progress=None, seconds: float = COMPARE_SECONDS
             ) -> tuple[MachineRun, float, Reduced, int | None]:
     """The ODE run over the compared window: the first COMPARE_SECONDS, or with ``cycles`` the
     start-up and that many steady cycles (the ODE is run long enough to find them); a machine
@@ -38,7 +45,7 @@ def _window(asm: Assembly, machine: Machine, cycles: int | None, progress=None
     ``[machine] turns`` is compared up to there (the window returned is the run's)."""
     red = reduce(asm, machine.process_load)
     if cycles is None:
-        duration = min(machine.duration, COMPARE_SECONDS)
+        duration = min(machine.duration, seconds)
         run = run_machine(machine, red, samples=COMPARE_SAMPLES, duration=duration, progress=progress)
         return run, float(run.t[-1]), red, None  # the run's end: its duration, or its [machine] turns
     run = run_machine(machine, red, samples=16, progress=progress)
@@ -86,11 +93,21 @@ def compare_machine_run(asm: Assembly, machine: Machine, cycles: int | None = No
     own dcmotor element ("dcmotor", not part of "ok"). ``progress(fraction, elapsed)`` during
     the long runs. Returns the dict, MuJoCo's run and the ODE's."""
     from linkgen.machine.machine import motor_torque_at
-    from linkgen.mujoco.machine import run_machine_mujoco
+    from linkgen.mujoco.machine import machine_timestep, run_machine_mujoco
 
-    run, duration, red, cycles = _window(asm, machine, cycles, progress)
+    budget = asm.mechanism.frictions and cycles is None
+    seconds = min(COMPARE_SECONDS, FRICTION_STEPS * machine_timestep(asm, machine)) if budget else COMPARE_SECONDS
+    run, duration, red, cycles = _window(asm, machine, cycles, progress, seconds)
     reached = float(np.abs(run.omega).max())
-    mj = run_machine_mujoco(asm, machine, run.t, reactions=True, omega=reached, progress=progress)
+    t, window = run.t, None
+    if budget:  # the speed reached may shorten MuJoCo's timestep: the samples within the budget's steps
+        dt = machine_timestep(asm, machine, reached)
+        t = run.t[run.t <= FRICTION_STEPS * dt * (1 + 1e-12)]
+        duration = float(t[-1])
+        window = {"seconds": duration, "step_budget": FRICTION_STEPS, "timestep": dt,
+                  "why": f"friction in the pairs: MuJoCo's run is compared over its first {FRICTION_STEPS} steps "
+                         f"(the pairs' friction is solved at each step's state), not over {COMPARE_SECONDS:g} s"}
+    mj = run_machine_mujoco(asm, machine, t, reactions=True, omega=reached, progress=progress)
     y = run.solution(mj.t)
     w, phi = y[1], y[0]
     twist = (y[2] - y[0]) if machine.shaft is not None else None
@@ -122,6 +139,8 @@ def compare_machine_run(asm: Assembly, machine: Machine, cycles: int | None = No
            "tolerance": MACHINE_TOL, "phi_error_rad": float(np.abs(mj.phi - phi).max()), "duration_s": duration,
            "steps": mj.steps, "timestep": mj.timestep, "omega_reached": reached}
     out |= out_extra
+    if window is not None:
+        out["window"] = window
     if steady_from is not None:
         out |= {"steady_from_s": steady_from, "cycles": cycles}
     if run.steady is None:
@@ -210,4 +229,4 @@ class MachineCheck:
         return self.to_json()
 
 
-__all__ = ["COMPARE_SECONDS", "MACHINE_TOL", "STEADY_CYCLES", "MachineCheck", "compare_machine", "compare_machine_run"]
+__all__ = ["COMPARE_SECONDS", "FRICTION_STEPS", "MACHINE_TOL", "STEADY_CYCLES", "MachineCheck", "compare_machine", "compare_machine_run"]

@@ -57,7 +57,7 @@ class LockedError(SimulationError):
 class PairFriction:
     """The closed form's friction moment of one mechanism (``Reduced.friction``)."""
 
-    def __init__(self, asm: Assembly):
+    def __init__(self, asm: Assembly, exact: bool = False):
         from linkgen.families.planar.friction_switches import friction_switches
 
         self.asm = asm
@@ -70,7 +70,8 @@ class PairFriction:
         self.calls = 0
         self.last = None  # the last single state's s·M_f [N·m]: the next one's starting guess
         self.last_pairs = None  # the last single state's pair frictions (table route): the same
-        self._table = False  # not built yet
+        self.last_values = None  # the same for ``values``
+        self.exact = exact  # every state by the closed form's kinetostatics, not the table (the reference)
 
     def neighbours(self, phi: float, margin: float = 1e-9) -> tuple[float, float]:
         """The nearest switch angles [rad] ahead of φ and behind it, each more than ``margin``
@@ -84,13 +85,11 @@ class PairFriction:
 
     @property
     def table(self):
-        """The mechanism's ``friction_table.FrictionTable`` (built on first use; None where it has
-        none: then every state goes through the closed form's kinetostatics)."""
-        if self._table is False:
-            from linkgen.machine.friction_table import build
+        """The mechanism's ``friction_table.FrictionTable`` (built on first use, once per assembly;
+        None where it has none: then every state goes through the closed form's kinetostatics)."""
+        from linkgen.machine.friction_table import build
 
-            self._table = build(self.asm)
-        return self._table
+        return None if self.exact else build(self.asm)
 
     def moment(self, phi, omega, epsilon) -> np.ndarray:
         """M_f = sgn(ω)·loss [N·m] at the states (φ, ω, ε) (each (k,)), unscaled (Coulomb), by the
@@ -105,29 +104,42 @@ class PairFriction:
             return np.where(w != 0, f.friction_power / np.where(w != 0, np.abs(w), 1.0), 0.0) * np.sign(w)
 
     def values(self, phi, omega, epsilon) -> tuple[dict[str, np.ndarray], np.ndarray]:
-        """Each pair's Coulomb friction (``Forces.friction``: name → (k,)) and M_f (k,) [N·m] at the
-        states (φ, ω, ε) (each (k,)): by the table where it has one and converges, else by the
-        closed form's kinetostatics (which raises FrictionError where the pairs self-lock)."""
-        from linkgen.families.planar.kinetostatics import forces
+        """``friction_values`` at the states (φ, ω, ε) (each (k,)), a single state's from the last
+        one's friction (MuJoCo's last step)."""
+        pairs, mf, f = friction_values(self.asm, phi, omega, epsilon, self.last_values, self.exact)
+        if np.size(mf) == 1:
+            self.last_values = f
+        return pairs, mf
 
-        phi = np.atleast_1d(np.asarray(phi, dtype=float))
-        w = np.broadcast_to(np.asarray(omega, dtype=float), phi.shape)
-        e = np.broadcast_to(np.asarray(epsilon, dtype=float), phi.shape)
-        names = [fr.pair for fr in self.asm.mechanism.frictions]
-        ok = np.zeros(phi.shape, dtype=bool)
-        if self.table is not None:
-            f, _, rel, ok = self.table.solve(phi, w, epsilon=e)
-            mf = -np.einsum("nk,nk->n", f, rel)
-        if not ok.all():
-            bad = ~ok
-            exact = forces(self.asm, phi[bad], w[bad], e[bad], threads=1)
-            if self.table is None:
-                f, mf = np.zeros((phi.size, len(names))), np.zeros(phi.size)
-            f[bad] = np.stack([exact.friction[name] for name in names], axis=1)
-            with np.errstate(invalid="ignore", divide="ignore"):
-                mf[bad] = np.where(w[bad] != 0, exact.friction_power / np.where(w[bad] != 0, np.abs(w[bad]), 1.0),
-                                   0.0) * np.sign(w[bad])
-        return {name: f[:, k] for k, name in enumerate(names)}, mf
+
+def friction_values(asm: Assembly, phi, omega, epsilon, guess=None, exact: bool = False):
+    """Each pair's Coulomb friction (``Forces.friction``: name → (k,)) and M_f (k,) [N·m] at the
+    states (φ, ω, ε) (each (k,)), and the friction (k, K) (or None): by the mechanism's table
+    (``friction_table``, from ``guess`` (k, K)) where it has one and converges, else by the closed
+    form's kinetostatics (which raises FrictionError where the pairs self-lock; every state with
+    ``exact``)."""
+    from linkgen.families.planar.kinetostatics import forces
+    from linkgen.machine.friction_table import build
+
+    phi = np.atleast_1d(np.asarray(phi, dtype=float))
+    w = np.broadcast_to(np.asarray(omega, dtype=float), phi.shape)
+    e = np.broadcast_to(np.asarray(epsilon, dtype=float), phi.shape)
+    names = [fr.pair for fr in asm.mechanism.frictions]
+    table = None if exact else build(asm)
+    ok = np.zeros(phi.shape, dtype=bool)
+    if table is not None:
+        f, _, rel, ok = table.solve(phi, w, epsilon=e, guess=guess if guess is not None and phi.size == 1 else None)
+        mf = -np.einsum("nk,nk->n", f, rel)
+    else:
+        f, mf = np.zeros((phi.size, len(names))), np.zeros(phi.size)
+    if not ok.all():
+        bad = ~ok
+        exact = forces(asm, phi[bad], w[bad], e[bad], threads=1)
+        f[bad] = np.stack([exact.friction[name] for name in names], axis=1)
+        with np.errstate(invalid="ignore", divide="ignore"):
+            mf[bad] = np.where(w[bad] != 0, exact.friction_power / np.where(w[bad] != 0, np.abs(w[bad]), 1.0),
+                               0.0) * np.sign(w[bad])
+    return {name: f[:, k] for k, name in enumerate(names)}, mf, (f if ok.all() else None)
 
 
 def scale(omega) -> np.ndarray:
@@ -210,4 +222,5 @@ def _locked(phi, w, t, why: str) -> LockedError:
                        "pin radii, or change the drive")
 
 
-__all__ = ["EPSILON_TOL", "LockedError", "MAX_ITERATIONS", "PairFriction", "STICK_SPEED", "acceleration", "scale"]
+__all__ = ["EPSILON_TOL", "LockedError", "MAX_ITERATIONS", "PairFriction", "STICK_SPEED", "acceleration",
+           "friction_values", "scale"]

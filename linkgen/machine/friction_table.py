@@ -8,7 +8,7 @@ A₀ from the given loads at rest (gravity, forces, torques, springs), A₂ and 
 loads per unit ω² and ε, A_c from the dampers per unit ω, and G_k the reactions one unit of pair
 k's friction f_k (its couple [N·m] or force along the guide [N], ``planar.friction``) makes. These
 columns, with each pair's relative rate per unit crank rate, are cubic splines over one turn
-(``tables.SmoothTable``: a stroke-switched force's jumps exact) through the closed form's values
+(as ``tables.SmoothTable``: a stroke-switched force's jumps exact) through the closed form's values
 (``reactions.solve_reactions``) on a grid that is refined until the splines meet the closed form
 at every cell's middle within TABLE_TOL (``FrictionTable.error`` is what they reached).
 
@@ -26,7 +26,7 @@ import math
 import numpy as np
 
 from linkgen.families.planar.assembly import Assembly
-from linkgen.machine.tables import SmoothTable, jump_grid, switch_angles
+from linkgen.machine.tables import jump_grid, switch_angles
 
 # The splines must meet the closed form at every cell's middle within this fraction of each
 # column block's peak (the worst place between two grid angles for a cubic: its error there is
@@ -35,7 +35,11 @@ from linkgen.machine.tables import SmoothTable, jump_grid, switch_angles
 TABLE_TOL = 1e-11
 # The first grid (cells over one turn) and the finest one tried; a mechanism whose reactions need
 # more (near a singular pose) is solved by the closed form at each state instead (slower, exact).
-FIRST_CELLS, MAX_CELLS = 2048, 32768
+# Not the accuracy alone sets the first: a cubic's third derivative jumps at every grid angle, and
+# an ODE solver of order 8 crossing them loses accuracy — ten turns of machine_friction at rtol
+# 1e-10 ended 3.5e-8 (relative) from a 100× tighter run with 2048 cells (error 8.5e-13), 5.2e-9
+# with 16384, as the moment table's cells are (reduced.MOMENT_GRID). ~36 MB for 4 pairs.
+FIRST_CELLS, MAX_CELLS = 16384, 32768
 # Newton's iteration stops once its step moves each friction by at most this fraction of itself
 # and ε by this fraction of its scale (kinetostatics.FRICTION_TOL: the closed form's own fixed point).
 NEWTON_TOL = 1e-12
@@ -46,7 +50,7 @@ class FrictionTable:
     """The columns of the module docstring over one turn (``build``); ``pairs`` the friction
     entries in order, ``error`` the worst relative gap of the splines at the cells' middles."""
 
-    def __init__(self, asm: Assembly, table: SmoothTable, error: float, cells: int):
+    def __init__(self, asm: Assembly, table: "_Spline", error: float, cells: int):
         mech = asm.mechanism
         self.pairs = list(mech.frictions)
         self.table, self.error, self.cells = table, error, cells
@@ -133,8 +137,42 @@ class FrictionTable:
         return rho, dx, dy
 
 
+class _Spline:
+    """Columns (m, p) through cubic splines over one turn, as ``tables.SmoothTable`` (periodic
+    where nothing jumps, else not-a-knot from each jump to the next), without its integrals."""
+
+    def __init__(self, x: np.ndarray, v: np.ndarray, periodic: bool):
+        from scipy.interpolate import CubicSpline, PPoly
+
+        self.start, self.period, self.periodic = float(x[0]), float(x[-1] - x[0]), periodic
+        pieces = np.split(np.arange(x.size), np.flatnonzero(np.diff(x) == 0.0) + 1)
+        if len(pieces) == 1 and periodic:
+            self.poly = CubicSpline(x, v, bc_type="periodic")
+        else:
+            splines = [CubicSpline(x[k], v[k], bc_type="not-a-knot" if k.size > 2 else "natural") for k in pieces]
+            self.poly = PPoly(np.concatenate([sp.c for sp in splines], axis=1),
+                              np.concatenate([splines[0].x] + [sp.x[1:] for sp in splines[1:]]))
+
+    def at(self, phi):
+        """The columns at crank angles φ [rad] (any turn; right-continuous at a jump)."""
+        x = np.asarray(phi, dtype=float)
+        if self.periodic:
+            x = x - np.floor((x - self.start) / self.period) * self.period
+        return self.poly(x)
+
+
 def build(asm: Assembly) -> FrictionTable | None:
-    """The table of ``asm``'s friction pairs (None: gears, or a grid of MAX_CELLS not enough)."""
+    """The table of ``asm``'s friction pairs (None: gears, or a grid of MAX_CELLS not enough),
+    built once per assembly (the ODE and MuJoCo's run of a comparison share it)."""
+    cached = getattr(asm, "_friction_table", False)
+    if cached is not False:
+        return cached
+    table = _build(asm)
+    object.__setattr__(asm, "_friction_table", table)
+    return table
+
+
+def _build(asm: Assembly) -> FrictionTable | None:
     mech = asm.mechanism
     if mech.gears or not mech.frictions:
         return None
@@ -145,7 +183,7 @@ def build(asm: Assembly) -> FrictionTable | None:
     cells = FIRST_CELLS
     while cells <= MAX_CELLS:
         grid, where = jump_grid(d.start, cells, switches, span)
-        table = SmoothTable(grid, _values(asm, where), periodic=full)
+        table = _Spline(grid, _values(asm, where), full)
         wide = np.diff(grid) > 0
         middle = 0.5 * (grid[:-1] + grid[1:])[wide]
         error = _gap(asm, table.at(middle), _values(asm, middle))

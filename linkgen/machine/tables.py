@@ -115,8 +115,7 @@ class SmoothTable:
             self.poly = PPoly(np.hstack([sp.c for sp in splines]), np.concatenate(
                 [splines[0].x] + [sp.x[1:] for sp in splines[1:]]), extrapolate=True)
         self.anti = self.poly.antiderivative()
-        total = self.anti(x[-1]) - self.anti(x[0])  # per column for values (m, k)
-        self.total = float(total) if np.ndim(total) == 0 else total
+        self.total = float(self.anti(x[-1]) - self.anti(x[0]))
 
     def _unwrap(self, phi):
         x = np.asarray(phi, dtype=float)
