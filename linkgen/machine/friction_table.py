@@ -63,6 +63,9 @@ class FrictionTable:
         from linkgen.families.planar.friction import STILL_TOL, asm_size
 
         self.still = np.where(self.revolute, STILL_TOL, STILL_TOL * max(asm_size(asm), np.finfo(float).tiny))
+        # the same as lists, for a single state's solve in floats (``friction_one``)
+        self.revolute_list, self.mu_r_list = self.revolute.tolist(), self.mu_r.tolist()
+        self.two_over_l_list, self.still_list = self.two_over_l.tolist(), self.still.tolist()
 
     def columns(self, phi: np.ndarray):
         """(A (n, C, 4), G (n, C, K), rel (n, K)) at crank angles φ (n,)."""
@@ -84,7 +87,10 @@ class FrictionTable:
 
         With ε unknown it is eliminated first: ε = (free + s·rel·f)/J makes R = P + Q·f with
         P = base + A_ε·free/J and Q = G + A_ε ⊗ s·rel/J, and the effective inertia is
-        J·det(I + coef·∂ρ·Q)/det(I + coef·∂ρ·G) (the joint system's two Schur complements)."""
+        J·det(I + coef·∂ρ·Q)/det(I + coef·∂ρ·G) (the joint system's two Schur complements).
+        A single state is solved in floats (``friction_one``: the same iteration)."""
+        if np.size(phi) == 1:
+            return self._one(phi, omega, epsilon, free, inertia, s, guess)
         a, g, rel = self.columns(phi)
         n, k = rel.shape[0], self.k
         w = np.broadcast_to(np.asarray(omega, dtype=float), (n,))
@@ -122,6 +128,15 @@ class FrictionTable:
                     gx, gy = g[:, 0::2, :], g[:, 1::2, :]
                     ok &= np.linalg.det(coef[:, :, None] * (dx[:, :, None] * gx + dy[:, :, None] * gy) + eye) > 0
         return f, eps, rel, ok
+
+    def _one(self, phi, omega, epsilon, free, inertia, s, guess):
+        from linkgen.machine.friction_one import solve_one
+
+        v = self.table.at(np.reshape(np.asarray(phi, dtype=float), (1,)))[0].tolist()
+        one = (lambda x: None if x is None else float(np.reshape(x, -1)[0]))
+        f, eps, rel, ok = solve_one(self, v, one(omega), one(epsilon), one(free), one(inertia), one(s),
+                                    None if guess is None else np.reshape(guess, -1).tolist(), NEWTON_TOL, MAX_NEWTON)
+        return np.array([f]), np.array([eps]), np.array([rel]), np.array([ok])
 
     def _rho(self, r: np.ndarray):
         """ρ_k (n, K) and its derivatives by each pair's two components (n, K) each, for the pairs'
