@@ -53,6 +53,34 @@ class PairFriction(Record):
 
 
 @dataclass(frozen=True, repr=False)
+class SpringForce(Record):
+    """A spring between points (``[[spring]]``, keyed ``spring.P-Q``): its ``force`` [N], the
+    tension (positive pulls its points together), the sum of the ``spring_force`` k·(L − L₀) and the
+    ``damper_force`` c·dL/dt at the crank speed, and its ``length`` L [m]."""
+
+    force: np.ndarray | float
+    spring_force: np.ndarray | float
+    damper_force: np.ndarray | float
+    length: np.ndarray | float
+    UNIT: ClassVar[str] = "N"
+    UNITS: ClassVar[dict[str, str]] = {"length": "m"}
+
+
+@dataclass(frozen=True, repr=False)
+class TorsionMoment(Record):
+    """A torsion spring (``[[torsion_spring]]``, keyed ``torsion_spring.J``): the ``moment`` [N·m]
+    it applies to its second link (its opposite on the first), the sum of the ``spring_moment``
+    −k·(θ − θ₀) and the ``damper_moment`` −c·dθ/dt, and its ``deflection`` θ − θ₀ [rad]."""
+
+    moment: np.ndarray | float
+    spring_moment: np.ndarray | float
+    damper_moment: np.ndarray | float
+    deflection: np.ndarray | float
+    UNIT: ClassVar[str] = "N·m"
+    UNITS: ClassVar[dict[str, str]] = {"deflection": "rad"}
+
+
+@dataclass(frozen=True, repr=False)
 class ToothForce(Record):
     """A gear pair's tooth force [N] on its planet ``on``, exerted by the fixed gear's link ``by``
     (the ground)."""
@@ -88,6 +116,8 @@ class PlanarForces:
     solution: object = field(default=None, compare=False)  # the planar ``Forces``
     friction: Mapping[str, PairFriction] = field(default_factory=dict)
     friction_power: np.ndarray | float | None = None
+    springs: Mapping[str, SpringForce] = field(default_factory=dict)
+    torsion_springs: Mapping[str, TorsionMoment] = field(default_factory=dict)
 
     def to_dict(self, transfer: bool = True) -> dict:
         out = {"model": self.model, "phi": plain(self.phi), "omega": plain(self.omega), "epsilon": plain(self.epsilon),
@@ -106,6 +136,10 @@ class PlanarForces:
             out["friction"] = {k: v.to_dict() for k, v in self.friction.items()}
             out["friction_power"] = plain(self.friction_power)
             out["units"] = UNITS | FRICTION_UNITS
+        if self.springs:
+            out["springs"] = {k: v.to_dict() for k, v in self.springs.items()}
+        if self.torsion_springs:
+            out["torsion_springs"] = {k: v.to_dict() for k, v in self.torsion_springs.items()}
         if np.ndim(self.phi):  # samples: which are marked singular (one state never is: it raises)
             out["singular"] = plain(self.singular)
         return out
@@ -113,7 +147,8 @@ class PlanarForces:
     def columns(self, transfer: bool = True) -> dict[str, np.ndarray]:
         cols = {"phi [rad]": column(self.phi), "singular": np.atleast_1d(np.asarray(self.singular, dtype=bool))}
         cols |= {f"{q} [{u}]": column(getattr(self, q)) for q, u in SCALARS}
-        for table in (self.reactions, self.prismatic, self.tooth, self.contact, self.friction):
+        for table in (self.reactions, self.prismatic, self.tooth, self.contact, self.friction, self.springs,
+                      self.torsion_springs):
             for k, r in table.items():
                 cols |= r.columns(k)
         if self.friction:
@@ -172,6 +207,12 @@ class PlanarForces:
                              f"along the guide")
         if self.friction:
             lines.append(f"power lost to friction: {float(self.friction_power):.6g} W")
+        for k, v in self.springs.items():
+            lines.append(f"{k}: tension {float(v.force):.6g} N (spring {float(v.spring_force):.6g} N, damper "
+                         f"{float(v.damper_force):.6g} N), length {float(v.length):.6g} m")
+        for k, v in self.torsion_springs.items():
+            lines.append(f"{k}: moment on its second link {float(v.moment):.6g} N·m (spring {float(v.spring_moment):.6g} "
+                         f"N·m, damper {float(v.damper_moment):.6g} N·m), deflection {float(v.deflection):.6g} rad")
         return "\n".join(lines)
 
     def __repr__(self) -> str:
@@ -209,7 +250,38 @@ def forces(source, phi, omega=None, epsilon=None, *, on_singular: str = "raise")
         s(f.reduced.inertia), s(f.reduced.inertia_derivative), s(f.reduced.moment),
         bool(f.singular[0]) if scalar else f.singular, (asm, phis),
         {k: PairFriction(f.on[k], f.by[k], *((None, s(v)) if k in pairs else (s(v), None)))
-         for k, v in f.friction.items()}, s(f.friction_power) if f.friction else None)
+         for k, v in f.friction.items()}, s(f.friction_power) if f.friction else None,
+        *_springs(asm, phis, w, f.singular, s))
 
 
-__all__ = ["ContactForce", "PairFriction", "PlanarForces", "PrismaticLoad", "ToothForce", "forces"]
+def _springs(asm, phi: np.ndarray, omega, singular: np.ndarray, s) -> tuple[dict, dict]:
+    """The springs' forces and the torsion springs' moments at the angles φ (n,) and crank speed ω
+    (0 where ``singular``), keyed ``spring.P-Q`` (``#i`` added to a pair of points named twice) and
+    ``torsion_spring.J`` (the same)."""
+    mech = asm.mechanism
+    if not mech.springs and not mech.torsion_springs:
+        return {}, {}
+    from linkgen.families.planar.kinematics import solve
+    from linkgen.families.planar.spring_loads import spring_lengths, torsion_deflection
+
+    kin = solve(asm, phi, on_singular="mark")
+    keep = ~np.asarray(singular, dtype=bool)
+    names = [f"spring.{p}-{q}" for p, q in (sp.points for sp in mech.springs)]
+    springs = {}
+    for i, (sp, name) in enumerate(zip(mech.springs, names)):
+        length, rate, _ = spring_lengths(kin, sp)
+        k_part, c_part = sp.stiffness * (length - sp.rest_length), sp.damping * rate * omega
+        key = name if names.count(name) == 1 else f"{name}#{i}"
+        springs[key] = SpringForce(*(s(np.where(keep, x, 0.0)) for x in (k_part + c_part, k_part, c_part, length)))
+    torsion = {}
+    joints = [f"torsion_spring.{t.joint}" for t in mech.torsion_springs]
+    for i, (t, name) in enumerate(zip(mech.torsion_springs, joints)):
+        dev, rate = torsion_deflection(kin, t)
+        k_part, c_part = -t.stiffness * dev, -t.damping * rate * omega
+        torsion[name if joints.count(name) == 1 else f"{name}#{i}"] = TorsionMoment(*(s(np.where(keep, x, 0.0))
+                                                              for x in (k_part + c_part, k_part, c_part, dev)))
+    return springs, torsion
+
+
+__all__ = ["ContactForce", "PairFriction", "PlanarForces", "PrismaticLoad", "SpringForce", "ToothForce",
+           "TorsionMoment", "forces"]
