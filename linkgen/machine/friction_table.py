@@ -29,17 +29,21 @@ from linkgen.families.planar.assembly import Assembly
 from linkgen.machine.tables import jump_grid, switch_angles
 
 # The splines must meet the closed form at every cell's middle within this fraction of each
-# column block's peak (the worst place between two grid angles for a cubic: its error there is
-# (h/2)⁴·|f⁗|/24 at most). 1e-11 of the reactions moves the friction moment by 1e-11 of itself,
-# 1e-1 of the machine ODE's RTOL = 1e-10: the friction is then exact for the integration.
-TABLE_TOL = 1e-11
+# column block's peak. A quintic between 4096 angles a turn errs by ~(h/2)⁶·|f⁽⁶⁾|/720 there, ~1e-15 of
+# machine_friction's reactions (measured 3.3e-15); next to a stroke-switched force's jump the grid's
+# values are taken tables.SIDE = 1e-10 rad to either side of the switch, which moves them by
+# 1e-10·|f′| (measured 2.5e-11 of the peak on a press, at any grid). 1e-10 of the reactions moves
+# the friction moment by 1e-10 of itself, a few 1e-12 of the machine's torques.
+TABLE_TOL = 1e-10
 # The first grid (cells over one turn) and the finest one tried; a mechanism whose reactions need
 # more (near a singular pose) is solved by the closed form at each state instead (slower, exact).
-# Not the accuracy alone sets the first: a cubic's third derivative jumps at every grid angle, and
+# Not the accuracy alone sets the splines: a cubic's third derivative jumps at every grid angle, and
 # an ODE solver of order 8 crossing them loses accuracy — ten turns of machine_friction at rtol
-# 1e-10 ended 3.5e-8 (relative) from a 100× tighter run with 2048 cells (error 8.5e-13), 5.2e-9
-# with 16384, as the moment table's cells are (reduced.MOMENT_GRID). ~36 MB for 4 pairs.
-FIRST_CELLS, MAX_CELLS = 16384, 32768
+# 1e-10 ended 3.5e-8 (relative) from a 100× tighter run with cubics on 2048 cells (error 8.5e-13),
+# 7.1e-9 on 16384; quintics (C⁴) on 4096 cells: 6.5e-9, ~13 MB for 4 pairs.
+FIRST_CELLS, MAX_CELLS = 4096, 32768
+# The splines' degree (``_Spline``).
+DEGREE = 5
 # Newton's iteration stops once its step moves each friction by at most this fraction of itself
 # and ε by this fraction of its scale (kinetostatics.FRICTION_TOL: the closed form's own fixed point).
 NEWTON_TOL = 1e-12
@@ -153,20 +157,29 @@ class FrictionTable:
 
 
 class _Spline:
-    """Columns (m, p) through cubic splines over one turn, as ``tables.SmoothTable`` (periodic
-    where nothing jumps, else not-a-knot from each jump to the next), without its integrals."""
+    """Columns (m, p) through quintic splines over one turn (periodic where nothing jumps, else
+    not-a-knot from each jump to the next, a piece too short for a quintic cubic): C⁴ between the
+    jumps, so that an ODE solver of order 8 sees no kink in the friction (a cubic's third
+    derivative jumps at every grid angle)."""
 
     def __init__(self, x: np.ndarray, v: np.ndarray, periodic: bool):
-        from scipy.interpolate import CubicSpline, PPoly
+        from scipy.interpolate import CubicSpline, PPoly, make_interp_spline
 
         self.start, self.period, self.periodic = float(x[0]), float(x[-1] - x[0]), periodic
         pieces = np.split(np.arange(x.size), np.flatnonzero(np.diff(x) == 0.0) + 1)
-        if len(pieces) == 1 and periodic:
-            self.poly = CubicSpline(x, v, bc_type="periodic")
-        else:
-            splines = [CubicSpline(x[k], v[k], bc_type="not-a-knot" if k.size > 2 else "natural") for k in pieces]
-            self.poly = PPoly(np.concatenate([sp.c for sp in splines], axis=1),
-                              np.concatenate([splines[0].x] + [sp.x[1:] for sp in splines[1:]]))
+        polys = []
+        for k in pieces:
+            if k.size > DEGREE:
+                bc = "periodic" if len(pieces) == 1 and periodic else None
+                b = make_interp_spline(x[k], v[k], k=DEGREE, bc_type=bc)
+                # the piece's polynomials from the spline's derivatives at each interval's left end
+                c = np.stack([b(x[k][:-1], nu=DEGREE - m) / math.factorial(DEGREE - m) for m in range(DEGREE + 1)])
+            else:
+                c = CubicSpline(x[k], v[k], bc_type="not-a-knot" if k.size > 2 else "natural").c
+                c = np.concatenate([np.zeros((DEGREE + 1 - c.shape[0],) + c.shape[1:]), c])
+            polys.append((c, x[k]))
+        self.poly = PPoly(np.concatenate([c for c, _ in polys], axis=1),
+                          np.concatenate([polys[0][1]] + [xs[1:] for _, xs in polys[1:]]))
 
     def at(self, phi):
         """The columns at crank angles φ [rad] (any turn; right-continuous at a jump)."""
