@@ -176,14 +176,15 @@ def _native_dc(asm: Assembly, machine: Machine, run: MachineRun, t: np.ndarray) 
                     "the comparison above applies the same circuit's torque at each step's mid-point instead"}
 
 
-def compare_machine(path, cycles: int | None = None, progress=None) -> dict | None:
+def compare_machine(path, cycles: int | None = None, progress=None, asm: Assembly | None = None) -> dict | None:
     """The dynamics comparison for a description with a ``[machine]`` table (None without one);
-    a machine MuJoCo does not model here says so in "skipped"."""
+    a machine MuJoCo does not model here says so in "skipped". ``asm``: the file's assembly if at
+    hand (its tables, such as the friction's, are then built once)."""
     data = read_toml(path)
     machine = machine_from_dict(data)
     if machine is None:
         return None
-    asm = assemble(load(path))
+    asm = assemble(load(path)) if asm is None else asm
     try:
         return compare_machine_run(asm, machine, cycles, progress=progress)[0]
     except SimulationError as exc:

@@ -44,9 +44,12 @@ TABLE_TOL = 1e-10
 FIRST_CELLS, MAX_CELLS = 4096, 32768
 # The splines' degree (``_Spline``).
 DEGREE = 5
-# Newton's iteration stops once its step moves each friction by at most this fraction of itself
-# and ε by this fraction of its scale (kinetostatics.FRICTION_TOL: the closed form's own fixed point).
-NEWTON_TOL = 1e-12
+# Newton's iteration stops once its step moves each friction by at most this fraction of itself.
+# Its convergence is quadratic: the friction's law is piecewise linear (a block) or a norm |R| of
+# affine reactions (a pin), whose curvature leaves, after a step δ (relative), an error of at most
+# (c·δ)², c = μ·r·|∂R/∂f| < 1 the contraction of the closed form's own iteration (checked: the
+# Jacobian's determinant > 0). A step ≤ 1e-6 thus leaves ≤ 1e-12, the closed form's FRICTION_TOL.
+NEWTON_TOL = 1e-6
 MAX_NEWTON = 30
 
 
