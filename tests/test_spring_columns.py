@@ -1,5 +1,6 @@
 """The springs' tensions and the torsion springs' moments in ``linkgen forces``' output (JSON and
-CSV columns ``spring.P-Q.force [N]``, ``torsion_spring.J.moment [N·m]`` …), against hand values
+CSV columns ``spring[i].force [N]``, ``torsion_spring[i].moment [N·m]`` …, named as the design
+summary names them), against hand values
 at crank angles whose positions are written out here."""
 
 from __future__ import annotations
@@ -43,14 +44,15 @@ def test_the_spring_tension_in_the_forces_output_by_hand(phi):
     f = forces(load(MODELS / "slider_crank_spring.toml"), np.array([phi, phi + 0.1]), w)
     cols = f.columns()
     scale = abs(spring) + abs(damper)
-    assert cols["spring.B-S.length [m]"][0] == pytest.approx(length, abs=HAND_TOL)
-    assert cols["spring.B-S.spring_force [N]"][0] == pytest.approx(spring, abs=HAND_TOL * scale)
-    assert cols["spring.B-S.damper_force [N]"][0] == pytest.approx(damper, abs=HAND_TOL * scale)
-    assert cols["spring.B-S.force [N]"][0] == pytest.approx(spring + damper, abs=HAND_TOL * scale)
-    out = f.to_dict()["springs"]["spring.B-S"]
+    assert cols["spring[0].length [m]"][0] == pytest.approx(length, abs=HAND_TOL)
+    assert cols["spring[0].spring_force [N]"][0] == pytest.approx(spring, abs=HAND_TOL * scale)
+    assert cols["spring[0].damper_force [N]"][0] == pytest.approx(damper, abs=HAND_TOL * scale)
+    assert cols["spring[0].force [N]"][0] == pytest.approx(spring + damper, abs=HAND_TOL * scale)
+    out = f.to_dict()["springs"]["spring[0]"]
+    assert out["points"] == "B-S"
     assert out["force"][0] == pytest.approx(spring + damper, abs=HAND_TOL * scale)
     # a compression spring: the tension is negative (it pushes B away from S)
-    assert cols["spring.B-S.force [N]"][0] < 0
+    assert cols["spring[0].force [N]"][0] < 0
 
 
 def test_the_torsion_springs_moment_in_the_forces_output_by_hand():
@@ -64,9 +66,9 @@ def test_the_torsion_springs_moment_in_the_forces_output_by_hand():
     spring = -40.0 * (theta[1] - math.pi / 2)
     damper = -0.5 * w * (theta[2] - theta[0]) / (2 * h)
     cols = forces(asm, np.array([phi]), w).columns()
-    assert cols["torsion_spring.C.deflection [rad]"][0] == pytest.approx(theta[1] - math.pi / 2, abs=HAND_TOL)
-    assert cols["torsion_spring.C.spring_moment [N·m]"][0] == pytest.approx(spring, abs=HAND_TOL * abs(spring))
-    assert cols["torsion_spring.C.moment [N·m]"][0] == pytest.approx(spring + damper, abs=1e-8)
+    assert cols["torsion_spring[0].deflection [rad]"][0] == pytest.approx(theta[1] - math.pi / 2, abs=HAND_TOL)
+    assert cols["torsion_spring[0].spring_moment [N·m]"][0] == pytest.approx(spring, abs=HAND_TOL * abs(spring))
+    assert cols["torsion_spring[0].moment [N·m]"][0] == pytest.approx(spring + damper, abs=1e-8)
 
 
 def test_the_cli_writes_the_spring_columns(tmp_path):
@@ -75,10 +77,10 @@ def test_the_cli_writes_the_spring_columns(tmp_path):
     run = subprocess.run([sys.executable, "-m", "linkgen", "forces", str(MODELS / "slider_crank_friction.toml"),
                           "--samples", "5", "-o", str(out)], capture_output=True, text=True, check=True)
     header = out.read_text().splitlines()[0].split(",")
-    assert {"spring.B-S.force [N]", "spring.B-S.damper_force [N]", "spring.B-S.length [m]"} <= set(header)
+    assert {"spring[0].force [N]", "spring[0].damper_force [N]", "spring[0].length [m]"} <= set(header)
     one = subprocess.run([sys.executable, "-m", "linkgen", "forces", str(MODELS / "slider_crank_friction.toml"),
                           "--angle", "60deg", "--json"], capture_output=True, text=True, check=True)
     length, spring, damper = _slider_crank_by_hand(math.radians(60.0), 10.0)
-    assert json.loads(one.stdout)["springs"]["spring.B-S"]["force"] == pytest.approx(
+    assert json.loads(one.stdout)["springs"]["spring[0]"]["force"] == pytest.approx(
         spring + damper, abs=HAND_TOL * (abs(spring) + abs(damper)))
     assert run.returncode == 0

@@ -54,10 +54,12 @@ class PairFriction(Record):
 
 @dataclass(frozen=True, repr=False)
 class SpringForce(Record):
-    """A spring between points (``[[spring]]``, keyed ``spring.P-Q``): its ``force`` [N], the
-    tension (positive pulls its points together), the sum of the ``spring_force`` k·(L − L₀) and the
-    ``damper_force`` c·dL/dt at the crank speed, and its ``length`` L [m]."""
+    """A spring between points (``[[spring]]``, keyed ``spring[i]`` as the design summary names it,
+    between its ``points`` "P-Q"): its ``force`` [N], the tension (positive pulls its points
+    together), the sum of the ``spring_force`` k·(L − L₀) and the ``damper_force`` c·dL/dt at the
+    crank speed, and its ``length`` L [m]."""
 
+    points: str
     force: np.ndarray | float
     spring_force: np.ndarray | float
     damper_force: np.ndarray | float
@@ -68,10 +70,12 @@ class SpringForce(Record):
 
 @dataclass(frozen=True, repr=False)
 class TorsionMoment(Record):
-    """A torsion spring (``[[torsion_spring]]``, keyed ``torsion_spring.J``): the ``moment`` [N·m]
-    it applies to its second link (its opposite on the first), the sum of the ``spring_moment``
-    −k·(θ − θ₀) and the ``damper_moment`` −c·dθ/dt, and its ``deflection`` θ − θ₀ [rad]."""
+    """A torsion spring (``[[torsion_spring]]``, keyed ``torsion_spring[i]`` as the design summary
+    names it, at its revolute ``joint``): the ``moment`` [N·m] it applies to its second link (its
+    opposite on the first), the sum of the ``spring_moment`` −k·(θ − θ₀) and the ``damper_moment``
+    −c·dθ/dt, and its ``deflection`` θ − θ₀ [rad]."""
 
+    joint: str
     moment: np.ndarray | float
     spring_moment: np.ndarray | float
     damper_moment: np.ndarray | float
@@ -208,10 +212,10 @@ class PlanarForces:
         if self.friction:
             lines.append(f"power lost to friction: {float(self.friction_power):.6g} W")
         for k, v in self.springs.items():
-            lines.append(f"{k}: tension {float(v.force):.6g} N (spring {float(v.spring_force):.6g} N, damper "
+            lines.append(f"{k} ({v.points}): tension {float(v.force):.6g} N (spring {float(v.spring_force):.6g} N, damper "
                          f"{float(v.damper_force):.6g} N), length {float(v.length):.6g} m")
         for k, v in self.torsion_springs.items():
-            lines.append(f"{k}: moment on its second link {float(v.moment):.6g} N·m (spring {float(v.spring_moment):.6g} "
+            lines.append(f"{k} (at {v.joint}): moment on its second link {float(v.moment):.6g} N·m (spring {float(v.spring_moment):.6g} "
                          f"N·m, damper {float(v.damper_moment):.6g} N·m), deflection {float(v.deflection):.6g} rad")
         return "\n".join(lines)
 
@@ -256,8 +260,7 @@ def forces(source, phi, omega=None, epsilon=None, *, on_singular: str = "raise")
 
 def _springs(asm, phi: np.ndarray, omega, singular: np.ndarray, s) -> tuple[dict, dict]:
     """The springs' forces and the torsion springs' moments at the angles φ (n,) and crank speed ω
-    (0 where ``singular``), keyed ``spring.P-Q`` (``#i`` added to a pair of points named twice) and
-    ``torsion_spring.J`` (the same)."""
+    (0 where ``singular``), keyed ``spring[i]`` and ``torsion_spring[i]``."""
     mech = asm.mechanism
     if not mech.springs and not mech.torsion_springs:
         return {}, {}
@@ -266,20 +269,17 @@ def _springs(asm, phi: np.ndarray, omega, singular: np.ndarray, s) -> tuple[dict
 
     kin = solve(asm, phi, on_singular="mark")
     keep = ~np.asarray(singular, dtype=bool)
-    names = [f"spring.{p}-{q}" for p, q in (sp.points for sp in mech.springs)]
-    springs = {}
-    for i, (sp, name) in enumerate(zip(mech.springs, names)):
+    springs, torsion = {}, {}
+    for i, sp in enumerate(mech.springs):
         length, rate, _ = spring_lengths(kin, sp)
         k_part, c_part = sp.stiffness * (length - sp.rest_length), sp.damping * rate * omega
-        key = name if names.count(name) == 1 else f"{name}#{i}"
-        springs[key] = SpringForce(*(s(np.where(keep, x, 0.0)) for x in (k_part + c_part, k_part, c_part, length)))
-    torsion = {}
-    joints = [f"torsion_spring.{t.joint}" for t in mech.torsion_springs]
-    for i, (t, name) in enumerate(zip(mech.torsion_springs, joints)):
+        springs[f"spring[{i}]"] = SpringForce("-".join(sp.points), *(s(np.where(keep, x, 0.0))
+                                                                       for x in (k_part + c_part, k_part, c_part, length)))
+    for i, t in enumerate(mech.torsion_springs):
         dev, rate = torsion_deflection(kin, t)
         k_part, c_part = -t.stiffness * dev, -t.damping * rate * omega
-        torsion[name if joints.count(name) == 1 else f"{name}#{i}"] = TorsionMoment(*(s(np.where(keep, x, 0.0))
-                                                              for x in (k_part + c_part, k_part, c_part, dev)))
+        torsion[f"torsion_spring[{i}]"] = TorsionMoment(t.joint, *(s(np.where(keep, x, 0.0))
+                                                                  for x in (k_part + c_part, k_part, c_part, dev)))
     return springs, torsion
 
 
