@@ -96,8 +96,14 @@ class FrictionTable:
         P = base + A_ε·free/J and Q = G + A_ε ⊗ s·rel/J, and the effective inertia is
         J·det(I + coef·∂ρ·Q)/det(I + coef·∂ρ·G) (the joint system's two Schur complements).
         A single state is solved in floats (``friction_one``: the same iteration)."""
-        if np.size(phi) == 1:
-            return self._one(phi, omega, epsilon, free, inertia, s, guess)
+        out = (self._one(phi, omega, epsilon, free, inertia, s, guess) if np.size(phi) == 1 else
+               self._many(phi, omega, epsilon, free, inertia, s, guess))
+        if not self.table.periodic:  # a drive's partial range: the closed form beyond its ends
+            x = np.reshape(np.asarray(phi, dtype=float), -1)
+            out[3][:] &= (x >= self.table.start) & (x <= self.table.start + self.table.period)
+        return out
+
+    def _many(self, phi, omega, epsilon, free, inertia, s, guess):
         a, g, rel = self.columns(phi)
         n, k = rel.shape[0], self.k
         w = np.broadcast_to(np.asarray(omega, dtype=float), (n,))
@@ -193,12 +199,18 @@ class _Spline:
 
 
 def build(asm: Assembly) -> FrictionTable | None:
-    """The table of ``asm``'s friction pairs (None: gears, or a grid of MAX_CELLS not enough),
+    """The table of ``asm``'s friction pairs (None: gears, a grid of MAX_CELLS not enough, or a
+    turn the closed form does not cover everywhere, e.g. through a singular pose),
     built once per assembly (the ODE and MuJoCo's run of a comparison share it)."""
+    from linkgen.errors import LinkgenError
+
     cached = getattr(asm, "_friction_table", False)
     if cached is not False:
         return cached
-    table = _build(asm)
+    try:
+        table = _build(asm)
+    except LinkgenError:  # singular or not assembled somewhere on the turn: each state by the closed form
+        table = None
     object.__setattr__(asm, "_friction_table", table)
     return table
 
