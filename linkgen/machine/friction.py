@@ -7,11 +7,16 @@ inertia loads. The machine's equation
 
     (J(φ) + J_add)·ε + ½·J′(φ)·ω² = M_drive + M(φ, ω) − s(ω)·M_f(φ, ω, ε)
 
-is solved for ε at each state by Newton's iteration on ε with a secant slope (``acceleration``;
-vectorised over states: every iteration is one call of the kinetostatics at ε and ε + δ over all
-of them), starting from the last state's friction moment (a single state, the ODE's case) or from
-none. M_f is nearly affine in ε (its slope is the friction's share of the inertia loads, ~μ·r/arm
-of J), so the iteration converges in 2–3 calls to EPSILON_TOL.
+is solved for ε at each state (``acceleration``) jointly with the pairs' friction by Newton's
+method over the mechanism's table of the frictionless reactions' affine parts
+(``machine.friction_table``: no kinetostatics per state; ~0.1 ms), from the last state's friction.
+Where it has no table or does not converge (``FrictionTable.solve``'s ok), the closed form's
+kinetostatics answers: Newton's iteration on ε with a secant slope (vectorised over states: every
+iteration is one call of the kinetostatics at ε and ε + δ over all of them), starting from the last
+state's friction moment (a single state) or from none. M_f is nearly affine in ε (its slope is the
+friction's share of the inertia loads, ~μ·r/arm of J), so that iteration converges in 2–3 calls
+to EPSILON_TOL. ``friction_values`` gives the pairs' friction at a given ε the same two ways
+(MuJoCo's steps, the linkage check).
 
 Near ω = 0 (a start from rest, a reversal) the Coulomb law is regularised: s(ω) =
 tanh(|ω|/STICK_SPEED), so that the friction moment s·sgn(ω)·loss = tanh(ω/STICK_SPEED)·loss is a

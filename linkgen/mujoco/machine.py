@@ -18,9 +18,10 @@ stroke-switched force's switch angles exact; the closed-form positions at each g
 linkage has one degree of freedom, so its loads are functions of φ alone). Gravity is MuJoCo's own.
 
 Friction in the pairs ([[friction]]), which MuJoCo's frictionloss cannot model (``mujoco.friction``),
-is applied each step as a wrench: the closed form's friction at the step's mid-point crank angle and
-speed (MuJoCo's own state, not the ODE's) and at the crank acceleration the machine's equation
-gives there with the last step's friction moment (MuJoCo's own qacc lags a step and carries its
+is applied each step as a wrench: the closed form's friction (through its table,
+``machine.friction_table``) at the step's mid-point crank angle and speed (MuJoCo's own state,
+not the ODE's) and at the crank acceleration the machine's equation gives there with the last
+step's friction moment (MuJoCo's own qacc lags a step and carries its
 soft loops' ripple: with it, extrapolated, ω erred by 4.3e-7 over 0.1 s of machine_friction, with
 this 3.4e-8), regularised near rest as the machine's equation is (``machine.friction.scale``); an
 elastic shaft's machine extrapolates qacc from the last two steps instead."""
