@@ -48,6 +48,7 @@ def test_the_spring_tension_in_the_forces_output_by_hand(phi):
     assert cols["spring[0].spring_force [N]"][0] == pytest.approx(spring, abs=HAND_TOL * scale)
     assert cols["spring[0].damper_force [N]"][0] == pytest.approx(damper, abs=HAND_TOL * scale)
     assert cols["spring[0].force [N]"][0] == pytest.approx(spring + damper, abs=HAND_TOL * scale)
+    assert f.to_dict()["units"]["length"] == "m" and f.to_dict()["units"]["damper_force"] == "N"
     out = f.to_dict()["springs"]["spring[0]"]
     assert out["points"] == "B-S"
     assert out["force"][0] == pytest.approx(spring + damper, abs=HAND_TOL * scale)

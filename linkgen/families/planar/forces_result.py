@@ -19,6 +19,9 @@ UNITS = {"phi": "rad", "omega": "rad/s", "epsilon": "rad/s²", "force": "N", "to
          "reduced_moment": "N·m"}
 # With friction (``[[friction]]``): each pair's friction (a couple [N·m] or a force [N]) and the power lost.
 FRICTION_UNITS = {"friction_couple": "N·m", "friction_force": "N", "friction_power": "W"}
+# With springs (``[[spring]]``, ``[[torsion_spring]]``): their forces, moments, lengths and deflections.
+SPRING_UNITS = {"spring_force": "N", "damper_force": "N", "length": "m", "spring_moment": "N·m",
+                "damper_moment": "N·m", "deflection": "rad"}
 # The crank-level quantities, their units, in the order the CSV gives them.
 SCALARS = (("balancing_torque", "N·m"), ("power_balance_torque", "N·m"), ("reduced_inertia", "kg·m²"),
            ("reduced_inertia_derivative", "kg·m²/rad"), ("reduced_moment", "N·m"))
@@ -144,6 +147,8 @@ class PlanarForces:
             out["springs"] = {k: v.to_dict() for k, v in self.springs.items()}
         if self.torsion_springs:
             out["torsion_springs"] = {k: v.to_dict() for k, v in self.torsion_springs.items()}
+        if self.springs or self.torsion_springs:
+            out["units"] = out["units"] | SPRING_UNITS
         if np.ndim(self.phi):  # samples: which are marked singular (one state never is: it raises)
             out["singular"] = plain(self.singular)
         return out
