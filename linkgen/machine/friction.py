@@ -168,7 +168,6 @@ def acceleration(friction: PairFriction, phi, omega, free, inertia, t=None):
     if not moving.any():
         return eps, mf
     idx = np.flatnonzero(moving)
-    eps, mf = eps.copy(), mf
     if friction.table is not None:  # Newton on (ε, the pairs' friction) over the table (``friction_table``)
         guess = friction.last_pairs if idx.size == 1 else None
         f, e, rel, ok = friction.table.solve(phi[idx], w[idx], free=free[idx], inertia=inertia[idx], s=s[idx],
