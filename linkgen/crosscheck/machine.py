@@ -27,9 +27,17 @@ STEADY_CYCLES = 10
 MACHINE_TOL = 1e-6
 # Samples of the compared window.
 COMPARE_SAMPLES = 2001
+# A machine with friction in its pairs is compared over at most this many MuJoCo steps: each step
+# solves the pairs' friction at MuJoCo's state in Python (``mujoco.machine``: ~0.3 ms of CPU a step
+# with MuJoCo's own), so validate's 1 s at machine_friction's 7.5 µs steps (133 333 steps) would take
+# ~40 s of CPU (~10 min before the friction table); 20 000 steps keep its whole validation at ~13 s
+# of CPU and still cover 0° to 300° of the crank from its start, across its friction switches at
+# 90°, 180° and 270°. The window is stated in the result ("window": seconds, steps, why) and the
+# CLI's line.
+FRICTION_STEPS = 20000
 
 
-def _window(asm: Assembly, machine: Machine, cycles: int | None, progress=None
+def _window(asm: Assembly, machine: Machine, cycles: int | None, progress=None, seconds: float = COMPARE_SECONDS
             ) -> tuple[MachineRun, float, Reduced, int | None]:
     """The ODE run over the compared window: the first COMPARE_SECONDS, or with ``cycles`` the
     start-up and that many steady cycles (the ODE is run long enough to find them); a machine
@@ -38,7 +46,7 @@ def _window(asm: Assembly, machine: Machine, cycles: int | None, progress=None
     ``[machine] turns`` is compared up to there (the window returned is the run's)."""
     red = reduce(asm, machine.process_load)
     if cycles is None:
-        duration = min(machine.duration, COMPARE_SECONDS)
+        duration = min(machine.duration, seconds)
         run = run_machine(machine, red, samples=COMPARE_SAMPLES, duration=duration, progress=progress)
         return run, float(run.t[-1]), red, None  # the run's end: its duration, or its [machine] turns
     run = run_machine(machine, red, samples=16, progress=progress)
@@ -86,11 +94,21 @@ def compare_machine_run(asm: Assembly, machine: Machine, cycles: int | None = No
     own dcmotor element ("dcmotor", not part of "ok"). ``progress(fraction, elapsed)`` during
     the long runs. Returns the dict, MuJoCo's run and the ODE's."""
     from linkgen.machine.machine import motor_torque_at
-    from linkgen.mujoco.machine import run_machine_mujoco
+    from linkgen.mujoco.machine import machine_timestep, run_machine_mujoco
 
-    run, duration, red, cycles = _window(asm, machine, cycles, progress)
+    budget = asm.mechanism.frictions and cycles is None
+    seconds = min(COMPARE_SECONDS, FRICTION_STEPS * machine_timestep(asm, machine)) if budget else COMPARE_SECONDS
+    run, duration, red, cycles = _window(asm, machine, cycles, progress, seconds)
     reached = float(np.abs(run.omega).max())
-    mj = run_machine_mujoco(asm, machine, run.t, reactions=True, omega=reached, progress=progress)
+    t, window = run.t, None
+    if budget:  # the speed reached may shorten MuJoCo's timestep: the samples within the budget's steps
+        dt = machine_timestep(asm, machine, reached)
+        t = run.t[run.t <= FRICTION_STEPS * dt * (1 + 1e-12)]
+        duration = float(t[-1])
+        window = {"seconds": duration, "step_budget": FRICTION_STEPS, "timestep": dt,
+                  "why": f"friction in the pairs: MuJoCo's run is compared over its first {FRICTION_STEPS} steps "
+                         f"(the pairs' friction is solved at each step's state), not over {COMPARE_SECONDS:g} s"}
+    mj = run_machine_mujoco(asm, machine, t, reactions=True, omega=reached, progress=progress)
     y = run.solution(mj.t)
     w, phi = y[1], y[0]
     twist = (y[2] - y[0]) if machine.shaft is not None else None
@@ -122,6 +140,8 @@ def compare_machine_run(asm: Assembly, machine: Machine, cycles: int | None = No
            "tolerance": MACHINE_TOL, "phi_error_rad": float(np.abs(mj.phi - phi).max()), "duration_s": duration,
            "steps": mj.steps, "timestep": mj.timestep, "omega_reached": reached}
     out |= out_extra
+    if window is not None:
+        out["window"] = window
     if steady_from is not None:
         out |= {"steady_from_s": steady_from, "cycles": cycles}
     if run.steady is None:
@@ -157,14 +177,15 @@ def _native_dc(asm: Assembly, machine: Machine, run: MachineRun, t: np.ndarray) 
                     "the comparison above applies the same circuit's torque at each step's mid-point instead"}
 
 
-def compare_machine(path, cycles: int | None = None, progress=None) -> dict | None:
+def compare_machine(path, cycles: int | None = None, progress=None, asm: Assembly | None = None) -> dict | None:
     """The dynamics comparison for a description with a ``[machine]`` table (None without one);
-    a machine MuJoCo does not model here says so in "skipped"."""
+    a machine MuJoCo does not model here says so in "skipped". ``asm``: the file's assembly if at
+    hand (its tables, such as the friction's, are then built once)."""
     data = read_toml(path)
     machine = machine_from_dict(data)
     if machine is None:
         return None
-    asm = assemble(load(path))
+    asm = assemble(load(path)) if asm is None else asm
     try:
         return compare_machine_run(asm, machine, cycles, progress=progress)[0]
     except SimulationError as exc:
@@ -210,4 +231,4 @@ class MachineCheck:
         return self.to_json()
 
 
-__all__ = ["COMPARE_SECONDS", "MACHINE_TOL", "STEADY_CYCLES", "MachineCheck", "compare_machine", "compare_machine_run"]
+__all__ = ["COMPARE_SECONDS", "FRICTION_STEPS", "MACHINE_TOL", "STEADY_CYCLES", "MachineCheck", "compare_machine", "compare_machine_run"]

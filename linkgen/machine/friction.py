@@ -7,11 +7,16 @@ inertia loads. The machine's equation
 
     (J(φ) + J_add)·ε + ½·J′(φ)·ω² = M_drive + M(φ, ω) − s(ω)·M_f(φ, ω, ε)
 
-is solved for ε at each state by Newton's iteration on ε with a secant slope (``acceleration``;
-vectorised over states: every iteration is one call of the kinetostatics at ε and ε + δ over all
-of them), starting from the last state's friction moment (a single state, the ODE's case) or from
-none. M_f is nearly affine in ε (its slope is the friction's share of the inertia loads, ~μ·r/arm
-of J), so the iteration converges in 2–3 calls to EPSILON_TOL.
+is solved for ε at each state (``acceleration``) jointly with the pairs' friction by Newton's
+method over the mechanism's table of the frictionless reactions' affine parts
+(``machine.friction_table``: no kinetostatics per state; ~0.1 ms), from the last state's friction.
+Where it has no table or does not converge (``FrictionTable.solve``'s ok), the closed form's
+kinetostatics answers: Newton's iteration on ε with a secant slope (vectorised over states: every
+iteration is one call of the kinetostatics at ε and ε + δ over all of them), starting from the last
+state's friction moment (a single state) or from none. M_f is nearly affine in ε (its slope is the
+friction's share of the inertia loads, ~μ·r/arm of J), so that iteration converges in 2–3 calls
+to EPSILON_TOL. ``friction_values`` gives the pairs' friction at a given ε the same two ways
+(MuJoCo's steps, the linkage check).
 
 Near ω = 0 (a start from rest, a reversal) the Coulomb law is regularised: s(ω) =
 tanh(|ω|/STICK_SPEED), so that the friction moment s·sgn(ω)·loss = tanh(ω/STICK_SPEED)·loss is a
@@ -57,7 +62,7 @@ class LockedError(SimulationError):
 class PairFriction:
     """The closed form's friction moment of one mechanism (``Reduced.friction``)."""
 
-    def __init__(self, asm: Assembly):
+    def __init__(self, asm: Assembly, exact: bool = False):
         from linkgen.families.planar.friction_switches import friction_switches
 
         self.asm = asm
@@ -69,6 +74,9 @@ class PairFriction:
         self.switches = np.unique(np.mod(self.switches - d.start, 2 * math.pi)) + d.start
         self.calls = 0
         self.last = None  # the last single state's s·M_f [N·m]: the next one's starting guess
+        self.last_pairs = None  # the last single state's pair frictions (table route): the same
+        self.last_values = None  # the same for ``values``
+        self.exact = exact  # every state by the closed form's kinetostatics, not the table (the reference)
 
     def neighbours(self, phi: float, margin: float = 1e-9) -> tuple[float, float]:
         """The nearest switch angles [rad] ahead of φ and behind it, each more than ``margin``
@@ -80,8 +88,17 @@ class PairFriction:
         behind = self.switches + two * np.floor((phi - margin - self.switches) / two)
         return float(ahead.min()), float(behind.max())
 
+    @property
+    def table(self):
+        """The mechanism's ``friction_table.FrictionTable`` (built on first use, once per assembly;
+        None where it has none: then every state goes through the closed form's kinetostatics)."""
+        from linkgen.machine.friction_table import build
+
+        return None if self.exact else build(self.asm)
+
     def moment(self, phi, omega, epsilon) -> np.ndarray:
-        """M_f = sgn(ω)·loss [N·m] at the states (φ, ω, ε) (each (k,)), unscaled (Coulomb)."""
+        """M_f = sgn(ω)·loss [N·m] at the states (φ, ω, ε) (each (k,)), unscaled (Coulomb), by the
+        closed form's kinetostatics (the reference the table's route is checked against)."""
         from linkgen.families.planar.kinetostatics import forces
 
         self.calls += 1
@@ -90,6 +107,44 @@ class PairFriction:
         f = forces(self.asm, phi, w, np.broadcast_to(np.asarray(epsilon, dtype=float), phi.shape), threads=1)
         with np.errstate(invalid="ignore", divide="ignore"):
             return np.where(w != 0, f.friction_power / np.where(w != 0, np.abs(w), 1.0), 0.0) * np.sign(w)
+
+    def values(self, phi, omega, epsilon) -> tuple[dict[str, np.ndarray], np.ndarray]:
+        """``friction_values`` at the states (φ, ω, ε) (each (k,)), a single state's from the last
+        one's friction (MuJoCo's last step)."""
+        pairs, mf, f = friction_values(self.asm, phi, omega, epsilon, self.last_values, self.exact)
+        if np.size(mf) == 1:
+            self.last_values = f
+        return pairs, mf
+
+
+def friction_values(asm: Assembly, phi, omega, epsilon, guess=None, exact: bool = False):
+    """Each pair's Coulomb friction (``Forces.friction``: name → (k,)) and M_f (k,) [N·m] at the
+    states (φ, ω, ε) (each (k,)), and the friction (k, K) (or None): by the mechanism's table
+    (``friction_table``, from ``guess`` (k, K)) where it has one and converges, else by the closed
+    form's kinetostatics (which raises FrictionError where the pairs self-lock; every state with
+    ``exact``)."""
+    from linkgen.families.planar.kinetostatics import forces
+    from linkgen.machine.friction_table import build
+
+    phi = np.atleast_1d(np.asarray(phi, dtype=float))
+    w = np.broadcast_to(np.asarray(omega, dtype=float), phi.shape)
+    e = np.broadcast_to(np.asarray(epsilon, dtype=float), phi.shape)
+    names = [fr.pair for fr in asm.mechanism.frictions]
+    table = None if exact else build(asm)
+    ok = np.zeros(phi.shape, dtype=bool)
+    if table is not None:
+        f, _, rel, ok = table.solve(phi, w, epsilon=e, guess=guess if guess is not None and phi.size == 1 else None)
+        mf = -np.einsum("nk,nk->n", f, rel)
+    else:
+        f, mf = np.zeros((phi.size, len(names))), np.zeros(phi.size)
+    if not ok.all():
+        bad = ~ok
+        exact = forces(asm, phi[bad], w[bad], e[bad], threads=1)
+        f[bad] = np.stack([exact.friction[name] for name in names], axis=1)
+        with np.errstate(invalid="ignore", divide="ignore"):
+            mf[bad] = np.where(w[bad] != 0, exact.friction_power / np.where(w[bad] != 0, np.abs(w[bad]), 1.0),
+                               0.0) * np.sign(w[bad])
+    return {name: f[:, k] for k, name in enumerate(names)}, mf, (f if ok.all() else None)
 
 
 def scale(omega) -> np.ndarray:
@@ -113,6 +168,16 @@ def acceleration(friction: PairFriction, phi, omega, free, inertia, t=None):
     if not moving.any():
         return eps, mf
     idx = np.flatnonzero(moving)
+    if friction.table is not None:  # Newton on (ε, the pairs' friction) over the table (``friction_table``)
+        guess = friction.last_pairs if idx.size == 1 else None
+        f, e, rel, ok = friction.table.solve(phi[idx], w[idx], free=free[idx], inertia=inertia[idx], s=s[idx],
+                                             guess=guess)
+        eps[idx], mf[idx] = e, -s[idx] * np.einsum("nk,nk->n", f, rel)
+        if idx.size == 1:
+            friction.last_pairs = f if ok[0] else None
+        idx = idx[~ok]  # the rest (locking, or no table) by the closed form's kinetostatics, below
+        if not idx.size:
+            return eps, mf
     tt = None if t is None else np.broadcast_to(np.asarray(t, dtype=float), phi.shape)[idx]
 
     def residual(e):  # g(ε) = J·ε − free + s·M_f(ε) [N·m] at the states twice: ε (k,) and ε + δ (k,)
@@ -149,9 +214,7 @@ def acceleration(friction: PairFriction, phi, omega, free, inertia, t=None):
                                             f"{MAX_ITERATIONS} steps")
     if idx.size == 1:
         friction.last = float(m0[0])
-    e1, m1 = e0, m0
-    eps = eps.copy()
-    eps[idx], mf[idx] = e1, m1
+    eps[idx], mf[idx] = e0, m0
     return eps, mf
 
 
@@ -163,4 +226,5 @@ def _locked(phi, w, t, why: str) -> LockedError:
                        "pin radii, or change the drive")
 
 
-__all__ = ["EPSILON_TOL", "LockedError", "MAX_ITERATIONS", "PairFriction", "STICK_SPEED", "acceleration", "scale"]
+__all__ = ["EPSILON_TOL", "LockedError", "MAX_ITERATIONS", "PairFriction", "STICK_SPEED", "acceleration",
+           "friction_values", "scale"]

@@ -31,9 +31,15 @@ HEADER_NOTE = ("Friction in the pairs ([[friction]]) is not in this file: MuJoCo
 def friction_at(asm: Assembly, phi, omega, epsilon, mark: str = "raise") -> dict[str, np.ndarray]:
     """Each pair's friction (couple on a revolute's first link [N·m], force on a slider along its
     guide [N]) from the closed form at crank angles ``phi`` (n,), speed and acceleration
-    (``mark="mark"``: zero where the closed form is singular or finds no solution)."""
+    (``mark="mark"``: zero where the closed form is singular or finds no solution); "raise" through
+    the mechanism's friction table (``machine.friction.friction_values``: the same fixed point to
+    ~1e-13, without building the kinetostatics each step)."""
     from linkgen.families.planar.kinetostatics import forces
 
+    if mark == "raise":
+        from linkgen.machine.friction import friction_values
+
+        return friction_values(asm, phi, omega, epsilon)[0]
     return forces(asm, np.atleast_1d(np.asarray(phi, dtype=float)), omega, epsilon, on_singular=mark).friction
 
 

@@ -18,9 +18,10 @@ stroke-switched force's switch angles exact; the closed-form positions at each g
 linkage has one degree of freedom, so its loads are functions of φ alone). Gravity is MuJoCo's own.
 
 Friction in the pairs ([[friction]]), which MuJoCo's frictionloss cannot model (``mujoco.friction``),
-is applied each step as a wrench: the closed form's friction at the step's mid-point crank angle and
-speed (MuJoCo's own state, not the ODE's) and at the crank acceleration the machine's equation
-gives there with the last step's friction moment (MuJoCo's own qacc lags a step and carries its
+is applied each step as a wrench: the closed form's friction (through its table,
+``machine.friction_table``) at the step's mid-point crank angle and speed (MuJoCo's own state,
+not the ODE's) and at the crank acceleration the machine's equation gives there with the last
+step's friction moment (MuJoCo's own qacc lags a step and carries its
 soft loops' ripple: with it, extrapolated, ω erred by 4.3e-7 over 0.1 s of machine_friction, with
 this 3.4e-8), regularised near rest as the machine's equation is (``machine.friction.scale``); an
 elastic shaft's machine extrapolates qacc from the last two steps instead."""
@@ -110,8 +111,7 @@ def run_machine_mujoco(asm: Assembly, machine: Machine, t: np.ndarray, reactions
     mech = asm.mechanism
     xml = write_mjcf(asm, PLACEHOLDER)
     model = mujoco.MjModel.from_xml_string(xml)
-    top = max(machine.top_speed(asm.mechanism.drive.omega), omega or 0.0)
-    settings, scales = derive(asm, model, omega=top)
+    settings, scales = _settings(asm, machine, model, omega)
     if machine.shaft is not None:
         model = mujoco.MjModel.from_xml_string(_with_shaft(xml, mech, machine))
     apply(model, settings, mech.drive.joint)
@@ -158,14 +158,19 @@ def run_machine_mujoco(asm: Assembly, machine: Machine, t: np.ndarray, reactions
     phi_c = phi0  # the crank angle, unwrapped
     q_prev = float(data.qpos[adr])
     k, steps = 0, 0
-    start_eps = _start_acceleration(asm, model, data, crank, phi0) if mech.frictions else 0.0
-    switches = _switches(asm)
-    e_last, mf_last, ode = start_eps, 0.0, None
-    if mech.frictions and machine.shaft is None:
-        from linkgen.machine.equation import Model
-        from linkgen.machine.reduced import reduce
+    fric, ode = None, None
+    if mech.frictions:  # the pairs' friction at a state (``machine.friction``): the machine equation's own
+        from linkgen.machine.friction import PairFriction
 
-        ode = Model(machine, reduce(asm, machine.process_load))
+        if machine.shaft is None:
+            from linkgen.machine.equation import Model
+            from linkgen.machine.reduced import reduce
+
+            ode = Model(machine, reduce(asm, machine.process_load))
+        fric = ode.red.friction if ode is not None else PairFriction(asm)
+    start_eps = _start_acceleration(asm, model, data, crank, phi0, fric) if mech.frictions else 0.0
+    switches = _switches(asm)
+    e_last, mf_last = start_eps, 0.0
     wall0 = time.perf_counter()
     report_at = PROGRESS_EVERY
     while k < t.size:
@@ -176,7 +181,7 @@ def run_machine_mujoco(asm: Assembly, machine: Machine, t: np.ndarray, reactions
                 out_twist[k] = float(data.qpos[rotor_adr] - data.qpos[adr])
             if reactions:
                 eps, forces = _sample_forces(asm, model, data, phi_c, load, table, crank, dof, per_step,
-                                             lambda w: u * eta * _motor_torque(mot, u * w, current))
+                                             lambda w: u * eta * _motor_torque(mot, u * w, current), fric)
                 out_eps[k] = eps
                 for name, r in forces.reactions.items():
                     out_r.setdefault(name, np.empty((t.size, 2)))[k] = r
@@ -204,7 +209,7 @@ def run_machine_mujoco(asm: Assembly, machine: Machine, t: np.ndarray, reactions
                 mm, _ = ode.motor(w_c, np.array([mid, w_c, current]))
                 free = float(red.moment(mid, w_c)) + u * eta * float(mm) - 0.5 * float(red.dj(mid)) * w_c * w_c
                 e_c = (free - mf_last) / (float(red.j(mid)) + machine.added_inertia)
-            mf_last = _add_friction(asm, model, data, mid, w_c, e_c, _split(switches, phi_c, phi_c + sweep))
+            mf_last = _add_friction(asm, model, data, fric, mid, w_c, e_c, _split(switches, phi_c, phi_c + sweep))
         if per_step:
             i_mid = _current_after(mot, u * w_mid, current, 0.5 * dt) if motors.has_current(mot) else current
             data.qfrc_applied[dof] += u * eta * _motor_torque(mot, u * w_mid, i_mid)
@@ -225,7 +230,20 @@ def run_machine_mujoco(asm: Assembly, machine: Machine, t: np.ndarray, reactions
                             settle_window(settings, scales, 0.0, gravity=float(np.hypot(*mech.gravity))))
 
 
-def _sample_forces(asm, model, data, phi: float, load, table, crank: int, dof: int, per_step: bool, drive):
+def _settings(asm: Assembly, machine: Machine, model: mujoco.MjModel, omega: float | None):
+    """The derived settings and scales (``settings.derive``) of the machine's run: for the largest
+    crank speed, the motor's top speed or ``omega`` if higher."""
+    return derive(asm, model, omega=max(machine.top_speed(asm.mechanism.drive.omega), omega or 0.0))
+
+
+def machine_timestep(asm: Assembly, machine: Machine, omega: float | None = None) -> float:
+    """The timestep [s] ``run_machine_mujoco`` takes with the same ``omega``."""
+    model = mujoco.MjModel.from_xml_string(write_mjcf(asm, PLACEHOLDER))
+    return float(_settings(asm, machine, model, omega)[0].timestep)
+
+
+def _sample_forces(asm, model, data, phi: float, load, table, crank: int, dof: int, per_step: bool, drive,
+                   friction=None):
     """The crank acceleration and the forces at the current state with this instant's loads."""
     from linkgen.mujoco.forces import forward_forces
 
@@ -239,33 +257,31 @@ def _sample_forces(asm, model, data, phi: float, load, table, crank: int, dof: i
         for _ in range(SAMPLE_PASSES):
             eps = float(data.qacc[crank])
             data.xfrc_applied[:] = base
-            _add_friction(asm, model, data, phi, float(data.qvel[crank]), eps)
+            _add_friction(asm, model, data, friction, phi, float(data.qvel[crank]), eps)
             mujoco.mj_forward(model, data)
     mujoco.mj_forward(model, data)
     mujoco.mj_rnePostConstraint(model, data)
     return float(data.qacc[crank]), forward_forces(asm, model, data)
 
 
-def _add_friction(asm, model, data, phi: float, omega: float, epsilon: float, split=None) -> None:
-    """Add the pairs' friction (``mujoco.friction``: the closed form's at the crank angle, speed and
-    acceleration, scaled by ``machine.friction.scale`` as the machine's equation is) to
-    ``xfrc_applied``; returns the friction's reduced moment s·M_f [N·m]. ``split`` (a step that sweeps a friction switch, ``_split``): the step's
-    mean instead, the friction at the middle of the part before the switch and of the part after
-    it weighted by their shares of the sweep (the jump is then where it falls in the step, to first
-    order, not at the step's mid-point)."""
+def _add_friction(asm, model, data, friction, phi: float, omega: float, epsilon: float, split=None) -> float:
+    """Add the pairs' friction (``machine.friction.PairFriction.values``: the closed form's at the
+    crank angle, speed and acceleration, scaled by ``machine.friction.scale`` as the machine's
+    equation is) to ``xfrc_applied``; returns the friction's reduced moment s·M_f [N·m]. ``split``
+    (a step that sweeps a friction switch, ``_split``): the step's mean instead, the friction at the
+    middle of the part before the switch and of the part after it weighted by their shares of the
+    sweep (the jump is then where it falls in the step, to first order, not at the step's mid-point)."""
     from linkgen.machine.friction import scale
     from linkgen.mujoco.friction import add_friction
-
-    from linkgen.families.planar.kinetostatics import forces
 
     s = float(scale(omega))
     if s == 0.0:
         return 0.0
     mujoco.mj_kinematics(model, data)
     angles, weights = (np.array([phi]), np.ones(1)) if split is None else split
-    f = forces(asm, angles, omega, epsilon)
-    add_friction(asm, model, data, {k: s * float(np.dot(weights, v)) for k, v in f.friction.items()})
-    return s * math.copysign(1.0, omega) * float(np.dot(weights, f.friction_power)) / abs(omega)
+    pairs, moment = friction.values(angles, omega, epsilon)
+    add_friction(asm, model, data, {k: s * float(np.dot(weights, v)) for k, v in pairs.items()})
+    return s * float(np.dot(weights, moment))
 
 
 def _switches(asm) -> np.ndarray:
@@ -293,13 +309,13 @@ def _split(switches: np.ndarray, a: float, b: float):
     return 0.5 * (edges[:-1] + edges[1:]), np.diff(edges) / (hi - lo)
 
 
-def _start_acceleration(asm, model, data, crank: int, phi: float) -> float:
+def _start_acceleration(asm, model, data, crank: int, phi: float, friction) -> float:
     """The crank's acceleration at the start state with the friction at it (SAMPLE_PASSES passes
     from the frictionless one)."""
     mujoco.mj_forward(model, data)
     for _ in range(SAMPLE_PASSES):
         data.xfrc_applied[:] = 0.0
-        _add_friction(asm, model, data, phi, float(data.qvel[crank]), float(data.qacc[crank]))
+        _add_friction(asm, model, data, friction, phi, float(data.qvel[crank]), float(data.qacc[crank]))
         mujoco.mj_forward(model, data)
     data.xfrc_applied[:] = 0.0
     return float(data.qacc[crank])
@@ -341,4 +357,4 @@ def _motor_torque(mot, w_motor: float, current: float) -> float:
     return float(motors.torque(mot, w_motor))
 
 
-__all__ = ["MujocoMachineRun", "run_machine_mujoco"]
+__all__ = ["MujocoMachineRun", "machine_timestep", "run_machine_mujoco"]

@@ -146,7 +146,7 @@ def validate(desc, *, practical: bool = True, nthread: int | None = None, max_st
         return check
     from linkgen.crosscheck.machine import MachineCheck, compare_machine
 
-    machine = compare_machine(source, progress=machine_progress)
+    machine = compare_machine(source, progress=machine_progress, asm=asm)
     return check if machine is None else MachineCheck(check, machine)
 
 

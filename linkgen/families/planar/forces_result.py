@@ -19,6 +19,9 @@ UNITS = {"phi": "rad", "omega": "rad/s", "epsilon": "rad/s²", "force": "N", "to
          "reduced_moment": "N·m"}
 # With friction (``[[friction]]``): each pair's friction (a couple [N·m] or a force [N]) and the power lost.
 FRICTION_UNITS = {"friction_couple": "N·m", "friction_force": "N", "friction_power": "W"}
+# With springs (``[[spring]]``, ``[[torsion_spring]]``): their forces, moments, lengths and deflections.
+SPRING_UNITS = {"spring_force": "N", "damper_force": "N", "length": "m", "spring_moment": "N·m",
+                "damper_moment": "N·m", "deflection": "rad"}
 # The crank-level quantities, their units, in the order the CSV gives them.
 SCALARS = (("balancing_torque", "N·m"), ("power_balance_torque", "N·m"), ("reduced_inertia", "kg·m²"),
            ("reduced_inertia_derivative", "kg·m²/rad"), ("reduced_moment", "N·m"))
@@ -50,6 +53,38 @@ class PairFriction(Record):
     friction_force: np.ndarray | float | None = None
     UNIT: ClassVar[str] = "N"
     UNITS: ClassVar[dict[str, str]] = {"friction_couple": "N·m"}
+
+
+@dataclass(frozen=True, repr=False)
+class SpringForce(Record):
+    """A spring between points (``[[spring]]``, keyed ``spring[i]`` as the design summary names it,
+    between its ``points`` "P-Q"): its ``force`` [N], the tension (positive pulls its points
+    together), the sum of the ``spring_force`` k·(L − L₀) and the ``damper_force`` c·dL/dt at the
+    crank speed, and its ``length`` L [m]."""
+
+    points: str
+    force: np.ndarray | float
+    spring_force: np.ndarray | float
+    damper_force: np.ndarray | float
+    length: np.ndarray | float
+    UNIT: ClassVar[str] = "N"
+    UNITS: ClassVar[dict[str, str]] = {"length": "m"}
+
+
+@dataclass(frozen=True, repr=False)
+class TorsionMoment(Record):
+    """A torsion spring (``[[torsion_spring]]``, keyed ``torsion_spring[i]`` as the design summary
+    names it, at its revolute ``joint``): the ``moment`` [N·m] it applies to its second link (its
+    opposite on the first), the sum of the ``spring_moment`` −k·(θ − θ₀) and the ``damper_moment``
+    −c·dθ/dt, and its ``deflection`` θ − θ₀ [rad]."""
+
+    joint: str
+    moment: np.ndarray | float
+    spring_moment: np.ndarray | float
+    damper_moment: np.ndarray | float
+    deflection: np.ndarray | float
+    UNIT: ClassVar[str] = "N·m"
+    UNITS: ClassVar[dict[str, str]] = {"deflection": "rad"}
 
 
 @dataclass(frozen=True, repr=False)
@@ -88,6 +123,8 @@ class PlanarForces:
     solution: object = field(default=None, compare=False)  # the planar ``Forces``
     friction: Mapping[str, PairFriction] = field(default_factory=dict)
     friction_power: np.ndarray | float | None = None
+    springs: Mapping[str, SpringForce] = field(default_factory=dict)
+    torsion_springs: Mapping[str, TorsionMoment] = field(default_factory=dict)
 
     def to_dict(self, transfer: bool = True) -> dict:
         out = {"model": self.model, "phi": plain(self.phi), "omega": plain(self.omega), "epsilon": plain(self.epsilon),
@@ -106,6 +143,12 @@ class PlanarForces:
             out["friction"] = {k: v.to_dict() for k, v in self.friction.items()}
             out["friction_power"] = plain(self.friction_power)
             out["units"] = UNITS | FRICTION_UNITS
+        if self.springs:
+            out["springs"] = {k: v.to_dict() for k, v in self.springs.items()}
+        if self.torsion_springs:
+            out["torsion_springs"] = {k: v.to_dict() for k, v in self.torsion_springs.items()}
+        if self.springs or self.torsion_springs:
+            out["units"] = out["units"] | SPRING_UNITS
         if np.ndim(self.phi):  # samples: which are marked singular (one state never is: it raises)
             out["singular"] = plain(self.singular)
         return out
@@ -113,7 +156,8 @@ class PlanarForces:
     def columns(self, transfer: bool = True) -> dict[str, np.ndarray]:
         cols = {"phi [rad]": column(self.phi), "singular": np.atleast_1d(np.asarray(self.singular, dtype=bool))}
         cols |= {f"{q} [{u}]": column(getattr(self, q)) for q, u in SCALARS}
-        for table in (self.reactions, self.prismatic, self.tooth, self.contact, self.friction):
+        for table in (self.reactions, self.prismatic, self.tooth, self.contact, self.friction, self.springs,
+                      self.torsion_springs):
             for k, r in table.items():
                 cols |= r.columns(k)
         if self.friction:
@@ -172,6 +216,12 @@ class PlanarForces:
                              f"along the guide")
         if self.friction:
             lines.append(f"power lost to friction: {float(self.friction_power):.6g} W")
+        for k, v in self.springs.items():
+            lines.append(f"{k} ({v.points}): tension {float(v.force):.6g} N (spring {float(v.spring_force):.6g} N, damper "
+                         f"{float(v.damper_force):.6g} N), length {float(v.length):.6g} m")
+        for k, v in self.torsion_springs.items():
+            lines.append(f"{k} (at {v.joint}): moment on its second link {float(v.moment):.6g} N·m (spring {float(v.spring_moment):.6g} "
+                         f"N·m, damper {float(v.damper_moment):.6g} N·m), deflection {float(v.deflection):.6g} rad")
         return "\n".join(lines)
 
     def __repr__(self) -> str:
@@ -209,7 +259,34 @@ def forces(source, phi, omega=None, epsilon=None, *, on_singular: str = "raise")
         s(f.reduced.inertia), s(f.reduced.inertia_derivative), s(f.reduced.moment),
         bool(f.singular[0]) if scalar else f.singular, (asm, phis),
         {k: PairFriction(f.on[k], f.by[k], *((None, s(v)) if k in pairs else (s(v), None)))
-         for k, v in f.friction.items()}, s(f.friction_power) if f.friction else None)
+         for k, v in f.friction.items()}, s(f.friction_power) if f.friction else None,
+        *_springs(asm, phis, w, f.singular, s))
 
 
-__all__ = ["ContactForce", "PairFriction", "PlanarForces", "PrismaticLoad", "ToothForce", "forces"]
+def _springs(asm, phi: np.ndarray, omega, singular: np.ndarray, s) -> tuple[dict, dict]:
+    """The springs' forces and the torsion springs' moments at the angles φ (n,) and crank speed ω
+    (0 where ``singular``), keyed ``spring[i]`` and ``torsion_spring[i]``."""
+    mech = asm.mechanism
+    if not mech.springs and not mech.torsion_springs:
+        return {}, {}
+    from linkgen.families.planar.kinematics import solve
+    from linkgen.families.planar.spring_loads import spring_lengths, torsion_deflection
+
+    kin = solve(asm, phi, on_singular="mark")
+    keep = ~np.asarray(singular, dtype=bool)
+    springs, torsion = {}, {}
+    for i, sp in enumerate(mech.springs):
+        length, rate, _ = spring_lengths(kin, sp)
+        k_part, c_part = sp.stiffness * (length - sp.rest_length), sp.damping * rate * omega
+        springs[f"spring[{i}]"] = SpringForce("-".join(sp.points), *(s(np.where(keep, x, 0.0))
+                                                                       for x in (k_part + c_part, k_part, c_part, length)))
+    for i, t in enumerate(mech.torsion_springs):
+        dev, rate = torsion_deflection(kin, t)
+        k_part, c_part = -t.stiffness * dev, -t.damping * rate * omega
+        torsion[f"torsion_spring[{i}]"] = TorsionMoment(t.joint, *(s(np.where(keep, x, 0.0))
+                                                                  for x in (k_part + c_part, k_part, c_part, dev)))
+    return springs, torsion
+
+
+__all__ = ["ContactForce", "PairFriction", "PlanarForces", "PrismaticLoad", "SpringForce", "ToothForce",
+           "TorsionMoment", "forces"]

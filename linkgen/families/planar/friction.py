@@ -107,46 +107,56 @@ def friction_loads(asm, kin, omega: np.ndarray, com: dict[str, np.ndarray], reac
     link: dict[str, list[np.ndarray]] = {}
     pair: dict[str, np.ndarray] = {}
     loss = np.zeros(n)
-    size = max(asm_size(asm), np.finfo(float).tiny)
-
-    def add(name: str, force: np.ndarray | None, torque: np.ndarray, at: np.ndarray | None = None) -> None:
-        if name == GROUND:
-            return
-        f, m = link.setdefault(name, [np.zeros((n, 2)), np.zeros(n)])
-        if force is not None:
-            arm = at - com[name]
-            f += force
-            m += arm[:, 0] * force[:, 1] - arm[:, 1] * force[:, 0]
-        m += torque
-
-    def rate(name: str) -> np.ndarray | float:
-        return 0.0 if name == GROUND else kin.links[name].angle.d1
-
     for fr in mech.frictions:
+        rel, moving = relative_rate(asm, kin, fr)
         if fr.pin_radius is not None:
-            joint = mech.revolute(fr.pair)
-            a, b = joint.links
-            rel = np.broadcast_to(rate(a) - rate(b), (n,))
-            moving = np.abs(rel) > STILL_TOL
             limit = fr.coefficient * fr.pin_radius * np.hypot(*reactions[fr.pair].T)
-            tau = np.where(moving, -limit * np.sign(omega * rel), 0.0)
-            add(a, None, tau)
-            add(b, None, -tau)
-            pair[fr.pair] = tau
-            loss += np.where(moving, limit * np.abs(rel), 0.0)
         else:
-            g = asm.guides[fr.pair]
-            rel = kin.sliders[fr.pair].d1
-            moving = np.abs(rel) > STILL_TOL * size
             limit = fr.coefficient * np.maximum(np.abs(normal[fr.pair]), 2.0 * np.abs(moment[fr.pair]) / fr.block_length)
-            value = np.where(moving, -limit * np.sign(omega * rel), 0.0)
-            u = kin.links[g.guide].direction(g.alpha).p
-            at = kin.links[g.slider].point(g.point).p
-            add(g.slider, value[:, None] * u, 0.0, at)
-            add(g.guide, -value[:, None] * u, 0.0, at)
-            pair[fr.pair] = value
-            loss += np.where(moving, limit * np.abs(rel), 0.0)
+        value = np.where(moving, -limit * np.sign(omega * rel), 0.0)
+        for name, (f, m) in pair_loads(asm, kin, com, fr, value).items():
+            total = link.setdefault(name, [np.zeros((n, 2)), np.zeros(n)])
+            total[0] += f
+            total[1] += m
+        pair[fr.pair] = value
+        loss += np.where(moving, limit * np.abs(rel), 0.0)
     return FrictionLoads(link, pair, loss)
+
+
+def relative_rate(asm, kin, fr: Friction) -> tuple[np.ndarray, np.ndarray]:
+    """The pair's relative rate per unit crank rate (n,) (θ̇_a − θ̇_b [rad/rad] at a revolute, the
+    slider's ṡ [m/rad] at a prismatic pair) and where it moves (beyond STILL_TOL)."""
+    n = kin.phi.shape[0]
+    if fr.pin_radius is not None:
+        a, b = asm.mechanism.revolute(fr.pair).links
+        rel = np.broadcast_to((0.0 if a == GROUND else kin.links[a].angle.d1)
+                              - (0.0 if b == GROUND else kin.links[b].angle.d1), (n,))
+        return rel, np.abs(rel) > STILL_TOL
+    rel = kin.sliders[fr.pair].d1
+    return rel, np.abs(rel) > STILL_TOL * max(asm_size(asm), np.finfo(float).tiny)
+
+
+def pair_loads(asm, kin, com: dict[str, np.ndarray], fr: Friction, value: np.ndarray) -> dict[str, list[np.ndarray]]:
+    """The loads on the pair's moving links (force (n, 2) [N], moment about the centre of mass
+    (n,) [N·m]) of its friction ``value`` (n,): the couple on a revolute's first link (its opposite
+    on the second), the force on a slider along its guide (its opposite on the guide, both at the
+    slider's point)."""
+    n = kin.phi.shape[0]
+    out: dict[str, list[np.ndarray]] = {}
+    if fr.pin_radius is not None:
+        for name, sign in zip(asm.mechanism.revolute(fr.pair).links, (1.0, -1.0)):
+            if name != GROUND:
+                out[name] = [np.zeros((n, 2)), sign * value]
+        return out
+    g = asm.guides[fr.pair]
+    u = kin.links[g.guide].direction(g.alpha).p
+    at = kin.links[g.slider].point(g.point).p
+    for name, sign in ((g.slider, 1.0), (g.guide, -1.0)):
+        if name != GROUND:
+            force = sign * value[:, None] * u
+            arm = at - com[name]
+            out[name] = [force, arm[:, 0] * force[:, 1] - arm[:, 1] * force[:, 0]]
+    return out
 
 
 def asm_size(asm) -> float:
@@ -156,4 +166,4 @@ def asm_size(asm) -> float:
 
 
 __all__ = ["MAX_COEFFICIENT", "STILL_TOL", "Friction", "FrictionLoads", "asm_size", "check_friction",
-           "friction_loads"]
+           "friction_loads", "pair_loads", "relative_rate"]
