@@ -28,6 +28,8 @@ def _whole_in(lo: int, hi: int):
     return parse
 
 FIGURE_FORMATS = ("png", "svg", "pdf")
+VECTOR_CHOICES = ("velocity", "acceleration", "forces")
+PLAN_CHOICES = ("velocity", "acceleration")
 # A position plan of more positions than this is a smear, not a drawing.
 MAX_PLAN_POSITIONS = 73
 
@@ -88,10 +90,20 @@ def cmd_draw(args) -> int:
     output_kind(args, args.out, DRAWING)
     if args.angle is not None and args.angles is not None:
         raise OptionError("--angle cannot be combined with --angles: --angle draws one position, --angles a plan")
+    one = [f"--{k.replace('_', '-')}" for k in ("vectors", "plan", "free_body") if getattr(args, k) is not None]
+    if args.parts:
+        one.append("--parts")
+    if args.angles is not None and one:
+        raise OptionError(f"{one[0]} draws at one crank angle (--angle); it cannot be combined with --angles")
+    if args.plan is not None and len(one) > 1:
+        raise OptionError(f"--plan draws the plan alone; it cannot be combined with {one[1] if one[0] == '--plan' else one[0]}")
+    if args.parts and args.vectors != "acceleration":
+        raise OptionError("--parts splits accelerations: it needs --vectors acceleration")
     desc = load(args.model)
     draw = stage(desc, "draw")
     with atomic_output(args.out) as tmp:
-        what = draw(desc, args.angles if args.angles is not None else args.angle, tmp)
+        what, _ = draw(desc, args.angles if args.angles is not None else args.angle, tmp, vectors=args.vectors,
+                       parts=args.parts, free_body=args.free_body, plan=args.plan)
     print(f"wrote {args.out}: {what}")
     return 0
 
@@ -136,6 +148,16 @@ def add_commands(sub) -> None:
     d.add_argument("--angles", type=angles_arg,
                    help="a position plan at START:STOP:STEP, degrees unless a unit is given, e.g. 0:360:30 "
                         "or 0:3.14:0.5rad; every moving point's path is traced over the drive's range")
+    d.add_argument("--vectors", choices=VECTOR_CHOICES,
+                   help="arrows at one crank angle, to a stated scale: the moving points' velocities or "
+                        "accelerations, or the forces (loads with their crank-angle range, weights, reactions)")
+    d.add_argument("--parts", action="store_true",
+                   help="with --vectors acceleration: each acceleration as its tangential and normal parts")
+    d.add_argument("--free-body", metavar="GROUP",
+                   help="the forces on one Assur group alone (its numbers, e.g. 2,3, or a link's name): the "
+                        "reactions of its outer pairs, its loads and inertia forces")
+    d.add_argument("--plan", choices=PLAN_CHOICES,
+                   help="the velocity or acceleration plan at one crank angle: the polygons from a pole, to scale")
     d.set_defaults(func=cmd_draw)
 
     a = sub.add_parser("animate", help="the mechanism moving over its drive range, with its point paths")

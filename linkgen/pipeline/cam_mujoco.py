@@ -51,17 +51,17 @@ def report(entry: dict):
     return sections.CAM
 
 
-def draw(desc, angles, out) -> str:
+def draw(desc, angles, out, *, vectors=None, parts: bool = False, free_body=None, plan=None):
     """The cam and its follower at one cam angle (``angles`` a number [rad], None: 0) or a
     position plan by inversion (an array), written to ``out``; returns what was drawn."""
     from linkgen.draw.cam import cam_figure, cam_plan_figure
 
     if angles is not None and np.ndim(angles) > 0:
         cam_plan_figure(desc, np.asarray(angles, dtype=float), out)
-        return f"{desc.name}, position plan by inversion of {len(angles)} cam angles"
+        return f"{desc.name}, position plan by inversion of {len(angles)} cam angles", None
     theta = 0.0 if angles is None else float(angles)
     cam_figure(desc, theta, out)
-    return f"{desc.name}, cam and follower at φ = {math.degrees(theta):.6g}°"
+    return f"{desc.name}, cam and follower at φ = {math.degrees(theta):.6g}°", None
 
 
 def animate(desc, frames: int, progress=None, mujoco: bool = False, notice=None) -> tuple[list, str]:

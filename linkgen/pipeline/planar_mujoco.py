@@ -10,7 +10,7 @@ import math
 
 import numpy as np
 
-from linkgen.families.planar.description import Mechanism
+from linkgen.families.planar.description import GROUND, Mechanism
 
 
 def _source(mech):
@@ -188,20 +188,97 @@ def _in_range(mech, phi: np.ndarray, option: str) -> None:
                             f"{math.degrees(d.start):.6g}°..{math.degrees(d.stop):.6g}° (drive.start, drive.stop)")
 
 
-def draw(desc, angles, out) -> str:
-    """The skeleton at one crank angle (``angles`` a number [rad], None: the range's start) or a
-    position plan (an array), written to ``out``; returns what was drawn."""
-    from linkgen.draw.plan import plan_figure, skeleton_figure
+def draw(desc, angles, out, *, vectors=None, parts: bool = False, free_body=None, plan=None):
+    """The skeleton at one crank angle (``angles`` a number [rad], None: the range's start) with
+    its link names and lengths and the design summary, and ``vectors`` ("velocity",
+    "acceleration", "forces"; ``parts``: an acceleration's tangential and normal parts;
+    ``free_body``: a group's forces alone), or the ``plan`` ("velocity", "acceleration") at that
+    angle, or a position plan (``angles`` an array), written to ``out``. Returns (what was drawn,
+    the drawn data: ``Arrows``, ``VectorPlan`` or None)."""
+    from linkgen.draw.plan import plan_figure
 
     mech = _mechanism(desc)
     if angles is not None and np.ndim(angles) > 0:
         _in_range(mech, np.asarray(angles, dtype=float), "--angles")
         plan_figure(mech, np.asarray(angles, dtype=float), out)
-        return f"{mech.name}, position plan of {len(angles)} positions"
-    phi = mech.drive.start if angles is None else float(angles)
+        return f"{mech.name}, position plan of {len(angles)} positions", None
+    from linkgen.errors import ArgumentError, StructureError
+    from linkgen.families.planar.assembly import assemble
+
+    phi = default_angle(mech) if angles is None else float(angles)
     _in_range(mech, np.array([phi]), "--angle")
-    skeleton_figure(mech, phi, out)
-    return f"{mech.name}, skeleton at φ = {math.degrees(phi):.6g}°"
+    at = f"φ = {math.degrees(phi):.6g}°"
+    try:
+        asm = assemble(mech)
+    except StructureError as exc:  # class III and higher: the skeleton from the numeric pose only
+        if plan is not None or vectors is not None or free_body is not None:
+            raise ArgumentError(f"{mech.name}: plans and vectors come from the Assur groups' closed form ({exc})") from None
+        from linkgen.draw.plan import skeleton_figure
+
+        skeleton_figure(mech, phi, out)
+        return f"{mech.name}, skeleton at {at}", None
+    if plan is not None:
+        from linkgen.draw.polygons import vector_plan_figure
+        from linkgen.families.planar.vector_plan import vector_plan
+
+        _, data = vector_plan_figure(mech, vector_plan(asm, phi, plan), out)
+        return f"{mech.name}, {plan} plan at {at} (closes to {data.closure():.1e} of its size)", data
+    from linkgen.draw.teaching import teaching_figure
+    from linkgen.draw.vectors import check_vectors, force_arrows, motion_arrows
+    from linkgen.families.planar.summary import summarize
+
+    arrows = None
+    if free_body is not None and vectors not in (None, "forces"):
+        raise ArgumentError(f"--free-body draws forces; it cannot be combined with --vectors {vectors}")
+    if vectors is not None or free_body is not None:
+        what = check_vectors(vectors or "forces")
+        arrows = (force_arrows(asm, phi, free_body) if what == "forces" else motion_arrows(asm, phi, what, parts))
+    _, _, mu = teaching_figure(asm, phi, out, arrows=arrows, summary=summarize(asm))
+    extra = f", {arrows.what} at {mu:g} {arrows.unit} per m of drawing" if arrows is not None and mu else ""
+    return f"{mech.name}, skeleton at {at}{extra}", arrows
+
+
+def default_angle(mech) -> float:
+    """The angle a single drawing shows by default: the first crank angle of the range, in steps
+    of DEFAULT_STEP_DEG, where no group is nearly in line (transmission angle ≥
+    DEFAULT_LEAST_GAMMA_DEG) and the crank is not in line with a link on its pin (a dead centre,
+    where the output's velocity vanishes and points stack on one line); the range's start if none."""
+    from linkgen.families.planar.assembly import assemble
+    from linkgen.families.planar.positions import positions
+    from linkgen.families.planar.summary import transmission_angles
+
+    from linkgen.errors import StructureError
+
+    d = mech.drive
+    try:
+        asm = assemble(mech)
+    except StructureError:  # a group of class III or higher: no closed form to look at
+        return d.start
+    grid = np.arange(d.start, d.stop + 1e-12, math.radians(DEFAULT_STEP_DEG))
+    ok = np.ones(grid.shape, bool)
+    for g in transmission_angles(asm, grid).values():
+        ok &= g >= math.radians(DEFAULT_LEAST_GAMMA_DEG)
+    pos = positions(mech, grid)
+    pivot, pin = mech.link(mech.crank).points[:2] if len(mech.link(mech.crank).points) > 1 else (None, None)
+    if pin is not None:
+        u = pos.points[pin] - pos.points[pivot]
+        for link in mech.links:
+            if link.name in (GROUND, mech.crank) or pin not in link.points:
+                continue
+            for q in link.points:
+                if q != pin:
+                    v = pos.points[q] - pos.points[pin]
+                    sin = np.abs(u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0]) / np.maximum(
+                        np.linalg.norm(u, axis=1) * np.linalg.norm(v, axis=1), 1e-300)
+                    ok &= sin >= math.sin(math.radians(DEFAULT_LEAST_GAMMA_DEG))
+    pick = np.flatnonzero(ok)
+    return float(grid[pick[0]]) if pick.size else d.start
+
+
+# A default drawing avoids poses with a group nearly in line: transmission angle at least this,
+# looked for on this grid of crank angles from the range's start.
+DEFAULT_LEAST_GAMMA_DEG = 30.0
+DEFAULT_STEP_DEG = 15.0
 
 
 def animate(desc, frames: int, progress=None, mujoco: bool = False, notice=None) -> tuple[list, str]:

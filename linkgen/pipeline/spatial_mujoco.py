@@ -58,7 +58,7 @@ def report(entry: dict):
     return sections.SPATIAL
 
 
-def draw(desc, angles, out) -> str:
+def draw(desc, angles, out, *, vectors=None, parts: bool = False, free_body=None, plan=None):
     """The chain at one crank angle (``angles`` a number [rad], None: the sketch's own pose) or a
     position plan (an array), written to ``out``; returns what was drawn."""
     from linkgen.draw.spatial import draw_spatial
@@ -70,7 +70,7 @@ def draw(desc, angles, out) -> str:
     angles = np.atleast_1d(np.asarray(angles, dtype=float))
     draw_spatial(desc, angles, out)
     return f"{desc.name}, " + (f"position plan of {len(angles)} positions" if len(angles) > 1
-                               else f"skeleton at φ = {math.degrees(float(angles[0])):.6g}°")
+                               else f"skeleton at φ = {math.degrees(float(angles[0])):.6g}°"), None
 
 
 def animate(desc, frames: int, progress=None, mujoco: bool = False, notice=None) -> tuple[list, str]:
