@@ -30,6 +30,8 @@ def _whole_in(lo: int, hi: int):
 FIGURE_FORMATS = ("png", "svg", "pdf")
 VECTOR_CHOICES = ("velocity", "acceleration", "forces")
 PLAN_CHOICES = ("velocity", "acceleration")
+# A page's slider: two positions to move at all; 720 (every half degree) keeps the file under ~20 MB.
+MIN_PAGE_FRAMES, MAX_PAGE_FRAMES = 2, 720
 # A position plan of more positions than this is a smear, not a drawing.
 MAX_PLAN_POSITIONS = 73
 
@@ -108,6 +110,21 @@ def cmd_draw(args) -> int:
     return 0
 
 
+PAGE = {".html": "the interactive page"}
+
+
+def cmd_page(args) -> int:
+    from linkgen.cli.files import atomic_output
+    from linkgen.pipeline.registry import load, stage
+
+    output_kind(args, args.out, PAGE)
+    desc = load(args.model)
+    with atomic_output(args.out) as tmp:
+        what = stage(desc, "page")(desc, tmp, args.frames)
+    print(f"wrote {args.out}: {what}")
+    return 0
+
+
 def cmd_animate(args) -> int:
     from linkgen.cli.files import atomic_output
     from linkgen.draw.animate import save_animation
@@ -159,6 +176,14 @@ def add_commands(sub) -> None:
     d.add_argument("--plan", choices=PLAN_CHOICES,
                    help="the velocity or acceleration plan at one crank angle: the polygons from a pole, to scale")
     d.set_defaults(func=cmd_draw)
+
+    g = sub.add_parser("page", help="one self-contained interactive HTML page: the mechanism under a crank-angle "
+                                    "slider with a play button, its vectors, curves and design summary")
+    g.add_argument("model", type=Path, help="description file (.toml)")
+    add_out_argument(g, f"write {allowed_text(PAGE)}", required=True, metavar="FILE")
+    g.add_argument("--frames", type=_whole_in(MIN_PAGE_FRAMES, MAX_PAGE_FRAMES), default=72,
+                   help=f"crank angles on the slider (no unit; default 72, {MIN_PAGE_FRAMES} to {MAX_PAGE_FRAMES})")
+    g.set_defaults(func=cmd_page)
 
     a = sub.add_parser("animate", help="the mechanism moving over its drive range, with its point paths")
     a.add_argument("model", type=Path, help="description file (.toml)")

@@ -113,6 +113,8 @@ STAGES: tuple[Stage, ...] = (
           ("validate",)),
     Stage("draw", "(desc, angles, out)", "what was drawn into ``out``: one position (a number, None: the "
           "default) or a position plan (an array)", ("draw",)),
+    Stage("page", "(desc, out, frames=72)", "what was written into ``out``: one self-contained interactive HTML "
+          "page (the mechanism under a crank-angle slider, its vectors, curves and design summary)", ("page",)),
     Stage("animate", "(desc, frames, progress=None, mujoco=False, notice=None)", "(frames, how they were made)",
           ("animate",)),
     Stage("render", "(desc, angle, width, height)", "(a MuJoCo frame (h, w, 3), what it shows)", ("render",)),

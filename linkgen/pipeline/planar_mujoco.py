@@ -281,6 +281,23 @@ DEFAULT_LEAST_GAMMA_DEG = 30.0
 DEFAULT_STEP_DEG = 15.0
 
 
+def page(desc, out, frames: int = 72) -> str:
+    """The interactive page (``draw.page``) of the linkage, written to ``out``; returns what it shows."""
+    from linkgen.draw.page import write_page
+    from linkgen.draw.page_planar import planar_page
+    from linkgen.errors import ArgumentError, StructureError
+    from linkgen.families.planar.assembly import assemble
+
+    mech = _mechanism(desc)
+    try:
+        asm = assemble(mech)
+    except StructureError as exc:
+        raise ArgumentError(f"{mech.name}: the page's vectors come from the Assur groups' closed form ({exc})") from None
+    data = planar_page(asm, frames)
+    write_page(data, out)
+    return f"{mech.name}, {len(data.phi)} crank angles, vectors {', '.join(data.vectors)}, curves {', '.join(data.curves)}"
+
+
 def animate(desc, frames: int, progress=None, mujoco: bool = False, notice=None) -> tuple[list, str]:
     """The frames of the mechanism moving over its drive range with its point paths, and how
     they were made; with ``mujoco``, MuJoCo's rendered run beside the drawing at the crank
@@ -309,7 +326,7 @@ def render(desc, angle, width: int, height: int) -> tuple[np.ndarray, str]:
     return frames[0], f"MuJoCo frame of {mech.name} at φ = {math.degrees(phi):.6g}°"
 
 
-STAGES = {"mjcf": mjcf, "coupling": coupling, "simulate": simulate, "validate": validate, "figures": figures, "report": report, "draw": draw,
+STAGES = {"mjcf": mjcf, "coupling": coupling, "simulate": simulate, "validate": validate, "figures": figures, "report": report, "draw": draw, "page": page,
           "animate": animate, "render": render}
 
 __all__ = ["STAGES"]

@@ -18,70 +18,10 @@ the ends miss, a fraction of the plan's size (≈ 1e-15 when the closed form is 
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-from typing import Mapping
-
 import numpy as np
 
 from linkgen.families.planar.description import GROUND, Mechanism
-
-KINDS = ("velocity", "acceleration")
-UNITS = {"velocity": "m/s", "acceleration": "m/s²"}
-# The pole's name in each plan (textbooks: p for velocities, π for accelerations).
-POLES = {"velocity": "p", "acceleration": "π"}
-
-
-@dataclass(frozen=True)
-class Chain:
-    """One path of the plan from the pole to a named point's vertex.
-
-    names: the vertex names along the path (the pole first, ``target`` last; intermediate vertices
-        are the coincident point of a guide, ``a3``, or the end of a normal or Coriolis part,
-        ``n_ba``, ``k_a``).
-    xy: (k, 2) the vertices' coordinates [m/s or m/s²]: xy[0] the pole (0, 0), xy[1] the closed
-        form's vector of the reference point, each later one the previous plus a relative vector.
-    kinds: the k − 1 edges: "absolute", "relative", "normal", "tangential", "coriolis", "sliding".
-    link: the link (or, for a sliding chain, the prismatic pair) the relative vectors belong to.
-    """
-
-    link: str
-    target: str
-    names: tuple[str, ...]
-    xy: np.ndarray
-    kinds: tuple[str, ...]
-
-
-@dataclass(frozen=True)
-class VectorPlan:
-    """A velocity or acceleration plan at crank angle ``phi`` [rad], crank speed ``omega`` [rad/s]
-    and acceleration ``epsilon`` [rad/s²]: ``vertices`` name → the closed form's vector (2,) of
-    that point (the pole (0, 0) under ``pole``), ``chains`` the relative vectors reaching them."""
-
-    kind: str
-    phi: float
-    omega: float
-    epsilon: float
-    pole: str
-    vertices: Mapping[str, np.ndarray]
-    chains: tuple[Chain, ...]
-    ground: tuple[str, ...]
-
-    @property
-    def unit(self) -> str:
-        return UNITS[self.kind]
-
-    @property
-    def size(self) -> float:
-        """The largest vertex's or chain vertex's distance from the pole [unit] (> 0 for a moving crank)."""
-        pts = [np.linalg.norm(v) for v in self.vertices.values()]
-        pts += [float(np.max(np.linalg.norm(c.xy, axis=1))) for c in self.chains]
-        return float(max(pts))
-
-    def closure(self) -> float:
-        """The largest miss of a chain's end from its target's vertex, a fraction of ``size``."""
-        size = self.size or 1.0
-        return max((float(np.linalg.norm(c.xy[-1] - self.vertices[c.target])) / size for c in self.chains),
-                   default=0.0)
+from linkgen.model.plans import KINDS, POLES, Chain, VectorPlan, check_kind
 
 
 def _cross(w: float, r: np.ndarray) -> np.ndarray:
@@ -113,12 +53,10 @@ def vector_plan(asm, phi: float, kind: str, omega: float | None = None, epsilon:
     Raises:
         ArgumentError: an unknown kind. AssemblyError, SingularityError: as ``kinematics.solve_motion``.
     """
-    from linkgen.errors import ArgumentError
     from linkgen.families.planar.kinematics import solve_motion
     from linkgen.families.planar.positions import positions
 
-    if kind not in KINDS:
-        raise ArgumentError(f"plan kind must be one of {list(KINDS)}, got {kind!r}")
+    check_kind(kind)
     mech: Mechanism = asm.mechanism
     w0 = mech.drive.omega if omega is None else float(omega)
     e0 = mech.drive.epsilon if epsilon is None else float(epsilon)
@@ -199,4 +137,4 @@ def vector_plan(asm, phi: float, kind: str, omega: float | None = None, epsilon:
                       tuple(sorted(fixed)))
 
 
-__all__ = ["Chain", "KINDS", "POLES", "UNITS", "VectorPlan", "link_numbers", "link_order", "vector_plan"]
+__all__ = ["KINDS", "POLES", "link_numbers", "link_order", "vector_plan"]

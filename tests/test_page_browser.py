@@ -1,0 +1,91 @@
+"""The interactive page (``linkgen page``) in a real browser: headless Chromium driven by Selenium.
+The page loads from the file alone without a console error, and moving the crank-angle slider (its
+own step: the animate call the slider makes) puts the crank pin's marker where the closed form puts
+the pin, mapped to pixels through the axis ranges plotly reports from the page. The screenshot is
+kept beside the page in the test's tmp dir."""
+
+import json
+import math
+import shutil
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from linkgen.families.planar.positions import positions
+from linkgen.pipeline.registry import load, stage
+
+ROOT = Path(__file__).resolve().parents[1]
+CHROMIUM, CHROMEDRIVER = shutil.which("chromium") or "/usr/bin/chromium", shutil.which("chromedriver") or "/usr/bin/chromedriver"
+# The marker's centre against the closed form's pin [px]: plotly rounds marker positions to 0.01 px
+# in the SVG; 1 px covers that and the browser's sub-pixel layout of the plot area.
+PIN_PIXELS = 1.0
+FRAMES = 12
+# A slider step that moves the pin by less than this [px] would not show the mechanism moving.
+MOVES = 20.0
+
+
+def _driver():
+    from selenium import webdriver
+    from selenium.webdriver.chrome.service import Service
+
+    opts = webdriver.ChromeOptions()
+    opts.binary_location = CHROMIUM
+    for a in ("--headless=new", "--no-sandbox", "--disable-gpu", "--disable-dev-shm-usage", "--window-size=1300,950",
+              "--force-device-scale-factor=1"):
+        opts.add_argument(a)
+    opts.set_capability("goog:loggingPrefs", {"browser": "ALL"})
+    return webdriver.Chrome(service=Service(CHROMEDRIVER), options=opts)
+
+
+PIN_JS = """
+const gd = document.getElementById('linkgen-page');
+const k = gd.data.findIndex(t => t.name === arguments[0]);
+const node = gd.querySelectorAll('.scatterlayer .trace')[k].querySelector('path.point');
+const r = node.getBoundingClientRect(), box = gd.querySelector('.main-svg').getBoundingClientRect();
+const xa = gd._fullLayout.xaxis, ya = gd._fullLayout.yaxis;
+return JSON.stringify({px: [r.left + r.width / 2 - box.left, r.top + r.height / 2 - box.top],
+                       x: [xa.range, xa._offset, xa._length], y: [ya.range, ya._offset, ya._length],
+                       data: [gd.data[k].x[0], gd.data[k].y[0]]});
+"""
+STEP_JS = """
+const gd = document.getElementById('linkgen-page'), done = arguments[arguments.length - 1];
+const step = gd._fullLayout.sliders[0].steps[arguments[0]];
+Plotly.animate(gd, ...step.args).then(() => done(step.label));
+"""
+
+
+def _expected_pixels(axes, x, y):
+    """Data → pixels through the axis ranges read from the page (y grows downwards on screen)."""
+    (xr, xo, xl), (yr, yo, yl) = axes
+    return np.array([xo + (x - xr[0]) / (xr[1] - xr[0]) * xl, yo + (yr[1] - y) / (yr[1] - yr[0]) * yl])
+
+
+def test_page_loads_and_the_slider_moves_the_crank_pin(tmp_path):
+    desc = load(ROOT / "models" / "fourbar.toml")
+    page = tmp_path / "fourbar.html"
+    stage(desc, "page")(desc, page, FRAMES)
+    mech = desc
+    phi = np.linspace(mech.drive.start, mech.drive.stop, FRAMES, endpoint=False)
+    pin = positions(mech, phi).points["A"]
+    d = _driver()
+    try:
+        d.set_script_timeout(20)
+        d.get(page.as_uri())
+        seen = []
+        for k in (0, 3, 7):
+            label = d.execute_async_script(STEP_JS, k)
+            assert label == f"{math.degrees(phi[k]):.0f}°"
+            got = json.loads(d.execute_script(PIN_JS, "crank pin"))
+            want = _expected_pixels((got["x"], got["y"]), *pin[k])
+            np.testing.assert_allclose(got["px"], want, atol=PIN_PIXELS)
+            seen.append(np.array(got["px"]))
+        d.save_screenshot(str(tmp_path / "fourbar_page.png"))
+        external = d.execute_script("return document.querySelectorAll('script[src], link[href]').length")
+        errors = [e for e in d.get_log("browser") if e["level"] in ("SEVERE", "ERROR")]
+    finally:
+        d.quit()
+    assert errors == []
+    assert min(np.linalg.norm(a - b) for a, b in zip(seen, seen[1:])) > MOVES
+    assert (tmp_path / "fourbar_page.png").stat().st_size > 10_000
+    assert external == 0  # self-contained: plotly.js inline, nothing fetched, works offline
