@@ -78,7 +78,7 @@ def plan_axes(ax, plan, colors: dict[str, tuple]) -> None:
         d = at - centre
         n = float(np.linalg.norm(d))
         u = d / n if n > 1e-12 * size else np.array([0.7071, 0.7071])
-        q = at + LABEL_GAP * size * u
+        q = at + (LABEL_GAP if main else -LABEL_GAP) * size * u  # the minor names on the other side
         ax.plot(*at, "o", ms=2.5, color=INK, zorder=5)
         ax.text(q[0], q[1], text, fontsize=10 if main else 7, style="italic", color=INK, ha="center", va="center",
                 zorder=6, bbox=dict(boxstyle="round,pad=0.1", fc="white", ec="none", alpha=0.8))
@@ -123,4 +123,32 @@ def vector_plan_figure(mech, plan, out: Path | None = None, *, title: str | None
     return fig, plan
 
 
-__all__ = ["link_colors", "nice_length", "plan_axes", "vector_plan_figure"]
+VIEWS = (("top view (x–y)", (0, 1)), ("front view (x–z)", (0, 2)), ("side view (y–z)", (1, 2)))
+
+
+def spatial_plan_figure(mech, plan, out: Path | None = None):
+    """A 3-D plan (a spatial four-bar's) drawn as its top, front and side projections, to one
+    scale each; saved to ``out`` when given. Returns (figure, plan)."""
+    from linkgen.model.plans import projected
+
+    plt = plt_module()
+    owners = list(dict.fromkeys(c.link for c in plan.chains))
+    colors = link_colors(owners)
+    fig, axes = plt.subplots(1, 3, figsize=(15.0, 5.6), dpi=DPI, layout="constrained")
+    for ax, (name, (a, b)) in zip(axes, VIEWS):
+        plan_axes(ax, projected(plan, np.eye(3)[[a, b]]), colors)
+        ax.set_title(name, fontsize=10)
+        ax.set_xlabel(f"{'xyz'[a]} [{plan.unit}]")
+        ax.set_ylabel(f"{'xyz'[b]} [{plan.unit}]")
+    from matplotlib.lines import Line2D
+
+    handles = [Line2D([], [], color=colors[o], lw=2, label=o) for o in owners]
+    fig.legend(handles=handles, loc="outside lower center", ncol=len(handles), fontsize=8, frameon=False)
+    fig.suptitle(f"{title_of(mech, 110)}\n{plan.kind} plan at φ = {math.degrees(plan.phi):.4g}°, ω = {plan.omega:.4g} "
+                 f"rad/s, pole {plan.pole}: the 3-D plan's projections", fontsize=10)
+    if out is not None:
+        save(fig, out)
+    return fig, plan
+
+
+__all__ = ["link_colors", "nice_length", "plan_axes", "spatial_plan_figure", "vector_plan_figure"]

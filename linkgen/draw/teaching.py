@@ -10,11 +10,12 @@ from pathlib import Path
 
 import numpy as np
 
-from linkgen.draw.plan import DPI, FIGSIZE, plt_module, save, title_of
+from linkgen.draw.plan import DPI, plt_module, save, title_of
 from linkgen.draw.polygons import nice_length
 from linkgen.draw.skeleton import INK, LINK, draw_skeleton, frame_of, set_limits
 from linkgen.families.planar.description import GROUND
 
+TEACHING_FIGSIZE = (10.0, 6.5)  # inches: the drawing and the summary box beside it
 # The longest arrow on paper, a fraction of the mechanism's extent.
 LONGEST = 0.3
 COLORS = {"velocity": (0.1, 0.55, 0.2), "acceleration": (0.6, 0.1, 0.6), "tangential": (0.85, 0.45, 0.0),
@@ -69,6 +70,7 @@ def _scale_bar(ax, mu: float, unit: str, size: float) -> None:
 def label_links(ax, pos, size: float) -> None:
     """Each moving link's name and length (a bar) at its middle, beside the bar."""
     mech = pos.mechanism
+    centroid = np.mean([p[0] for p in pos.points.values()], axis=0)
     for link in mech.links:
         if link.name == GROUND or not link.points:
             continue
@@ -79,7 +81,12 @@ def label_links(ax, pos, size: float) -> None:
             if n == 0.0:
                 continue
             nrm = np.array([-d[1], d[0]]) / n
-            q = 0.5 * (xy[0] + xy[1]) + 0.035 * size * nrm
+            mid = 0.5 * (xy[0] + xy[1])
+            if link.name == mech.crank:  # the side the ω arrow is not on
+                side = -1.0 if mech.drive.omega >= 0.0 else 1.0
+            else:  # away from the mechanism's middle
+                side = 1.0 if float(nrm @ (mid - centroid)) >= 0.0 else -1.0
+            q = mid + side * 0.035 * size * nrm
             angle = math.degrees(math.atan2(d[1], d[0]))
             angle = angle - 180.0 if angle > 90.0 else angle + 180.0 if angle < -90.0 else angle
             text = f"{link.name} {n:.4g} m"
@@ -101,6 +108,9 @@ def summary_lines(summary) -> list[str]:
         what = f"stroke {o.travel:.4g} m" if o.kind == "slider" else f"swing {math.degrees(o.travel):.4g}°"
         k = f", K = {o.time_ratio:.4g}" if o.time_ratio is not None else ""
         lines.append(f"{name}: {what}{k}")
+    pressure = getattr(summary, "max_pressure_angle", None)
+    if pressure is not None:
+        lines.append(f"largest pressure angle: {math.degrees(pressure.value):.4g}° at φ = {math.degrees(pressure.phi):.4g}°")
     for label, ex in getattr(summary, "min_transmission_angle", {}).items():
         lines.append(f"least γ {label.split(' [')[0]}: {math.degrees(ex.value):.4g}° at φ = {math.degrees(ex.phi):.4g}°")
     return lines
@@ -117,7 +127,7 @@ def teaching_figure(asm, phi: float, out: Path | None = None, *, arrows=None, su
     paths = positions(mech, drive_angles(mech))
     frame = frame_of(paths)
     pos = positions(mech, [phi])
-    fig, ax = plt.subplots(figsize=FIGSIZE, dpi=DPI, layout="constrained")
+    fig, ax = plt.subplots(figsize=TEACHING_FIGSIZE, dpi=DPI, layout="constrained")
     pale = set(arrows.group_links) if arrows is not None and arrows.group_links else None
     draw_skeleton(ax, pos, frame, 0, alpha=0.35 if pale else 1.0)
     label_links(ax, pos, frame.size)
@@ -134,7 +144,7 @@ def teaching_figure(asm, phi: float, out: Path | None = None, *, arrows=None, su
     what = ""
     if arrows is not None:
         what = f", {arrows.what}" + (f" on group {arrows.group} (free body)" if arrows.group else "")
-    ax.set_title(f"{title_of(mech)}\nφ = {math.degrees(phi):.4g}°, ω = {mech.drive.omega:.4g} rad/s{what}", fontsize=10)
+    fig.suptitle(f"{title_of(mech, 110)}\nφ = {math.degrees(phi):.4g}°, ω = {mech.drive.omega:.4g} rad/s{what}", fontsize=10)
     if out is not None:
         save(fig, out)
     return fig, arrows, mu
