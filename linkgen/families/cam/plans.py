@@ -51,7 +51,7 @@ def cam_plan(cm, theta: float, kind: str) -> VectorPlan:
                             ("sliding",)))
     elif not f.flat:
         r = c - np.array([f.pivot_distance, 0.0])  # O₁B
-        sign = float(np.sign(np.cross(r, u))) or 1.0  # ψ grows along u: turning sense about +z
+        sign = float(np.sign(r[0] * u[1] - r[1] * u[0])) or 1.0  # ψ grows along u: turning sense about +z
         psi_v, psi_a = sign * q1 * w, sign * q2 * w * w
         if acc:
             nrm = -psi_v * psi_v * r
