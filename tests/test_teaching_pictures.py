@@ -144,3 +144,27 @@ def test_two_blocks_on_one_pin_are_told_apart():
     areas = sorted(0.5 * abs(float(np.dot(b[:, 0], np.roll(b[:, 1], 1)) - np.dot(b[:, 1], np.roll(b[:, 0], 1))))
                    for b in blocks)
     assert len(areas) == 2 and areas[0] < 0.6 * areas[1], areas
+
+
+# MuJoCo's curve on the page against the closed form's: one pixel of a 300-px plot is 1/300 of its
+# range; MuJoCo agrees with the closed form far below that (validate: ~1e-6), so a curve off by a
+# unit, a sign or a whole turn fails and a right one passes with room to spare.
+MUJOCO_CURVE = 1.0 / 300.0
+
+
+def test_page_draws_mujocos_curves_on_the_closed_forms(tmp_path):
+    from dataclasses import replace
+
+    from linkgen.draw.page_planar import mujoco_curves, planar_page
+    from linkgen.families.planar.assembly import assemble
+    from linkgen.mujoco.simulate import simulate
+
+    asm = assemble(load(ROOT / "models" / "fourbar.toml"))
+    data = planar_page(asm, 24)
+    data = replace(data, mujoco=mujoco_curves(data, simulate(asm, samples=90).samples))
+    assert set(data.mujoco) == set(data.curves) == {"rocker angle [°]", "balancing torque [N·m]"}
+    fine = planar_page(asm, 720)
+    for label, (phi, theirs) in data.mujoco.items():
+        ours = np.interp(phi, fine.phi, fine.curves[label])
+        span = float(np.ptp(fine.curves[label]))
+        assert float(np.max(np.abs(theirs - ours))) <= MUJOCO_CURVE * span, label

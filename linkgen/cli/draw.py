@@ -120,9 +120,18 @@ def cmd_page(args) -> int:
     output_kind(args, args.out, PAGE)
     desc = load(args.model)
     with atomic_output(args.out) as tmp:
-        what = stage(desc, "page")(desc, tmp, args.frames)
+        what = stage(desc, "page")(desc, tmp, args.frames, mujoco=args.mujoco,
+                                   progress=_run_progress(f"running {args.model.name} in MuJoCo") if args.mujoco else None)
     print(f"wrote {args.out}: {what}")
     return 0
+
+
+def _run_progress(label: str):
+    def report(done: float, elapsed: float) -> None:
+        print(f"\r{label}: {100.0 * done:.0f}% after {elapsed:.0f} s", end="\n" if done >= 1.0 else "", file=sys.stderr,
+              flush=True)
+
+    return report
 
 
 def cmd_animate(args) -> int:
@@ -183,6 +192,9 @@ def add_commands(sub) -> None:
     add_out_argument(g, f"write {allowed_text(PAGE)}", required=True, metavar="FILE")
     g.add_argument("--frames", type=_whole_in(MIN_PAGE_FRAMES, MAX_PAGE_FRAMES), default=72,
                    help=f"crank angles on the slider (no unit; default 72, {MIN_PAGE_FRAMES} to {MAX_PAGE_FRAMES})")
+    g.add_argument("--mujoco", action="store_true",
+                   help="also run the linkage in MuJoCo over its drive range and draw MuJoCo's curves beside the "
+                        "closed form's (planar linkages)")
     g.set_defaults(func=cmd_page)
 
     a = sub.add_parser("animate", help="the mechanism moving over its drive range, with its point paths")

@@ -123,7 +123,7 @@ def page_figure(data: PageData):
                   xaxis=dict(domain=[0.0, 0.55], range=[x0 - pad, x1 + pad], title=data.axes[0], constrain="domain"),
                   yaxis=dict(domain=[0.36, 1.0], range=[y0 - pad, y1 + pad], title=data.axes[1], scaleanchor="x",
                              scaleratio=1.0),
-                  legend=dict(x=0.65, y=0.22, yanchor="top", font=dict(size=11)), margin=dict(t=70, b=40))
+                  legend=dict(x=0.62, y=0.24, yanchor="top", orientation="h", font=dict(size=11)), margin=dict(t=70, b=40))
     h = 0.7 / max(ncurves, 1)
     layout["xaxis2"] = dict(domain=[0.65, 1.0], title="φ [°]", anchor=f"y{ncurves + 1}")
     for k, label in enumerate(data.curves):

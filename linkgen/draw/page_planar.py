@@ -100,4 +100,22 @@ def planar_page(asm, frames: int = 72) -> PageData:
                     curves=curves, summary=tuple(summary_lines(summary)), fixed=fixed)
 
 
-__all__ = ["page_angles", "planar_page"]
+def mujoco_curves(data: PageData, samples) -> dict[str, tuple[np.ndarray, np.ndarray]]:
+    """MuJoCo's values of the page's curves from a run's ``samples`` (``mujoco.sample.Samples``):
+    label → (φ (m,) [rad], values (m,)), an angle on the closed form's turn (whole turns apart)."""
+    phi = np.asarray(samples.crank[0], dtype=float)
+    out = {}
+    for label, ours in data.curves.items():
+        name = label.split(" ")[0]
+        if label.endswith("displacement [m]") and name in samples.sliders:
+            out[label] = (phi, np.asarray(samples.sliders[name][0], dtype=float))
+        elif label.endswith("angle [°]") and name in samples.links:
+            theirs = np.degrees(np.unwrap(np.asarray(samples.links[name][0], dtype=float)))
+            near = np.interp(phi[0], data.phi, ours)
+            out[label] = (phi, theirs - 360.0 * np.round((theirs[0] - near) / 360.0))
+        elif label == "balancing torque [N·m]":
+            out[label] = (phi, np.asarray(samples.drive_torque, dtype=float))
+    return out
+
+
+__all__ = ["mujoco_curves", "page_angles", "planar_page"]

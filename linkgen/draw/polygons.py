@@ -83,7 +83,8 @@ def plan_axes(ax, plan, colors: dict[str, tuple]) -> None:
         ax.text(q[0], q[1], text, fontsize=10 if main else 7, style="italic", color=INK, ha="center", va="center",
                 zorder=6, bbox=dict(boxstyle="round,pad=0.1", fc="white", ec="none", alpha=0.8))
     bar = nice_length(0.3 * size)
-    x0, y0 = -0.95 * size, -1.08 * size
+    every = np.concatenate([c.xy for c in plan.chains] + [np.zeros((1, 2))])
+    x0, y0 = float(every[:, 0].min()), float(every[:, 1].min()) - 0.12 * size  # under the plan, at its left
     ax.plot([x0, x0 + bar], [y0, y0], color=INK, lw=2.0, solid_capstyle="butt")
     ax.text(x0 + 0.5 * bar, y0 + 0.03 * size, f"{bar:g} {plan.unit}", ha="center", va="bottom", fontsize=9)
     ax.set_aspect("equal", adjustable="datalim")

@@ -82,8 +82,13 @@ def draw(desc, angles, out, *, vectors=None, parts: bool = False, free_body=None
     return f"{desc.name}, cam and follower at {at}" + (f", {vectors}" if vectors else ""), arrows
 
 
-def page(desc, out, frames: int = 72) -> str:
+def page(desc, out, frames: int = 72, mujoco: bool = False, progress=None) -> str:
     """The interactive page (``draw.page``) of the cam and its follower, written to ``out``."""
+    from linkgen.errors import ArgumentError
+
+    if mujoco:
+        raise ArgumentError(f"--mujoco: {desc.name} is a cam; the page shows MuJoCo's curves for planar linkages "
+                            f"(validate writes its MuJoCo comparison into the report)")
     from linkgen.draw.page import write_page
     from linkgen.draw.page_families import cam_page
 

@@ -115,8 +115,9 @@ STAGES: tuple[Stage, ...] = (
           "(what was drawn into ``out``, the drawn data or None): one position (a number, None: the default) with "
           "its ``vectors`` (``draw.vectors.Arrows``) or its velocity or acceleration ``plan`` "
           "(``model.plans.VectorPlan``), or a position plan (an array)", ("draw",)),
-    Stage("page", "(desc, out, frames=72)", "what was written into ``out``: one self-contained interactive HTML "
-          "page (the mechanism under a crank-angle slider, its vectors, curves and design summary)", ("page",)),
+    Stage("page", "(desc, out, frames=72, mujoco=False, progress=None)", "what was written into ``out``: one "
+          "self-contained interactive HTML page (the mechanism under a crank-angle slider, its vectors, curves and "
+          "design summary; with ``mujoco`` MuJoCo's curves beside the closed form's)", ("page",)),
     Stage("animate", "(desc, frames, progress=None, mujoco=False, notice=None)", "(frames, how they were made)",
           ("animate",)),
     Stage("render", "(desc, angle, width, height)", "(a MuJoCo frame (h, w, 3), what it shows)", ("render",)),

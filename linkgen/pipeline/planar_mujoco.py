@@ -281,10 +281,14 @@ DEFAULT_LEAST_GAMMA_DEG = 30.0
 DEFAULT_STEP_DEG = 15.0
 
 
-def page(desc, out, frames: int = 72) -> str:
-    """The interactive page (``draw.page``) of the linkage, written to ``out``; returns what it shows."""
+def page(desc, out, frames: int = 72, mujoco: bool = False, progress=None) -> str:
+    """The interactive page (``draw.page``) of the linkage, written to ``out``; with ``mujoco``
+    MuJoCo's run over the drive range beside the closed form's curves (``progress`` as
+    ``simulate``'s). Returns what it shows."""
+    from dataclasses import replace
+
     from linkgen.draw.page import write_page
-    from linkgen.draw.page_planar import planar_page
+    from linkgen.draw.page_planar import mujoco_curves, planar_page
     from linkgen.errors import ArgumentError, StructureError
     from linkgen.families.planar.assembly import assemble
 
@@ -294,8 +298,13 @@ def page(desc, out, frames: int = 72) -> str:
     except StructureError as exc:
         raise ArgumentError(f"{mech.name}: the page's vectors come from the Assur groups' closed form ({exc})") from None
     data = planar_page(asm, frames)
+    if mujoco:
+        from linkgen.mujoco.simulate import simulate as run
+
+        data = replace(data, mujoco=mujoco_curves(data, run(asm, progress=progress).samples))
     write_page(data, out)
-    return f"{mech.name}, {len(data.phi)} crank angles, vectors {', '.join(data.vectors)}, curves {', '.join(data.curves)}"
+    return (f"{mech.name}, {len(data.phi)} crank angles, vectors {', '.join(data.vectors)}, curves {', '.join(data.curves)}"
+            + (f", MuJoCo's run beside {', '.join(data.mujoco)}" if mujoco else ""))
 
 
 def animate(desc, frames: int, progress=None, mujoco: bool = False, notice=None) -> tuple[list, str]:

@@ -94,8 +94,13 @@ def draw(desc, angles, out, *, vectors=None, parts: bool = False, free_body=None
                                else f"skeleton at {at}" + (f", {vectors}" if vectors else "")), arrows
 
 
-def page(desc, out, frames: int = 72) -> str:
+def page(desc, out, frames: int = 72, mujoco: bool = False, progress=None) -> str:
     """The interactive page (``draw.page``) of the chain (its top view), written to ``out``."""
+    from linkgen.errors import ArgumentError
+
+    if mujoco:
+        raise ArgumentError(f"--mujoco: {desc.name} is a spatial four-bar; the page shows MuJoCo's curves for planar linkages "
+                            f"(validate writes its MuJoCo comparison into the report)")
     from linkgen.draw.page import write_page
     from linkgen.draw.page_families import spatial_page
 
