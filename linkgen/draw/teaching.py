@@ -51,9 +51,22 @@ def draw_arrows(ax, arrows, size: float) -> float:
                                      lw=1.8 if a.active else 1.0, alpha=1.0 if a.active else 0.35, shrinkA=0,
                                      shrinkB=0, zorder=8, linestyle="-" if a.active else (0, (3, 2))))
         q = tip + 0.02 * size * a.vector / float(np.linalg.norm(a.vector))
-        ax.text(q[0], q[1], a.label, fontsize=7.5, color=color, ha="center", va="center", zorder=9,
+        ax.text(q[0], q[1], tex_label(a.label), fontsize=8, color=color, ha="center", va="center", zorder=9,
                 alpha=1.0 if a.active else 0.6, bbox=dict(boxstyle="round,pad=0.1", fc="white", ec="none", alpha=0.7))
     return mu
+
+
+def tex_label(label: str) -> str:
+    """``a_B^t rest`` → the symbol with its subscript and superscript set as a formula, then the rest
+    as written (``v_A``, ``R_O on ground``, ``Φ_rod = −m·a_S``)."""
+    import re
+
+    m = re.match(r"^([A-Za-zΦ]+)_([A-Za-z0-9]+)(?:\^([a-z]))?(.*)$", label)
+    if not m:
+        return label
+    sym, sub, sup, rest = m.groups()
+    sym = r"\Phi" if sym == "Φ" else sym
+    return f"${sym}_{{{sub}}}" + (f"^{{{sup}}}" if sup else "") + "$" + rest.replace("$", r"\$")
 
 
 def _scale_bar(ax, mu: float, unit: str, size: float) -> None:
@@ -63,8 +76,8 @@ def _scale_bar(ax, mu: float, unit: str, size: float) -> None:
     y0, _ = ax.get_ylim()
     p = np.array([x0 + 0.04 * (x1 - x0), y0 + 0.03 * size])
     ax.plot([p[0], p[0] + length], [p[1], p[1]], color=INK, lw=2.2, solid_capstyle="butt", zorder=9)
-    ax.text(p[0] + 0.5 * length, p[1] + 0.015 * size, f"{value:g} {unit}  (1 m of drawing = {mu:g} {unit})",
-            ha="center", va="bottom", fontsize=8, zorder=9)
+    ax.text(p[0] + length + 0.015 * size, p[1], f"{value:g} {unit}  (1 m of drawing = {mu:g} {unit})",
+            ha="left", va="center", fontsize=8, zorder=9, bbox=dict(boxstyle="round,pad=0.1", fc="white", ec="none"))
 
 
 def label_links(ax, pos, size: float) -> None:
@@ -150,4 +163,4 @@ def teaching_figure(asm, phi: float, out: Path | None = None, *, arrows=None, su
     return fig, arrows, mu
 
 
-__all__ = ["COLORS", "draw_arrows", "label_links", "paper_scale", "summary_lines", "teaching_figure"]
+__all__ = ["COLORS", "draw_arrows", "label_links", "paper_scale", "summary_lines", "teaching_figure", "tex_label"]

@@ -241,8 +241,10 @@ def draw(desc, angles, out, *, vectors=None, parts: bool = False, free_body=None
 def default_angle(mech) -> float:
     """The angle a single drawing shows by default: the first crank angle of the range, in steps
     of DEFAULT_STEP_DEG, where no group is nearly in line (transmission angle ≥
-    DEFAULT_LEAST_GAMMA_DEG) and the crank is not in line with a link on its pin (a dead centre,
-    where the output's velocity vanishes and points stack on one line); the range's start if none."""
+    DEFAULT_LEAST_GAMMA_DEG), the crank is not in line with a link on its pin (a dead centre,
+    where points stack on one line) and every point off the crank moves at DEFAULT_MOVING of its
+    top speed or more (no output at a limit position, where its velocity vanishes); without the
+    last where no angle meets all three; the range's start if none meets the first two."""
     from linkgen.families.planar.assembly import assemble
     from linkgen.families.planar.positions import positions
     from linkgen.families.planar.summary import transmission_angles
@@ -271,7 +273,18 @@ def default_angle(mech) -> float:
                     sin = np.abs(u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0]) / np.maximum(
                         np.linalg.norm(u, axis=1) * np.linalg.norm(v, axis=1), 1e-300)
                     ok &= sin >= math.sin(math.radians(DEFAULT_LEAST_GAMMA_DEG))
-    pick = np.flatnonzero(ok)
+    from linkgen.families.planar.kinematics import solve_motion
+
+    moving = np.ones(grid.shape, bool)  # and no point off the crank near a limit position (at rest)
+    mo = solve_motion(asm, grid, 1.0, 0.0, on_singular="mark")
+    crank_points = set(mech.link(mech.crank).points) | set(mech.link(GROUND).points)
+    for name, (_, v, _) in mo.points.items():
+        if name not in crank_points:
+            speed = np.linalg.norm(v, axis=1)
+            moving &= speed >= DEFAULT_MOVING * float(speed.max())
+    pick = np.flatnonzero(ok & moving)
+    if not pick.size:
+        pick = np.flatnonzero(ok)
     return float(grid[pick[0]]) if pick.size else d.start
 
 
@@ -279,6 +292,7 @@ def default_angle(mech) -> float:
 # looked for on this grid of crank angles from the range's start.
 DEFAULT_LEAST_GAMMA_DEG = 30.0
 DEFAULT_STEP_DEG = 15.0
+DEFAULT_MOVING = 0.2
 
 
 def page(desc, out, frames: int = 72, mujoco: bool = False, progress=None) -> str:
