@@ -42,6 +42,13 @@ def draw_arrows(ax, arrows, size: float) -> float:
     from matplotlib.patches import FancyArrowPatch
 
     mu = paper_scale(arrows, size)
+    ends = [a.at + a.vector / mu for a in arrows.arrows]
+    if ends:  # every arrow's tip inside the drawing, with a margin for its name
+        pts = np.array(ends)
+        (x0, x1), (y0, y1) = ax.get_xlim(), ax.get_ylim()
+        m = 0.06 * size
+        ax.set_xlim(min(x0, pts[:, 0].min() - m), max(x1, pts[:, 0].max() + m))
+        ax.set_ylim(min(y0, pts[:, 1].min() - m), max(y1, pts[:, 1].max() + m))
     for a in arrows.arrows:
         tip = a.at + a.vector / mu
         if float(np.linalg.norm(a.vector)) == 0.0:
@@ -143,6 +150,11 @@ def teaching_figure(asm, phi: float, out: Path | None = None, *, arrows=None, su
     fig, ax = plt.subplots(figsize=TEACHING_FIGSIZE, dpi=DPI, layout="constrained")
     pale = set(arrows.group_links) if arrows is not None and arrows.group_links else None
     draw_skeleton(ax, pos, frame, 0, alpha=0.35 if pale else 1.0)
+    for name in sorted(pale or ()):  # a free body: its group's links drawn solid over the pale rest
+        xy = np.array([pos.points[p][0] for p in mech.link(name).points])
+        ring = np.vstack([xy, xy[:1]]) if len(xy) >= 3 else xy
+        ax.plot(ring[:, 0], ring[:, 1], color=LINK, lw=3.0, zorder=6, solid_capstyle="round")
+        ax.plot(xy[:, 0], xy[:, 1], "o", ms=6, mfc="white", mec=INK, zorder=6.5)
     label_links(ax, pos, frame.size)
     set_limits(ax, paths, frame)
     mu = None
