@@ -32,6 +32,7 @@ class PageData:
     curves: label → (n,) values, each label with its unit in brackets.
     fixed: (k, 2) [m] what does not move (the ground, a cam's base circle), NaN-broken.
     axes: the drawing's axis names (e.g. "x [m]", "y [m]").
+    mujoco: label → (φ (m,) [rad], values (m,)): MuJoCo's run of a curve, drawn beside it.
     """
 
     title: str
@@ -46,6 +47,7 @@ class PageData:
     fixed: np.ndarray | None = None
     axes: tuple[str, str] = ("x [m]", "y [m]")
     mujoco: Mapping[str, tuple[np.ndarray, np.ndarray]] = field(default_factory=dict)
+    start: int = 0  # the frame the page opens at (the drawing's default pose)
 
 
 def arrow_segments(at: np.ndarray, vec: np.ndarray, scale: float) -> np.ndarray:
@@ -97,7 +99,7 @@ def page_figure(data: PageData):
 
     deg = np.degrees(data.phi)
     ncurves = len(data.curves)
-    moving = _moving(data, 0)
+    moving = _moving(data, data.start)
     fixed = []
     if data.fixed is not None:
         x, y = _xy(data.fixed)
@@ -123,9 +125,9 @@ def page_figure(data: PageData):
                   xaxis=dict(domain=[0.0, 0.55], range=[x0 - pad, x1 + pad], title=data.axes[0], constrain="domain"),
                   yaxis=dict(domain=[0.36, 1.0], range=[y0 - pad, y1 + pad], title=data.axes[1], scaleanchor="x",
                              scaleratio=1.0),
-                  legend=dict(x=0.62, y=0.24, yanchor="top", orientation="h", font=dict(size=11)), margin=dict(t=70, b=40))
-    h = 0.7 / max(ncurves, 1)
-    layout["xaxis2"] = dict(domain=[0.65, 1.0], title="φ [°]", anchor=f"y{ncurves + 1}")
+                  legend=dict(x=0.9, y=1.0, yanchor="top", font=dict(size=10)), margin=dict(t=70, b=40))
+    h = 0.76 / max(ncurves, 1)
+    layout["xaxis2"] = dict(domain=[0.62, 0.88], title="φ [°]", anchor=f"y{ncurves + 1}")
     for k, label in enumerate(data.curves):
         layout[f"yaxis{k + 2}"] = dict(domain=[1.0 - (k + 1) * h + 0.06, 1.0 - k * h], title=dict(text=label, font=dict(size=10)),
                                        anchor="x2")
@@ -136,7 +138,7 @@ def page_figure(data: PageData):
         frames.append(go.Frame(data=_moving(data, i), traces=ids, name=name))
         steps.append(dict(method="animate", label=f"{d:.0f}°", args=[[name], dict(mode="immediate", frame=dict(
             duration=0, redraw=False), transition=dict(duration=0))]))
-    layout["sliders"] = [dict(active=0, steps=steps, x=0.07, y=0.27, len=0.48, yanchor="top",
+    layout["sliders"] = [dict(active=data.start, steps=steps, x=0.07, y=0.27, len=0.48, yanchor="top",
                               currentvalue=dict(prefix="φ = "), pad=dict(t=40))]
     layout["updatemenus"] = [dict(type="buttons", x=0.0, y=0.27, yanchor="top", pad=dict(t=40), showactive=False,
                                   buttons=[dict(label="▶ play", method="animate", args=[None, dict(

@@ -66,7 +66,10 @@ def cam_page(cm, frames: int = 72) -> PageData:
         points["O1"] = np.tile([f.pivot_distance, 0.0], (frames, 1))
     base = f.base_radius * np.column_stack([np.cos(CIRCLE), np.sin(CIRCLE)])
     unit = "m" if f.kind == "translating" else "rad"
-    return PageData(title=title_of(cm), phi=th, lines=lines, points=points, pin=pin,
+    from linkgen.draw.cam import default_cam_angle
+
+    start = int(np.argmin(np.abs(th - default_cam_angle(cm))))
+    return PageData(title=title_of(cm), phi=th, start=start, lines=lines, points=points, pin=pin,
                     vectors={"velocity": arrow_segments(np.stack([c, c], 1), np.stack([v, v1], 1), mu_v),
                              "acceleration": arrow_segments(c[:, None], a[:, None], mu_a)},
                     vector_scales={"velocity": f"v_B, v_B1: 1 m of drawing = {mu_v:g} m/s",
@@ -124,8 +127,9 @@ def spatial_page(mech, frames: int = 72) -> PageData:
     except LinkgenError:  # statically indeterminate or a dead centre: the page without the torque
         pass
     ground = np.array([q for p in fixed_pts for q in (flat(mech.point(p)), (np.nan, np.nan))], dtype=float)
-    e1, e2 = (", ".join(f"{x:.2f}" for x in b) for b in basis)
-    return PageData(title=title_of(mech) + " (projection on its principal plane)", phi=phi, lines=lines,
+    e1, e2 = (", ".join(f"{round(float(x), 2) + 0.0:.2f}" for x in b) for b in basis)
+    start = int(np.argmin(np.abs(np.angle(np.exp(1j * (phi - chain.phi_s))))))  # the sketch's pose, as draw shows it
+    return PageData(title=title_of(mech) + " (projection on its principal plane)", phi=phi, start=start, lines=lines,
                     points={p: flat(xyz[p]) for p in xyz}, pin=pin,
                     vectors={"velocity": arrow_segments(at, v, mu_v), "acceleration": arrow_segments(at, a, mu_a)},
                     vector_scales={"velocity": f"projected, 1 m = {mu_v:g} m/s",

@@ -95,7 +95,10 @@ def planar_page(asm, frames: int = 72) -> PageData:
     pin = pos.points[crank[1] if len(crank) > 1 else crank[0]]
     ground = [pos.points[p][0] for p in fixed_pts]
     fixed = np.array([q for g in ground for q in (g, (np.nan, np.nan))], dtype=float) if ground else None
-    return PageData(title=title_of(mech), phi=phi, lines=np.stack([_lines(pos, i) for i in range(len(phi))]),
+    from linkgen.draw.defaults import default_angle
+
+    start = int(np.argmin(np.abs(phi - default_angle(mech))))
+    return PageData(title=title_of(mech), phi=phi, start=start, lines=np.stack([_lines(pos, i) for i in range(len(phi))]),
                     points={p: pos.points[p] for p in mech.points}, pin=pin, vectors=vectors, vector_scales=scales,
                     curves=curves, summary=tuple(summary_lines(summary)), fixed=fixed)
 
