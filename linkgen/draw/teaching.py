@@ -163,9 +163,13 @@ def teaching_figure(asm, phi: float, out: Path | None = None, *, arrows=None, su
         _scale_bar(ax, mu, arrows.unit, frame.size)
     if summary is not None:
         lines = summary_lines(summary)
-        if lines:
-            ax.text(1.02, 0.0, "\n".join(["design summary"] + lines), transform=ax.transAxes, fontsize=8, va="bottom",
-                    ha="left", bbox=dict(boxstyle="round", fc=(0.97, 0.97, 0.92), ec=(0.6, 0.6, 0.5)))
+        if lines:  # a figure legend of text only: the layout makes room for it beside the drawing
+            from matplotlib.lines import Line2D
+
+            box = fig.legend(handles=[Line2D([], [], lw=0) for _ in lines], labels=lines, title="design summary",
+                             loc="outside right lower", fontsize=8, title_fontsize=8, handlelength=0, handletextpad=0,
+                             alignment="left", facecolor=(0.97, 0.97, 0.92), edgecolor=(0.6, 0.6, 0.5))
+            box.get_frame().set_boxstyle("round")
     what = ""
     if arrows is not None:
         what = f", {arrows.what}" + (f" on group {arrows.group} (free body)" if arrows.group else "")
