@@ -170,20 +170,25 @@ def add_commands(sub) -> None:
     d = sub.add_parser("draw", help="the mechanism's skeleton at one crank angle, or a position plan")
     d.add_argument("model", type=Path, help="description file (.toml)")
     add_out_argument(d, f"write {allowed_text(DRAWING)}", old=("--output",), required=True, metavar="FILE")
-    d.add_argument("--angle", type=_angle_arg, help="crank angle with its unit, e.g. 30deg (default: the range's start)")
+    d.add_argument("--angle", type=_angle_arg,
+                   help="crank angle with its unit, e.g. 30deg (default: the first pose from the range's start, "
+                        "in 15° steps, off dead centres, dwells and limit positions; a spatial chain's sketch pose)")
     d.add_argument("--angles", type=angles_arg,
                    help="a position plan at START:STOP:STEP, degrees unless a unit is given, e.g. 0:360:30 "
                         "or 0:3.14:0.5rad; every moving point's path is traced over the drive's range")
     d.add_argument("--vectors", choices=VECTOR_CHOICES,
-                   help="arrows at one crank angle, to a stated scale: the moving points' velocities or "
-                        "accelerations, or the forces (loads with their crank-angle range, weights, reactions)")
+                   help="also draw arrows at one crank angle, to a stated scale: the moving points' velocities "
+                        "[m/s] or accelerations [m/s²], or the forces [N] (loads with their crank-angle range, weights, "
+                        "reactions)")
     d.add_argument("--parts", action="store_true",
-                   help="with --vectors acceleration: each acceleration as its tangential and normal parts")
+                   help="with --vectors acceleration: also split each acceleration into its tangential and normal "
+                        "parts")
     d.add_argument("--free-body", metavar="GROUP",
                    help="the forces on one Assur group alone (its numbers, e.g. 2,3, or a link's name): the "
                         "reactions of its outer pairs, its loads and inertia forces")
     d.add_argument("--plan", choices=PLAN_CHOICES,
-                   help="the velocity or acceleration plan at one crank angle: the polygons from a pole, to scale")
+                   help="instead of the skeleton, the velocity [m/s] or acceleration [m/s²] plan at one crank angle: "
+                        "the polygons from a pole, to scale")
     d.set_defaults(func=cmd_draw)
 
     g = sub.add_parser("page", help="one self-contained interactive HTML page: the mechanism under a crank-angle "
