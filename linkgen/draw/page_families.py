@@ -119,13 +119,13 @@ def spatial_page(mech, frames: int = 72) -> PageData:
     pin = flat(xyz[crank[1] if len(crank) > 1 else crank[0]])
     out_label = f"{chain.output} travel [m]" if chain.output_slides else f"{chain.output} angle [°]"
     out_values = mo.output.d[0] if chain.output_slides else np.degrees(np.unwrap(mo.output.d[0]))
-    curves = {out_label: out_values}
+    curves, notes = {out_label: out_values}, []
     try:
         from linkgen.families.spatial.results import forces
 
         curves["balancing torque [N·m]"] = np.asarray(forces(mech, phi).balancing_torque, dtype=float)
-    except LinkgenError:  # statically indeterminate or a dead centre: the page without the torque
-        pass
+    except LinkgenError as exc:  # a dead centre: the page says why it has no torque
+        notes.append(f"no balancing torque: {str(exc).splitlines()[0][:120]}")
     ground = np.array([q for p in fixed_pts for q in (flat(mech.point(p)), (np.nan, np.nan))], dtype=float)
     e1, e2 = (", ".join(f"{round(float(x), 2) + 0.0:.2f}" for x in b) for b in basis)
     start = int(np.argmin(np.abs(np.angle(np.exp(1j * (phi - chain.phi_s))))))  # the sketch's pose, as draw shows it
@@ -134,7 +134,7 @@ def spatial_page(mech, frames: int = 72) -> PageData:
                     vectors={"velocity": arrow_segments(at, v, mu_v), "acceleration": arrow_segments(at, a, mu_a)},
                     vector_scales={"velocity": f"projected, 1 m = {mu_v:g} m/s",
                                    "acceleration": f"projected, 1 m = {mu_a:g} m/s²"},
-                    curves=curves, summary=tuple(summary_lines(summary(mech))), fixed=ground,
+                    curves=curves, summary=tuple(summary_lines(summary(mech)) + notes), fixed=ground,
                     axes=(f"along ({e1}) [m]", f"along ({e2}) [m]"))
 
 __all__ = ["cam_page", "spatial_page"]

@@ -69,7 +69,7 @@ def planar_page(asm, frames: int = 72) -> PageData:
         vec = np.stack([mo.points[p][col] for p in moving], axis=1)
         mu = _round_scale(float(np.max(np.linalg.norm(vec, axis=-1))), size)
         vectors[what], scales[what] = arrow_segments(at, vec, mu), f"1 m of drawing = {mu:g} {unit}"
-    curves = {}
+    curves, notes = {}, []
     summary = summarize(asm)
     for name, o in summary.outputs.items():
         if o.kind == "slider" and name.split(" ")[0] in mo.sliders:
@@ -89,8 +89,8 @@ def planar_page(asm, frames: int = 72) -> PageData:
             r_vec = np.stack([f.reactions[r.name] for r in rev], axis=1)
             mu = _round_scale(float(np.max(np.linalg.norm(r_vec, axis=-1))), size)
             vectors["forces"], scales["forces"] = arrow_segments(r_at, r_vec, mu), f"reactions, 1 m = {mu:g} N"
-    except LinkgenError:  # a dead centre inside the range: the page without forces
-        pass
+    except LinkgenError as exc:  # a dead centre inside the range: the page says why it has no forces
+        notes.append(f"no forces: {str(exc).splitlines()[0][:120]}")
     crank = mech.link(mech.crank).points
     pin = pos.points[crank[1] if len(crank) > 1 else crank[0]]
     ground = [pos.points[p][0] for p in fixed_pts]
@@ -100,7 +100,7 @@ def planar_page(asm, frames: int = 72) -> PageData:
     start = int(np.argmin(np.abs(phi - default_angle(mech))))
     return PageData(title=title_of(mech), phi=phi, start=start, lines=np.stack([_lines(pos, i) for i in range(len(phi))]),
                     points={p: pos.points[p] for p in mech.points}, pin=pin, vectors=vectors, vector_scales=scales,
-                    curves=curves, summary=tuple(summary_lines(summary)), fixed=fixed)
+                    curves=curves, summary=tuple(summary_lines(summary) + notes), fixed=fixed)
 
 
 def mujoco_curves(data: PageData, samples) -> dict[str, tuple[np.ndarray, np.ndarray]]:

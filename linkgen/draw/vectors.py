@@ -140,7 +140,6 @@ def force_arrows(asm, phi: float, group: str | None = None) -> Arrows:
     grp = find_group(asm, group)
     inside = set(grp.links)
     loads = applied_loads(asm, kin, omega=w)
-    mo = kin.motion(w, e)
     for name in grp.links:
         mp = mass_table(asm)[name]
         com = kin.point(name, mp.com)
@@ -148,7 +147,6 @@ def force_arrows(asm, phi: float, group: str | None = None) -> Arrows:
         out.append(Arrow(f"given on {name}", name, com.p[0], loads[name].force[0], "load"))
         if mp.mass > 0.0:
             out.append(Arrow(f"Φ_{name} = −m·a_S", name, com.p[0], -mp.mass * acc, "inertia"))
-    del mo
     for r in mech.revolutes:
         a, b = r.links
         if (a in inside) == (b in inside) or r.name not in f.reactions:
