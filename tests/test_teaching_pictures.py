@@ -168,3 +168,33 @@ def test_page_draws_mujocos_curves_on_the_closed_forms(tmp_path):
         ours = np.interp(phi, fine.phi, fine.curves[label])
         span = float(np.ptp(fine.curves[label]))
         assert float(np.max(np.abs(theirs - ours))) <= MUJOCO_CURVE * span, label
+
+
+def _overlap(a, b) -> bool:
+    return a.x0 < b.x1 and b.x0 < a.x1 and a.y0 < b.y1 and b.y0 < a.y1
+
+
+@pytest.mark.parametrize("name", ["ga31", "fourbar", "press"])
+def test_position_numbers_keep_clear_of_the_pins_name(name):
+    """"0" drawn against "A" read "A0", a point's name."""
+    plt = plt_module()
+    mech = load(ROOT / "models" / f"{name}.toml")
+    fig = plan_figure(mech, np.radians(np.arange(0.0, 360.0, 45.0)))
+    fig.canvas.draw()
+    texts = fig.axes[0].texts
+    pin = mech.link(mech.crank).points[1]
+    names = [t.get_window_extent() for t in texts if t.get_text() == pin]
+    numbers = [t.get_window_extent() for t in texts if t.get_text().isdigit()]
+    plt.close(fig)
+    assert names and len(numbers) == 8
+    assert not any(_overlap(n, b) for n in names for b in numbers)
+
+
+@pytest.mark.parametrize("path", CAM_MODELS, ids=[p.stem for p in CAM_MODELS])
+def test_default_cam_drawing_shows_the_follower_moving(path, tmp_path):
+    cm = load(path)
+    what, arrows = stage(cm, "draw")(cm, None, tmp_path / "c.png", vectors="velocity")
+    v_b = next(a.vector for a in arrows.arrows if a.label == "v_B")
+    th = np.radians(np.arange(0.0, 360.0, 1.0))
+    fastest = float(np.max(np.linalg.norm(cm.follower.centre(th)[1], axis=1))) * cm.omega
+    assert float(np.linalg.norm(v_b)) >= 0.25 * fastest, what
