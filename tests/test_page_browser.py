@@ -1,7 +1,7 @@
 """The interactive page (``linkgen page``) in a real browser: headless Chromium driven by Selenium.
-The page loads from the file alone without a console error, and moving the crank-angle slider (its
-own step: the animate call the slider makes) puts the crank pin's marker where the closed form puts
-the pin, mapped to pixels through the axis ranges plotly reports from the page. The screenshot is
+The page loads from the file alone without a console error, and clicking the crank-angle slider at
+one of its ticks puts the crank pin's marker where the closed form puts the pin at that angle,
+mapped to pixels through the axis ranges plotly reports from the page. The screenshot is
 kept beside the page in the test's tmp dir."""
 
 import json
@@ -10,7 +10,6 @@ import shutil
 from pathlib import Path
 
 import numpy as np
-import pytest
 
 from linkgen.families.planar.positions import positions
 from linkgen.pipeline.registry import load, stage
@@ -48,11 +47,22 @@ return JSON.stringify({px: [r.left + r.width / 2 - box.left, r.top + r.height / 
                        x: [xa.range, xa._offset, xa._length], y: [ya.range, ya._offset, ya._length],
                        data: [gd.data[k].x[0], gd.data[k].y[0]]});
 """
-STEP_JS = """
-const gd = document.getElementById('linkgen-page'), done = arguments[arguments.length - 1];
-const step = gd._fullLayout.sliders[0].steps[arguments[0]];
-Plotly.animate(gd, ...step.args).then(() => done(step.label));
-"""
+CURRENT_JS = "return [...document.querySelectorAll('.slider-container text')].map(t => t.textContent).join('|')"
+
+
+def _click_step(d, k: int) -> None:
+    """Click the slider's rail at its k-th tick, as a user does, and wait for the page to show it."""
+    from selenium.webdriver.common.action_chains import ActionChains
+    from selenium.webdriver.support.ui import WebDriverWait
+
+    rail = d.find_element("css selector", ".slider-rail-rect")
+    tick = d.find_elements("css selector", ".slider-tick-rect")[k].rect
+    r = rail.rect
+    ActionChains(d).move_to_element_with_offset(rail, round(tick["x"] + tick["width"] / 2 - r["x"] - r["width"] / 2),
+                                                0).click().perform()
+    label = d.execute_script("return document.getElementById('linkgen-page')._fullLayout.sliders[0].steps[arguments[0]]"
+                             ".label", k)
+    WebDriverWait(d, 10).until(lambda drv: f"φ = {label}" in drv.execute_script(CURRENT_JS))
 
 
 def _expected_pixels(axes, x, y):
@@ -70,12 +80,11 @@ def test_page_loads_and_the_slider_moves_the_crank_pin(tmp_path):
     pin = positions(mech, phi).points["A"]
     d = _driver()
     try:
-        d.set_script_timeout(20)
         d.get(page.as_uri())
         seen = []
-        for k in (0, 3, 7):
-            label = d.execute_async_script(STEP_JS, k)
-            assert label == f"{math.degrees(phi[k]):.0f}°"
+        for k in (3, 7, 0):
+            _click_step(d, k)
+            assert f"φ = {math.degrees(phi[k]):.0f}°" in d.execute_script(CURRENT_JS)
             got = json.loads(d.execute_script(PIN_JS, "crank pin"))
             want = _expected_pixels((got["x"], got["y"]), *pin[k])
             np.testing.assert_allclose(got["px"], want, atol=PIN_PIXELS)
