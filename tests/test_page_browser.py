@@ -47,6 +47,8 @@ return JSON.stringify({px: [r.left + r.width / 2 - box.left, r.top + r.height / 
                        x: [xa.range, xa._offset, xa._length], y: [ya.range, ya._offset, ya._length],
                        data: [gd.data[k].x[0], gd.data[k].y[0]]});
 """
+VISIBLE_JS = ("const t = document.getElementById('linkgen-page').data.find(t => t.name.startsWith(arguments[0])); "
+              "return t.visible")
 CURRENT_JS = "return [...document.querySelectorAll('.slider-container text')].map(t => t.textContent).join('|')"
 
 
@@ -89,6 +91,14 @@ def test_page_loads_and_the_slider_moves_the_crank_pin(tmp_path):
             want = _expected_pixels((got["x"], got["y"]), *pin[k])
             np.testing.assert_allclose(got["px"], want, atol=PIN_PIXELS)
             seen.append(np.array(got["px"]))
+        from selenium.webdriver.support.ui import WebDriverWait
+
+        # the vectors turn on and off from the legend (each click takes effect after plotly's double-click delay)
+        for want in (True, "legendonly"):
+            item = next(e for e in d.find_elements("css selector", ".legend .traces")
+                        if e.text.startswith("acceleration"))
+            item.find_element("css selector", ".legendtoggle").click()
+            WebDriverWait(d, 5).until(lambda drv: drv.execute_script(VISIBLE_JS, "acceleration") == want)
         d.save_screenshot(str(tmp_path / "fourbar_page.png"))
         external = d.execute_script("return document.querySelectorAll('script[src], link[href]').length")
         errors = [e for e in d.get_log("browser") if e["level"] in ("SEVERE", "ERROR")]
