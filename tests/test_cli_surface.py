@@ -96,7 +96,7 @@ def test_report_goes_where_the_user_says_for_one_file(tmp_path):
 def test_every_option_says_its_unit_or_that_it_has_none():
     words = ("[", "deg", "rad", "no unit", "file", "FILE", "SI units", "folder", "print", "JSON", "also", "skip", "exit", "default",
              "e.g.")
-    for cmd in ("analyze", "forces", "simulate", "validate", "dynamics", "flywheel", "build", "draw", "animate",
+    for cmd in ("analyze", "forces", "simulate", "validate", "dynamics", "flywheel", "build", "draw", "page", "animate",
                 "render"):
         text = run(cmd, "--help").stdout
         opts = text.split("options:")[1]

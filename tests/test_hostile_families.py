@@ -317,7 +317,7 @@ def test_every_command_that_refuses_a_cam_file_names_exactly_those_that_take_it(
     CAM_COMMANDS = BY_NAME["cam"].commands
 
     cam = MODELS / "cam_translating.toml"
-    listed = "analyze, profile, build, validate, draw, animate, render"
+    listed = "analyze, profile, build, validate, draw, page, animate, render"
     refusing = [c for c in _subcommands() if c not in CAM_COMMANDS]
     assert sorted(refusing) == ["assemble", "check-settings", "dynamics", "flywheel", "forces", "simulate", "structure"]
     for command in refusing:

@@ -28,6 +28,10 @@ def _whole_in(lo: int, hi: int):
     return parse
 
 FIGURE_FORMATS = ("png", "svg", "pdf")
+VECTOR_CHOICES = ("velocity", "acceleration", "forces")
+PLAN_CHOICES = ("velocity", "acceleration")
+# A page's slider: two positions to move at all; 720 (every half degree) keeps the file under ~20 MB.
+MIN_PAGE_FRAMES, MAX_PAGE_FRAMES = 2, 720
 # A position plan of more positions than this is a smear, not a drawing.
 MAX_PLAN_POSITIONS = 73
 
@@ -88,12 +92,46 @@ def cmd_draw(args) -> int:
     output_kind(args, args.out, DRAWING)
     if args.angle is not None and args.angles is not None:
         raise OptionError("--angle cannot be combined with --angles: --angle draws one position, --angles a plan")
+    one = [f"--{k.replace('_', '-')}" for k in ("vectors", "plan", "free_body") if getattr(args, k) is not None]
+    if args.parts:
+        one.append("--parts")
+    if args.angles is not None and one:
+        raise OptionError(f"{one[0]} draws at one crank angle (--angle); it cannot be combined with --angles")
+    if args.plan is not None and len(one) > 1:
+        raise OptionError(f"--plan draws the plan alone; it cannot be combined with {one[1] if one[0] == '--plan' else one[0]}")
+    if args.parts and args.vectors != "acceleration":
+        raise OptionError("--parts splits accelerations: it needs --vectors acceleration")
     desc = load(args.model)
     draw = stage(desc, "draw")
     with atomic_output(args.out) as tmp:
-        what = draw(desc, args.angles if args.angles is not None else args.angle, tmp)
+        what, _ = draw(desc, args.angles if args.angles is not None else args.angle, tmp, vectors=args.vectors,
+                       parts=args.parts, free_body=args.free_body, plan=args.plan)
     print(f"wrote {args.out}: {what}")
     return 0
+
+
+PAGE = {".html": "the interactive page"}
+
+
+def cmd_page(args) -> int:
+    from linkgen.cli.files import atomic_output
+    from linkgen.pipeline.registry import load, stage
+
+    output_kind(args, args.out, PAGE)
+    desc = load(args.model)
+    with atomic_output(args.out) as tmp:
+        what = stage(desc, "page")(desc, tmp, args.frames, mujoco=args.mujoco,
+                                   progress=_run_progress(f"running {args.model.name} in MuJoCo") if args.mujoco else None)
+    print(f"wrote {args.out}: {what}")
+    return 0
+
+
+def _run_progress(label: str):
+    def report(done: float, elapsed: float) -> None:
+        print(f"\r{label}: {100.0 * done:.0f}% after {elapsed:.0f} s", end="\n" if done >= 1.0 else "", file=sys.stderr,
+              flush=True)
+
+    return report
 
 
 def cmd_animate(args) -> int:
@@ -132,11 +170,37 @@ def add_commands(sub) -> None:
     d = sub.add_parser("draw", help="the mechanism's skeleton at one crank angle, or a position plan")
     d.add_argument("model", type=Path, help="description file (.toml)")
     add_out_argument(d, f"write {allowed_text(DRAWING)}", old=("--output",), required=True, metavar="FILE")
-    d.add_argument("--angle", type=_angle_arg, help="crank angle with its unit, e.g. 30deg (default: the range's start)")
+    d.add_argument("--angle", type=_angle_arg,
+                   help="crank angle with its unit, e.g. 30deg (default: the first pose from the range's start, "
+                        "in 15° steps, off dead centres, dwells and limit positions; a spatial chain's sketch pose)")
     d.add_argument("--angles", type=angles_arg,
                    help="a position plan at START:STOP:STEP, degrees unless a unit is given, e.g. 0:360:30 "
                         "or 0:3.14:0.5rad; every moving point's path is traced over the drive's range")
+    d.add_argument("--vectors", choices=VECTOR_CHOICES,
+                   help="also draw arrows at one crank angle, to a stated scale: the moving points' velocities "
+                        "[m/s] or accelerations [m/s²], or the forces [N] (loads with their crank-angle range, weights, "
+                        "reactions)")
+    d.add_argument("--parts", action="store_true",
+                   help="with --vectors acceleration: also split each acceleration into its tangential and normal "
+                        "parts")
+    d.add_argument("--free-body", metavar="GROUP",
+                   help="the forces on one Assur group alone (its numbers, e.g. 2,3, or a link's name): the "
+                        "reactions of its outer pairs, its loads and inertia forces")
+    d.add_argument("--plan", choices=PLAN_CHOICES,
+                   help="instead of the skeleton, the velocity [m/s] or acceleration [m/s²] plan at one crank angle: "
+                        "the polygons from a pole, to scale")
     d.set_defaults(func=cmd_draw)
+
+    g = sub.add_parser("page", help="one self-contained interactive HTML page: the mechanism under a crank-angle "
+                                    "slider with a play button, its vectors, curves and design summary")
+    g.add_argument("model", type=Path, help="description file (.toml)")
+    add_out_argument(g, f"write {allowed_text(PAGE)}", required=True, metavar="FILE")
+    g.add_argument("--frames", type=_whole_in(MIN_PAGE_FRAMES, MAX_PAGE_FRAMES), default=72,
+                   help=f"crank angles on the slider (no unit; default 72, {MIN_PAGE_FRAMES} to {MAX_PAGE_FRAMES})")
+    g.add_argument("--mujoco", action="store_true",
+                   help="also run the linkage in MuJoCo over its drive range and draw MuJoCo's curves beside the "
+                        "closed form's (planar linkages)")
+    g.set_defaults(func=cmd_page)
 
     a = sub.add_parser("animate", help="the mechanism moving over its drive range, with its point paths")
     a.add_argument("model", type=Path, help="description file (.toml)")

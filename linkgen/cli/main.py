@@ -1,4 +1,4 @@
-"""Command-line interface: ``linkgen structure|analyze|forces|build|simulate|validate|check-settings|draw|animate|render``.
+"""Command-line interface: ``linkgen structure|analyze|forces|build|simulate|validate|check-settings|draw|page|animate|render``.
 
 User mistakes (LinkgenError, missing files, bad arguments, conflicting options) print one
 line to stderr naming the file concerned and exit with status 2; no traceback. A sampled run

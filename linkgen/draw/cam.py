@@ -14,6 +14,17 @@ from linkgen.draw.plan import DPI, FIGSIZE, plt_module, save, title_of
 from linkgen.draw.skeleton import CRANK, INK, LINK, hatch_line
 
 PROFILE_POINTS = 721
+# A single drawing's default cam angle: the first on a grid of this step [°] where the follower moves
+# at least this fraction of its fastest (at 0 the programs dwell, and every vector on the follower
+# vanishes).
+DEFAULT_STEP_DEG, MOVING = 15.0, 0.5
+
+
+def default_cam_angle(cm) -> float:
+    """The cam angle [rad] a single drawing shows by default (DEFAULT_STEP_DEG, MOVING)."""
+    grid = np.radians(np.arange(0.0, 360.0, DEFAULT_STEP_DEG))
+    speed = np.abs(cm.follower.output(grid)[1])
+    return float(grid[np.flatnonzero(speed >= MOVING * speed.max())[0]]) if speed.max() > 0.0 else 0.0
 
 
 def _rot(xy: np.ndarray, angle: float) -> np.ndarray:
@@ -59,8 +70,22 @@ def _follower(ax, cm, centre: np.ndarray, frame_angle: float, size: float, alpha
                 solid_capstyle="round")
 
 
-def cam_figure(cm, theta: float, out: Path | None = None):
-    """The cam at cam angle θ [rad] with its follower; saved to ``out`` when given."""
+def _omega_arrow(ax, theta: float, omega: float, radius: float) -> None:
+    """The sense of the cam's turn: an arc arrow about O, a quarter turn ahead of the angle mark."""
+    from matplotlib.patches import FancyArrowPatch
+
+    sense = 1.0 if omega >= 0.0 else -1.0
+    a0, a1 = theta + sense * 0.6, theta + sense * 1.6
+    p0, p1 = (radius * np.array([math.cos(a), math.sin(a)]) for a in (a0, a1))
+    ax.add_patch(FancyArrowPatch(tuple(p0), tuple(p1), connectionstyle=f"arc3,rad={0.3 * sense}", arrowstyle="-|>",
+                                 mutation_scale=12, color=CRANK, lw=1.4, zorder=6))
+    q = 1.2 * radius * np.array([math.cos(0.5 * (a0 + a1)), math.sin(0.5 * (a0 + a1))])
+    ax.text(q[0], q[1], "ω", color=CRANK, fontsize=11, ha="center", va="center", zorder=6)
+
+
+def cam_figure(cm, theta: float, out: Path | None = None, arrows=None):
+    """The cam at cam angle θ [rad] with its follower, the sense of its turn (ω) and ``arrows``
+    (``draw.vectors.Arrows``, or None) to one scale; saved to ``out`` when given."""
     plt = plt_module()
     f = cm.follower
     th = np.linspace(0.0, 2 * math.pi, PROFILE_POINTS)
@@ -85,13 +110,22 @@ def cam_figure(cm, theta: float, out: Path | None = None):
             hatch_line(ax, (x, guide_y - 0.05 * size), (x, guide_y + 0.05 * size), np.array([s, 0.0]), size, z=3)
     else:
         _support(ax, np.array([f.pivot_distance, 0.0]), size)
-    ax.text(0.02 * size, 0.03 * size, "O", fontsize=9)
+    back = theta + math.pi + math.radians(40.0)  # O's name away from the angle mark (along θ) and the support (below)
+    ax.text(0.06 * size * math.cos(back), 0.06 * size * math.sin(back) + 0.01 * size, "O", fontsize=10, ha="center",
+            va="center", zorder=6, bbox=dict(boxstyle="round,pad=0.1", fc="white", ec="none", alpha=0.8))
+    _omega_arrow(ax, theta, cm.omega, 0.55 * f.base_radius)
+    what = ""
+    if arrows is not None and arrows.arrows:
+        from linkgen.draw.teaching import draw_arrows
+
+        mu = draw_arrows(ax, arrows, size)
+        what = f", {arrows.what}: 1 m of drawing = {mu:g} {arrows.unit}"
     ax.set_aspect("equal", adjustable="box")
     ax.set_xlabel("x [m]")
     ax.set_ylabel("y [m]")
     ax.grid(True, lw=0.3, alpha=0.4)
     ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0), frameon=False)
-    ax.set_title(f"{title_of(cm)}\nφ = {math.degrees(theta):.4g}°", fontsize=10)
+    ax.set_title(f"{title_of(cm)}\nφ = {math.degrees(theta):.4g}°, ω = {cm.omega:.4g} rad/s{what}", fontsize=10)
     if out is not None:
         save(fig, out)
     return fig
@@ -127,4 +161,4 @@ def cam_plan_figure(cm, angles, out: Path | None = None):
     return fig
 
 
-__all__ = ["cam_figure", "cam_plan_figure"]
+__all__ = ["cam_figure", "cam_plan_figure", "default_cam_angle"]

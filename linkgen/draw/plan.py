@@ -82,8 +82,9 @@ def plan_figure(mech: Mechanism, angles, out: Path | None = None, *, paths: Posi
             c = pos.points[mech.link(mech.crank).points[0]][i]
             d = p - c
             n = float(np.hypot(*d)) or 1.0
-            q = p + 0.05 * frame.size * d / n
-            ax.text(q[0], q[1], str(i), fontsize=8, color=CRANK, ha="center", va="center", zorder=8)
+            q = p + 0.07 * frame.size * d / n  # ringed, clear of the pin's name: "0" beside "A" reads "A0"
+            ax.text(q[0], q[1], str(i), fontsize=7, color=CRANK, ha="center", va="center", zorder=8,
+                    bbox=dict(boxstyle="circle,pad=0.15", fc="white", ec=CRANK, lw=0.6))
     set_limits(ax, paths, frame)
     ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0, frameon=False)
     step = np.degrees(np.diff(angles))

@@ -26,6 +26,8 @@ SUPPORT = (0.05, 0.04)  # ground support triangle: base width, height
 HATCH = 0.014  # length of a hatch stroke
 LABEL_OFFSET = 0.022
 ARROW_RADIUS = 0.06
+PLATE_FILL = 0.12  # a plate's fill opacity
+SLOT_BLOCK = 0.65  # a block in a moving slot, against one on a ground guide
 # Colours: the MJCF's materials, so drawings and MuJoCo frames read alike.
 CRANK = (0.85, 0.3, 0.2)
 LINK = (0.25, 0.45, 0.8)
@@ -81,13 +83,13 @@ def _support(ax, p: np.ndarray, size: float, alpha: float) -> None:
     hatch_line(ax, p + (-0.8 * w, -h), p + (0.8 * w, -h), np.array([0.0, -1.0]), size, alpha=alpha, z=1.5)
 
 
-def _block(ax, centre: np.ndarray, u: np.ndarray, size: float, color, alpha: float) -> None:
+def _block(ax, centre: np.ndarray, u: np.ndarray, size: float, color, alpha: float, z: float = 4.0) -> None:
     from matplotlib.patches import Polygon
 
     a, b = 0.5 * BLOCK[0] * size * u, 0.5 * BLOCK[1] * size * _rot(u)
     corners = np.array([centre - a - b, centre + a - b, centre + a + b, centre - a + b])
     ax.add_patch(Polygon(corners, closed=True, facecolor=(*color, 0.6 * alpha), edgecolor=(*INK, alpha),
-                         lw=1.0, zorder=4))
+                         lw=1.0, zorder=z))
 
 
 def _guide(ax, pos: Positions, frame: Frame, pair: str, i: int, alpha: float) -> None:
@@ -165,15 +167,19 @@ def draw_skeleton(ax, pos: Positions, frame: Frame, i: int, *, alpha: float = 1.
         ax.add_patch(Circle(centre, g.planet_radius, facecolor=(*LINK, 0.08 * alpha), edgecolor=(*LINK, alpha),
                             lw=1.2, ls=(0, (6, 3)), zorder=2.5))
     _cams(ax, pos, frame, i, alpha)
+    guides = {g.guide for g in pos.guides.values()}
     for link in mech.links:
         if link.name == GROUND:
             continue
         color = _color(mech, link.name)
         xy = np.array([pos.points[p][i] for p in link.points])
-        if len(xy) >= 3:
+        # A plate is its points' hull, filled only in a solid drawing (overlaid positions would stack
+        # their fills into a blur); a guide link stays bars, so that its slot reads as the line it is.
+        if len(xy) >= 3 and link.name not in guides:
             hull = convex_hull(xy)
             if len(hull) >= 3:
-                ax.add_patch(Polygon(hull, closed=True, facecolor=(*color, 0.2 * alpha), edgecolor=(*color, alpha),
+                fill = (*color, PLATE_FILL * alpha) if alpha >= SOLID_ALPHA else "none"
+                ax.add_patch(Polygon(hull, closed=True, facecolor=fill, edgecolor=(*color, alpha),
                                      lw=2.2, zorder=3, joinstyle="round"))
                 continue
         if len(xy) >= 2:
@@ -185,7 +191,9 @@ def draw_skeleton(ax, pos: Positions, frame: Frame, i: int, *, alpha: float = 1.
     for pair, g in pos.guides.items():
         _, u = pos.guide_line(pair, i)
         centre = pos.local_to_world(g.slider, g.point, i)
-        _block(ax, centre, u, size, _color(mech, g.slider), alpha)
+        # a block in a moving link's slot is drawn smaller, over any block on the same pin
+        _block(ax, centre, u, size * (1.0 if g.guide == GROUND else SLOT_BLOCK), _color(mech, g.slider), alpha,
+               z=4.0 if g.guide == GROUND else 4.2)
     for rev in mech.revolutes:
         c = pos.points[rev.point][i]
         ax.add_patch(Circle(c, JOINT_RADIUS * size, facecolor="white", edgecolor=INK, lw=1.0, alpha=alpha, zorder=5))

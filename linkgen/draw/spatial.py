@@ -183,9 +183,10 @@ def _axes(fig, mid, half, span, chain):
     return views
 
 
-def draw_spatial(mech, angles, out: Path) -> Path:
+def draw_spatial(mech, angles, out: Path, arrows=None) -> Path:
     """The mechanism at crank angles ``angles`` [rad] (one: a skeleton; several: a position plan, the first solid)
-    in 3-D and three projections, with the moving points' paths over a turn, written to ``out`` (.png/.svg/.pdf)."""
+    in 3-D and three projections, with the moving points' paths over a turn and, at one angle, ``arrows``
+    (``draw.vectors.Arrows``, 3-D) to one scale, written to ``out`` (.png/.svg/.pdf)."""
     plt = plt_module()
     angles, chain = np.atleast_1d(np.asarray(angles, dtype=float)).reshape(-1), assembled_chain(mech)
     motion, turn = solve(mech, angles, chain), full_turn(mech, chain)
@@ -219,6 +220,10 @@ def draw_spatial(mech, angles, out: Path) -> Path:
                    ha="center", va="center", zorder=8)
         for i in range(len(angles))[::-1]:
             _pose(v, mech, chain, motion, i, colors, travel, 1.0 if i == 0 else PALE)
+    if arrows is not None:
+        from linkgen.draw.family_vectors import draw_spatial_arrows
+
+        mu = draw_spatial_arrows(views, arrows, span)
     kinds = {j.kind for j in mech.joints} | {"ground"} | ({"centre"} if chain.centre is not None else set())
     handles = [Line2D([], [], color=colors[l.name], lw=3, label=l.name) for l in mech.links if l.name != GROUND] + [
         Line2D([], [], ls="none", marker=m, ms=8, mfc=fc, mec=INK, mew=1.4 if m == "+" else 1, label=t) for kind, m, fc, t in (
@@ -229,6 +234,8 @@ def draw_spatial(mech, angles, out: Path) -> Path:
     deg, step = np.degrees(angles), np.diff(np.degrees(angles))
     what = (f"φ = {deg[0]:.4g}°" if len(angles) == 1 else f"position plan: {len(angles)} positions from φ = {deg[0]:.4g}°"
             + (f", every {step[0]:.4g}°" if np.allclose(step, step[0]) else "") + " (0 solid, numbered at the crank pin)")
+    if arrows is not None:
+        what += f", {arrows.what}: 1 m of drawing = {mu:g} {arrows.unit}"
     fig.suptitle(title_of(mech, 100) + f"\n{what}", fontsize=11)
     save(fig, out)
     return Path(out)

@@ -50,7 +50,7 @@ def _profile(desc, points: int = 720):
 CAM = Family(
     name="cam", title="stand-alone cam", plural="stand-alone cams", doc="docs/cams.md", description=CamMechanism,
     detects=is_cam_data, from_dict=_from_dict,
-    commands=("analyze", "profile", "build", "validate", "draw", "animate", "render"),
+    commands=("analyze", "profile", "build", "validate", "draw", "page", "animate", "render"),
     stages={"angles": _angles, "kinematics": _kinematics, "summary": _summary, "profile": _profile, **MUJOCO_STAGES})
 
 __all__ = ["CAM"]

@@ -51,17 +51,50 @@ def report(entry: dict):
     return sections.CAM
 
 
-def draw(desc, angles, out) -> str:
-    """The cam and its follower at one cam angle (``angles`` a number [rad], None: 0) or a
-    position plan by inversion (an array), written to ``out``; returns what was drawn."""
-    from linkgen.draw.cam import cam_figure, cam_plan_figure
+def draw(desc, angles, out, *, vectors=None, parts: bool = False, free_body=None, plan=None):
+    """The cam and its follower at one cam angle (``angles`` a number [rad], None: 0) with
+    ``vectors`` ("velocity", "acceleration", "forces") of the follower's point B, or the ``plan``
+    of B (``families.cam.plans``), or a position plan by inversion (an array), written to ``out``;
+    returns (what was drawn, the drawn data or None)."""
+    from linkgen.draw.cam import cam_figure, default_cam_angle, cam_plan_figure
+    from linkgen.errors import ArgumentError
 
+    if free_body is not None:
+        raise ArgumentError(f"--free-body: {desc.name} is a cam and its follower, with no Assur groups; "
+                            f"--vectors forces draws the contact force")
     if angles is not None and np.ndim(angles) > 0:
         cam_plan_figure(desc, np.asarray(angles, dtype=float), out)
-        return f"{desc.name}, position plan by inversion of {len(angles)} cam angles"
-    theta = 0.0 if angles is None else float(angles)
-    cam_figure(desc, theta, out)
-    return f"{desc.name}, cam and follower at φ = {math.degrees(theta):.6g}°"
+        return f"{desc.name}, position plan by inversion of {len(angles)} cam angles", None
+    theta = default_cam_angle(desc) if angles is None else float(angles)
+    at = f"φ = {math.degrees(theta):.6g}°"
+    if plan is not None:
+        from linkgen.draw.polygons import vector_plan_figure
+        from linkgen.families.cam.plans import cam_plan
+
+        _, data = vector_plan_figure(desc, cam_plan(desc, theta, plan), out)
+        return f"{desc.name}, {plan} plan of the follower's point B at {at} (closes to {data.closure():.1e})", data
+    arrows = None
+    if vectors is not None:
+        from linkgen.draw.family_vectors import cam_arrows
+
+        arrows = cam_arrows(desc, theta, vectors, parts)
+    cam_figure(desc, theta, out, arrows=arrows)
+    return f"{desc.name}, cam and follower at {at}" + (f", {vectors}" if vectors else ""), arrows
+
+
+def page(desc, out, frames: int = 72, mujoco: bool = False, progress=None) -> str:
+    """The interactive page (``draw.page``) of the cam and its follower, written to ``out``."""
+    from linkgen.errors import ArgumentError
+
+    if mujoco:
+        raise ArgumentError(f"--mujoco: {desc.name} is a cam; the page shows MuJoCo's curves for planar linkages "
+                            f"(validate writes its MuJoCo comparison into the report)")
+    from linkgen.draw.page import write_page
+    from linkgen.draw.page_families import cam_page
+
+    data = cam_page(desc, frames)
+    write_page(data, out)
+    return f"{desc.name}, {len(data.phi)} cam angles, vectors {', '.join(data.vectors)}, curves {', '.join(data.curves)}"
 
 
 def animate(desc, frames: int, progress=None, mujoco: bool = False, notice=None) -> tuple[list, str]:
@@ -85,6 +118,6 @@ def render(desc, angle, width: int, height: int) -> tuple[np.ndarray, str]:
     return cam_render(desc, theta, width, height)[0], f"MuJoCo frame of {desc.name} at φ = {math.degrees(theta):.6g}°"
 
 
-STAGES = {"mjcf": mjcf, "validate": validate, "figures": figures, "report": report, "draw": draw, "animate": animate, "render": render}
+STAGES = {"mjcf": mjcf, "validate": validate, "figures": figures, "report": report, "draw": draw, "page": page, "animate": animate, "render": render}
 
 __all__ = ["STAGES"]

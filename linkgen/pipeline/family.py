@@ -111,8 +111,13 @@ STAGES: tuple[Stage, ...] = (
           "``out``, ``summary``, …) of a validated description", ("validate",)),
     Stage("report", "(entry)", "the report's (row, section) writers of one ``validate --json`` entry",
           ("validate",)),
-    Stage("draw", "(desc, angles, out)", "what was drawn into ``out``: one position (a number, None: the "
-          "default) or a position plan (an array)", ("draw",)),
+    Stage("draw", "(desc, angles, out, *, vectors=None, parts=False, free_body=None, plan=None)",
+          "(what was drawn into ``out``, the drawn data or None): one position (a number, None: the default) with "
+          "its ``vectors`` (``draw.vectors.Arrows``) or its velocity or acceleration ``plan`` "
+          "(``model.plans.VectorPlan``), or a position plan (an array)", ("draw",)),
+    Stage("page", "(desc, out, frames=72, mujoco=False, progress=None)", "what was written into ``out``: one "
+          "self-contained interactive HTML page (the mechanism under a crank-angle slider, its vectors, curves and "
+          "design summary; with ``mujoco`` MuJoCo's curves beside the closed form's)", ("page",)),
     Stage("animate", "(desc, frames, progress=None, mujoco=False, notice=None)", "(frames, how they were made)",
           ("animate",)),
     Stage("render", "(desc, angle, width, height)", "(a MuJoCo frame (h, w, 3), what it shows)", ("render",)),

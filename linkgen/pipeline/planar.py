@@ -75,7 +75,7 @@ def _check_settings(desc, settings, *, tolerance: float = 1e-3, search: bool = T
 PLANAR = Family(
     name="planar", title="planar linkage", plural="planar linkages", doc="docs/format.md", description=Mechanism,
     detects=lambda data: True, from_dict=_from_dict,
-    commands=("structure", "analyze", "forces", "assemble", "build", "simulate", "validate", "check-settings", "draw",
+    commands=("structure", "analyze", "forces", "assemble", "build", "simulate", "validate", "check-settings", "draw", "page",
               "animate", "render", "dynamics", "flywheel"),
     stages={"angles": _angles, "structure": _structure, "kinematics": _kinematics, "forces": _forces,
             "summary": _summary, "check_settings": _check_settings, **MUJOCO_STAGES},

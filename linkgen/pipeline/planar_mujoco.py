@@ -188,20 +188,84 @@ def _in_range(mech, phi: np.ndarray, option: str) -> None:
                             f"{math.degrees(d.start):.6g}°..{math.degrees(d.stop):.6g}° (drive.start, drive.stop)")
 
 
-def draw(desc, angles, out) -> str:
-    """The skeleton at one crank angle (``angles`` a number [rad], None: the range's start) or a
-    position plan (an array), written to ``out``; returns what was drawn."""
-    from linkgen.draw.plan import plan_figure, skeleton_figure
+def draw(desc, angles, out, *, vectors=None, parts: bool = False, free_body=None, plan=None):
+    """The skeleton at one crank angle (``angles`` a number [rad], None: the range's start) with
+    its link names and lengths and the design summary, and ``vectors`` ("velocity",
+    "acceleration", "forces"; ``parts``: an acceleration's tangential and normal parts;
+    ``free_body``: a group's forces alone), or the ``plan`` ("velocity", "acceleration") at that
+    angle, or a position plan (``angles`` an array), written to ``out``. Returns (what was drawn,
+    the drawn data: ``Arrows``, ``VectorPlan`` or None)."""
+    from linkgen.draw.plan import plan_figure
 
     mech = _mechanism(desc)
     if angles is not None and np.ndim(angles) > 0:
         _in_range(mech, np.asarray(angles, dtype=float), "--angles")
         plan_figure(mech, np.asarray(angles, dtype=float), out)
-        return f"{mech.name}, position plan of {len(angles)} positions"
-    phi = mech.drive.start if angles is None else float(angles)
+        return f"{mech.name}, position plan of {len(angles)} positions", None
+    from linkgen.errors import ArgumentError, StructureError
+    from linkgen.families.planar.assembly import assemble
+
+    from linkgen.draw.defaults import default_angle
+
+    phi = default_angle(mech) if angles is None else float(angles)
     _in_range(mech, np.array([phi]), "--angle")
-    skeleton_figure(mech, phi, out)
-    return f"{mech.name}, skeleton at φ = {math.degrees(phi):.6g}°"
+    at = f"φ = {math.degrees(phi):.6g}°"
+    try:
+        asm = assemble(mech)
+    except StructureError as exc:  # class III and higher: the skeleton from the numeric pose only
+        if plan is not None or vectors is not None or free_body is not None:
+            raise ArgumentError(f"{mech.name}: plans and vectors come from the Assur groups' closed form ({exc})") from None
+        from linkgen.draw.plan import skeleton_figure
+
+        skeleton_figure(mech, phi, out)
+        return f"{mech.name}, skeleton at {at}", None
+    if plan is not None:
+        from linkgen.draw.polygons import vector_plan_figure
+        from linkgen.families.planar.vector_plan import vector_plan
+
+        _, data = vector_plan_figure(mech, vector_plan(asm, phi, plan), out)
+        return f"{mech.name}, {plan} plan at {at} (closes to {data.closure():.1e} of its size)", data
+    from linkgen.draw.teaching import teaching_figure
+    from linkgen.draw.vectors import check_vectors, force_arrows, motion_arrows
+    from linkgen.families.planar.summary import summarize
+
+    arrows = None
+    if free_body is not None and vectors not in (None, "forces"):
+        raise ArgumentError(f"--free-body draws forces; it cannot be combined with --vectors {vectors}")
+    if vectors is not None or free_body is not None:
+        what = check_vectors(vectors or "forces")
+        arrows = (force_arrows(asm, phi, free_body) if what == "forces" else motion_arrows(asm, phi, what, parts))
+    _, _, mu = teaching_figure(asm, phi, out, arrows=arrows, summary=summarize(asm))
+    extra = f", {arrows.what} at {mu:g} {arrows.unit} per m of drawing" if arrows is not None and mu else ""
+    return f"{mech.name}, skeleton at {at}{extra}", arrows
+
+
+
+
+def page(desc, out, frames: int = 72, mujoco: bool = False, progress=None) -> str:
+    """The interactive page (``draw.page``) of the linkage, written to ``out``; with ``mujoco``
+    MuJoCo's run over the drive range beside the closed form's curves (``progress`` as
+    ``simulate``'s). Returns what it shows."""
+    from dataclasses import replace
+
+    from linkgen.draw.page import write_page
+    from linkgen.draw.page_planar import mujoco_curves, planar_page
+    from linkgen.errors import ArgumentError, StructureError
+    from linkgen.families.planar.assembly import assemble
+
+    mech = _mechanism(desc)
+    try:
+        asm = assemble(mech)
+    except StructureError as exc:
+        raise ArgumentError(f"{mech.name}: the page's vectors come from the Assur groups' closed form ({exc})") from None
+    data = planar_page(asm, frames)
+    if mujoco:
+        from linkgen.mujoco.simulate import simulate as run
+
+        data = replace(data, mujoco=mujoco_curves(data, run(asm, progress=progress).samples))
+    write_page(data, out)
+    return (f"{mech.name}, {len(data.phi)} crank angles, vectors {', '.join(data.vectors)}, curves {', '.join(data.curves)}"
+            + (f", MuJoCo's run beside {', '.join(data.mujoco)}" if mujoco else ""))
 
 
 def animate(desc, frames: int, progress=None, mujoco: bool = False, notice=None) -> tuple[list, str]:
@@ -232,7 +296,7 @@ def render(desc, angle, width: int, height: int) -> tuple[np.ndarray, str]:
     return frames[0], f"MuJoCo frame of {mech.name} at φ = {math.degrees(phi):.6g}°"
 
 
-STAGES = {"mjcf": mjcf, "coupling": coupling, "simulate": simulate, "validate": validate, "figures": figures, "report": report, "draw": draw,
+STAGES = {"mjcf": mjcf, "coupling": coupling, "simulate": simulate, "validate": validate, "figures": figures, "report": report, "draw": draw, "page": page,
           "animate": animate, "render": render}
 
 __all__ = ["STAGES"]

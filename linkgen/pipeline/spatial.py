@@ -43,7 +43,7 @@ def _summary(desc, omega=None, epsilon=None):
 SPATIAL = Family(
     name="spatial", title="spatial four-bar", plural="spatial four-bars", doc="docs/spatial.md", description=SpatialMechanism,
     detects=is_spatial, from_dict=spatial_from_dict,
-    commands=("structure", "analyze", "forces", "build", "validate", "draw", "animate", "render"),
+    commands=("structure", "analyze", "forces", "build", "validate", "draw", "page", "animate", "render"),
     stages={"angles": _angles, "structure": _structure, "kinematics": _kinematics, "forces": _forces,
             "summary": _summary, **MUJOCO_STAGES},
     options=("--transfer", "--robot"))

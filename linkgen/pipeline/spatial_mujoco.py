@@ -44,9 +44,12 @@ def figures(desc, check, out) -> dict:
     """The report's figures of a validated chain into the folder ``out``: its drawing, a
     position plan and the comparison's plots."""
     from linkgen.draw.spatial import draw_spatial, plot_spatial_check
+    from linkgen.families.spatial.kinematics import assembled_chain
 
     names = [f"{check.model}_drawing.png", f"{check.model}_plan.png"]
-    draw_spatial(desc, np.array([0.0]), out / names[0])
+    # the sketch's own pose, as ``linkgen draw`` shows it: φ = 0 can be a folded pose (Bennett's
+    # four joints in line there, stacked in the side view)
+    draw_spatial(desc, np.array([assembled_chain(desc).phi_s]), out / names[0])
     draw_spatial(desc, np.radians(np.arange(0.0, 360.0, PLAN_STEP_DEG)), out / names[1])
     return {"figures": names + plot_spatial_check(check, out, desc)}
 
@@ -58,19 +61,52 @@ def report(entry: dict):
     return sections.SPATIAL
 
 
-def draw(desc, angles, out) -> str:
-    """The chain at one crank angle (``angles`` a number [rad], None: the sketch's own pose) or a
-    position plan (an array), written to ``out``; returns what was drawn."""
+def draw(desc, angles, out, *, vectors=None, parts: bool = False, free_body=None, plan=None):
+    """The chain at one crank angle (``angles`` a number [rad], None: the sketch's own pose) with
+    ``vectors`` (3-D, in every view), or its ``plan`` (the 3-D plan's projections,
+    ``families.spatial.plans``), or a position plan (an array), written to ``out``; returns (what
+    was drawn, the drawn data or None)."""
     from linkgen.draw.spatial import draw_spatial
+    from linkgen.errors import ArgumentError
 
+    if free_body is not None:
+        raise ArgumentError(f"--free-body: {desc.name} is a spatial four-bar, solved whole rather than by Assur "
+                            f"groups; --vectors forces draws every pair's reaction")
     if angles is None:
         from linkgen.families.spatial.kinematics import assembled_chain
 
         angles = np.array([assembled_chain(desc).phi_s])
     angles = np.atleast_1d(np.asarray(angles, dtype=float))
-    draw_spatial(desc, angles, out)
+    at = f"φ = {math.degrees(float(angles[0])):.6g}°"
+    if plan is not None and len(angles) == 1:
+        from linkgen.draw.polygons import spatial_plan_figure
+        from linkgen.families.spatial.plans import spatial_plan
+
+        _, data = spatial_plan_figure(desc, spatial_plan(desc, float(angles[0]), plan), out)
+        return f"{desc.name}, {plan} plan at {at} (3-D, closes to {data.closure():.1e}; its projections)", data
+    arrows = None
+    if vectors is not None and len(angles) == 1:
+        from linkgen.draw.family_vectors import spatial_arrows
+
+        arrows = spatial_arrows(desc, float(angles[0]), vectors, parts)
+    draw_spatial(desc, angles, out, arrows=arrows)
     return f"{desc.name}, " + (f"position plan of {len(angles)} positions" if len(angles) > 1
-                               else f"skeleton at φ = {math.degrees(float(angles[0])):.6g}°")
+                               else f"skeleton at {at}" + (f", {vectors}" if vectors else "")), arrows
+
+
+def page(desc, out, frames: int = 72, mujoco: bool = False, progress=None) -> str:
+    """The interactive page (``draw.page``) of the chain (its top view), written to ``out``."""
+    from linkgen.errors import ArgumentError
+
+    if mujoco:
+        raise ArgumentError(f"--mujoco: {desc.name} is a spatial four-bar; the page shows MuJoCo's curves for planar linkages "
+                            f"(validate writes its MuJoCo comparison into the report)")
+    from linkgen.draw.page import write_page
+    from linkgen.draw.page_families import spatial_page
+
+    data = spatial_page(desc, frames)
+    write_page(data, out)
+    return f"{desc.name}, {len(data.phi)} crank angles, vectors {', '.join(data.vectors)}, curves {', '.join(data.curves)}"
 
 
 def animate(desc, frames: int, progress=None, mujoco: bool = False, notice=None) -> tuple[list, str]:
@@ -95,6 +131,6 @@ def render(desc, angle, width: int, height: int) -> tuple[np.ndarray, str]:
     return spatial_render(desc, phi, width, height)[0], f"MuJoCo frame of {desc.name} at φ = {math.degrees(phi):.6g}°"
 
 
-STAGES = {"mjcf": mjcf, "validate": validate, "figures": figures, "report": report, "draw": draw, "animate": animate, "render": render}
+STAGES = {"mjcf": mjcf, "validate": validate, "figures": figures, "report": report, "draw": draw, "page": page, "animate": animate, "render": render}
 
 __all__ = ["PLAN_STEP_DEG", "STAGES"]

@@ -40,11 +40,11 @@ def _pair(ax, deg, cf, mj, title: str, unit: str, means: bool = False) -> None:
 def plot_cam(cm, run, out: Path) -> list[str]:
     """The cam's drawing, its follower's motion and its forces into ``out`` (PNG); returns the
     file names, the drawing first."""
-    from linkgen.draw.cam import cam_figure
+    from linkgen.draw.cam import cam_figure, default_cam_angle
 
     plt = _plt()
     names = [f"{cm.name}_drawing.png", f"{cm.name}_motion.png", f"{cm.name}_forces.png"]
-    plt.close(cam_figure(cm, 0.0, out / names[0]))
+    plt.close(cam_figure(cm, default_cam_angle(cm), out / names[0]))
     order = np.argsort(run.theta % (2 * math.pi), kind="stable")  # one turn, from θ = 0
     th = (run.theta % (2 * math.pi))[order]
     deg = np.degrees(th)
