@@ -1,4 +1,4 @@
-"""Command-line interface: ``linkgen structure|analyze|forces|build|simulate|validate|check-settings|draw|animate|render``.
+"""Command-line interface: ``linkgen structure|analyze|forces|build|simulate|validate|check-settings|draw|animate|render|referee|suite``.
 
 User mistakes (LinkgenError, missing files, bad arguments, conflicting options) print one
 line to stderr naming the file concerned and exit with status 2; no traceback. A sampled run
@@ -16,7 +16,7 @@ import os
 import signal
 import sys
 
-from linkgen.cli import check_settings, closed_form, draw, dynamics, mujoco, sketch
+from linkgen.cli import check_settings, closed_form, draw, dynamics, mujoco, referee, sketch
 from linkgen.cli.common import OptionError
 from linkgen.cli.files import message_for
 from linkgen.outputs import Interrupted, OutputError
@@ -71,6 +71,7 @@ def build_parser() -> argparse.ArgumentParser:
     sketch.add_command(sub)
     draw.add_commands(sub)
     closed_form.add_profile(sub)
+    referee.add_commands(sub)
     return p
 
 

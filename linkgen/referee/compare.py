@@ -51,7 +51,8 @@ def referee(desc: Any, table: Any, *, mapping: Mapping[str, str] | None = None, 
             own = _route(values[ok], r[ok], t.phi[ok], scales[key], angle, tolerance).error
             routes[name] = _route(col.values[ok], values[ok], t.phi[ok], scales[key], angle, tolerance + own, own)
         d = diag.column(key, ok) if not routes["closed_form"].agrees and ok.any() else None
-        verdicts.append(ColumnVerdict(col.header, key, scales[key], routes, d, int(np.count_nonzero(~ok))))
+        curves = {"phi": t.phi, "user": col.values, "closed_form": r} | {n: v for n, v in mj.get(key, {}).items()}
+        verdicts.append(ColumnVerdict(col.header, key, scales[key], routes, d, int(np.count_nonzero(~ok)), curves))
     mech = getattr(ref.desc, "mechanism", ref.desc)
     return Verdict(mech.name, source, ref.omega, ref.epsilon, len(t.phi), tolerance, tuple(verdicts), bool(mujoco))
 

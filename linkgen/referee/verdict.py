@@ -8,6 +8,8 @@ import math
 from dataclasses import dataclass, field
 from typing import Mapping
 
+import numpy as np
+
 from linkgen.referee.diagnose import Diagnosis
 
 # Who the user's column agrees with.
@@ -39,7 +41,7 @@ class ColumnVerdict:
     """One column: the user's header, linkgen's header (``key``), the scale [SI unit] the errors
     are relative to, the routes' errors (``closed_form``, and ``mujoco_forward``,
     ``mujoco_inverse`` when run), who it agrees with, the diagnosis (None when it agrees with the
-    closed form) and the samples left out (singular)."""
+    closed form), the samples left out (singular) and the curves."""
 
     header: str
     key: str
@@ -47,6 +49,8 @@ class ColumnVerdict:
     routes: Mapping[str, RouteError]
     diagnosis: Diagnosis | None
     left_out: int = 0
+    # the curves for the report: "phi" [rad], "user" and each route's values (n,), SI units
+    curves: Mapping[str, np.ndarray] = field(default_factory=dict, repr=False, compare=False)
 
     @property
     def agrees(self) -> str:
