@@ -247,12 +247,8 @@ def referee(source, table, *, mapping=None, omega=None, epsilon=None, tolerance:
     errors, who it agrees with and its ``diagnosis``), ``to_dict()``, ``text()``."""
     from linkgen.referee.compare import DEFAULT_TOLERANCE, referee as run
 
-    tol = DEFAULT_TOLERANCE if tolerance is None else tolerance
-    if isinstance(tol, bool) or not isinstance(tol, (int, float)) or not 0 < tol < 1:
-        raise ArgumentError(f"tolerance: expected a fraction of the column's scale between 0 and 1 (e.g. 1e-6), "
-                            f"got {tolerance!r}")
-    w, e = _rates(omega, epsilon)
-    return run(source, table, mapping=mapping, omega=w, epsilon=e, tolerance=float(tol), mujoco=bool(mujoco))
+    return run(source, table, mapping=mapping, omega=omega, epsilon=epsilon,
+               tolerance=DEFAULT_TOLERANCE if tolerance is None else tolerance, mujoco=bool(mujoco))
 
 
 __all__ = ["FUNCTIONS", "ForcesResult", "KinematicsResult", "assemble", "decompose", "forces", "kinematics", "profile",

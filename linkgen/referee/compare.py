@@ -31,7 +31,17 @@ def referee(desc: Any, table: Any, *, mapping: Mapping[str, str] | None = None, 
             epsilon: float | None = None, tolerance: float = DEFAULT_TOLERANCE, mujoco: bool = False) -> Verdict:
     """The verdict on ``table`` (a CSV path, a dict of columns or a data frame, headed as
     ``linkgen analyze``/``forces`` write: ``phi [deg]``, ``B.position.x [mm]``…; ``mapping``
-    renames headers) for the description ``desc`` at ω, ε (None: the description's)."""
+    renames headers) for the description ``desc`` at ω, ε (None: the description's; a number
+    in rad/s, rad/s² or a string with its unit, "120rpm"). ArgumentError for a bad option."""
+    from linkgen.errors import ArgumentError
+    from linkgen.model.arguments import one_rate
+
+    if isinstance(tolerance, bool) or not isinstance(tolerance, (int, float)) or not 0 < tolerance < 1:
+        raise ArgumentError(f"tolerance: expected a fraction of the column's scale between 0 and 1 (e.g. 1e-6), "
+                            f"got {tolerance!r}")
+    if mapping is not None and not (isinstance(mapping, Mapping) and all(isinstance(v, str) for v in mapping.values())):
+        raise ArgumentError(f"mapping: expected a dict of your header → linkgen's header (a string), got {mapping!r}")
+    omega, epsilon = one_rate(omega, "omega", "rad/s"), one_rate(epsilon, "epsilon", "rad/s²")
     ref = Reference(desc, omega, epsilon)
     raw, source = as_columns(table)
     t = build(raw, source, ref.vocabulary, mapping)

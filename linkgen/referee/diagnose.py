@@ -15,7 +15,8 @@ solver, each a model of the user's values built from linkgen's closed form and f
 
 A model explains the difference when it leaves at most EXPLAINED of it (or less than the
 tolerance); it is the diagnosis when no other model explains it nearly as well (CLEAR).
-Otherwise the column is "unexplained", with the numbers. A column within the tolerance is never
+Among several that explain, the one combining the fewest mistakes. Otherwise the column is
+"unexplained", with the numbers. A column within the tolerance is never
 diagnosed."""
 
 from __future__ import annotations
@@ -197,9 +198,10 @@ def _finite_differences(e: Evidence, d: np.ndarray):
 
 
 def _offset(e: Evidence):
-    """user(φ) = linkgen(φ + δ): δ by chord iterations on the closed form's own values at φ + δ,
-    the slope taken once at δ = 0; tried only where the first, linear step explains the
-    difference to half."""
+    """user(φ) = linkgen(φ + δ): δ by Newton iterations on the closed form's own values at φ + δ
+    (slopes by central differences of step 1e-6 rad); tried only where the first, linear step
+    explains the difference to half. Samples where φ + δ leaves the drive range are not judged
+    (at most a tenth of them)."""
     h = 1e-6
     slope = (e.shifted(h) - e.shifted(-h)) / (2 * h)
     ok = np.isfinite(slope) & np.isfinite(e.r)
@@ -210,16 +212,24 @@ def _offset(e: Evidence):
     delta = float(d @ slope[ok]) / ss
     if np.max(np.abs(d - delta * slope[ok])) > 0.5 * np.max(np.abs(d)):
         return
-    for _ in range(5):
-        step = float(np.nan_to_num(difference(e, e.shifted(delta)), posinf=0.0)[ok] @ slope[ok]) / ss
-        delta += float(np.clip(step, -0.5, 0.5))
-        if abs(step) < 1e-12:
+    for _ in range(8):
+        r0 = e.shifted(delta)
+        slope = (e.shifted(delta + h) - e.shifted(delta - h)) / (2 * h)
+        ok = np.isfinite(r0) & np.isfinite(slope)
+        ss = float(slope[ok] @ slope[ok])
+        if ok.sum() < 0.9 * len(ok) or ss == 0:
+            return
+        step = float(difference(e, r0)[ok] @ slope[ok]) / ss
+        delta += float(np.clip(step, -0.1, 0.1))
+        if abs(step) < 1e-13:
             break
-    if not 0 < abs(delta) <= math.pi:
+    r0 = e.shifted(delta)
+    ok = np.isfinite(r0)
+    if not 0 < abs(delta) <= math.pi or ok.sum() < 0.9 * len(ok):
         return
     shift = f", or a time shift of {delta / e.omega:.4g} s at ω = {e.omega:.4g} rad/s" if e.omega else ""
-    yield (worst(e, e.shifted(delta)), "offset",
-           f"your values are linkgen's at φ + δ with δ = {_deg(delta)}: a crank-angle offset{shift}",
+    resid = float(np.max(np.abs(difference(e, r0)[ok]))) / e.scale
+    yield (resid, "offset", f"your values are linkgen's at φ + δ with δ = {_deg(delta)}: a crank-angle offset{shift}",
            {"delta_rad": delta})
 
 
@@ -230,10 +240,14 @@ def diagnose(e: Evidence) -> Diagnosis | None:
         return None
     found = sorted(_candidates(e), key=lambda c: c[0])
     good = max(EXPLAINED * e0, e.tolerance)
-    if found and found[0][0] <= good:
-        best = found[0]
-        rival = next((c for c in found[1:] if c[1] != best[1] or c[2] != best[2]), None)
-        if rival is None or rival[0] > good or rival[0] >= CLEAR * best[0]:
+    # among the models that explain, the simplest (fewest mistakes combined) first: a centred
+    # slider-crank's other mode is exactly −1 × its rod's angular velocity, one mistake, not two
+    explaining = sorted((c for c in found if c[0] <= good), key=lambda c: (c[1].count("+"), c[0]))
+    if explaining:
+        best = explaining[0]
+        rival = next((c for c in explaining[1:] if c[1].count("+") == best[1].count("+")
+                      and (c[1] != best[1] or c[2] != best[2])), None)
+        if rival is None or rival[0] >= CLEAR * best[0]:
             return Diagnosis(best[1], best[2], best[0] / e0, best[3])
         return Diagnosis("unexplained", f"unexplained: two models fit alike — {best[2]} (leaves "
                          f"{best[0] / e0:.1%}) and {rival[2]} (leaves {rival[0] / e0:.1%})", best[0] / e0)
