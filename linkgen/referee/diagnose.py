@@ -203,7 +203,14 @@ def _offset(e: Evidence):
     explains the difference to half. Samples where φ + δ leaves the drive range are not judged
     (at most a tenth of them)."""
     h = 1e-6
-    slope = (e.shifted(h) - e.shifted(-h)) / (2 * h)
+
+    def rate(at: float) -> np.ndarray:  # d/dφ of linkgen's values at φ + at (an angle's across ±π)
+        step = e.shifted(at + h) - e.shifted(at - h)
+        if e.angle:
+            step = (step + math.pi) % (2 * math.pi) - math.pi
+        return step / (2 * h)
+
+    slope = rate(0.0)
     ok = np.isfinite(slope) & np.isfinite(e.r)
     ss = float(slope[ok] @ slope[ok])
     if not ok.any() or ss == 0:
@@ -214,7 +221,7 @@ def _offset(e: Evidence):
         return
     for _ in range(8):
         r0 = e.shifted(delta)
-        slope = (e.shifted(delta + h) - e.shifted(delta - h)) / (2 * h)
+        slope = rate(delta)
         ok = np.isfinite(r0) & np.isfinite(slope)
         ss = float(slope[ok] @ slope[ok])
         if ok.sum() < 0.9 * len(ok) or ss == 0:

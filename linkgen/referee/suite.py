@@ -92,7 +92,7 @@ def export(out: str | Path, *, count: int = 6, seed: int = 0, mujoco: bool = Tru
                 r = stage(desc, what)(desc, phi, on_singular="mark")
                 atomic_write_text(sub / f"{what}.csv", _csv(r.columns(transfer=True)))
                 files[what] = f"{name}/{what}.csv"
-                omega, epsilon = float(r.omega), float(r.epsilon)
+                omega, epsilon = float(np.ravel(r.omega)[0]), float(np.ravel(r.epsilon)[0])
         entry = {"folder": name, "family": fam.name, "model": desc.name if hasattr(desc, "name") else name,
                  "description": f"{name}/description.toml", "mjcf": f"{name}/model.xml", "tables": files,
                  "samples": SAMPLES, "omega": omega, "epsilon": epsilon, "mujoco": None}

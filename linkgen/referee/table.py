@@ -151,7 +151,7 @@ def build(raw: Mapping[str, np.ndarray], source: str, vocabulary: tuple[str, ...
         name, unit = split_header(target)
         if not np.all(np.isfinite(values)):
             row = int(np.flatnonzero(~np.isfinite(values))[0]) + 2
-            raise DescriptionError(header, f"row {row}: {values[row - 2]!r} is not a finite number", source)
+            raise DescriptionError(header, f"row {row}: {float(values[row - 2])!r} is not a finite number", source)
         if unit is None:
             raise DescriptionError(header, "no unit: write it in brackets, e.g. \"B.position.x [m]\", "
                                    "\"phi [deg]\" (or name it in --map)", source)
