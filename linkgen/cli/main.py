@@ -109,6 +109,9 @@ def _mujoco_imports() -> str | None:
 # Commands that never touch MuJoCo: they skip its import (a fifth of a second, and a
 # failure there says nothing about them). Every other command checks it first.
 CLOSED_FORM_COMMANDS = frozenset({"structure", "analyze", "forces", "assemble"})
+# Commands that are no family's (not in any ``Family.commands``): ``referee`` takes a description
+# of any family and a table of results, ``suite`` writes mechanisms of every family.
+EVERY_FAMILY_COMMANDS = frozenset({"referee", "suite"})
 
 
 def main(argv: list[str] | None = None) -> int:

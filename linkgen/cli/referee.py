@@ -131,7 +131,7 @@ def add_commands(sub) -> None:
 
     s = sub.add_parser("suite", help="a reference suite for solver authors: mechanisms of every family with their "
                        "descriptions, MJCF, closed-form tables and MuJoCo's agreement (docs/referee.md)")
-    actions = s.add_subparsers(dest="action", required=True)
+    actions = s.add_subparsers(dest="action", required=True, help="export: write a suite into a folder")
     e = actions.add_parser("export", help="write a suite into a folder")
     e.add_argument("folder", type=Path, help="the folder to write (created)")
     e.add_argument("--count", type=_positive_int, default=6, help="mechanisms in the suite (no unit; default 6)")
