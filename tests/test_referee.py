@@ -177,3 +177,14 @@ def test_a_suite_is_exported_and_its_answers_refereed(tmp_path, capsys):
     assert out[0].startswith(f"ok   {folders[0]}: mine.csv: ") and out[1] == f"{folders[1]}: no answer"
     assert out[2] == f"DIFF {folders[2]}: mine.csv: 0 of 1 columns agree"
     assert "your values are −1 × linkgen's: the sign flipped" in out[3]
+
+
+@pytest.mark.parametrize("key", ["rocker.angle [rad]", "B.position.x [m]", "B.force.y [N]"])
+def test_values_unlike_any_mistake_stay_unexplained(key):
+    # before: an angle column of any values in degrees-sized numbers was "explained" as π/180 or
+    # 0.001 × linkgen's, the differences being wrapped by 2π × that factor
+    asm = _asm(FOURBAR)
+    phi = np.radians(np.arange(0.0, 360.0, 10.0))
+    noise = np.random.default_rng(3).uniform(0.0, 100.0, phi.shape)
+    c = linkgen.referee(asm, {"phi [rad]": phi, key: noise}).columns[0]
+    assert c.diagnosis.kind == "unexplained", c.diagnosis

@@ -13,8 +13,8 @@ solver, each a model of the user's values built from linkgen's closed form and f
 - numerical differentiation: difference = c × a higher derivative (central differences:
   (Δt²/6)·the derivative two orders up; forward or backward: (Δt/2)·the next one).
 
-A model explains the difference when it leaves at most EXPLAINED of it (or less than the
-tolerance); it is the diagnosis when no other model explains it nearly as well (CLEAR).
+A model explains the difference when it leaves at most EXPLAINED of it and of the column's
+scale (or less than the tolerance), judged in linkgen's units; it is the diagnosis when no other model explains it nearly as well (CLEAR).
 Among several that explain, the one combining the fewest mistakes. Otherwise the column is
 "unexplained", with the numbers. A column within the tolerance is never
 diagnosed."""
@@ -82,11 +82,12 @@ class Evidence:
 
 
 def difference(e: Evidence, pred: np.ndarray, k: float = 1.0) -> np.ndarray:
-    """u − pred, for an angle modulo 2π·|k| (pred = k × an angle); NaN in pred counts as far off."""
-    d = e.u - pred
+    """(u − pred)/k in linkgen's units (pred = k × a model of linkgen's values), for an angle
+    modulo 2π; NaN in pred counts as far off. Judged in linkgen's units, a model in degrees is
+    held to the same closeness as one in radians."""
+    d = (e.u - pred) / k
     if e.angle:
-        period = 2 * math.pi * abs(k)
-        d = (d + period / 2) % period - period / 2
+        d = (d + math.pi) % (2 * math.pi) - math.pi
     return np.where(np.isfinite(d), d, np.inf)
 
 
@@ -113,16 +114,26 @@ def _factor_words(k: float, quantity: str) -> str:
     return f"{k:g} × linkgen's: a unit factor ({'mm given as m, or N·mm as N·m' if k > 1 else 'm given as mm'})"
 
 
+def _applies(k: float, key: str) -> bool:
+    """Whether the factor ``k`` can be a unit mistake in a column of this header: ×1000 and
+    ×0.001 where the unit has a length (mm for m, N·mm for N·m), degrees where it has an angle."""
+    unit = key[key.rfind("[") + 1:-1] if key.endswith("]") else ""
+    if k in (1000.0, 1e-3):
+        return "m" in unit.replace("rad", "")
+    if k != -1.0:
+        return "rad" in unit
+    return True
+
+
 def _arc(e: Evidence, other: np.ndarray, k: float) -> np.ndarray | None:
     """The samples (a mask) where the user follows ``other`` rather than linkgen's values: one
     arc of the sampled order ("from some angle on"), or None when it is not one arc."""
     near_r = np.abs(difference(e, k * e.r, k))
     near_o = np.abs(difference(e, k * other, k))
-    gap = k * (e.r - other)
+    gap = e.r - other
     if e.angle:
-        period = 2 * math.pi * abs(k)
-        gap = (gap + period / 2) % period - period / 2
-    apart = np.abs(gap) > 10 * e.tolerance * e.scale * abs(k)  # False where ``other`` is NaN
+        gap = (gap + math.pi) % (2 * math.pi) - math.pi
+    apart = np.abs(gap) > 10 * e.tolerance * e.scale  # False where ``other`` is NaN
     on_other = apart & (near_o < near_r)
     on_ours = apart & ~on_other
     if np.count_nonzero(on_other) < 2:
@@ -142,7 +153,7 @@ def _candidates(e: Evidence):
             bases.append((label, values, words, {}))
         else:
             yield worst(e, values), label, f"your values are linkgen's {words}", {}
-    for k in [1.0, *FACTORS]:
+    for k in [1.0, *(k for k in FACTORS if _applies(k, e.quantity))]:
         for label, other, words, params in bases:
             if label == "" and k == 1.0:
                 continue
@@ -246,7 +257,9 @@ def diagnose(e: Evidence) -> Diagnosis | None:
     if e0 <= e.tolerance:
         return None
     found = sorted(_candidates(e), key=lambda c: c[0])
-    good = max(EXPLAINED * e0, e.tolerance)
+    # a model's residual is in linkgen's units (a unit factor's divided out), so it is held to a
+    # fraction of the difference or of the scale, whichever is smaller
+    good = max(EXPLAINED * min(e0, 1.0), e.tolerance)
     # among the models that explain, the simplest (fewest mistakes combined) first: a centred
     # slider-crank's other mode is exactly −1 × its rod's angular velocity, one mistake, not two
     explaining = sorted((c for c in found if c[0] <= good), key=lambda c: (c[1].count("+"), c[0]))
