@@ -188,3 +188,18 @@ def test_values_unlike_any_mistake_stay_unexplained(key):
     noise = np.random.default_rng(3).uniform(0.0, 100.0, phi.shape)
     c = linkgen.referee(asm, {"phi [rad]": phi, key: noise}).columns[0]
     assert c.diagnosis.kind == "unexplained", c.diagnosis
+
+
+def test_the_docs_example_prints_what_the_docs_show(tmp_path, monkeypatch, capsys):
+    import re
+
+    text = (ROOT / "docs" / "referee.md").read_text(encoding="utf-8")
+    section = text[text.index("## An example"):text.index("## A reference suite")]
+    (code,) = re.findall(r"```python\n(.*?)```", section, flags=re.S)
+    shown = re.search(r"```\n(.*?)```", section.split("It prints")[1], flags=re.S).group(1)
+    (tmp_path / "models").mkdir()
+    shutil.copy(FOURBAR, tmp_path / "models")
+    monkeypatch.chdir(tmp_path)
+    exec(compile(code, "docs/referee.md", "exec"), {})
+    assert capsys.readouterr().out == shown
+    assert "other assembly mode of group II(2,3) RRR [coupler, rocker]" in shown and "degrees where the header" in shown
