@@ -53,10 +53,9 @@ def cmd_referee(args) -> int:
         check_output(args.out)
     desc = load(args.inputs[0])
     mapping = read_map(args.map) if args.map is not None else None
-    if args.mujoco:
-        print("referee: running MuJoCo over the drive range (forward) and at your angles (inverse)", file=sys.stderr)
     v = referee(desc, args.inputs[1], mapping=mapping, omega=args.omega, epsilon=args.epsilon,
-                tolerance=DEFAULT_TOLERANCE if args.tolerance is None else args.tolerance, mujoco=args.mujoco)
+                tolerance=DEFAULT_TOLERANCE if args.tolerance is None else args.tolerance, mujoco=args.mujoco,
+                progress=lambda line: print(f"referee: {line}", file=sys.stderr, flush=True))
     d = v.to_dict()
     check_finite(d)
     if args.json:

@@ -8,7 +8,7 @@ against the mechanism's size, a reaction against the largest reaction)."""
 from __future__ import annotations
 
 import math
-from typing import Any, Mapping
+from typing import Any, Callable, Mapping
 
 import numpy as np
 
@@ -28,11 +28,13 @@ _CHAIN = {"velocity": ("acceleration", "jerk"), "acceleration": ("jerk", None),
 
 
 def referee(desc: Any, table: Any, *, mapping: Mapping[str, str] | None = None, omega: float | None = None,
-            epsilon: float | None = None, tolerance: float = DEFAULT_TOLERANCE, mujoco: bool = False) -> Verdict:
+            epsilon: float | None = None, tolerance: float = DEFAULT_TOLERANCE, mujoco: bool = False,
+            progress: Callable[[str], None] | None = None) -> Verdict:
     """The verdict on ``table`` (a CSV path, a dict of columns or a data frame, headed as
     ``linkgen analyze``/``forces`` write: ``phi [deg]``, ``B.position.x [mm]``…; ``mapping``
     renames headers) for the description ``desc`` at ω, ε (None: the description's; a number
-    in rad/s, rad/s² or a string with its unit, "120rpm"). ArgumentError for a bad option."""
+    in rad/s, rad/s² or a string with its unit, "120rpm"). ArgumentError for a bad option.
+    ``progress`` is told (one line) when MuJoCo starts running."""
     from linkgen.errors import ArgumentError
     from linkgen.model.arguments import one_rate
 
@@ -49,7 +51,7 @@ def referee(desc: Any, table: Any, *, mapping: Mapping[str, str] | None = None, 
     need_forces = any(k in ref.force_keys for k in keys)
     base = ref.evaluate(t.phi, ref.kinematic_keys + (ref.force_keys if need_forces else ()))
     scales = _scales(base)
-    mj = _mujoco(ref, t.phi, keys) if mujoco else {}
+    mj = _mujoco(ref, t.phi, keys, progress) if mujoco else {}
     diag = _Diagnoser(ref, t, base, scales, tolerance)
     verdicts = []
     for key, col in t.columns.items():
@@ -182,7 +184,7 @@ def _omega_squared(key: str) -> bool:
     return "acceleration" in name or unit in ("N", "N·m")
 
 
-def _mujoco(ref: Reference, phi: np.ndarray, keys: list[str]) -> dict[str, dict[str, np.ndarray]]:
+def _mujoco(ref: Reference, phi: np.ndarray, keys: list[str], progress) -> dict[str, dict[str, np.ndarray]]:
     from linkgen.referee.mujoco_routes import routes
 
-    return routes(ref, phi, keys)
+    return routes(ref, phi, keys, progress)

@@ -28,8 +28,9 @@ from linkgen.referee.table import split_header
 FORWARD_SAMPLES = 720
 
 
-def routes(ref: Reference, phi: np.ndarray, keys: list[str]) -> dict[str, dict[str, np.ndarray]]:
-    """key → {"mujoco_forward": (n,), "mujoco_inverse": (n,)} for the keys MuJoCo gives."""
+def routes(ref: Reference, phi: np.ndarray, keys: list[str], progress=None) -> dict[str, dict[str, np.ndarray]]:
+    """key → {"mujoco_forward": (n,), "mujoco_inverse": (n,)} for the keys MuJoCo gives;
+    ``progress`` (a callable taking one line) is told when the runs start."""
     asm = ref.desc
     if not hasattr(asm, "structure"):
         raise UnsupportedError("referee --mujoco: MuJoCo's forward and inverse routes are compared for planar "
@@ -38,6 +39,8 @@ def routes(ref: Reference, phi: np.ndarray, keys: list[str]) -> dict[str, dict[s
     from linkgen.families.planar.motion_result import kinematics
     from linkgen.mujoco.simulate import simulate
 
+    if progress is not None:
+        progress("running MuJoCo over the drive range (forward) and at your angles (inverse)")
     run = simulate(asm, omega=ref.omega, epsilon=ref.epsilon, samples=FORWARD_SAMPLES)
     s = run.samples
     mj = _split(s.arrays())

@@ -50,7 +50,8 @@ def _draw(fig, top, bottom, c: ColumnVerdict) -> None:
     order = np.argsort(phi, kind="stable")
     for name, style in (("closed_form", "-"), ("mujoco_forward", ":"), ("user", "--")):
         if name in c.curves:
-            top.plot(phi[order], np.asarray(c.curves[name])[order], style, lw=1.2, label=name.replace("_", " "))
+            label = "yours" if name == "user" else name.replace("_", " ")
+            top.plot(phi[order], np.asarray(c.curves[name])[order], style, lw=1.2, label=label)
     top.set_ylabel(c.key, fontsize=8)
     top.legend(fontsize=7, frameon=False)
     d = np.abs(np.asarray(c.curves["user"]) - np.asarray(c.curves["closed_form"])) / c.scale
@@ -60,7 +61,8 @@ def _draw(fig, top, bottom, c: ColumnVerdict) -> None:
     bottom.axhline(c.routes["closed_form"].tolerance, color="grey", lw=0.8, ls="--")
     bottom.set_ylabel("|yours − linkgen| / scale", fontsize=8)
     bottom.set_xlabel("crank angle φ [°]")
-    top.set_title(f"{c.header}: agrees with {c.agrees}", fontsize=9)
+    kind = f" ({c.diagnosis.kind})" if c.diagnosis else ""
+    top.set_title(f"{c.header}: agrees with {c.agrees}{kind}", fontsize=9)
     fig.tight_layout()
 
 

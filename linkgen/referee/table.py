@@ -58,6 +58,8 @@ def read_map(path: str | Path) -> dict[str, str]:
     """A ``--map`` file: TOML with one ``[columns]`` table of strings."""
     from linkgen.model.toml_file import read_toml
 
+    if not Path(path).is_file():
+        raise DescriptionError("", "no such map file (--map names a TOML file with a [columns] table)", str(path))
     data = read_toml(path)
     extra = sorted(set(data) - {"columns"})
     if extra or not isinstance(data.get("columns"), dict):

@@ -32,8 +32,13 @@ class RouteError:
         return self.error <= self.tolerance
 
     def to_dict(self) -> dict:
-        return {"relative_error": self.error, "at_phi": self.at_phi, "tolerance": self.tolerance,
-                "route_error": self.route_error, "agrees": self.agrees}
+        return {"relative_error": _finite(self.error), "at_phi": _finite(self.at_phi), "tolerance": self.tolerance,
+                "route_error": _finite(self.route_error), "agrees": self.agrees}
+
+
+def _finite(x: float | None) -> float | None:
+    """JSON's value of a figure: None where there is none (every sample of the column singular)."""
+    return x if x is not None and math.isfinite(x) else None
 
 
 @dataclass(frozen=True)
