@@ -16,6 +16,7 @@ Kinds (the diagnosis expected):
     constant_speed  accelerations and forces at ε = 0 where ε ≠ 0                    (constant_speed)
     centripetal     accelerations and forces without their ω² terms                  (omega_squared)
     gravity         forces without gravity                                           (gravity)
+    inertia         forces without one link's moment of inertia about its centre     (inertia)
     finite_diff     velocities by central differences of positions in time, and
                     accelerations by second differences (Δt: 0.2°..3° of crank)      (finite_difference)
 """
@@ -33,7 +34,7 @@ from linkgen.families.planar.assembly import Assembly, assemble
 
 EXPECTED = {"branch": "branch", "sign": "sign", "unit_mm": "unit", "unit_deg": "unit", "phi_deg": "phi_unit",
             "offset": "offset", "constant_speed": "constant_speed", "centripetal": "omega_squared",
-            "gravity": "gravity", "finite_diff": "finite_difference"}
+            "gravity": "gravity", "inertia": "inertia", "finite_diff": "finite_difference"}
 
 
 @dataclass(frozen=True)
@@ -98,6 +99,18 @@ def seeded(asm: Assembly, phi: np.ndarray, omega: float, epsilon: float, rng: np
         light = _cols(weightless, phi, omega, epsilon)
         for k in _pick(ref, rng, _is("force"), per_kind):
             yield Seed("gravity", k, table(k, light[k]), "gravity")
+    from linkgen.families.planar.description import MassProperties
+    from linkgen.families.planar.loads import mass_table
+
+    spinning = [n for n, mp in mass_table(asm).items() if mp.inertia > 0]
+    if spinning:
+        link = spinning[int(rng.integers(len(spinning)))]
+        mp = mass_table(asm)[link]
+        links = tuple(replace(k, inertial=MassProperties(mp.mass, mp.com, 0.0), density=None, areal_density=None)
+                      if k.name == link else k for k in asm.mechanism.links)
+        flat = _cols(replace(asm, mechanism=replace(asm.mechanism, links=links)), phi, omega, epsilon)
+        for k in _pick(ref, rng, _is("force"), per_kind):
+            yield Seed("inertia", k, table(k, flat[k]), "inertia")
     yield from _branches(asm, phi, omega, epsilon, ref, rng, per_kind)
     if epsilon == 0 and omega != 0:
         yield from _finite_differences(asm, phi, omega, ref, rng, per_kind)

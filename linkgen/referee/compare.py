@@ -135,6 +135,13 @@ class _Diagnoser:
             terms["gravity"] = ({k: self.base[k] - g0[k] for k in g0}, (
                 "the weights' share (linkgen's value less its value without gravity): gravity left out",
                 "the weights' share: gravity counted twice", "the weights' share: gravity pointing the wrong way"))
+        force_keys = [k for k in keys if k in ref.force_keys]
+        for link in ref.inertias() if force_keys else ():
+            i0 = ref.evaluate(phi, force_keys, desc=ref.without_inertia(link))
+            terms[f"inertia:{link}"] = ({k: self.base[k] - i0[k] for k in i0}, (
+                f"the inertia torque of link {link} (its moment of inertia about its centre of mass times its angular "
+                "acceleration): it is left out", f"the inertia torque of link {link}: counted twice",
+                f"the inertia torque of link {link}: with its sign flipped"))
         self._variants = {"variants": out, "terms": terms}
         return self._variants
 

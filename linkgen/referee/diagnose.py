@@ -9,7 +9,8 @@ solver, each a model of the user's values built from linkgen's closed form and f
 - a crank-angle offset or time shift: user(φ) = linkgen(φ + δ), δ fitted (Gauss–Newton);
 - a term missing, doubled or with its sign flipped: difference = c × term, c least squares near
   −1, +1 or −2, the term being linkgen's value less the value without it: the ε terms (a
-  constant crank speed assumed where ε ≠ 0), the ω² terms (centripetal and Coriolis), gravity;
+  constant crank speed assumed where ε ≠ 0), the ω² terms (centripetal and Coriolis), gravity,
+  one link's inertia torque (its moment of inertia about its centre of mass);
 - numerical differentiation: difference = c × a higher derivative (central differences:
   (Δt²/6)·the derivative two orders up; forward or backward: (Δt/2)·the next one).
 
@@ -45,7 +46,7 @@ FACTORS = {-1.0: "sign", 1000.0: "unit", 1e-3: "unit", 180 / math.pi: "unit", ma
 @dataclass(frozen=True)
 class Diagnosis:
     """What the difference looks like: ``kind`` (``sign``, ``unit``, ``branch``, ``phi_unit``,
-    ``offset``, ``constant_speed``, ``omega_squared``, ``gravity``, ``finite_difference``,
+    ``offset``, ``constant_speed``, ``omega_squared``, ``gravity``, ``inertia``, ``finite_difference``,
     combinations joined by ``+``, or ``unexplained``), the evidence in words, the fraction of the
     worst difference the model leaves (``residual``) and its fitted parameters."""
 
@@ -183,7 +184,9 @@ def _candidates(e: Evidence):
         c = float(d @ term) / tt
         for c0, w in zip((-1.0, 1.0, -2.0), words):
             if abs(c / c0 - 1) <= COEFFICIENT:
-                yield worst(e, e.r + c * term), label, f"the difference is {c:.3g} × {w}", {"coefficient": c}
+                kind, _, link = label.partition(":")
+                yield (worst(e, e.r + c * term), kind, f"the difference is {c:.3g} × {w}",
+                       {"coefficient": c} | ({"link": link} if link else {}))
     yield from _finite_differences(e, d)
     if e.shifted is not None:
         yield from _offset(e)

@@ -83,6 +83,28 @@ class Reference:
         flipped[i] = -flipped[i]
         return replace(self.desc, branches=tuple(flipped))
 
+    def inertias(self) -> tuple[str, ...]:
+        """The moving links with a moment of inertia about their centre of mass (planar linkages;
+        other families: none): each one a term a solver may leave out."""
+        if not hasattr(self.desc, "shapes"):
+            return ()
+        from linkgen.families.planar.loads import mass_table
+
+        return tuple(n for n, mp in mass_table(self.desc).items() if mp.inertia > 0)
+
+    def without_inertia(self, link: str):
+        """The assembled mechanism with ``link``'s moment of inertia about its centre of mass
+        zero, its mass and centre of mass kept."""
+        from linkgen.families.planar.description import MassProperties
+        from linkgen.families.planar.loads import mass_table
+
+        mp = mass_table(self.desc)[link]
+        plain = MassProperties(mp.mass, mp.com, 0.0)
+        mech = self.desc.mechanism
+        links = tuple(replace(k, inertial=plain, density=None, areal_density=None) if k.name == link else k
+                      for k in mech.links)
+        return replace(self.desc, mechanism=replace(mech, links=links))
+
     def without_gravity(self):
         """The description with no gravity, or None when it has none (or the family carries none)."""
         mech = _mechanism(self.desc)
