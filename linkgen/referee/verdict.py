@@ -111,5 +111,6 @@ class Verdict:
             if c.diagnosis is not None:
                 lines.append(f"  {'':<{width}}  → {c.diagnosis.text}")
             if c.left_out:
-                lines.append(f"  {'':<{width}}  ({c.left_out} singular samples left out)")
+                lines.append(f"  {'':<{width}}  ({c.left_out} samples left out: the closed form is singular there, or the "
+                             "mechanism does not assemble)")
         return "\n".join(lines)
