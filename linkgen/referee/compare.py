@@ -104,6 +104,7 @@ class _Diagnoser:
         self.ref, self.t, self.base, self.scales, self.tol = ref, t, base, scales, tolerance
         self._variants: dict | None = None
         self._shifted: dict[float, dict] = {}
+        self._deltas: list[float] = []  # offsets fitted so far (a whole table is usually shifted alike)
 
     def variants(self) -> dict:
         if self._variants is not None:
@@ -178,7 +179,7 @@ class _Diagnoser:
         e = Evidence(sel(self.t.columns[key].values), sel(self.base[key]), self.scales[key], self.tol,
                      _is_angle(key), sel(self.t.phi), self.ref.omega, key, variants, terms,
                      None if der is None else (sel(der[0]), sel(der[1])),
-                     lambda delta: sel(self.shifted(key, delta)))
+                     lambda delta: sel(self.shifted(key, delta)), self._deltas)
         return diagnose(e)
 
 

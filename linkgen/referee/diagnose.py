@@ -80,6 +80,8 @@ class Evidence:
     terms: Mapping[str, tuple[np.ndarray, tuple[str, str, str]]]
     derivatives: tuple[np.ndarray, np.ndarray] | None
     shifted: Callable[[float], np.ndarray] | None
+    # offsets fitted to earlier columns of the same table (tried first: one evaluation each)
+    deltas: list = field(default_factory=list, compare=False)
 
 
 def difference(e: Evidence, pred: np.ndarray, k: float = 1.0) -> np.ndarray:
@@ -217,6 +219,15 @@ def _offset(e: Evidence):
     explains the difference to half. Samples where φ + δ leaves the drive range are not judged
     (at most a tenth of them)."""
     h = 1e-6
+    e0 = worst(e, e.r)
+    for delta in e.deltas:  # a table shifted as a whole: the offset of an earlier column
+        r0 = e.shifted(delta)
+        ok = np.isfinite(r0)
+        if ok.sum() >= 0.9 * len(ok):
+            resid = float(np.max(np.abs(difference(e, r0)[ok]))) / e.scale
+            if resid <= max(EXPLAINED * min(e0, 1.0), e.tolerance):
+                yield resid, "offset", _offset_words(e, delta), {"delta_rad": delta}
+                return
 
     def rate(at: float) -> np.ndarray:  # d/dφ of linkgen's values at φ + at (an angle's across ±π)
         step = e.shifted(at + h) - e.shifted(at - h)
@@ -248,10 +259,15 @@ def _offset(e: Evidence):
     ok = np.isfinite(r0)
     if not 0 < abs(delta) <= math.pi or ok.sum() < 0.9 * len(ok):
         return
-    shift = f", or a time shift of {delta / e.omega:.4g} s at ω = {e.omega:.4g} rad/s" if e.omega else ""
     resid = float(np.max(np.abs(difference(e, r0)[ok]))) / e.scale
-    yield (resid, "offset", f"your values are linkgen's at φ + δ with δ = {_deg(delta)}: a crank-angle offset{shift}",
-           {"delta_rad": delta})
+    if resid <= max(EXPLAINED * min(e0, 1.0), e.tolerance):
+        e.deltas.append(delta)
+    yield resid, "offset", _offset_words(e, delta), {"delta_rad": delta}
+
+
+def _offset_words(e: Evidence, delta: float) -> str:
+    shift = f", or a time shift of {delta / e.omega:.4g} s at ω = {e.omega:.4g} rad/s" if e.omega else ""
+    return f"your values are linkgen's at φ + δ with δ = {_deg(delta)}: a crank-angle offset{shift}"
 
 
 def diagnose(e: Evidence) -> Diagnosis | None:
