@@ -109,7 +109,7 @@ class _Diagnoser:
     def variants(self) -> dict:
         if self._variants is not None:
             return self._variants
-        ref, phi, keys = self.ref, self.t.phi, list(self.base)
+        ref, phi, keys = self.ref, self.t.phi, list(self.t.columns)
         out: dict[str, tuple[dict, str]] = {}
         for g in ref.groups():
             out[f"branch:{g}"] = (ref.evaluate(phi, keys, desc=ref.other_mode(g)), f"the other assembly mode of group {g}")
