@@ -3,7 +3,8 @@ forward and inverse routes), column by column, with a diagnosis of every differe
 
 Errors are relative to a scale that cannot vanish: the largest magnitude, over the sampled
 angles, of every closed-form quantity in the column's unit (a pivot's zero position is judged
-against the mechanism's size, a reaction against the largest reaction)."""
+against the mechanism's size, a reaction against the largest reaction), or the drive's own
+scale of a kinematic unit where larger (the size or one radian times ω, ω², ω³)."""
 
 from __future__ import annotations
 
@@ -50,7 +51,7 @@ def referee(desc: Any, table: Any, *, mapping: Mapping[str, str] | None = None, 
     keys = list(t.columns)
     need_forces = any(k in ref.force_keys for k in keys)
     base = ref.evaluate(t.phi, ref.kinematic_keys + (ref.force_keys if need_forces else ()))
-    scales = _scales(base)
+    scales = _scales(base, ref.omega, ref.epsilon)
     mj = _mujoco(ref, t.phi, keys, progress) if mujoco else {}
     diag = _Diagnoser(ref, t, base, scales, tolerance)
     verdicts = []
@@ -74,15 +75,30 @@ def _is_angle(key: str) -> bool:
     return unit == "rad" and name.endswith("angle")
 
 
-def _scales(base: Mapping[str, np.ndarray]) -> dict[str, float]:
-    """Per header, the largest magnitude of every closed-form column in its unit (1 of the unit
-    where all of them vanish, e.g. every velocity at ω = 0)."""
+def _scales(base: Mapping[str, np.ndarray], omega: float, epsilon: float) -> dict[str, float]:
+    """Per header, the largest magnitude of every closed-form column in its unit, or the drive's
+    own scale of that unit where larger (``natural``): a mechanism whose links all turn evenly
+    has angular accelerations of rounding size, not a scale to judge them by."""
     by_unit: dict[str, float] = {}
     for k, v in base.items():
         u = split_header(k)[1]
         m = float(np.nanmax(np.abs(v))) if np.isfinite(v).any() else 0.0
         by_unit[u] = max(by_unit.get(u, 0.0), m)
-    return {k: by_unit[split_header(k)[1]] or 1.0 for k in base}
+    size = by_unit.get("m", 0.0)
+    return {k: max(by_unit[u], natural(u, size, omega, epsilon)) or 1.0 for k in base
+            for u in (split_header(k)[1],)}
+
+
+def natural(unit: str, size: float, omega: float, epsilon: float) -> float:
+    """The drive's scale of a kinematic unit: the mechanism's size [m] (its largest coordinate)
+    or one radian, times |ω|, max(ω², |ε|) or max(|ω|³, |ω·ε|) per time derivative; 0 for a
+    unit without one (forces: their own largest is the scale)."""
+    rates = {"": 1.0, "/s": abs(omega), "/s²": max(omega**2, abs(epsilon)),
+             "/s³": max(abs(omega) ** 3, abs(omega * epsilon))}
+    for base, length in (("m", size), ("rad", 1.0)):
+        if unit.startswith(base) and unit[len(base):] in rates:
+            return length * rates[unit[len(base):]]
+    return 0.0
 
 
 def _route(u: np.ndarray, r: np.ndarray, phi: np.ndarray, scale: float, angle: bool, tol: float,

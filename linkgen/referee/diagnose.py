@@ -181,8 +181,8 @@ def _candidates(e: Evidence):
     d = np.nan_to_num(difference(e, e.r), posinf=0.0)
     for label, (term, words) in e.terms.items():
         tt = float(term @ term)
-        if not tt > (e.tolerance * e.scale) ** 2 * len(term):
-            continue
+        if not np.all(np.isfinite(term)) or not np.max(np.abs(term)) > 0.1 * np.max(np.abs(d)):
+            continue  # a term much smaller than the difference cannot be what is missing
         c = float(d @ term) / tt
         for c0, w in zip((-1.0, 1.0, -2.0), words):
             if abs(c / c0 - 1) <= COEFFICIENT:
