@@ -203,3 +203,15 @@ def test_the_docs_example_prints_what_the_docs_show(tmp_path, monkeypatch, capsy
     exec(compile(code, "docs/referee.md", "exec"), {})
     assert capsys.readouterr().out == shown
     assert "other assembly mode of group II(2,3) RRR [coupler, rocker]" in shown and "degrees where the header" in shown
+
+
+def test_an_offset_is_found_across_a_loads_stroke():
+    # before: the press's force acts over a stroke; its jump made the offset's slope huge there
+    # and every force column of a table shifted by +1° was "unexplained"
+    asm = _asm(ROOT / "models" / "press.toml")
+    phi = np.radians(np.arange(0.0, 360.0, 5.0))
+    f = linkgen.forces(asm, phi + math.radians(1.0)).columns()
+    keys = [k for k in f if k.startswith(("A.force", "B.force", "balancing_torque"))]
+    v = linkgen.referee(asm, {"phi [rad]": phi} | {k: f[k] for k in keys})
+    assert [c.diagnosis.kind for c in v.columns] == ["offset"] * len(keys)
+    assert v.columns[0].diagnosis.parameters["delta_rad"] == pytest.approx(math.radians(1.0), rel=1e-6)

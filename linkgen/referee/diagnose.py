@@ -39,6 +39,9 @@ CLEAR = 4.0
 COEFFICIENT = 0.03
 # Steps of numerical differentiation the model accepts, as crank angle [rad]: up to 30°.
 MAX_STEP = math.pi / 6
+# A change over 2e-6 rad of crank larger than this fraction of the scale is a jump, not a slope
+# (smooth quantities change by ~1e-5 of their scale there).
+JUMP = 1e-3
 # Unit factors and sign flips: the user's values are k × linkgen's.
 FACTORS = {-1.0: "sign", 1000.0: "unit", 1e-3: "unit", 180 / math.pi: "unit", math.pi / 180: "unit"}
 
@@ -229,11 +232,13 @@ def _offset(e: Evidence):
                 yield resid, "offset", _offset_words(e, delta), {"delta_rad": delta}
                 return
 
-    def rate(at: float) -> np.ndarray:  # d/dφ of linkgen's values at φ + at (an angle's across ±π)
+    def rate(at: float) -> np.ndarray:
+        """d/dφ of linkgen's values at φ + at (an angle's across ±π); NaN across a jump (a load's
+        stroke that starts or ends there), which no slope describes."""
         step = e.shifted(at + h) - e.shifted(at - h)
         if e.angle:
             step = (step + math.pi) % (2 * math.pi) - math.pi
-        return step / (2 * h)
+        return np.where(np.abs(step) < JUMP * e.scale, step / (2 * h), np.nan)
 
     slope = rate(0.0)
     ok = np.isfinite(slope) & np.isfinite(e.r)
