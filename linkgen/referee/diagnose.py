@@ -117,15 +117,19 @@ def _factor_words(k: float, quantity: str) -> str:
         return "(180/π) × linkgen's: degrees where the header says radians"
     if abs(k - math.pi / 180) < 1e-12:
         return "(π/180) × linkgen's: radians where the header says degrees"
-    return f"{k:g} × linkgen's: a unit factor ({'mm given as m, or N·mm as N·m' if k > 1 else 'm given as mm'})"
+    unit = quantity[quantity.rfind("[") + 1:-1] if quantity.endswith("]") else "m"
+    small = unit.replace("m", "mm", 1) if not unit.startswith("m") else "mm" + unit[1:]
+    given, header = (small, unit) if k > 1 else (unit, small)
+    return f"{k:g} × linkgen's: {given} where the header says {header}"
 
 
 def _applies(k: float, key: str) -> bool:
     """Whether the factor ``k`` can be a unit mistake in a column of this header: ×1000 and
     ×0.001 where the unit has a length (mm for m, N·mm for N·m), degrees where it has an angle."""
     unit = key[key.rfind("[") + 1:-1] if key.endswith("]") else ""
-    if k in (1000.0, 1e-3):
-        return "m" in unit.replace("rad", "")
+    if k in (1000.0, 1e-3):  # a length to the first power: mm for m is ×1000 there only
+        plain = unit.replace("rad", "")
+        return "m" in plain and "m²" not in plain and "m³" not in plain
     if k != -1.0:
         return "rad" in unit
     return True
