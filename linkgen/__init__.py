@@ -10,6 +10,7 @@ their Assur groups, stand-alone cams, spatial four-bars.
 
 ``load`` opens every family's description; ``structure``, ``kinematics``, ``forces``, ``summary``,
 ``profile``, ``write_mjcf``, ``simulate`` and ``validate`` take any of them (``linkgen.api``).
+``referee`` judges a solver's results against them (docs/referee.md).
 ``assemble``, ``decompose``, ``solve``, ``solve_motion`` and the description types are the planar
 family's own (another family is refused with UnsupportedError).
 """
@@ -45,8 +46,8 @@ from linkgen.families.planar.kinematics import Kinematics
 from linkgen.pipeline.registry import from_dict, load
 from linkgen.families.planar.motion import Motion
 from linkgen.families.planar.structure import Group, GroupKind, Structure
-from linkgen.api import (ForcesResult, KinematicsResult, assemble, decompose, forces, kinematics, profile, simulate,
-                         solve, solve_motion, structure, summary, validate, write_mjcf)
+from linkgen.api import (ForcesResult, KinematicsResult, assemble, decompose, forces, kinematics, profile, referee,
+                         simulate, solve, solve_motion, structure, summary, validate, write_mjcf)
 
 __all__ = [
     "Drive", "Link", "LinkTorque", "MassProperties", "Mechanism", "PointForce", "Prismatic", "Revolute",
@@ -56,7 +57,7 @@ __all__ = [
     "Assembly", "Kinematics", "Motion", "assemble", "solve", "solve_motion", "from_dict", "load", "Group", "GroupKind",
     "Structure", "decompose",
     "ForcesResult", "KinematicsResult", "forces", "kinematics", "profile", "simulate", "structure", "summary",
-    "validate", "write_mjcf",
+    "validate", "write_mjcf", "referee",
 ]
 
 # Names the top level no longer has, and what took their place.

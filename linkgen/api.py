@@ -6,7 +6,7 @@ description ``linkgen.load`` returns (a planar ``Mechanism`` or an assembled one
 ``CamMechanism``, a ``SpatialMechanism``), calls its family's stage of that name
 (``linkgen.pipeline.family.STAGES``; ``write_mjcf`` the ``mjcf`` stage) through the registry and
 returns its frozen result; a family without the stage is refused with UnsupportedError in one
-line. The commands that draw (draw, animate, render), place a sketch (assemble) or study a
+line. ``referee`` (``linkgen referee``) judges a solver's table of results against them. The commands that draw (draw, animate, render), place a sketch (assemble) or study a
 machine (dynamics, flywheel) are the CLI's only.
 
     mech = linkgen.load("models/fourbar.toml")
@@ -236,5 +236,20 @@ def solve_motion(source, phi, omega, epsilon=0.0, threads: int | None = None, *,
                rate_argument(epsilon, "epsilon", "rad/s²"), threads, on_singular=on_singular)
 
 
+def referee(source, table, *, mapping=None, omega=None, epsilon=None, tolerance: float | None = None,
+            mujoco: bool = False):
+    """A solver's results against linkgen (``linkgen referee``, docs/referee.md): ``table`` is a
+    CSV file, a dict of header → values or a data frame, headed as ``linkgen analyze``/``forces``
+    write (``"phi [deg]"``, ``"B.position.x [mm]"``; ``mapping`` renames other headers); ω and ε
+    as ``kinematics`` (default the description's); ``tolerance`` a fraction of each column's
+    scale (default 1e-6); ``mujoco`` compares MuJoCo's forward and inverse routes too (planar
+    linkages). Returns a ``linkgen.referee.verdict.Verdict``: ``ok``, ``columns`` (each with its
+    errors, who it agrees with and its ``diagnosis``), ``to_dict()``, ``text()``."""
+    from linkgen.referee.compare import DEFAULT_TOLERANCE, referee as run
+
+    return run(source, table, mapping=mapping, omega=omega, epsilon=epsilon,
+               tolerance=DEFAULT_TOLERANCE if tolerance is None else tolerance, mujoco=bool(mujoco))
+
+
 __all__ = ["FUNCTIONS", "ForcesResult", "KinematicsResult", "assemble", "decompose", "forces", "kinematics", "profile",
-           "simulate", "solve", "solve_motion", "structure", "summary", "validate", "write_mjcf"]
+           "referee", "simulate", "solve", "solve_motion", "structure", "summary", "validate", "write_mjcf"]

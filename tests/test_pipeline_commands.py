@@ -14,15 +14,16 @@ import shutil
 import pytest
 
 from conftest import ROOT
-from linkgen.cli.main import build_parser, main
+from linkgen.cli.main import EVERY_FAMILY_COMMANDS, build_parser, main
 
 MODELS = ROOT / "models"
 ALL = sorted(p.name for p in MODELS.glob("*.toml"))
 
 
 def _commands() -> list[str]:
+    """The commands a family takes or refuses (referee and suite are every family's: test_referee.py)."""
     sub = next(a for a in build_parser()._actions if a.dest == "command")
-    return sorted(sub.choices)
+    return sorted(set(sub.choices) - EVERY_FAMILY_COMMANDS)
 
 
 # The arguments each command runs with ({tmp}: the test's folder): short runs only.

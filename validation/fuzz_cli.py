@@ -75,6 +75,8 @@ COMMANDS: dict[str, tuple[list[str], list[str], str | None]] = {
     "build_coupling": (["build", M, "--loops", "coupling", "-o", "out.xml"], ["out.xml"], "out.xml"),
     "render": (["render", M, "-o", "out.png", "--width", "160", "--height", "120"], ["out.png"], "out.png"),
     "animate": (["animate", M, "-o", "out.gif", "--frames", "3"], ["out.gif"], "out.gif"),
+    "referee": (["referee", M, "answers.csv"], [], None),
+    "suite_export": (["suite", "export", "suite", "--count", "1", "--no-mujoco"], ["suite/"], None),
 }
 _LINKAGE = ["structure", "assemble_write", "analyze", "analyze_json", "analyze_csv", "analyze_summary",
             "analyze_summary_json", "forces", "forces_json", "forces_csv", "draw_svg", "draw_pdf", "draw_png", "build",

@@ -1,4 +1,4 @@
-"""Command-line interface: ``linkgen structure|analyze|forces|build|simulate|validate|check-settings|draw|page|animate|render``.
+"""Command-line interface: ``linkgen structure|analyze|forces|build|simulate|validate|check-settings|draw|page|animate|render|referee|suite``.
 
 User mistakes (LinkgenError, missing files, bad arguments, conflicting options) print one
 line to stderr naming the file concerned and exit with status 2; no traceback. A sampled run
@@ -16,7 +16,7 @@ import os
 import signal
 import sys
 
-from linkgen.cli import check_settings, closed_form, draw, dynamics, mujoco, sketch
+from linkgen.cli import check_settings, closed_form, draw, dynamics, mujoco, referee, sketch
 from linkgen.cli.common import OptionError
 from linkgen.cli.files import message_for
 from linkgen.outputs import Interrupted, OutputError
@@ -71,6 +71,7 @@ def build_parser() -> argparse.ArgumentParser:
     sketch.add_command(sub)
     draw.add_commands(sub)
     closed_form.add_profile(sub)
+    referee.add_commands(sub)
     return p
 
 
@@ -108,6 +109,9 @@ def _mujoco_imports() -> str | None:
 # Commands that never touch MuJoCo: they skip its import (a fifth of a second, and a
 # failure there says nothing about them). Every other command checks it first.
 CLOSED_FORM_COMMANDS = frozenset({"structure", "analyze", "forces", "assemble"})
+# Commands that are no family's (not in any ``Family.commands``): ``referee`` takes a description
+# of any family and a table of results, ``suite`` writes mechanisms of every family.
+EVERY_FAMILY_COMMANDS = frozenset({"referee", "suite"})
 
 
 def main(argv: list[str] | None = None) -> int:
