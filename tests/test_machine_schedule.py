@@ -241,3 +241,88 @@ def test_dynamics_reports_the_run_down_time_and_the_braking_angle(tmp_path, caps
     assert main(["dynamics", str(_crank(tmp_path))]) == 0
     text = capsys.readouterr().out
     assert "run-down time (motor off → rest) 2.7863 s" in text and "the brake holds the crank" in text
+
+
+# models/machine_brake.toml written out: the four-bar's bars (10 kg/m, uniform), O at the origin,
+# C = (1, 0), B above the line OC; a 0.5 kg·m² flywheel; 60·(1 − ω/12) N·m from 0.1 s to 1 s;
+# a constant 40 N·m brake from 1.2 s.
+BARS = {"crank": 0.3, "coupler": 1.0, "rocker": 0.7}
+DENSITY, FLYWHEEL, C_X = 10.0, 0.5, 1.0
+
+
+def _fourbar_pose(phi):
+    """Centres of mass (3, 2, n) and angles (3, n) of crank, coupler and rocker at crank angles phi
+    (the circle intersection of the coupler about A and the rocker about C, B on the upper branch)."""
+    a = 0.3 * np.array([np.cos(phi), np.sin(phi)])
+    c = np.array([[C_X], [0.0]]) * np.ones_like(phi)
+    d_vec = c - a
+    d = np.hypot(*d_vec)
+    along = (1.0**2 - 0.7**2 + d * d) / (2 * d)
+    h = np.sqrt(1.0**2 - along**2)
+    b = a + along * d_vec / d + h * np.array([-d_vec[1], d_vec[0]]) / d
+    centres = np.array([0.5 * a, 0.5 * (a + b), 0.5 * (c + b)])
+    angles = np.array([phi, np.arctan2(*(b - a)[::-1]), np.arctan2(*(b - c)[::-1])])
+    return centres, angles
+
+
+# The fourth-order central difference: df/dφ ≈ Σ w·f(φ + k·h)/h (error ~h⁴/30·f⁽⁵⁾, rounding ~1e-16/h).
+H = 1e-3
+STENCIL = H * np.arange(-2.0, 3.0)
+WEIGHTS = np.array([1.0, -8.0, 0.0, 8.0, -1.0]) / 12
+
+
+def _d(f, phi):
+    """df/dφ at angles phi (n,) by the fourth-order central difference."""
+    return np.tensordot(WEIGHTS, np.array([f(phi + k) for k in STENCIL]), axes=1) / H
+
+
+MASSES = np.array([DENSITY * L for L in BARS.values()])
+INERTIAS = MASSES * np.array(list(BARS.values())) ** 2 / 12  # uniform bars about their centres
+
+
+def _inertia(phi):
+    """J(φ) [kg·m²] of the bars and the flywheel at angles phi (n,)."""
+    dc = _d(lambda p: _fourbar_pose(p)[0], phi)
+    da = _d(lambda p: _fourbar_pose(p)[1], phi)
+    return (MASSES[:, None] * (dc**2).sum(axis=1) + INERTIAS[:, None] * da**2).sum(axis=0) + FLYWHEEL
+
+
+def _potential(phi):
+    """V(φ) [J] of the bars under gravity at angles phi (n,)."""
+    return G * (MASSES[:, None] * _fourbar_pose(phi)[0][:, 1]).sum(axis=0)
+
+
+def test_the_bundled_model_against_a_direct_integration_of_its_fourbar():
+    """models/machine_brake.toml's rest, run-down time and braking angle against the four-bar's
+    equation J·ω̇ + ½·J′·ω² = −V′ + k(t)·M_motor − T·[t ≥ 1.2 s] integrated here (solve_ivp),
+    J, J′, V′ from the circle intersection and differences written above."""
+    def rhs(motor, brake):
+        def f(t, y):
+            at = y[0] + STENCIL  # J and V at the five angles of the difference, in one call
+            js, vs = _inertia(at), _potential(at)
+            j, dj, dv = js[2], (WEIGHTS @ js) / H, (WEIGHTS @ vs) / H
+            m = motor * 60.0 * (1 - y[1] / 12.0)
+            return [y[1], (-dv + m - brake - 0.5 * dj * y[1] ** 2) / j]
+        return f
+
+    rest = lambda t, y: y[1]  # noqa: E731
+    rest.terminal = True
+    y, t0, pieces = [0.0, 0.0], 0.0, []
+    for t1, motor, brake in ((0.1, 0.0, 0.0), (1.0, 1.0, 0.0), (1.2, 0.0, 0.0), (3.0, 0.0, 40.0)):
+        sol = solve_ivp(rhs(motor, brake), (t0, t1), y, method="DOP853", rtol=1e-12, atol=1e-13,
+                        events=rest if brake else None, dense_output=True)
+        pieces.append(sol)
+        t0, y = sol.t[-1], sol.y[:, -1]
+    t_rest, phi_rest = t0, y[0]
+    phi_brake = pieces[2].y[0, -1]
+    asm, machine = load_machine(MODELS / "machine_brake.toml")
+    run = run_machine(machine, reduce(asm), samples=201)
+    s = run.stopping
+    assert s.held and s.rest_at == pytest.approx(t_rest, rel=DIRECT_TOL)
+    assert s.run_down_time == pytest.approx(t_rest - 1.0, rel=DIRECT_TOL)
+    assert s.brake_angle == pytest.approx(phi_brake, rel=DIRECT_TOL)
+    assert s.braking_angle == pytest.approx(phi_rest - phi_brake, rel=DIRECT_TOL)
+    ends = [p.t[-1] for p in pieces]
+    direct = np.array([pieces[min(int(np.searchsorted(ends, t)), 3)].sol(t) for t in run.t]).T
+    assert np.abs(run.phi - direct[0]).max() <= DIRECT_TOL * np.abs(direct[0]).max()
+    assert np.abs(run.omega - direct[1]).max() <= DIRECT_TOL * np.abs(direct[1]).max()
