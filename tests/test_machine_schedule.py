@@ -109,6 +109,24 @@ def test_a_viscous_brake_slows_the_flywheel_exponentially_and_never_stops_it(tmp
     assert run.energy.brake[-1] == pytest.approx(-0.5 * j * w_b**2 * (1 - math.exp(-2 * c * 3.9 / j)), rel=EXACT_TOL)
 
 
+def test_a_motor_switched_off_without_a_brake_coasts_and_the_flywheel_is_sized_running(tmp_path, capsys):
+    """No brake, no loads: after motor_off the flywheel coasts at ω_off = 3.2 rad/s for good (no
+    rest, no run-down time; before: a TypeError on the solver's missing events), and ``flywheel``
+    sizes models/machine_brake.toml's flywheel for steady running, without its schedule and brake
+    (before: the same TypeError)."""
+    text = _crank(tmp_path).read_text()
+    path = tmp_path / "coasting.toml"
+    path.write_text(text[:text.index("[machine.brake]")])
+    asm, machine = load_machine(path)
+    run = run_machine(machine, reduce(asm), samples=101)
+    after = run.t >= 1.3137
+    np.testing.assert_allclose(run.omega[after], 3.2, rtol=EXACT_TOL)
+    s = run.stopping
+    assert s.rest_at is None and s.run_down_time is None and s.brake_at is None and run.t[-1] == 6.0
+    assert main(["flywheel", str(MODELS / "machine_brake.toml"), "--delta", "0.05", "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["delta_integrated"] == pytest.approx(0.05, rel=1e-3)
+
+
 # The lifted point mass: m = 1 kg at r = 0.5 m, its own inertia 0.01 kg·m², a 0.1 kg·m² flywheel;
 # a linear motor (10 N·m stall, 20 rad/s no load) on from 0.05 s to 1.2 s, started at the lowest
 # position (−90°, at rest: in equilibrium until the motor starts); a constant 3 N·m brake from the

@@ -291,7 +291,8 @@ class _Joined:
         self.pieces = [p.sol for p in parts]
         last = parts[-1]
         self.status, self.success, self.message = last.status, last.success, last.message
-        self.t_events, self.y_events = last.t_events[:n], last.y_events[:n]
+        none = last.t_events is None  # solve_ivp without events
+        self.t_events, self.y_events = ([], []) if none else (last.t_events[:n], last.y_events[:n])
 
     def sol(self, t):
         t = np.asarray(t, dtype=float)
