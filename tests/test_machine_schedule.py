@@ -344,3 +344,27 @@ def test_the_bundled_model_against_a_direct_integration_of_its_fourbar():
     direct = np.array([pieces[min(int(np.searchsorted(ends, t)), 3)].sol(t) for t in run.t]).T
     assert np.abs(run.phi - direct[0]).max() <= DIRECT_TOL * np.abs(direct[0]).max()
     assert np.abs(run.omega - direct[1]).max() <= DIRECT_TOL * np.abs(direct[1]).max()
+
+
+def test_the_friction_pieces_start_where_the_schedules_piece_starts():
+    """A machine with friction switches integrates each of the schedule's pieces in parts between
+    the switches; those parts start at the piece's own start time (before: at t = 0 again, so a
+    piece after motor_off re-ran the machine from t = 0 with the later state, and the run ended
+    at a friction switch of that re-run, reported as a rest under the brake)."""
+    from linkgen.machine.machine import _across_switches
+
+    class Switches:  # one switch, never reached by the uniform motion below
+        switches = np.array([100.0])
+
+        def neighbours(self, phi):
+            return phi + 100.0, phi - 100.0
+
+    starts = []
+
+    def one(t0, y0, more=()):
+        starts.append(t0)
+        return solve_ivp(lambda t, y: [y[1], 0.0], (t0, 2.0), y0, events=list(more), dense_output=True)
+
+    sol = _across_switches(one, np.array([0.0, 1.0]), 0, Switches(), 2.0, 1.5)
+    assert starts == [1.5] and sol.t[0] == 1.5 and sol.t[-1] == 2.0
+    assert sol.sol(np.array([2.0]))[0][0] == pytest.approx(0.5, rel=1e-12)

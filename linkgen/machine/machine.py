@@ -194,7 +194,7 @@ def run_machine(machine: Machine, red: Reduced, *, samples: int = 2000, duration
             if red.friction is None or not red.friction.switches.size:
                 return one(t0, y0, extra, t1)
             return _across_switches(lambda a, y, more=(): one(a, y, list(extra) + list(more), t1), y0,
-                                    len(events) + len(extra), red.friction, t1)
+                                    len(events) + len(extra), red.friction, t1, t0)
 
         with np.errstate(over="ignore", invalid="ignore"):
             if machine.schedule is not None or machine.brake is not None:
@@ -253,14 +253,14 @@ def run_machine(machine: Machine, red: Reduced, *, samples: int = 2000, duration
                       stops)
 
 
-def _across_switches(one, y0: np.ndarray, n: int, friction, T: float):
+def _across_switches(one, y0: np.ndarray, n: int, friction, T: float, t0: float = 0.0):
     """Integrate (``one(t0, y0, extra events)``: solve_ivp from t0) in pieces that end where the
     crank reaches a friction switch (``PairFriction.switches``, either way), each restarting
     there: the friction's jump is then a piece's end, not inside a step the solver would have to
     shrink around (ten turns of models/machine_friction.toml: the 10th turn's time agreed with a
     100× tighter run to 2.2e-8 stepped over, 6.2e-9 in pieces; the energy balance's worst
-    residual 2.1e-8, 6.8e-9). Returns the pieces joined (``_Joined``)."""
-    parts, t0 = [], 0.0
+    residual 2.1e-8, 6.8e-9). From the time ``t0`` to T. Returns the pieces joined (``_Joined``)."""
+    parts = []
     while True:
         ahead, behind = friction.neighbours(float(y0[0]))
 
