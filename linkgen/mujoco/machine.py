@@ -202,6 +202,15 @@ def run_machine_mujoco(asm: Assembly, machine: Machine, t: np.ndarray, reactions
             sweep = dt * w_c + (0.5 * dt * dt * float(data.qacc[crank]) if steps else 0.0)
             data.xfrc_applied[:] = table.over(phi_c, phi_c + sweep)
         w_mid = float(data.qvel[dof]) + (0.5 * dt * float(data.qacc[dof]) if steps else 0.0)
+        share, braked = 1.0, 0.0
+        if switching is not None:  # the motor's and the brake's shares of this step
+            w_c = float(data.qvel[crank])
+            a_c = float(data.qacc[crank]) if steps else 0.0
+            switching.step(data.time, dt, phi_c, dt * w_c + 0.5 * dt * dt * a_c, w_c)
+            share = switching.motor_share
+            model.actuator_biasprm[act] = base_bias * share
+            braked = switching.brake_torque(w_c + a_c * dt * (1.0 - 0.5 * switching.brake_share))
+            data.qfrc_applied[crank] += braked
         if mech.frictions:
             if table is None:
                 data.xfrc_applied[:] = 0.0
@@ -213,17 +222,10 @@ def run_machine_mujoco(asm: Assembly, machine: Machine, t: np.ndarray, reactions
             if ode is not None:  # ε from the machine's equation at this state with the last friction moment
                 red = ode.red
                 mm, _ = ode.motor(w_c, np.array([mid, w_c, current]))
-                free = float(red.moment(mid, w_c)) + u * eta * float(mm) - 0.5 * float(red.dj(mid)) * w_c * w_c
+                free = (float(red.moment(mid, w_c)) + u * eta * float(mm) * share + braked
+                        - 0.5 * float(red.dj(mid)) * w_c * w_c)
                 e_c = (free - mf_last) / (float(red.j(mid)) + machine.added_inertia)
             mf_last = _add_friction(asm, model, data, mid, w_c, e_c, _split(switches, phi_c, phi_c + sweep))
-        share = 1.0
-        if switching is not None:
-            w_c = float(data.qvel[crank])
-            a_c = float(data.qacc[crank]) if steps else 0.0
-            switching.step(data.time, dt, phi_c, dt * w_c + 0.5 * dt * dt * a_c, w_c)
-            share = switching.motor_share
-            model.actuator_biasprm[act] = base_bias * share
-            data.qfrc_applied[crank] += switching.brake_torque(w_c + a_c * dt * (1.0 - 0.5 * switching.brake_share))
         if per_step:
             i_mid = _current_after(mot, u * w_mid, current, 0.5 * dt) if motors.has_current(mot) else current
             data.qfrc_applied[dof] += u * eta * _motor_torque(mot, u * w_mid, i_mid) * share
