@@ -249,7 +249,8 @@ def _summary(r: dict) -> str:
     dyn = r.get("dynamics")
     if dyn is not None:
         lines.append(f"    machine: {dyn['skipped']}" if "skipped" in dyn else
-                     f"    machine ({'free motion' if dyn.get('free') else 'driven by its motor'}), {dyn['duration_s']:g} s: "
+                     f"    machine ({'free motion' if dyn.get('free') else 'driven by its motor'}), {dyn['duration_s']:g} s"
+                     + (" to its rest under the brake" if (dyn.get("stopping") or {}).get("held_by_brake") else "") + ": "
                      f"MuJoCo's worst {dyn['worst']} "
                      f"{dyn['worst_error_relative']:.2e} of its scale (tolerance {dyn['tolerance']:g})"
                      + ("" if dyn["ok"] else " — over the tolerance"))
