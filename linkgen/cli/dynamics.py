@@ -216,11 +216,12 @@ def cmd_dynamics(args) -> int:
 
 def _print_stopping(s) -> None:
     """The schedule's and the brake's lines of ``dynamics`` (``machine.schedule.Stopping``)."""
-    off = f", off at {s.motor_off:.6g} s" if s.motor_off is not None else ", not switched off"
+    off = f", off at {s.motor_off:.6g} s" if s.motor_off is not None else ", not switched off within the run"
     print(f"  motor on at {s.motor_on:.6g} s{off}" + (f"; brake applied at t = {s.brake_at:.6g} s, φ = "
           f"{math.degrees(s.brake_angle):.6g}°" if s.brake_at is not None else "; no brake applied in the run"))
     if s.rest_at is None:
-        print("  the crank did not come to rest within the run (ω never reached 0)")
+        if s.motor_off is not None or s.brake_at is not None:
+            print("  the crank did not come to rest within the run (ω never reached 0)")
         return
     print(f"  at rest at t = {s.rest_at:.6g} s" + (" (the run ends there: the brake holds the crank)" if s.held else ""))
     if s.run_down_time is not None:
