@@ -368,3 +368,27 @@ def test_the_friction_pieces_start_where_the_schedules_piece_starts():
     sol = _across_switches(one, np.array([0.0, 1.0]), 0, Switches(), 2.0, 1.5)
     assert starts == [1.5] and sol.t[0] == 1.5 and sol.t[-1] == 2.0
     assert sol.sol(np.array([2.0]))[0][0] == pytest.approx(0.5, rel=1e-12)
+
+
+def test_a_run_down_without_a_brake_ends_at_the_first_rest(tmp_path):
+    """The lifted crank with its motor off at 0.2 s and no brake: it swings on under gravity, comes
+    to rest for an instant (the run-down's end: the first ω = 0 after motor_off) and swings back,
+    the run going on. Against the direct integration with that rest as an event."""
+    text = _lifted(tmp_path).read_text()
+    path = tmp_path / "swing.toml"
+    path.write_text(text[:text.index("[machine.brake]")].replace(f'motor_off = "{OFF}s"', 'motor_off = "0.2s"'))
+    asm, machine = load_machine(path)
+    run = run_machine(machine, reduce(asm), samples=201)
+    j = M * R * R + I_C + J_F
+    rate = lambda motor: lambda t, y: [y[1], (-M * G * R * math.cos(y[0]) + motor * M0 * (1 - y[1] / W0)) / j]  # noqa: E731
+    rest = lambda t, y: y[1]  # noqa: E731
+    rest.terminal = True
+    y = [-math.pi / 2, 0.0]
+    for t0, t1, motor in ((0.0, ON, 0.0), (ON, 0.2, 1.0)):
+        y = solve_ivp(rate(motor), (t0, t1), y, method="DOP853", rtol=1e-12, atol=1e-14).y[:, -1]
+    swing = solve_ivp(rate(0.0), (0.2, 5.0), y, method="DOP853", rtol=1e-12, atol=1e-14, events=rest)
+    assert swing.status == 1  # it does come to rest before 5 s
+    s = run.stopping
+    assert s.run_down_time == pytest.approx(swing.t[-1] - 0.2, rel=DIRECT_TOL)
+    assert not s.held and s.braking_angle is None and run.t[-1] == 5.0
+    assert run.omega.min() < -1.0  # and swings back
