@@ -120,6 +120,10 @@ def cmd_dynamics(args) -> int:
                    "turns": float((run.phi[-1] - run.phi[0]) / (2 * math.pi))},
            "energy_balance": run.energy.to_json(),
            "forces_over_steady_cycle": forces.to_json() if forces else None}
+    if run.stopping is not None:  # [machine.schedule] / [machine.brake]
+        out |= {"run_down_time": run.stopping.run_down_time, "braking_angle": run.stopping.braking_angle,
+                "stopping": run.stopping.to_json()}
+        out["units"] |= {"run_down_time": "s", "braking_angle": "rad"}
     if extra:
         out["along_time"] = {"t [s]": run.t.tolist()} | {k: np.asarray(v, dtype=float).tolist() for k, v in extra.items()}
     if compared is not None:
@@ -155,7 +159,8 @@ def cmd_dynamics(args) -> int:
     print(f"  at the end: φ = {math.degrees(run.phi[-1]):.10g}° ({out['end']['turns']:.6g} turns), "
           f"ω = {run.omega[-1]:.10g} rad/s; integrated by {run.method} at rtol {run.rtol:g}, atol "
           f"{run.rtol * 1e-3:g} (rad, rad/s)")
-    what = "drive, loads, springs, dampers" + (", friction" if e.friction is not None else "")
+    what = ("drive, loads, springs, dampers" + (", friction" if e.friction is not None else "")
+            + (", brake" if e.brake is not None else ""))
     print(f"  energy balance (ΔT = work of the {what}) at every sample: worst residual "
           f"{e.worst:.2e} of the run's energy scale {e.scale:.6g} J — "
           + ("ok" if e.ok else "VIOLATED") + f" (tolerance {e.tolerance:g})")
@@ -166,7 +171,8 @@ def cmd_dynamics(args) -> int:
               f"at rest to its full value at |ω| = {STICK_SPEED:g} rad/s)")
     if run.steady is None:
         stopped = (f"the run stopped after its {machine.turns:g} turns ([machine] turns)" if machine.turns is not None
-                   and run.t[-1] < duration else "give a longer --duration or [machine] duration")
+                   and run.t[-1] < duration else "the run ended with the crank at rest under the brake"
+                   if run.stopping is not None and run.stopping.held else "give a longer --duration or [machine] duration")
         print(f"  no steady cycle within the run (two successive turns never repeated): {stopped}")
     else:
         s = run.steady
@@ -174,6 +180,8 @@ def cmd_dynamics(args) -> int:
               f"ω_min {s.omega_min:.6g}, ω_max {s.omega_max:.6g}, δ = {s.delta:.4g}")
         print(f"  start-up time {run.startup_time:.4g} s (ω within the steady band ±1 % of ω_mean from then on)"
               if run.startup_time is not None else "  start-up: ω had not settled into the steady band by the end")
+    if run.stopping is not None:
+        _print_stopping(run.stopping)
     if not machine.free:
         print(f"  peak motor torque {out['peak_motor_torque']:.6g} N·m at t = {out['peak_motor_torque_at']:.4g} s")
     if forces:
@@ -204,6 +212,23 @@ def cmd_dynamics(args) -> int:
         print(f"{name}: the energy balance is violated: {e.worst:.2e} of the energy scale, over its tolerance "
               f"{e.tolerance:g}; the integration cannot be trusted", file=sys.stderr)
     return 0 if e.ok else 1
+
+
+def _print_stopping(s) -> None:
+    """The schedule's and the brake's lines of ``dynamics`` (``machine.schedule.Stopping``)."""
+    off = f", off at {s.motor_off:.6g} s" if s.motor_off is not None else ", not switched off within the run"
+    print(f"  motor on at {s.motor_on:.6g} s{off}" + (f"; brake applied at t = {s.brake_at:.6g} s, φ = "
+          f"{math.degrees(s.brake_angle):.6g}°" if s.brake_at is not None else "; no brake applied in the run"))
+    if s.rest_at is None:
+        if s.motor_off is not None or s.brake_at is not None:
+            print("  the crank did not come to rest within the run (ω never reached 0)")
+        return
+    print(f"  at rest at t = {s.rest_at:.6g} s" + (" (the run ends there: the brake holds the crank)" if s.held else ""))
+    if s.run_down_time is not None:
+        print(f"  run-down time (motor off → rest) {s.run_down_time:.6g} s")
+    if s.braking_angle is not None:
+        print(f"  braking angle (brake applied → rest) {math.degrees(s.braking_angle):.6g}° ({s.braking_angle:.6g} rad) "
+              f"in {s.braking_time:.6g} s")
 
 
 def cmd_flywheel(args) -> int:

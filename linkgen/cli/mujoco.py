@@ -251,7 +251,8 @@ def _summary(r: dict) -> str:
         lines.append(f"    machine: {dyn['skipped']}" if "skipped" in dyn else
                      f"    machine ({'free motion' if dyn.get('free') else 'driven by its motor'}), {dyn['duration_s']:g} s"
                      + (f" (its first {dyn['window']['step_budget']} MuJoCo steps: friction in the pairs)"
-                        if "window" in dyn else "") + ": "
+                        if "window" in dyn else "")
+                     + (" to its rest under the brake" if (dyn.get("stopping") or {}).get("held_by_brake") else "") + ": "
                      f"MuJoCo's worst {dyn['worst']} "
                      f"{dyn['worst_error_relative']:.2e} of its scale (tolerance {dyn['tolerance']:g})"
                      + ("" if dyn["ok"] else " — over the tolerance"))

@@ -45,6 +45,9 @@ def _window(asm: Assembly, machine: Machine, cycles: int | None, progress=None, 
     duration instead (then the cycles compared are None). A run that stops after its
     ``[machine] turns`` is compared up to there (the window returned is the run's)."""
     red = reduce(asm, machine.process_load)
+    if machine.schedule is not None or machine.brake is not None:  # the whole run: on, off, braked to rest
+        run = run_machine(machine, red, samples=COMPARE_SAMPLES, progress=progress)
+        return run, float(run.t[-1]), red, None
     if cycles is None:
         duration = min(machine.duration, seconds)
         run = run_machine(machine, red, samples=COMPARE_SAMPLES, duration=duration, progress=progress)
@@ -60,13 +63,19 @@ def _window(asm: Assembly, machine: Machine, cycles: int | None, progress=None, 
     return run, float(run.t[-1]), red, cycles
 
 
-def _settled(asm: Assembly, mj) -> np.ndarray:
-    """Samples outside the loops' settling window after the start and after each switch of a
-    stroke-switched force: there MuJoCo's soft loop closures are still catching up with a load
-    step (``mujoco.timing.settle_window``), as the prescribed-speed comparison leaves out too."""
+def _settled(asm: Assembly, mj, stopping=None) -> np.ndarray:
+    """Samples outside the loops' settling window after the start, after each switch of a
+    stroke-switched force and after the motor's switches and the brake's engagement
+    (``stopping``, ``machine.schedule.Stopping``): there MuJoCo's soft loop closures are still
+    catching up with a load step (``mujoco.timing.settle_window``), as the prescribed-speed
+    comparison leaves out too."""
     from linkgen.machine.tables import switch_angles
 
     keep = mj.t >= mj.t[0] + mj.settle
+    if stopping is not None:
+        for ts in (stopping.motor_on, stopping.motor_off, stopping.brake_at):
+            if ts is not None and ts > 0:
+                keep &= ~((mj.t >= ts - 0.5 * mj.timestep) & (mj.t <= ts + mj.settle))
     for s in switch_angles(asm.mechanism, asm.mechanism.drive.start):
         turn = np.floor((mj.phi - s) / (2 * math.pi))
         for k in np.flatnonzero(np.diff(turn) != 0):
@@ -112,7 +121,7 @@ def compare_machine_run(asm: Assembly, machine: Machine, cycles: int | None = No
     y = run.solution(mj.t)
     w, phi = y[1], y[0]
     twist = (y[2] - y[0]) if machine.shaft is not None else None
-    torque = motor_torque_at(machine, red, y)
+    torque = motor_torque_at(machine, red, y, mj.t)
     everything = np.ones(mj.t.shape, dtype=bool)
     steady_from = run.steady.t_start if (cycles is not None and run.steady is not None) else None
     errors = {"omega": _error(mj.omega, w, everything),
@@ -123,7 +132,7 @@ def compare_machine_run(asm: Assembly, machine: Machine, cycles: int | None = No
         errors["omega_steady"] = _error(mj.omega, w, mj.t >= steady_from)
     if mj.reactions:  # the kinetostatics at MuJoCo's own crank states against MuJoCo's reactions
         f = forces(asm, mj.phi, mj.omega, mj.epsilon)
-        settled = _settled(asm, mj)
+        settled = _settled(asm, mj, run.stopping)
         scale = max(float(np.linalg.norm(np.asarray(f.reactions[k]), axis=-1).max()) for k in mj.reactions)
         errors["reactions"] = max(_error(mj.reactions[k], np.asarray(f.reactions[k]), settled, scale)
                                   for k in mj.reactions)
@@ -148,6 +157,8 @@ def compare_machine_run(asm: Assembly, machine: Machine, cycles: int | None = No
         out["no_steady_cycle"] = True
     if machine.free:
         out["free"] = True  # no motor: the mechanism released from its start state
+    if run.stopping is not None:
+        out["stopping"] = run.stopping.to_json()
     if native and machine.motor.kind == "dc":
         out["dcmotor"] = _native_dc(asm, machine, run, mj.t)
     return out, mj, run

@@ -154,15 +154,15 @@ def startup_time(sol, steady: SteadyCycle, t_end: float) -> float | None:
 
 
 def peak(sol, f, t_end: float) -> tuple[float, float]:
-    """The largest |f(state)| over [0, t_end] and its time [s] (f of the dense output's states
-    (n, k) → (k,)), refined by Brent around the best of the fine points."""
+    """The largest |f(states, times)| over [0, t_end] and its time [s] (f of the dense output's
+    states (n, k) and their times (k,) → (k,)), refined by Brent around the best of the fine points."""
     ts = fine_times(sol, 0.0, t_end)
-    v = np.abs(f(sol.sol(ts)))
+    v = np.abs(f(sol.sol(ts), ts))
     k = int(np.argmax(v))
     best, at = float(v[k]), float(ts[k])
     lo, hi = ts[max(k - 1, 0)], ts[min(k + 1, ts.size - 1)]
     if hi > lo:
-        r = minimize_scalar(lambda x: -float(np.abs(f(sol.sol(np.array([x])))[0])), bounds=(lo, hi),
+        r = minimize_scalar(lambda x: -float(np.abs(f(sol.sol(np.array([x])), np.array([x])))[0]), bounds=(lo, hi),
                             method="bounded", options={"xatol": 1e-12 * max(abs(hi), 1.0)})
         if -float(r.fun) > best:
             best, at = -float(r.fun), float(r.x)

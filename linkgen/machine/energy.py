@@ -11,7 +11,9 @@ over the same table M₀ the equation reads (``PeriodicTable.integral``), W_damp
 (≤ 0), W_drive = ∫ u·η·M_motor·ω_r dt, and with a shaft ΔV_shaft = ½·c·dz(θ − φ)² − its start
 value and W_shaft_damper = −∫ b·(ω_r − ω)² dt; with friction in the pairs W_friction =
 −∫ s·M_f·ω dt ≤ 0, the friction's reduced moment at each quadrature point's state and its
-acceleration (``machine.friction``: the same solve the equation makes). The time integrals are Gauss–Legendre quadratures
+acceleration (``machine.friction``: the same solve the equation makes); with a brake its work
+W_brake = ∫ M_brake·ω dt ≤ 0, and the drive's power is zero while the schedule has the motor off
+(``machine.schedule``). The time integrals are Gauss–Legendre quadratures
 of the solver's dense output between its own steps and the samples (GAUSS points each, exact to
 degree 2·GAUSS − 1, beyond the dense output's own order 7), so the residual measures the
 integration, not the quadrature.
@@ -56,6 +58,7 @@ class EnergyBalance:
     scale: float
     tolerance: float = ENERGY_TOL
     friction: np.ndarray | None = None  # the friction's work since t = 0 [J] (≤ 0); None without friction
+    brake: np.ndarray | None = None  # the brake's work since t = 0 [J] (≤ 0); None without a brake
 
     @property
     def worst(self) -> float:
@@ -71,20 +74,22 @@ class EnergyBalance:
                 "energy_scale_J": self.scale, "tolerance": self.tolerance, "ok": self.ok,
                 "final": {"kinetic_J": float(self.kinetic[-1]), "loads_work_J": float(self.loads[-1]),
                           "dampers_work_J": float(self.dampers[-1]), "drive_work_J": float(self.drive[-1])}
-                | ({} if self.friction is None else {"friction_work_J": float(self.friction[-1])})}
+                | ({} if self.friction is None else {"friction_work_J": float(self.friction[-1])})
+                | ({} if self.brake is None else {"brake_work_J": float(self.brake[-1])})}
 
 
-def _powers(model, y: np.ndarray) -> np.ndarray:
-    """Rows: the drive's, the dampers', the shaft damper's and the friction's power [W] at states y (n, k)."""
+def _powers(model, y: np.ndarray, t: np.ndarray) -> np.ndarray:
+    """Rows: the drive's, the dampers', the shaft damper's, the friction's and the brake's power [W]
+    at states y (n, k), times t (k,)."""
     phi, w = y[0], y[1]
     w_rotor = y[3] if model.shaft else w
-    mm, _ = model.motor(w_rotor, y)
+    mm, _ = model.motor(w_rotor, y, t)
     drive = model.u * model.eta * np.asarray(mm, dtype=float) * w_rotor
     red = model.red
     damp = red.table("damping_grid").at(phi) * w * w if red.damping_grid is not None else np.zeros_like(w)
     shaft = -model.shaft.damping * (w_rotor - w) ** 2 if model.shaft else np.zeros_like(w)
-    friction = -model.friction_moment(y) * w if red.friction is not None else np.zeros_like(w)
-    return np.vstack([drive, damp, shaft, friction])
+    friction = -model.friction_moment(y, t) * w if red.friction is not None else np.zeros_like(w)
+    return np.vstack([drive, damp, shaft, friction, model.brake(t, w) * w])
 
 
 def _kinetic(model, y: np.ndarray) -> np.ndarray:
@@ -110,9 +115,9 @@ def energy_balance(model, dense, steps: np.ndarray, t: np.ndarray) -> EnergyBala
     x, wts = np.polynomial.legendre.leggauss(GAUSS)
     a, b = knots[:-1], knots[1:]
     nodes = (0.5 * (b - a)[:, None] * (x[None, :] + 1.0) + a[:, None]).ravel()
-    p = _powers(model, dense(nodes)).reshape(4, a.size, GAUSS)
+    p = _powers(model, dense(nodes), nodes).reshape(5, a.size, GAUSS)
     cells = (p * wts).sum(axis=2) * 0.5 * (b - a)
-    cumulative = np.concatenate([np.zeros((4, 1)), np.cumsum(cells, axis=1)], axis=1)
+    cumulative = np.concatenate([np.zeros((5, 1)), np.cumsum(cells, axis=1)], axis=1)
     at = cumulative[:, np.searchsorted(knots, t)]
     y = dense(t)
     table = model.red.table("moment_grid")
@@ -120,12 +125,14 @@ def energy_balance(model, dense, steps: np.ndarray, t: np.ndarray) -> EnergyBala
     kinetic = _kinetic(model, y)
     shaft_energy = _shaft_energy(model, y) if model.shaft else None
     stored = kinetic - kinetic[0] + (shaft_energy - shaft_energy[0] if model.shaft else 0.0)
-    residual = stored - (loads + at[0] + at[1] + at[2] + at[3])
+    residual = stored - (loads + at[0] + at[1] + at[2] + at[3] + at[4])
     friction = model.red.friction is not None
-    terms = [kinetic, loads, at[0], at[1]] + ([shaft_energy, at[2]] if model.shaft else []) + ([at[3]] if friction else [])
+    braked = model.switching.brake_kind is not None
+    terms = [kinetic, loads, at[0], at[1]] + ([shaft_energy, at[2]] if model.shaft else []) + ([at[3]] if friction else []) \
+        + ([at[4]] if braked else [])
     scale = float(max(np.abs(v).max() for v in terms))
     return EnergyBalance(kinetic, loads, at[1], at[0], shaft_energy, at[2] if model.shaft else None, residual, scale,
-                         ENERGY_TOL, at[3] if friction else None)
+                         ENERGY_TOL, at[3] if friction else None, at[4] if braked else None)
 
 
 __all__ = ["ENERGY_TOL", "EnergyBalance", "GAUSS", "energy_balance"]

@@ -11,6 +11,7 @@ import numpy as np
 from linkgen.errors import SimulationError
 from linkgen.machine import motors
 from linkgen.machine.reduced import Reduced
+from linkgen.machine.schedule import Switching
 from linkgen.model.machine import Machine
 
 # The integrator: DOP853 unless a current or a shaft is present (Radau, as validated) or the
@@ -33,18 +34,35 @@ class Model:
         self.shaft = machine.shaft
         self.current = motors.has_current(machine.motor)
         self.n = 2 + (2 if self.shaft else 0) + (1 if self.current else 0)
+        # the motor's schedule and the brake (machine.schedule); ``phase`` (k, braking) fixed while
+        # a piece between switches is integrated, None: both from the time
+        self.switching, self.phase = Switching.of(machine), None
 
-    def motor(self, omega_rotor, y):
-        """Motor torque on its shaft and its current (or None), from the rotor speed at the crank."""
+    def _switched(self, t):
+        """(k, braking) at times t: the motor's factor and whether the brake acts."""
+        if self.phase is not None:
+            return self.phase
+        if t is None:
+            return 1.0, False
+        return self.switching.motor(t), self.switching.braking(t)
+
+    def motor(self, omega_rotor, y, t=None):
+        """Motor torque on its shaft and its current (or None), from the rotor speed at the crank;
+        at times ``t``, zero where the schedule has the motor off (None: on)."""
         w_m = self.u * omega_rotor
         mot = self.m.motor
+        k = self._switched(t)[0]
         if self.current:
             i = y[-1]
-            return motors.torque(mot, w_m, i), i
+            return motors.torque(mot, w_m, i) * k, i * k
         if mot.kind == "dc":
-            i = motors.dc_static_current(mot, w_m)
+            i = motors.dc_static_current(mot, w_m) * k
             return motors.torque(mot, w_m, i), i
-        return motors.torque(mot, w_m), None
+        return motors.torque(mot, w_m) * k, None
+
+    def brake(self, t, w):
+        """The brake's moment on the crank [N·m] at times t and speeds w (0 before it is applied)."""
+        return self.switching.brake(self._switched(t)[1], w)
 
     def shaft_torque(self, y):
         s = self.shaft
@@ -59,11 +77,12 @@ class Model:
         dy = np.empty_like(y)
         dy[0] = w
         w_rotor = y[3] if self.shaft else w
-        mm, i = self.motor(w_rotor, y)
+        mm, i = self.motor(w_rotor, y, t)
         drive = self.u * self.eta * mm
+        braked = self.brake(t, w)
         if self.shaft:
             ts = self.shaft_torque(y)
-            dy[1] = self.crank_rate(t, phi, w, red.moment(phi, w) + ts - 0.5 * red.dj(phi) * w * w,
+            dy[1] = self.crank_rate(t, phi, w, red.moment(phi, w) + ts + braked - 0.5 * red.dj(phi) * w * w,
                                     red.j(phi) + self.m.flywheel_inertia)
             dy[2] = y[3]
             jr = self.m.rotor_inertia * self.u**2
@@ -71,10 +90,10 @@ class Model:
                 raise SimulationError("an elastic shaft needs a rotor inertia > 0 ([machine] rotor_inertia)")
             dy[3] = (drive - ts) / jr
         else:
-            dy[1] = self.crank_rate(t, phi, w, red.moment(phi, w) + drive - 0.5 * red.dj(phi) * w * w,
+            dy[1] = self.crank_rate(t, phi, w, red.moment(phi, w) + drive + braked - 0.5 * red.dj(phi) * w * w,
                                     red.j(phi) + self.m.added_inertia)
         if self.current:
-            dy[-1] = motors.dc_current_rate(self.m.motor, self.u * w_rotor, i)
+            dy[-1] = motors.dc_current_rate(self.m.motor, self.u * w_rotor, i) * self._switched(t)[0]
         return dy
 
     def crank_rate(self, t, phi, w, free, inertia):
@@ -93,32 +112,35 @@ class Model:
                                np.ravel(inertia * np.ones(shape)), None if t is None else np.ravel(t * np.ones(shape)))
         return (eps.reshape(shape), mf.reshape(shape)) if shape else (float(eps[0]), float(mf[0]))
 
-    def friction_moment(self, y):
-        """s·M_f [N·m] (the friction's reduced moment, ≥ 0 times sgn ω) at states y (n, k)."""
+    def friction_moment(self, y, t=None):
+        """s·M_f [N·m] (the friction's reduced moment, ≥ 0 times sgn ω) at states y (n, k) (at times t)."""
         phi, w = y[0], y[1]
         red = self.red
         if self.shaft:
             free = red.moment(phi, w) + self.shaft_torque(y) - 0.5 * red.dj(phi) * w * w
             inertia = red.j(phi) + self.m.flywheel_inertia
         else:
-            mm, _ = self.motor(w, y)
-            free = red.moment(phi, w) + self.u * self.eta * mm - 0.5 * red.dj(phi) * w * w
+            mm, _ = self.motor(w, y, t)
+            free = (red.moment(phi, w) + self.u * self.eta * mm - 0.5 * red.dj(phi) * w * w
+                    + (self.brake(t, w) if t is not None else 0.0))
             inertia = red.j(phi) + self.m.added_inertia
         return self.friction_terms(None, phi, w, free, inertia)[1]
 
     def y0(self, phi0: float) -> np.ndarray:
         w0 = self.m.start_speed
         y = [phi0, w0] + ([phi0, w0] if self.shaft else [])
-        if self.current:
-            y.append(float(motors.dc_static_current(self.m.motor, self.u * w0)) if w0 != 0 else 0.0)
+        if self.current:  # no current while the schedule has the motor off
+            on = w0 != 0 and self.switching.motor(0.0) > 0
+            y.append(float(motors.dc_static_current(self.m.motor, self.u * w0)) if on else 0.0)
         return np.array(y, dtype=float)
 
 
-def motor_torque_at(machine: Machine, red: Reduced, y: np.ndarray) -> np.ndarray:
-    """The motor torque [N·m] on the motor shaft at ODE states ``y`` (k, n) (``MachineRun.solution``)."""
+def motor_torque_at(machine: Machine, red: Reduced, y: np.ndarray, t=None) -> np.ndarray:
+    """The motor torque [N·m] on the motor shaft at ODE states ``y`` (k, n) (``MachineRun.solution``),
+    at times ``t`` [s] (zero where the schedule has the motor off; None: as if on)."""
     model = Model(machine, red)
     w_rotor = y[3] if model.shaft else y[1]
-    mm, _ = model.motor(w_rotor, y)
+    mm, _ = model.motor(w_rotor, y, t)
     return np.asarray(mm, dtype=float) * np.ones(y.shape[1])
 
 
@@ -163,7 +185,10 @@ def choose_method(machine: Machine, red: Reduced, duration: float) -> tuple[str,
     is beyond what any step can resolve over the duration (RESOLVABLE) or the rates leave float
     range."""
     model = Model(machine, red)
+    model.phase = (1.0, True)  # the motor on and a viscous brake applied: every time constant there is
     y0 = model.y0(machine.start(float(red.phi[0])))
+    if model.current:
+        y0[-1] = float(motors.dc_static_current(machine.motor, machine.gear_ratio * y0[1])) if y0[1] != 0 else 0.0
     top = speed_scale(machine, red)
     states = [y0]
     if model.current:  # at rest with the stall current U/R: the largest current and torque

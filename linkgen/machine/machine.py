@@ -32,6 +32,7 @@ from linkgen.machine.cycle import CYCLE_POINTS, STEADY_TOL, SteadyCycle, peak, s
 from linkgen.machine.energy import EnergyBalance, energy_balance
 from linkgen.machine.equation import Model as _Model, choose_method, motor_torque_at, speed_scale as _speed_scale
 from linkgen.machine.reduced import Reduced
+from linkgen.machine.schedule import Stopping, Switching, integrate, stopping
 from linkgen.errors import DescriptionError, SimulationError
 from linkgen.model.machine import FREE, Machine
 
@@ -87,6 +88,7 @@ class MachineRun:
     method: str = ""
     energy: EnergyBalance | None = field(default=None, repr=False, compare=False)  # checked at every sample
     rtol: float = RTOL  # the solver's relative tolerance (absolute: 1e-3 of it on the state)
+    stopping: Stopping | None = None  # the motor's schedule, the brake and the rest (machine.schedule)
 
     def state_at(self, t) -> tuple[np.ndarray, np.ndarray]:
         """Crank angle [rad] and speed [rad/s] at times t [s] from the solver's dense output."""
@@ -156,7 +158,9 @@ def run_machine(machine: Machine, red: Reduced, *, samples: int = 2000, duration
     top = _speed_scale(machine, red)
     max_step = 2 * math.pi / top / STEPS_PER_TURN if top > 0 else math.inf
     scale = np.ones(model.n)
-    budget = _Budget(model.rhs, T, progress, phi0, stall=not machine.free)
+    # a crank coasting or rocking once its motor is off moves freely: no stall to catch there
+    stall = not machine.free and machine.schedule is None and machine.brake is None
+    budget = _Budget(model.rhs, T, progress, phi0, stall=stall)
     motor_top = machine.top_speed(0.0)
     # A constant torque has no top speed, nor has free motion: no runaway stop for either.
     limit = (RUNAWAY * motor_top if motor_top > 0 and math.isfinite(motor_top)
@@ -179,15 +183,27 @@ def run_machine(machine: Machine, red: Reduced, *, samples: int = 2000, duration
     events = ([runaway] if math.isfinite(limit) else []) + ([turned] if machine.turns is not None else []) + \
         ([left] if hi is not None else [])
 
+    held = []  # the time the brake held the crank at rest, if it did
+
     def solve(how: str):
-        def one(t0, y0, more=()):
-            return solve_ivp(budget, (t0, T), y0, method=how, rtol=rtol, atol=rtol * scale * 1e-3,
+        def one(t0, y0, more=(), t1=T):
+            return solve_ivp(budget, (t0, t1), y0, method=how, rtol=rtol, atol=rtol * scale * 1e-3,
                              dense_output=True, max_step=max_step, events=(events + list(more)) or None)
 
-        with np.errstate(over="ignore", invalid="ignore"):
+        def piece(t0, t1, y0, extra):
             if red.friction is None or not red.friction.switches.size:
-                return one(0.0, model.y0(phi0))
-            return _across_switches(one, model.y0(phi0), len(events), red.friction, T)
+                return one(t0, y0, extra, t1)
+            return _across_switches(lambda a, y, more=(): one(a, y, list(extra) + list(more), t1), y0,
+                                    len(events) + len(extra), red.friction, t1, t0)
+
+        with np.errstate(over="ignore", invalid="ignore"):
+            if machine.schedule is not None or machine.brake is not None:
+                model.switching = Switching.of(machine)
+                parts, _, at = integrate(piece, model, model.y0(phi0), len(events), T,
+                                         machine.brake.from_angle if machine.brake else None)
+                held[:] = [at]
+                return _Joined(parts, len(events))
+            return piece(0.0, T, model.y0(phi0), ())
 
     try:
         try:
@@ -199,7 +215,7 @@ def run_machine(machine: Machine, red: Reduced, *, samples: int = 2000, duration
             # stiff and non-stiff steps itself, takes the run over from the start.
             if method != "Radau":
                 raise
-            budget = _Budget(model.rhs, T, progress, phi0, stall=not machine.free)
+            budget = _Budget(model.rhs, T, progress, phi0, stall=stall)
             sol, method = solve("LSODA"), "LSODA"
     except (ValueError, np.linalg.LinAlgError) as exc:  # the solver's own check of its Jacobian or states
         raise SimulationError(f"the machine's state left float64's range near t = {budget.t:.6g} s ({exc}); check "
@@ -224,25 +240,27 @@ def run_machine(machine: Machine, red: Reduced, *, samples: int = 2000, duration
     y = sol.sol(t)
     eps = model.rhs(t, y)[1]
     w_rotor = y[3] if model.shaft else y[1]
-    mm, cur = model.motor(w_rotor, y)
+    mm, cur = model.motor(w_rotor, y, t)
     twist = (y[2] - y[0]) if model.shaft else None
     ts = model.shaft_torque(y) if model.shaft else None
     steady = steady_cycle(sol, phi0, rtol)
     startup = None if steady is None else startup_time(sol, steady, T)
-    top, top_at = peak(sol, lambda s: motor_torque_at(machine, red, s), T)
+    top, top_at = peak(sol, lambda s, ts: motor_torque_at(machine, red, s, ts), T)
+    stops = stopping(sol, model.switching, held[0], T) if held else None
     return MachineRun(t, y[0], y[1], np.asarray(eps, dtype=float), np.asarray(mm, dtype=float) * np.ones_like(t),
                       None if cur is None else np.asarray(cur, dtype=float) * np.ones_like(t), twist, ts, steady,
-                      startup, sol.sol, model.rhs, top, top_at, method, energy_balance(model, sol.sol, sol.t, t), rtol)
+                      startup, sol.sol, model.rhs, top, top_at, method, energy_balance(model, sol.sol, sol.t, t), rtol,
+                      stops)
 
 
-def _across_switches(one, y0: np.ndarray, n: int, friction, T: float):
+def _across_switches(one, y0: np.ndarray, n: int, friction, T: float, t0: float = 0.0):
     """Integrate (``one(t0, y0, extra events)``: solve_ivp from t0) in pieces that end where the
     crank reaches a friction switch (``PairFriction.switches``, either way), each restarting
     there: the friction's jump is then a piece's end, not inside a step the solver would have to
     shrink around (ten turns of models/machine_friction.toml: the 10th turn's time agreed with a
     100× tighter run to 2.2e-8 stepped over, 6.2e-9 in pieces; the energy balance's worst
-    residual 2.1e-8, 6.8e-9). Returns the pieces joined (``_Joined``)."""
-    parts, t0 = [], 0.0
+    residual 2.1e-8, 6.8e-9). From the time ``t0`` to T. Returns the pieces joined (``_Joined``)."""
+    parts = []
     while True:
         ahead, behind = friction.neighbours(float(y0[0]))
 
@@ -273,7 +291,8 @@ class _Joined:
         self.pieces = [p.sol for p in parts]
         last = parts[-1]
         self.status, self.success, self.message = last.status, last.success, last.message
-        self.t_events, self.y_events = last.t_events[:n], last.y_events[:n]
+        none = last.t_events is None  # solve_ivp without events
+        self.t_events, self.y_events = ([], []) if none else (last.t_events[:n], last.y_events[:n])
 
     def sol(self, t):
         t = np.asarray(t, dtype=float)

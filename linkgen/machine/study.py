@@ -82,9 +82,11 @@ def cycle_forces(asm: Assembly, run: MachineRun, samples: int = CYCLE_SAMPLES) -
 
 
 def constant_drive(machine: Machine, torque: float, flywheel: float, start_speed: float) -> Machine:
-    """The machine driven by a constant torque at the crank [N·m] with a given flywheel."""
+    """The machine driven by a constant torque at the crank [N·m] with a given flywheel, running
+    steadily: no motor schedule, no brake."""
     return replace(machine, motor=Motor("constant", (("torque", torque),)), gear_ratio=1.0, gear_efficiency=1.0,
-                   rotor_inertia=0.0, flywheel_inertia=flywheel, start_speed=start_speed, shaft=None)
+                   rotor_inertia=0.0, flywheel_inertia=flywheel, start_speed=start_speed, shaft=None, schedule=None,
+                   brake=None)
 
 
 def check_flywheel(red: Reduced, machine: Machine, fw: Flywheel) -> float:

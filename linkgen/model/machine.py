@@ -27,6 +27,9 @@ elastic shaft between rotor and crank, and a process load over the crank angle.
     angles = ["0deg", "90deg", "180deg", "270deg"]   # over one turn, increasing
     torque = [100.0, 150.0, 100.0, 50.0]             # N·m against the rotation
 
+    [machine.schedule]           # optional: the motor switched on and off (linkgen.model.schedule)
+    [machine.brake]              # optional: a brake that stops the crank (linkgen.model.schedule)
+
 Motor kinds and their keys (SI): ``constant``: torque [N·m]; ``linear``: stall_torque [N·m],
 no_load_speed [rad/s] (M = M0·(1 − ω/ω0)); ``induction`` (Kloss's formula from catalogue data):
 rated_power [W], synchronous_speed [rad/s], rated_slip, breakdown_ratio (M_max/M_rated > 1);
@@ -45,6 +48,7 @@ import numpy as np
 from linkgen.errors import DescriptionError
 from linkgen.model.schema import MACHINE as MACHINE_TYPES, check as check_types
 from linkgen.model import limits
+from linkgen.model.schedule import Brake, Schedule, brake_from_dict, schedule_from_dict
 from linkgen.model.units import angular_speed, bounded, finite, parse_angle, shown
 
 MOTOR_KEYS = {
@@ -55,7 +59,7 @@ MOTOR_KEYS = {
     "dc": ("voltage", "resistance", "inductance", "torque_constant", "emf_constant"),
 }
 _MACHINE = {"rotor_inertia", "gear_ratio", "gear_efficiency", "flywheel_inertia", "start_angle", "start_speed", "duration",
-            "turns", "motor", "shaft", "process_load"}
+            "turns", "motor", "shaft", "process_load", "schedule", "brake"}
 DEFAULT_DURATION = 10.0  # s
 # No motor: free motion of the mechanism under its loads from the start state.
 FREE = "none"
@@ -105,6 +109,8 @@ class Machine:
     process_load: ProcessLoad | None = None
     start_angle: float | None = None  # rad; None: the drive's start angle
     turns: float | None = None  # the run stops after this many crank turns (either way); None: duration only
+    schedule: Schedule | None = None  # when the motor runs; None: the whole run
+    brake: Brake | None = None  # a brake on the crank; None: none
 
     def start(self, drive_start: float) -> float:
         """The crank angle at t = 0 [rad]: ``start_angle``, or the drive's start angle if not given."""
@@ -226,6 +232,12 @@ def machine_from_dict(data: dict) -> Machine | None:
         if not (np.all(np.diff(ang) > 0) and ang[-1] - ang[0] < 2 * math.pi):
             raise DescriptionError("machine.process_load.angles", "must increase and span less than one turn")
         load = ProcessLoad(tuple(ang), tuple(tq))
+    duration = _number(t, "duration", "machine", low=0.0, strict=True, default=DEFAULT_DURATION)
+    schedule = schedule_from_dict(t["schedule"], duration) if "schedule" in t else None
+    brake = brake_from_dict(t["brake"], duration) if "brake" in t else None
+    if brake is not None and "shaft" in t:
+        raise DescriptionError("machine.brake", "cannot be combined with [machine.shaft]: the brake holds the crank "
+                               "at rest, while an elastic shaft would keep the rotor moving; brake a rigid machine")
     eff = _number(t, "gear_efficiency", "machine", low=0.0, strict=True, default=1.0)
     if eff > 1.0:
         raise DescriptionError("machine.gear_efficiency", f"must be in (0, 1], got {eff!r}")
@@ -239,9 +251,11 @@ def machine_from_dict(data: dict) -> Machine | None:
         start_angle=bounded(parse_angle(t["start_angle"], "machine.start_angle"), "machine.start_angle",
                             limits.MAX_ANGLE, "rad") if "start_angle" in t else None,
         turns=_number(t, "turns", "machine", low=0.0, strict=True) if "turns" in t else None,
-        duration=_number(t, "duration", "machine", low=0.0, strict=True, default=DEFAULT_DURATION),
+        duration=duration,
         shaft=shaft,
         process_load=load,
+        schedule=schedule,
+        brake=brake,
     )
     # The motor's own top speed at the crank (a DC motor's U/(k_e·u), say) within linkgen's
     # speeds, like every other speed of the description: past it the machine's time constants

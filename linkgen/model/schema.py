@@ -18,7 +18,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from linkgen.errors import DescriptionError
-from linkgen.model.units import (FIELD_SHOWN, angular_acceleration, angular_speed, finite, length, parse_angle, point2,
+from linkgen.model.units import (FIELD_SHOWN, angular_acceleration, angular_speed, finite, length, parse_angle, point2, seconds,
                                  shown, vector2)
 
 
@@ -123,6 +123,8 @@ MACHINE = {
               "torque_constant": finite, "emf_constant": finite},
     "shaft": {"stiffness": finite, "damping": finite, "backlash": finite},
     "process_load": {"angles": Items(parse_angle), "torque": Items(finite)},
+    "schedule": {"motor_on": seconds, "motor_off": seconds},
+    "brake": {"kind": string, "torque": finite, "coefficient": finite, "from_time": seconds, "from_angle": parse_angle},
 }
 
 PLANAR = {

@@ -56,6 +56,7 @@ def parse_angle(value: object, field: str) -> float:
 # Units a description may give, each as its factor to SI.
 LENGTH_UNITS = {"m": 1.0, "cm": 1e-2, "mm": 1e-3}
 SPEED_UNITS = {"rad/s": 1.0, "rpm": 2 * math.pi / 60, "deg/s": math.pi / 180}
+TIME_UNITS = {"s": 1.0, "ms": 1e-3, "min": 60.0}
 ACCELERATION_UNITS = {"rad/s2": 1.0, "rad/s²": 1.0, "rpm/s": 2 * math.pi / 60, "deg/s2": math.pi / 180,
                       "deg/s²": math.pi / 180}
 
@@ -74,6 +75,11 @@ def _with_unit(value: object, field: str, units: dict[str, float], what: str, ex
 def length(value: object, field: str) -> float:
     """A length [m] from a number (metres) or "200mm", "20cm", "0.2m"."""
     return _with_unit(value, field, LENGTH_UNITS, "a length", "'200mm', '20cm' or '0.2m'")
+
+
+def seconds(value: object, field: str) -> float:
+    """A time [s] from a number (seconds) or "0.2s", "200ms", "1.5min"."""
+    return _with_unit(value, field, TIME_UNITS, "a time", "'0.2s', '200ms' or '1.5min'")
 
 
 def angular_speed(value: object, field: str) -> float:

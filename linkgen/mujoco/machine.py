@@ -16,6 +16,8 @@ applies their mean over the crank angles the step sweeps (predicted from the spe
 acceleration), read from a table over one turn (LOAD_GRID cells, linear between them, a
 stroke-switched force's switch angles exact; the closed-form positions at each grid angle: the
 linkage has one degree of freedom, so its loads are functions of φ alone). Gravity is MuJoCo's own.
+The motor's schedule and the brake are applied each step for the share of the step they act
+(``mujoco.machine_schedule``).
 
 Friction in the pairs ([[friction]]), which MuJoCo's frictionloss cannot model (``mujoco.friction``),
 is applied each step as a wrench: the closed form's friction (through its table,
@@ -40,6 +42,7 @@ from linkgen.machine.reduced import process_torque_function
 from linkgen.errors import SimulationError
 from linkgen.model.machine import Machine
 from linkgen.mujoco.log import no_log_file
+from linkgen.mujoco.machine_schedule import StepSwitching
 from linkgen.mujoco.mjcf import write_mjcf
 from linkgen.mujoco.options import PLACEHOLDER
 from linkgen.mujoco.settings import apply, derive, set_armature
@@ -137,6 +140,8 @@ def run_machine_mujoco(asm: Assembly, machine: Machine, t: np.ndarray, reactions
     elif mot.kind == "linear":
         model.actuator_biasprm[act, 0] = u * eta * mot.stall_torque
         model.actuator_biasprm[act, 2] = -u * u * eta * mot.stall_torque / mot.no_load_speed
+    base_bias = model.actuator_biasprm[act].copy()
+    switching = StepSwitching(machine) if machine.schedule is not None or machine.brake is not None else None
     data = mujoco.MjData(model)
     load = process_torque_function(machine.process_load)
     # the friction is not a function of φ alone: applied at each step's own state below
@@ -150,7 +155,8 @@ def run_machine_mujoco(asm: Assembly, machine: Machine, t: np.ndarray, reactions
         qpos[model.joint(ROTOR).qposadr[0]], qvel[dof] = qpos[adr], qvel[crank]
     data.qpos[:], data.qvel[:] = qpos, qvel
     current = (float(motors.dc_static_current(mot, u * machine.start_speed))
-               if motors.has_current(mot) and machine.start_speed != 0 else 0.0)
+               if motors.has_current(mot) and machine.start_speed != 0
+               and (switching is None or switching.motor_at(0.0) > 0) else 0.0)
     dt = model.opt.timestep
     t = np.asarray(t, dtype=float)
     out_t, out_phi, out_w, out_m, out_twist, out_eps = (np.empty_like(t) for _ in range(6))
@@ -176,12 +182,17 @@ def run_machine_mujoco(asm: Assembly, machine: Machine, t: np.ndarray, reactions
     while k < t.size:
         while k < t.size and t[k] <= data.time + 0.5 * dt:
             out_t[k], out_phi[k], out_w[k] = data.time, phi_c, float(data.qvel[crank])
-            out_m[k] = _motor_torque(mot, u * float(data.qvel[dof]), current)
+            on = 1.0 if switching is None else switching.motor_at(data.time)
+            out_m[k] = _motor_torque(mot, u * float(data.qvel[dof]), current) * on
             if rotor_adr is not None:
                 out_twist[k] = float(data.qpos[rotor_adr] - data.qpos[adr])
             if reactions:
+                if switching is not None:  # this instant's motor and brake
+                    model.actuator_biasprm[act] = base_bias * on
+                    brake = switching.brake_now(data.time, float(data.qvel[crank]))
                 eps, forces = _sample_forces(asm, model, data, phi_c, load, table, crank, dof, per_step,
-                                             lambda w: u * eta * _motor_torque(mot, u * w, current), fric)
+                                             lambda w: u * eta * _motor_torque(mot, u * w, current) * on,
+                                             0.0 if switching is None else brake, fric)
                 out_eps[k] = eps
                 for name, r in forces.reactions.items():
                     out_r.setdefault(name, np.empty((t.size, 2)))[k] = r
@@ -196,6 +207,15 @@ def run_machine_mujoco(asm: Assembly, machine: Machine, t: np.ndarray, reactions
             sweep = dt * w_c + (0.5 * dt * dt * float(data.qacc[crank]) if steps else 0.0)
             data.xfrc_applied[:] = table.over(phi_c, phi_c + sweep)
         w_mid = float(data.qvel[dof]) + (0.5 * dt * float(data.qacc[dof]) if steps else 0.0)
+        share, braked = 1.0, 0.0
+        if switching is not None:  # the motor's and the brake's shares of this step
+            w_c = float(data.qvel[crank])
+            a_c = float(data.qacc[crank]) if steps else 0.0
+            switching.step(data.time, dt, phi_c, dt * w_c + 0.5 * dt * dt * a_c, w_c)
+            share = switching.motor_share
+            model.actuator_biasprm[act] = base_bias * share
+            braked = switching.brake_torque(w_c + a_c * dt * (1.0 - 0.5 * switching.brake_share))
+            data.qfrc_applied[crank] += braked
         if mech.frictions:
             if table is None:
                 data.xfrc_applied[:] = 0.0
@@ -207,19 +227,22 @@ def run_machine_mujoco(asm: Assembly, machine: Machine, t: np.ndarray, reactions
             if ode is not None:  # ε from the machine's equation at this state with the last friction moment
                 red = ode.red
                 mm, _ = ode.motor(w_c, np.array([mid, w_c, current]))
-                free = float(red.moment(mid, w_c)) + u * eta * float(mm) - 0.5 * float(red.dj(mid)) * w_c * w_c
+                free = (float(red.moment(mid, w_c)) + u * eta * float(mm) * share + braked
+                        - 0.5 * float(red.dj(mid)) * w_c * w_c)
                 e_c = (free - mf_last) / (float(red.j(mid)) + machine.added_inertia)
             mf_last = _add_friction(asm, model, data, fric, mid, w_c, e_c, _split(switches, phi_c, phi_c + sweep))
         if per_step:
             i_mid = _current_after(mot, u * w_mid, current, 0.5 * dt) if motors.has_current(mot) else current
-            data.qfrc_applied[dof] += u * eta * _motor_torque(mot, u * w_mid, i_mid)
+            data.qfrc_applied[dof] += u * eta * _motor_torque(mot, u * w_mid, i_mid) * share
         mujoco.mj_step(model, data)
         steps += 1
         if progress is not None and steps % 1000 == 0 and time.perf_counter() - wall0 >= report_at:
             report_at = time.perf_counter() - wall0 + PROGRESS_EVERY
             progress(min(data.time / max(float(t[-1]), dt), 1.0), time.perf_counter() - wall0)
-        if motors.has_current(mot):
-            current = _current_after(mot, u * w_mid, current, dt)
+        if motors.has_current(mot):  # the circuit opened while the motor is off: no current
+            current = (_current_after(mot, u * w_mid, current, dt * share) if share > 0 else 0.0)
+            if switching is not None and switching.motor_at(data.time) == 0.0:
+                current = 0.0
         q = float(data.qpos[adr])
         phi_c += (q - q_prev + math.pi) % (2 * math.pi) - math.pi
         q_prev = q
@@ -243,12 +266,14 @@ def machine_timestep(asm: Assembly, machine: Machine, omega: float | None = None
 
 
 def _sample_forces(asm, model, data, phi: float, load, table, crank: int, dof: int, per_step: bool, drive,
-                   friction=None):
-    """The crank acceleration and the forces at the current state with this instant's loads."""
+                   brake: float = 0.0, friction=None):
+    """The crank acceleration and the forces at the current state with this instant's loads
+    (``brake``: the brake's moment on the crank [N·m]; ``friction``: the pairs' friction, see
+    ``_add_friction``)."""
     from linkgen.mujoco.forces import forward_forces
 
     data.qfrc_applied[:] = 0.0
-    data.qfrc_applied[crank] = -float(load(phi))
+    data.qfrc_applied[crank] = -float(load(phi)) + brake
     data.xfrc_applied[:] = 0.0 if table is None else np.asarray(table.table.at(phi)).reshape(table.shape)
     if per_step:
         data.qfrc_applied[dof] += drive(float(data.qvel[dof]))

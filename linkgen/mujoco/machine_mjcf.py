@@ -85,6 +85,18 @@ def machine_mjcf(asm: Assembly, machine: Machine) -> str:
         notes.append("the process load (a torque on the crank over its angle) is applied by linkgen each step")
     if mech.forces or mech.torques:
         notes.append("the mechanism's [[force]]/[[torque]] loads are applied by linkgen each step (xfrc_applied)")
+    if machine.schedule is not None:
+        s = machine.schedule
+        notes.append(f"the motor runs only from t = {s.motor_on:g} s" + (f" to {s.motor_off:g} s" if math.isfinite(
+            s.motor_off) else "") + ": MuJoCo has no switch; linkgen scales machine:motor by the share of each step it "
+            "runs (set its bias, or its control, to 0 outside)")
+    if machine.brake is not None:
+        b = machine.brake
+        when = f"t = {b.from_time:g} s" if b.from_time is not None else f"a crank angle of {b.from_angle:g} rad"
+        law = (f"{b.value:g} N·m against the crank's motion" if b.kind == "constant" else
+               f"{b.value:g} N·m·s/rad times the crank's speed, against it")
+        notes.append(f"the brake, {law} from {when}, is no MuJoCo element: linkgen applies it on the crank each "
+                     "step (qfrc_applied)")
     root.insert(0, etree.Comment(" machine: " + "; ".join(notes) + ". Keyframe 'start' is the machine at t = 0. "))
     return etree.tostring(root, encoding="unicode", pretty_print=True)
 
