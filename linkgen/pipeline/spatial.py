@@ -8,11 +8,15 @@ from linkgen.pipeline.family import Family
 from linkgen.pipeline.spatial_mujoco import STAGES as MUJOCO_STAGES
 
 def _angles(desc, samples: int | None = None):
-    """The default crank angle (0), or ``samples`` angles over one turn (its end excluded)."""
+    """The default crank angle (0), or ``samples`` angles over one turn (its end excluded); for
+    a prismatic input the range's start, or ``samples`` displacements over it (both ends)."""
     import math
 
     import numpy as np
 
+    if desc.drive.slides:
+        lo, hi = desc.drive.range
+        return lo if samples is None else np.linspace(lo, hi, samples)
     return 0.0 if samples is None else np.linspace(0.0, 2 * math.pi, samples, endpoint=False)
 
 

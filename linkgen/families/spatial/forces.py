@@ -66,8 +66,9 @@ class Reaction:
 
 @dataclass(frozen=True)
 class SpatialForces:
-    """Balancing torque (n,) [N·m] on the crank about its axis, the same from the power balance
-    (n,) [N·m], reactions by pair name, the number of statically indeterminate components (0:
+    """Balancing torque (n,) [N·m] on the crank about its axis (for a prismatic input the
+    balancing force [N] on the slider along its line), the same from the power balance
+    (n,) [N·m or N], reactions by pair name, the number of statically indeterminate components (0:
     all determined)."""
 
     phi: np.ndarray
@@ -187,7 +188,11 @@ def forces(mech: SpatialMechanism, phi, omega: float | None = None, epsilon: flo
     # prismatic one on the slider by the guide (Reaction)
     eye = [np.broadcast_to(v, (n, 3)) for v in np.eye(3)]
     order = {j.name: j.links for j in mech.joints}
-    pairs = [(chain.drive, *order[chain.drive], pts[chain.drive].d[0], eye, list(_square_basis(ka))),
+    if chain.input_slides:  # the input's prismatic pair: on the slider by the ground, as the output's
+        first = (chain.drive, chain.crank, GROUND, pts[chain.drive_point].d[0], list(_square_basis(ka)), eye)
+    else:
+        first = (chain.drive, *order[chain.drive], pts[chain.drive].d[0], eye, list(_square_basis(ka)))
+    pairs = [first,
              (chain.pair_a, *order[chain.pair_a], pts[chain.pair_a].d[0], eye,
               list(_square_basis(ua)) if ua is not None else []),
              (chain.pair_b, *order[chain.pair_b], pts[chain.pair_b].d[0], eye,
@@ -216,7 +221,11 @@ def forces(mech: SpatialMechanism, phi, omega: float | None = None, epsilon: flo
             columns.append(col)
         layout.append((name, on, by, start, len(fbasis), len(mbasis), fbasis, mbasis))
     drive_col = np.zeros((n, 18))
-    drive_col[:, row[chain.crank] + 3:row[chain.crank] + 6] = ka
+    if chain.input_slides:  # the driving force along the line, at the slider's point
+        drive_col[:, row[chain.crank]:row[chain.crank] + 3] = ka
+        drive_col[:, row[chain.crank] + 3:row[chain.crank] + 6] = np.cross(pts[chain.drive_point].d[0] - com[chain.crank], ka)
+    else:
+        drive_col[:, row[chain.crank] + 3:row[chain.crank] + 6] = ka
     columns.append(drive_col)
     # The pair reactions balance the d'Alembert load less the given one; the power balance is the
     # virtual work of the given and d'Alembert loads with the crank turned by δφ.

@@ -70,7 +70,38 @@ class SpatialMotion:
 
 
 def _crank_a(chain: Chain, phi: Jet) -> Jet:
+    if chain.input_slides:  # the input slider's point A moves with it along the line
+        return constant(chain.A, phi.d.shape[1]) + phi * constant(chain.ka, phi.d.shape[1])
     return constant(chain.a0, phi.d.shape[1]) + rotate(chain.ka, chain.A - chain.a0, phi - chain.phi_s)
+
+
+def _worded(exc, chain: Chain, verb: str):
+    """``exc`` (AssemblyError or SingularityError) with its input values worded for the chain's
+    input (crank angles in degrees, a slider's displacements in metres)."""
+    Exception.__init__(exc, f"group {exc.group} {verb} at {chain.input_text(exc.ranges)}: {exc.reason}")
+    return exc
+
+
+# Input values of a slider's range at which the chain is checked to assemble (the range's ends
+# included): 0.05 % of the range apart.
+RANGE_SAMPLES = 2001
+
+
+def _check_range(chain: Chain, mech: SpatialMechanism) -> None:
+    """A prismatic input's [drive] start..stop must lie where the coupler reaches the output:
+    else a DescriptionError naming the range and the displacements where it does not."""
+    s = np.linspace(*chain.input_range, RANGE_SAMPLES)
+    fail = _roots(chain, _crank_a(chain, variable(s)).value)[2]
+    if fail.any():
+        from linkgen.errors import DescriptionError
+
+        ok = s[~fail]
+        where = (f"; it assembles only at {chain.input_text(angle_ranges(s, ~fail))} of it" if ok.size
+                 else "; it assembles nowhere in it")
+        raise DescriptionError("drive.stop" if fail[-1] else "drive.start",
+                               f"the input range {chain.input_range[0]:.6g}..{chain.input_range[1]:.6g} m does not "
+                               f"assemble: the coupler cannot reach the output at {chain.input_text(angle_ranges(s, fail))}"
+                               f"{where}", mech.source)
 
 
 def _output_b(chain: Chain, q: Jet) -> Jet:
@@ -157,7 +188,10 @@ def assembled_chain(mech: SpatialMechanism) -> Chain:
     ub = chain.ub
     if ub is not None and not chain.output_slides:
         ub = rotate(chain.kb, ub, qj).value[0]
-    return replace(chain, B=b, ub=ub)
+    chain = replace(chain, B=b, ub=ub)
+    if chain.input_slides:
+        _check_range(chain, mech)
+    return chain
 
 
 def solve(mech_or_chain: SpatialMechanism | Chain, phi, chain: Chain | None = None) -> SpatialMotion:
@@ -185,17 +219,18 @@ def solve(mech_or_chain: SpatialMechanism | Chain, phi, chain: Chain | None = No
     a = _crank_a(chain, pj).value
     q1, q2, fail, scale = _roots(chain, a)
     if fail.any():
-        raise AssemblyError(label, angle_ranges(phi, fail), "the coupler cannot reach the output (the distance it must "
-                            "span leaves the range the output's point can take)")
+        raise _worded(AssemblyError(label, angle_ranges(phi, fail), "the coupler cannot reach the output (the distance "
+                                    "it must span leaves the range the output's point can take)"), chain,
+                      "cannot be assembled")
     q0 = q1 if _branch(chain) > 0 else q2
     # implicit derivatives: F's k-th derivative is F_q·q⁽ᵏ⁾ + (terms in lower derivatives)
     fq = _residual(chain, variable(phi, (0.0, 0.0, 0.0)), variable(q0)).d[1]
     den = fq / scale
     bad = ~(np.abs(den) >= SINGULAR_TOL)
     if bad.any():
-        raise SingularityError(label, angle_ranges(phi, bad),
-                               "a dead centre: the coupler is square to the output's path (|F_q| normalised "
-                               f"below {SINGULAR_TOL:g})")
+        raise _worded(SingularityError(label, angle_ranges(phi, bad),
+                                       "a dead centre: the coupler is square to the output's path (|F_q| normalised "
+                                       f"below {SINGULAR_TOL:g})"), chain, "is singular")
     qd = [q0, np.zeros(n), np.zeros(n), np.zeros(n)]
     for k in (1, 2, 3):
         rk = _residual(chain, pj, variable(qd[0], tuple(qd[1:]))).d[k]
@@ -255,7 +290,10 @@ def _frames_of(chain: Chain, pj: Jet, q: Jet, points: dict) -> tuple[dict, dict,
     n = pj.d.shape[1]
     cols = {}
     eye = np.eye(3)
-    cols[chain.crank] = [rotate(chain.ka, eye[i], pj - chain.phi_s) for i in range(3)]
+    if chain.input_slides:  # the input slider translates
+        cols[chain.crank] = [constant(eye[i], n) for i in range(3)]
+    else:
+        cols[chain.crank] = [rotate(chain.ka, eye[i], pj - chain.phi_s) for i in range(3)]
     if chain.output_slides:
         cols[chain.output] = [constant(eye[i], n) for i in range(3)]
     else:
@@ -322,7 +360,8 @@ def _motion(chain: Chain, mech: SpatialMechanism | None, phi: np.ndarray, pj: Je
                     continue
                 pts[p] = _carried(chain, mech, link.name, p, cols, pts)
     else:
-        pts[chain.drive] = constant(chain.a0, n)
+        pts[chain.drive_point] = constant(chain.a0, n) if not chain.input_slides else _crank_a(chain, pj) + (
+            chain.a0 - chain.A)
     if chain.output_slides:
         out = q
     else:
