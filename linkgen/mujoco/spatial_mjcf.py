@@ -72,8 +72,9 @@ def write_spatial_mjcf(mech: SpatialMechanism, settings: Settings | None = None,
     root = etree.Element("mujoco", model=mech.name)
     root.append(etree.Comment(
         f" linkgen spatial four-bar ({chain.kind}): timestep {settings.timestep:g} s (RK4), loop-closing connect with "
-        f"time constant {settings.timeconst:g} s, rotor inertia {settings.armature:g} kg·m² on the drive joint "
-        "that keeps the crank speed constant. " + _loads_note(mech)))
+        f"time constant {settings.timeconst:g} s, " + (f"rotor inertia {settings.armature:g} kg·m² on the drive joint "
+        "that keeps the crank speed constant" if not chain.input_slides else f"drive mass {settings.armature:g} kg "
+        "(armature) on the input's slide that keeps its speed constant") + ". " + _loads_note(mech)))
     etree.SubElement(root, "compiler", angle="radian", inertiafromgeom="false", autolimits="true")
     etree.SubElement(root, "option", timestep=repr(settings.timestep), integrator=settings.integrator,
                      solver="Newton", iterations=str(settings.iterations), tolerance=repr(settings.tolerance),
@@ -126,8 +127,8 @@ def write_spatial_mjcf(mech: SpatialMechanism, settings: Settings | None = None,
 
     zero = np.zeros(3)
     crank = body(world, chain.crank, chain.a0, zero, "mat:crank")
-    etree.SubElement(crank, "joint", name=chain.drive, type="hinge", pos="0 0 0", axis=_v(chain.ka),
-                     armature=repr(settings.armature))
+    etree.SubElement(crank, "joint", name=chain.drive, type="slide" if chain.input_slides else "hinge", pos="0 0 0",
+                     axis=_v(chain.ka), armature=repr(settings.armature))
     coupler = body(crank, chain.coupler, chain.A, chain.a0, "mat:link")
     if chain.ua is None:
         etree.SubElement(coupler, "joint", name=chain.pair_a, type="ball", pos="0 0 0")
@@ -177,7 +178,7 @@ def _loads_note(mech: SpatialMechanism) -> str:
 
 def _keyframe(root, mech: SpatialMechanism, chain: Chain) -> None:
     """Keyframe ``sketch``: the assembled sketch moving at the drive's ω (a plain viewer then
-    turns the crank, its speed servo holding ω)."""
+    turns the crank, its speed servo holding ω; a slider input moves at its velocity)."""
     from linkgen.families.spatial.kinematics import solve
 
     k = solve(mech, np.array([chain.phi_s]), chain)

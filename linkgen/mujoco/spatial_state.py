@@ -66,11 +66,12 @@ def reduced_inertia(mech: SpatialMechanism, motion: SpatialMotion) -> np.ndarray
 
 
 def phase_time(mech: SpatialMechanism, chain: Chain, omega: float) -> float:
-    """τ_phase [s]: PHASE radians of crank at |ω|; at ω = 0 PHASE of the time the mechanism
+    """τ_phase [s]: PHASE radians of crank at |ω| (a slider input: PHASE of its input unit, the
+    chain's size, at its speed); at ω = 0 PHASE of the time the mechanism
     falls by its size under gravity, √(size/|g|); with neither, PHASE of a second (nothing
     moves or loads the loop: any time constant holds it)."""
     if omega != 0.0:
-        return PHASE / abs(omega)
+        return PHASE * chain.input_unit / abs(omega)
     g = float(np.linalg.norm(mech.gravity))
     return PHASE * math.sqrt(chain.size / g) if g > 0.0 else PHASE * 1.0
 

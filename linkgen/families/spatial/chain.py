@@ -81,6 +81,12 @@ class Chain:
     input_range: tuple[float, float] = (0.0, 2 * math.pi)
     drive_point: str = ""
 
+    def input_samples(self, n: int) -> np.ndarray:
+        """``n`` input values: over a crank's turn (its end excluded), or over a slider's range
+        (both ends)."""
+        lo, hi = self.input_range
+        return np.linspace(lo, hi, n, endpoint=self.input_slides)
+
     def input_text(self, runs) -> str:
         """(first, last) input values as the user reads them: crank angles in degrees, or a
         slider's displacements in metres."""
