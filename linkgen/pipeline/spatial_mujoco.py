@@ -9,6 +9,8 @@ import numpy as np
 
 # Positions in the report's position plan of a spatial four-bar (every 30° of the crank's turn).
 PLAN_STEP_DEG = 30.0
+# Positions in the plan of a chain driven by a slider, over its range (both ends).
+PLAN_POSITIONS = 9
 
 
 def mjcf(desc, settings=None, practical: bool = False, robot=None) -> str:
@@ -46,8 +48,13 @@ def figures(desc, check, out) -> dict:
     from linkgen.draw.spatial import draw_spatial, plot_spatial_check
 
     names = [f"{check.model}_drawing.png", f"{check.model}_plan.png"]
-    draw_spatial(desc, np.array([0.0]), out / names[0])
-    draw_spatial(desc, np.radians(np.arange(0.0, 360.0, PLAN_STEP_DEG)), out / names[1])
+    if desc.drive.slides:  # a slider input: its range's start, and a plan over the range
+        lo, hi = desc.drive.range
+        draw_spatial(desc, np.array([lo]), out / names[0])
+        draw_spatial(desc, np.linspace(lo, hi, PLAN_POSITIONS), out / names[1])
+    else:
+        draw_spatial(desc, np.array([0.0]), out / names[0])
+        draw_spatial(desc, np.radians(np.arange(0.0, 360.0, PLAN_STEP_DEG)), out / names[1])
     return {"figures": names + plot_spatial_check(check, out, desc)}
 
 
@@ -69,8 +76,8 @@ def draw(desc, angles, out) -> str:
         angles = np.array([assembled_chain(desc).phi_s])
     angles = np.atleast_1d(np.asarray(angles, dtype=float))
     draw_spatial(desc, angles, out)
-    return f"{desc.name}, " + (f"position plan of {len(angles)} positions" if len(angles) > 1
-                               else f"skeleton at φ = {math.degrees(float(angles[0])):.6g}°")
+    at = (f"s = {float(angles[0]):.6g} m" if desc.drive.slides else f"φ = {math.degrees(float(angles[0])):.6g}°")
+    return f"{desc.name}, " + (f"position plan of {len(angles)} positions" if len(angles) > 1 else f"skeleton at {at}")
 
 
 def animate(desc, frames: int, progress=None, mujoco: bool = False, notice=None) -> tuple[list, str]:
@@ -83,6 +90,8 @@ def animate(desc, frames: int, progress=None, mujoco: bool = False, notice=None)
 
         raise ArgumentError("--mujoco puts MuJoCo's run beside planar linkages; for this model `linkgen render` "
                             "gives MuJoCo's frames and `linkgen validate` its run")
+    if desc.drive.slides:
+        return spatial_frames(desc, np.linspace(*desc.drive.range, frames), progress), " over the input's range"
     return spatial_frames(desc, turn_angles(frames), progress), " over one turn"
 
 
@@ -91,6 +100,9 @@ def render(desc, angle, width: int, height: int) -> tuple[np.ndarray, str]:
     posed from the closed form, and what it shows."""
     from linkgen.draw.frames import spatial_render
 
+    if desc.drive.slides:
+        s = desc.drive.range[0] if angle is None else float(angle)
+        return spatial_render(desc, s, width, height)[0], f"MuJoCo frame of {desc.name} at s = {s:.6g} m"
     phi = 0.0 if angle is None else float(angle)
     return spatial_render(desc, phi, width, height)[0], f"MuJoCo frame of {desc.name} at φ = {math.degrees(phi):.6g}°"
 
