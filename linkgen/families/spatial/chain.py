@@ -7,13 +7,16 @@ on its driven prismatic pair with the ground):
     RSSP       spherical pairs at both ends of the coupler, the output slides on a line;
     PSSR       RSSR with a slider as the input;
     PSSP       RSSP with a slider as the input;
+    RCCC       three cylindrical pairs (each turning about and sliding along its axis) after the
+               crank, on any axes (``rccc``);
     spherical  four revolutes whose axes meet at one point (the centre);
     planar     four revolutes with parallel axes;
     Bennett    four revolutes on skew axes with Bennett's conditions (opposite links equal in
                length and twist, zero offsets, a1·sin α2 = a2·sin α1).
 
 Mobility by the spatial structure formula W = 6n − 5p5 − 3p3 (n moving links; p5 revolute or
-prismatic, p3 spherical pairs). RSSR, RSSP, PSSR and PSSP give 2: one is the idle spin of the coupler about
+prismatic, p4 cylindrical, p3 spherical pairs: W = 6n − 5p5 − 4p4 − 3p3). RCCC gives 1.
+RSSR, RSSP, PSSR and PSSP give 2: one is the idle spin of the coupler about
 the line through its two spherical pairs, which moves nothing else (a slender coupler's inertia
 about that line is zero). The 4R chains give −2: three constraints repeat themselves, by the
 common centre (spherical: W = 3n − 2p5 = 1 in the spherical family), the parallel axes (planar:
@@ -31,7 +34,7 @@ from linkgen.errors import DescriptionError, StructureError, format_ranges
 from linkgen.model.names import GROUND
 from linkgen.families.spatial.description import SpatialMechanism
 
-KINDS = ("RSSR", "RSSP", "PSSR", "PSSP", "spherical", "planar", "Bennett")
+KINDS = ("RSSR", "RSSP", "PSSR", "PSSP", "RCCC", "spherical", "planar", "Bennett")
 # Geometric conditions (axes meeting, parallel, Bennett's equalities) hold to this fraction of
 # the mechanism's size (or in radians): a description written to 9 significant digits passes.
 GEOMETRY_TOL = 1e-8
@@ -188,18 +191,29 @@ def build_chain(mech: SpatialMechanism) -> Chain:
         b0, kb, pair_out = B.copy(), np.array(s.direction), s.name
     else:
         jo = ground_pairs[0]
-        if jo.kind != "revolute":
-            raise StructureError(f"{mech.name}: the output's pair with the ground, {jo.name}, must be revolute or prismatic")
+        if jo.kind not in ("revolute", "cylindrical"):
+            raise StructureError(f"{mech.name}: the output's pair with the ground, {jo.name}, must be revolute, "
+                                 "cylindrical or prismatic")
         b0, kb, pair_out = mech.point(jo.name), np.array(jo.axis), jo.name
         out_link = mech.link(output)
-        if out_link.length is not None:
+        if out_link.length is not None and jo.kind == "revolute":
             B = b0 + (B - b0) * (out_link.length / np.linalg.norm(B - b0))
     coupler_link = mech.link(coupler)
     L = coupler_link.length if coupler_link.length is not None else float(np.linalg.norm(B - A))
 
     kinds = (ja.kind, jb.kind)
     centre = ua = ub = None
-    if kinds == ("spherical", "spherical"):
+    out_kind = "prismatic" if slides_out else ground_pairs[0].kind
+    if "cylindrical" in (*kinds, out_kind) and (kinds, out_kind, slide_in) != (("cylindrical",) * 2, "cylindrical", False):
+        raise StructureError(
+            f"{mech.name}: the chain's pairs after the crank are {ja.kind} {ja.name}, {jb.kind} {jb.name}, {out_kind} "
+            f"{pair_out}; with cylindrical pairs linkgen solves the RCCC chain: a crank on a revolute, then three "
+            "cylindrical pairs")
+    if kinds == ("cylindrical", "cylindrical"):
+        ua, ub = np.array(ja.axis), np.array(jb.axis)
+        kind, formula, idle = "RCCC", 6 * 3 - 5 * 1 - 4 * 3, ""
+        _check_rccc(mech, (drive.name, ka), (ja.name, ua), (jb.name, ub), (pair_out, kb), A, B, b0, size)
+    elif kinds == ("spherical", "spherical"):
         kind = ("P" if slide_in else "R") + ("SSP" if slides_out else "SSR")
         formula, idle = 6 * 3 - 5 * 2 - 3 * 2, f"the coupler {coupler!r} spins about the line {ja.name}{jb.name}"
     elif kinds == ("revolute", "revolute") and not slides_out and not slide_in:
@@ -217,6 +231,21 @@ def build_chain(mech: SpatialMechanism) -> Chain:
     return Chain(kind, crank, coupler, output, drive.name, ja.name, jb.name, pair_out, a0, ka, ref, phi_s, A, B, L,
                  b0, kb, slides_out, centre, ua, ub, size, formula, 1, idle, slide_in, span,
                  drive.point if slide_in else drive.name)
+
+
+def _check_rccc(mech, drive, pa, pb, pout, A, B, b0, size) -> None:
+    """An RCCC's axes must let each pair do its work: the crank's A and the output's B off their
+    turning axes, no two successive axes parallel (the twist would not fix the output's turn),
+    and the pair points on their lines as the sketch gives them."""
+    pairs = [drive, pa, pb, pout]
+    for (n1, u1), (n2, u2) in zip(pairs, pairs[1:] + pairs[:1]):
+        if np.linalg.norm(np.cross(u1, u2)) < GEOMETRY_TOL:
+            raise StructureError(f"{mech.name}: the axes of {n1} and {n2} are parallel; an RCCC needs skew successive "
+                                 "axes (with parallel ones the coupler's twist does not fix the output's turn)")
+    (na, ua), (nb, ub), (_, kb) = pa, pb, pout
+    if np.linalg.norm(np.cross(B - b0, kb)) < GEOMETRY_TOL * size:
+        raise DescriptionError(f"joints.{nb}", f"point {nb} lies on the output's axis: the output cannot carry its "
+                                               "axis round")
 
 
 def _four_revolutes(mech, axes, size: float, names) -> tuple[str, np.ndarray | None]:

@@ -7,8 +7,10 @@ Each moving link is a uniform rod over its first two points (a small ball for a 
 link; ``mass``), axisymmetric about its line, so a coupler's idle spin stays zero and carries
 no load. Unknowns per pair: a revolute carries a force (3) and a moment square to its axis
 (2); a spherical pair a force (3); a prismatic pair a force square to its line (2) and a moment
-(3); the drive adds the torque about its axis. Eighteen equations (six per link) are solved for
-them at every crank angle by least squares. RSSR and RSSP have 17 unknowns and one identity (the
+(3); a cylindrical pair a force and a moment square to its axis (2 + 2); the drive adds the
+torque about its axis (a slider input: the force along its line). Eighteen equations (six per link) are solved for
+them at every crank angle by least squares. RCCC has 18 unknowns, all determined. RSSR and RSSP
+(PSSR, PSSP) have 17 unknowns and one identity (the
 moment about the coupler's line): every reaction is determined. The 4R chains (spherical, planar,
 Bennett) have 21 unknowns and rank 18: three components are statically indeterminate, and the
 minimum-norm solution is given (``Forces.indeterminate`` = 3); the balancing torque is
@@ -127,7 +129,7 @@ def applied_loads(mech: SpatialMechanism, motion: SpatialMotion) -> dict:
             continue
         force, moment = out.setdefault(f.link, (np.zeros((n, 3)), np.zeros((n, 3))))
         vec = np.where(stroke_active(f, motion.phi)[:, None], np.asarray(f.force, dtype=float), 0.0)
-        arm = motion.points[f.point].d[0] - link_body(mech, motion, f.link)[1].d[0]
+        arm = motion.at(f.link, f.point).d[0] - link_body(mech, motion, f.link)[1].d[0]
         force += vec
         moment += np.cross(arm, vec)
     for t in mech.torques:
@@ -192,15 +194,18 @@ def forces(mech: SpatialMechanism, phi, omega: float | None = None, epsilon: flo
         first = (chain.drive, chain.crank, GROUND, pts[chain.drive_point].d[0], list(_square_basis(ka)), eye)
     else:
         first = (chain.drive, *order[chain.drive], pts[chain.drive].d[0], eye, list(_square_basis(ka)))
+    # a cylindrical pair (RCCC) carries a force and a moment square to its axis, about a point of it
+    cyl = chain.kind == "RCCC"
     pairs = [first,
-             (chain.pair_a, *order[chain.pair_a], pts[chain.pair_a].d[0], eye,
+             (chain.pair_a, *order[chain.pair_a], pts[chain.pair_a].d[0], list(_square_basis(ua)) if cyl else eye,
               list(_square_basis(ua)) if ua is not None else []),
-             (chain.pair_b, *order[chain.pair_b], pts[chain.pair_b].d[0], eye,
+             (chain.pair_b, *order[chain.pair_b], pts[chain.pair_b].d[0], list(_square_basis(ub)) if cyl else eye,
               list(_square_basis(ub)) if ub is not None else [])]
     if chain.output_slides:
         pairs.append((chain.pair_out, chain.output, GROUND, pts[chain.pair_b].d[0], list(_square_basis(kb)), eye))
     else:
-        pairs.append((chain.pair_out, *order[chain.pair_out], pts[chain.pair_out].d[0], eye, list(_square_basis(kb))))
+        pairs.append((chain.pair_out, *order[chain.pair_out], pts[chain.pair_out].d[0],
+                      list(_square_basis(kb)) if cyl else eye, list(_square_basis(kb))))
     columns, rhs = [], np.zeros((n, 18))
     com = {b: loads[b][1] for b in bodies}
     layout = []

@@ -22,7 +22,7 @@ from __future__ import annotations
 
 import itertools
 import math
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -64,6 +64,13 @@ class SpatialMotion:
     spin: dict
     frames: dict
     denominator: np.ndarray
+    own: dict = field(default_factory=dict)
+    slides: dict = field(default_factory=dict)
+
+    def at(self, link: str, point: str) -> Jet:
+        """The point as ``link`` carries it: a cylindrical pair's point parts from the first
+        link's (``points``) for the later link (``own``, RCCC)."""
+        return self.own.get((link, point), self.points[point])
 
     def __repr__(self) -> str:
         return f"SpatialMotion({self.chain.kind}, {self.phi.shape[0]} angles, {len(self.points)} points)"
@@ -171,6 +178,8 @@ def assembled_chain(mech: SpatialMechanism) -> Chain:
     """The chain with its output placed exactly on the loop at the sketch's crank angle (the
     root nearest the described output point; for Bennett the one that keeps the coupler)."""
     chain = build_chain(mech)
+    if chain.kind == "RCCC":  # the sketch lies on the loop by construction (families.spatial.rccc)
+        return chain
     a = _crank_a(chain, variable(np.array([chain.phi_s]))).value
     q1, q2, fail, _ = _roots(chain, a)
     if fail[0]:
@@ -209,6 +218,16 @@ def solve(mech_or_chain: SpatialMechanism | Chain, phi, chain: Chain | None = No
     n = phi.shape[0]
     label = f"{chain.kind} [{chain.crank}, {chain.coupler}, {chain.output}]"
     pj = variable(phi)
+    if chain.kind == "RCCC":
+        from linkgen.families.spatial.rccc import solve_rccc
+
+        points, own, slides, cols, q, den = solve_rccc(chain, mech, phi, label, _worded)
+        spin = {link: (0.5 * sum(np.cross(ci.d[0], ci.d[1]) for ci in c), 0.5 * sum(np.cross(ci.d[0], ci.d[2]) for ci in c))
+                for link, c in cols.items()}
+        frames = {link: np.stack([ci.d[0] for ci in c], axis=-1) for link, c in cols.items()}
+        r = chain.B - chain.b0
+        out = q + float(angle_about(chain.kb, r - chain.kb * (chain.kb @ r)))
+        return SpatialMotion(chain, phi, points, out, q, spin, frames, den, own, slides)
     if chain.kind == "Bennett":  # Bennett's closed form: regular over the whole turn
         q, den = _bennett_turn(chain, pj)
         bad = ~(np.abs(den) >= SINGULAR_TOL)

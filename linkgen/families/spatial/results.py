@@ -101,8 +101,10 @@ def kinematics(mech, phi, omega=None, epsilon=None, *, on_singular: str = "raise
     def s(x):
         return shaped(x, scalar)
 
+    # a cylindrical pair's point as its later link carries it (RCCC) is "POINT:LINK", as in the MJCF
+    jets = k.points | {f"{p}:{link}": jet for (link, p), jet in k.own.items() if link != c.crank or p != c.drive_point}
     points = {n: PointMotion(*(s(x) for x in (*jet_motion(jet, w, e), jet.d[1], jet.d[2], jet.d[3])))
-              for n, jet in k.points.items()}
+              for n, jet in jets.items()}
     n = phis.shape[0]
     # The crank turns with φ itself: dφ/dφ = 1, higher transfer functions 0.
     crank = (SlideMotion if c.input_slides else AngleMotion)(
@@ -112,6 +114,8 @@ def kinematics(mech, phi, omega=None, epsilon=None, *, on_singular: str = "raise
     # a slider as the input is listed under its pair's name, as a sliding output
     links = ({} if c.input_slides else {c.crank: crank}) | ({} if c.output_slides else {c.output: out})
     sliders = ({c.drive: crank} if c.input_slides else {}) | ({c.pair_out: out} if c.output_slides else {})
+    sliders |= {pair: SlideMotion(*(s(x) for x in (*jet_motion(jet, w, e), jet.d[1], jet.d[2], jet.d[3])))
+                for pair, jet in k.slides.items()}  # each cylindrical pair's slide (RCCC)
     return SpatialKinematics(mech.name, c.kind, float(phis[0]) if scalar else phis, w, e, points, links, sliders)
 
 

@@ -45,10 +45,14 @@ def structure(mech) -> SpatialStructure:
              f"{c.coupler!r}, output {c.output!r} ({'sliding on' if c.output_slides else 'turning about'} its pair "
              f"{c.pair_out!r})"]
     spherical = sum(1 for j in mech.joints if j.kind == "spherical")
-    lower = len(mech.joints) + len(mech.slides) - spherical
-    lines.append(f"mobility by the spatial formula W = 6·n − 5·p5 − 3·p3 = 6·3 − 5·{lower} − 3·{spherical} = "
-                 f"{c.mobility_formula}")
-    if c.idle:
+    cylindrical = sum(1 for j in mech.joints if j.kind == "cylindrical")
+    lower = len(mech.joints) + len(mech.slides) - spherical - cylindrical
+    lines.append(f"mobility by the spatial formula W = 6·n − 5·p5 − 4·p4 − 3·p3 = 6·3 − 5·{lower} − 4·{cylindrical} − "
+                 f"3·{spherical} = {c.mobility_formula}")
+    if c.kind == "RCCC":
+        lines.append("no idle freedom and no repeated constraint: the coupler keeps the twist and the distance of its "
+                     "two axes, which fix the output's turn and slide")
+    elif c.idle:
         lines.append(f"idle freedom: {c.idle} (moves no other point); the mechanism's mobility is {c.mobility}")
     else:
         why = {"spherical": "all axes meet at one point: the spherical family, W = 3·n − 2·p5 = 3·3 − 2·4 = 1",
@@ -58,6 +62,9 @@ def structure(mech) -> SpatialStructure:
         lines.append(f"overconstrained: {why}")
     lines.append("pairs: " + ", ".join(f"{j.kind} {j.name} [{j.links[0]}, {j.links[1]}]" for j in mech.joints)
                  + "".join(f", prismatic {s.name} [{s.guide}, {s.slider}]" for s in mech.slides))
+    if c.kind == "RCCC":
+        lines.append("a cylindrical pair's point belongs to its first link (A: the crank's, B: the coupler's); the later "
+                     "link's copy, which slides along the axis, is named POINT:LINK")
     lines.append(_assembly_range(mech, c))
     return SpatialStructure(mech.name, int(c.mobility), c.crank, c.drive, c.kind, c.coupler, c.output, c.pair_out,
                             tuple(lines))
