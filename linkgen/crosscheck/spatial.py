@@ -34,7 +34,8 @@ from linkgen.families.spatial.jets import motion as jet_motion
 from linkgen.families.spatial.kinematics import assembled_chain, solve
 from linkgen.mujoco.spatial_mjcf import DRIVE_ACTUATOR, write_spatial_mjcf
 from linkgen.mujoco.spatial_loads import loads_at_state, loads_while_stepping
-from linkgen.mujoco.spatial_state import SCAN, derive_settings, joint_state
+from linkgen.mujoco.spatial_mjcf import closing_body
+from linkgen.mujoco.spatial_state import SCAN, derive_settings, joint_state, loop_name
 
 # The run starts this many crank radians before the compared revolution, from the closed-form
 # state: the loop's transient from the start (a few time constants τ = PHASE/ω, i.e. a few
@@ -213,13 +214,26 @@ def _after_switches(mech, chain, model, states, settings, scales, w0) -> tuple[l
     return [s for s, h in zip(states, hit) if not h], note
 
 
+def _halves_apart(mech, chain, model, d) -> float:
+    """The largest distance [m] between an RCCC output's points as its two welded halves carry
+    them (the half on the ground's pair from B0, the coupler's from B)."""
+    g, o = model.body(closing_body(chain)).id, model.body(chain.output).id
+    return max(float(np.linalg.norm(d.xpos[g] + d.xmat[g].reshape(3, 3) @ (x - chain.B)
+                                    - d.xpos[o] - d.xmat[o].reshape(3, 3) @ (x - chain.b0)))
+               for x in [mech.point(p) for p in mech.link(chain.output).points if p != chain.pair_b] + [chain.B])
+
+
 def _compare(mech, chain, model, states, w0, settings):
     d = mujoco.MjData(model)
     m = len(states)
     crank = model.joint(chain.drive)
-    eq = model.equality(chain.pair_b).id
+    eq = model.equality(loop_name(chain)).id
+    cyl = chain.kind == "RCCC"  # the loop closes by a weld: 3 translation rows, then 3 rotation rows
     g = np.array(mech.gravity)
     names = [p for p in mech.points if p not in mech.link("ground").points]
+    cf0 = solve(mech, np.array([chain.phi_s]), chain)
+    copies = {f"{p}:{link}": (link, p) for link, p in cf0.own}  # a cylindrical pair's later copy (RCCC)
+    names += list(copies)
     mj = {p: np.zeros((m, 3, 3)) for p in names}
     phi, om, ep, gap, torque = (np.zeros(m) for _ in range(5))
     react = {k: np.zeros((m, 3)) for k in (chain.drive, chain.pair_a, chain.pair_b, chain.pair_out)}
@@ -237,7 +251,9 @@ def _compare(mech, chain, model, states, w0, settings):
         om[k], ep[k] = qvel[crank.dofadr[0]], d.qacc[crank.dofadr[0]]
         torque[k] = d.actuator(DRIVE_ACTUATOR).force[0] - settings.armature * ep[k]
         rows = np.flatnonzero((d.efc_type == mujoco.mjtConstraint.mjCNSTR_EQUALITY) & (d.efc_id == eq))
-        gap[k] = float(np.linalg.norm(d.efc_pos[rows]))
+        # the gap across the closing pair: the connect's distance, or (an RCCC's weld) the farthest apart
+        # the output's two halves put its points
+        gap[k] = _halves_apart(mech, chain, model, d) if cyl else float(np.linalg.norm(d.efc_pos[rows]))
         for p in names:
             sid = model.site(p).id
             mujoco.mj_objectVelocity(model, d, mujoco.mjtObj.mjOBJ_SITE, sid, r6, 0)
@@ -251,15 +267,21 @@ def _compare(mech, chain, model, states, w0, settings):
         if chain.input_slides:  # a slide passes the drive's force along its line: the pair's reaction is the rest
             react[chain.drive][k] -= torque[k] * chain.ka
         react[chain.pair_a][k] = d.cfrc_int[model.body(chain.coupler).id, 3:]
-        react[chain.pair_b][k] = -d.efc_force[rows]  # the connect's force on the coupler, reversed
+        if cyl:  # the coupler's force on the output's half it carries, through B's hinge and slide
+            react[chain.pair_b][k] = d.cfrc_int[model.body(closing_body(chain)).id, 3:]
+        else:
+            react[chain.pair_b][k] = -d.efc_force[rows]  # the connect's force on the coupler, reversed
         react[chain.pair_out][k] = d.cfrc_int[model.body(chain.output).id, 3:]
     cf = solve(mech, phi, chain)
     size, unit = chain.size, chain.input_unit
     rate = w0 / unit  # the input's rate in its own unit per second: ω, or a slider's v / size
     acc_scale = size * (rate**2 + float(np.abs(ep).max()) / unit) + float(np.linalg.norm(g))
     errors = {}
+    def jet_of(p):
+        return cf.at(*copies[p]) if p in copies else cf.points[p]
+
     for p in names:
-        pos, vel, acc, _ = jet_motion(cf.points[p], om, ep)
+        pos, vel, acc, _ = jet_motion(jet_of(p), om, ep)
         for i, (what, ref, scale) in enumerate((("position", pos, size), ("velocity", vel, size * rate),
                                                 ("acceleration", acc, acc_scale))):
             errors[f"points.{p}.{what}"] = (float(np.abs(mj[p][:, i] - ref).max()) / scale, REL_TOL)
@@ -291,12 +313,12 @@ def _compare(mech, chain, model, states, w0, settings):
     fi = forces(mech, phi_i, w0, mech.drive.epsilon)
     ti_scale = float(np.abs(fi.balancing_torque).max()) or 1.0
     errors["inverse.balancing_torque"] = (float(np.abs(t_inv - fi.balancing_torque).max()) / ti_scale, INVERSE_TOL)
-    if fc.indeterminate == 0:
+    if fc.indeterminate == 0 and not cyl:  # an RCCC's weld carries half the output's inertia as well: not B's force
         fb = fi.reactions[chain.pair_b].force_on(chain.output)
         errors[f"inverse.reactions.{chain.pair_b}.force"] = (
             float(np.abs(lam_inv - fb).max()) / (float(np.abs(fb).max()) or 1.0), INVERSE_TOL)
     samples = {"phi": phi, "omega": om, "epsilon": ep, "gap": gap, "torque": torque, "closed_torque": fc.balancing_torque,
-               "points": mj, "closed": {p: jet_motion(cf.points[p], om, ep) for p in names}}
+               "points": mj, "closed": {p: jet_motion(jet_of(p), om, ep) for p in names}}
     return errors, float(gap.max()) / size, note, samples
 
 

@@ -212,7 +212,7 @@ def build_chain(mech: SpatialMechanism) -> Chain:
     if kinds == ("cylindrical", "cylindrical"):
         ua, ub = np.array(ja.axis), np.array(jb.axis)
         kind, formula, idle = "RCCC", 6 * 3 - 5 * 1 - 4 * 3, ""
-        _check_rccc(mech, (drive.name, ka), (ja.name, ua), (jb.name, ub), (pair_out, kb), A, B, b0, size)
+        _check_rccc(mech, (drive.name, ka), (ja.name, ua), (jb.name, ub), (pair_out, kb))
     elif kinds == ("spherical", "spherical"):
         kind = ("P" if slide_in else "R") + ("SSP" if slides_out else "SSR")
         formula, idle = 6 * 3 - 5 * 2 - 3 * 2, f"the coupler {coupler!r} spins about the line {ja.name}{jb.name}"
@@ -233,19 +233,14 @@ def build_chain(mech: SpatialMechanism) -> Chain:
                  drive.point if slide_in else drive.name)
 
 
-def _check_rccc(mech, drive, pa, pb, pout, A, B, b0, size) -> None:
-    """An RCCC's axes must let each pair do its work: the crank's A and the output's B off their
-    turning axes, no two successive axes parallel (the twist would not fix the output's turn),
-    and the pair points on their lines as the sketch gives them."""
+def _check_rccc(mech, drive, pa, pb, pout) -> None:
+    """No two successive axes of an RCCC may be parallel: the crank would not turn A's axis, or
+    the coupler's twist would not fix the output's turn."""
     pairs = [drive, pa, pb, pout]
     for (n1, u1), (n2, u2) in zip(pairs, pairs[1:] + pairs[:1]):
         if np.linalg.norm(np.cross(u1, u2)) < GEOMETRY_TOL:
             raise StructureError(f"{mech.name}: the axes of {n1} and {n2} are parallel; an RCCC needs skew successive "
                                  "axes (with parallel ones the coupler's twist does not fix the output's turn)")
-    (na, ua), (nb, ub), (_, kb) = pa, pb, pout
-    if np.linalg.norm(np.cross(B - b0, kb)) < GEOMETRY_TOL * size:
-        raise DescriptionError(f"joints.{nb}", f"point {nb} lies on the output's axis: the output cannot carry its "
-                                               "axis round")
 
 
 def _four_revolutes(mech, axes, size: float, names) -> tuple[str, np.ndarray | None]:
