@@ -133,7 +133,7 @@ def test_the_loads_torque_is_their_virtual_work(path):
     scale = 0.0
     for f in force:
         on = np.ones(phi.shape, bool) if "stroke" not in f else (np.mod(phi - LO, 2 * np.pi) <= HI - LO)
-        dp = (plus.points[f["point"]].d[0] - minus.points[f["point"]].d[0]) / (2 * H)
+        dp = (plus.at(f["link"], f["point"]).d[0] - minus.at(f["link"], f["point"]).d[0]) / (2 * H)
         expected -= on * (dp @ np.array(f["force"]))
         scale += np.linalg.norm(f["force"]) * here.chain.size
     for t in torque:
