@@ -69,6 +69,8 @@ def test_mujoco_agrees_with_the_closed_form(spatial):
         assert sum(k.startswith("reactions.") for k in r.errors) == 4
     else:
         assert "indeterminate" in r.note
+    if r.kind == "RCCC":  # the later links' copies of the cylindrical pairs' points are compared too
+        assert {"points.A:coupler.position", "points.B:output.position", "points.B0:output.position"} <= set(r.errors)
 
 
 def test_keyframe_turns_the_crank_at_omega(spatial):
