@@ -130,8 +130,8 @@ def _pose(view, mech, chain, motion, i, colors, travel, alpha):
     """Sample i: bars, slider, pairs; the first (solid) one also with guide, centre lines, supports, names."""
     s, at, first, bars_at = view.span, {p: j.d[0][i] for p, j in motion.points.items()}, alpha == 1, {p: [] for p in mech.points}
     for l in mech.links:
-        for q in l.points[1:] if l.name != GROUND else ():
-            a, b = at[l.points[0]], at[q]
+        for q in l.points[1:] if l.name != GROUND else ():  # each link's own copy of its points (RCCC's part)
+            a, b = motion.at(l.name, l.points[0]).d[0][i], motion.at(l.name, q).d[0][i]
             bars_at[l.points[0]].append(b), bars_at[q].append(a)
             view.line(np.array([a, b]), avoid=first, color=colors[l.name], lw=3.4 if first else 2.2, alpha=alpha,
                       solid_capstyle="round", zorder=3)
@@ -223,6 +223,7 @@ def draw_spatial(mech, angles, out: Path) -> Path:
     handles = [Line2D([], [], color=colors[l.name], lw=3, label=l.name) for l in mech.links if l.name != GROUND] + [
         Line2D([], [], ls="none", marker=m, ms=8, mfc=fc, mec=INK, mew=1.4 if m == "+" else 1, label=t) for kind, m, fc, t in (
             ("spherical", "o", "0.82", "spherical pair"), ("revolute", "s", "white", "revolute pair (along its axis)"),
+            ("cylindrical", "s", "white", "cylindrical pair (along its axis)"),
             ("ground", "^", "white", "ground pivot"), ("centre", "+", INK, "centre O and its sphere")) if kind in kinds]
     handles += views[0].ax.get_legend_handles_labels()[0]
     fig.legend(handles=handles, loc="outside lower center", ncol=min(len(handles), 5), fontsize=8, frameon=False)
