@@ -34,7 +34,7 @@ from linkgen.families.spatial.jets import motion as jet_motion
 from linkgen.families.spatial.kinematics import assembled_chain, solve
 from linkgen.mujoco.spatial_mjcf import DRIVE_ACTUATOR, write_spatial_mjcf
 from linkgen.mujoco.spatial_loads import loads_at_state, loads_while_stepping
-from linkgen.mujoco.spatial_mjcf import closing_body
+from linkgen.mujoco.spatial_names import closing_body
 from linkgen.mujoco.spatial_state import SCAN, derive_settings, joint_state, loop_name
 
 # The run starts this many crank radians before the compared revolution, from the closed-form

@@ -29,6 +29,7 @@ from linkgen.families.spatial.description import SpatialMechanism
 from linkgen.families.spatial.kinematics import assembled_chain
 from linkgen.families.spatial.mass import ROD_RADIUS, rod_inertia
 from linkgen.families.spatial.travel import full_turn, slide_travel
+from linkgen.mujoco.spatial_names import closing_body, slide_joint
 
 DRIVE_ACTUATOR = "drive:motor"
 # Geom sizes as fractions of the mechanism's size.
@@ -176,25 +177,6 @@ def write_spatial_mjcf(mech: SpatialMechanism, settings: Settings | None = None,
     _keyframe(root, mech, chain)
     etree.indent(root, space="  ")
     return etree.tostring(root, pretty_print=True, encoding="unicode")
-
-
-def slide_joint(pair: str) -> str:
-    """The slide joint of a cylindrical pair (its hinge takes the pair's own name)."""
-    return f"{pair}:slide"
-
-
-def weld_lever(mech: SpatialMechanism, chain: Chain) -> float:
-    """The farthest point of an RCCC's output from the weld's anchor (the output's origin B0)
-    [m]: a turn ε across the weld parts the two halves' copies of the output's points by up
-    to ε times this."""
-    return max(float(np.linalg.norm(mech.point(p) - chain.b0)) for p in mech.link(chain.output).points
-               if p != chain.pair_b) if chain.kind == "RCCC" else 0.0
-
-
-def closing_body(chain: Chain) -> str:
-    """The RCCC output's half carried by the coupler on B's pair, welded to the other half (the
-    weld takes its name too)."""
-    return f"{chain.output}:{chain.pair_b}"
 
 
 def _guides(world, mech: SpatialMechanism, chain: Chain, block_half: float) -> None:

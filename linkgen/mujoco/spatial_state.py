@@ -18,7 +18,7 @@ from linkgen.families.spatial.kinematics import SpatialMotion
 from linkgen.families.spatial.forces import check_line_moments
 from linkgen.families.spatial.mass import link_body
 from linkgen.mujoco.spatial_loads import loads_at_state
-from linkgen.mujoco.spatial_mjcf import weld_lever
+from linkgen.mujoco.spatial_names import closing_body, slide_joint, weld_lever
 
 # Crank angles scanned for the peak reduced inertia and loop force.
 SCAN = 73
@@ -36,8 +36,6 @@ def cylinder_state(model: mujoco.MjModel, chain: Chain, motion: SpatialMotion, k
     each cylindrical pair's hinge (the relative turn about its axis: q′ = (Ω′_C − Ω′_P)·u,
     q″ = (Ω″_C − Ω″_P)·u + (Ω′_C − Ω′_P)·(Ω′_P × u), the axis u carried by the parent P) and
     slide (the pair's slide jet)."""
-    from linkgen.mujoco.spatial_mjcf import slide_joint
-
     qpos, qvel, qacc = np.zeros(model.nq), np.zeros(model.nv), np.zeros(model.nv)
     fr, sp = motion.frames, motion.spin
     j = model.joint(chain.drive)
@@ -90,8 +88,6 @@ def joint_state(model: mujoco.MjModel, chain: Chain, motion: SpatialMotion, k: i
 
 def loop_name(chain: Chain) -> str:
     """The equality that closes the loop: the connect at B, or an RCCC's weld."""
-    from linkgen.mujoco.spatial_mjcf import closing_body
-
     return closing_body(chain) if chain.kind == "RCCC" else chain.pair_b
 
 
