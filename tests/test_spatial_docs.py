@@ -6,6 +6,7 @@ import tomllib
 from pathlib import Path
 
 from linkgen.families.spatial import description as d
+from linkgen.families.spatial import drive
 from linkgen.families.spatial import loads
 from linkgen.families.spatial.description import spatial_from_dict
 
@@ -52,7 +53,7 @@ def test_the_slider_input_fragment_loads():
 
 
 def test_every_allowed_key_is_documented():
-    for table in (d._MECH, d._LINK, d._JOINT, d._PRISMATIC, d._DRIVE, d._SLIDE_DRIVE, loads._FORCE, loads._TORQUE):
+    for table in (d._MECH, d._LINK, d._JOINT, d._PRISMATIC, drive._DRIVE, drive._SLIDE_DRIVE, loads._FORCE, loads._TORQUE):
         for key in table:
             assert re.search(rf"^{key} =", PAGE, flags=re.M), key
 

@@ -90,6 +90,12 @@ class Chain:
         lo, hi = self.input_range
         return np.linspace(lo, hi, n, endpoint=self.input_slides)
 
+    def worded(self, exc, verb: str):
+        """``exc`` (AssemblyError or SingularityError) with its input values worded for this
+        chain's input (crank angles in degrees, a slider's displacements in metres)."""
+        Exception.__init__(exc, f"group {exc.group} {verb} at {self.input_text(exc.ranges)}: {exc.reason}")
+        return exc
+
     def input_text(self, runs) -> str:
         """(first, last) input values as the user reads them: crank angles in degrees, or a
         slider's displacements in metres."""

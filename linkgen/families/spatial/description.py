@@ -41,7 +41,8 @@ from linkgen.model import limits
 from linkgen.model.defaults import DEFAULT_BLOCK_MASS, DEFAULT_DENSITY
 from linkgen.model.names import GROUND, check_name
 from linkgen.model.schema import SPATIAL, check as check_types
-from linkgen.model.units import angular_acceleration, angular_speed, bounded, finite, length, shown
+from linkgen.model.units import bounded, finite, length, shown
+from linkgen.families.spatial.drive import Drive3, read_drive
 from linkgen.families.spatial.loads import LinkTorque3, PointForce3, read_loads
 
 _TOP = {"mechanism", "points", "links", "joints", "prismatic", "drive", "force", "torque"}
@@ -49,8 +50,6 @@ _MECH = {"name", "title", "space", "gravity"}
 _LINK = {"points", "length", "mass", "density"}
 _JOINT = {"kind", "axis"}
 _PRISMATIC = {"slider", "guide", "point", "direction"}
-_DRIVE = {"joint", "omega", "epsilon"}
-_SLIDE_DRIVE = {"joint", "velocity", "acceleration", "start", "stop"}
 JOINT_KINDS = ("revolute", "cylindrical", "spherical")
 # A direction shorter than this (relative to its largest component's scale) has no direction.
 MIN_DIRECTION = 1e-12
@@ -89,20 +88,6 @@ class Slide3:
     guide: str
     point: str
     direction: tuple[float, float, float]
-
-
-@dataclass(frozen=True)
-class Drive3:
-    """The driven pair and the input's rate ``omega`` and its constant derivative ``epsilon``:
-    a crank's ω [rad/s] and ε [rad/s²], or for a prismatic input (``slides``) the slider's
-    velocity [m/s] and acceleration [m/s²] ([drive] velocity, acceleration) over ``range``
-    (start, stop) [m]."""
-
-    joint: str
-    omega: float
-    epsilon: float = 0.0
-    slides: bool = False
-    range: tuple[float, float] | None = None
 
 
 @dataclass(frozen=True)
@@ -256,7 +241,7 @@ def _from_dict(data: Mapping, source: str | None) -> SpatialMechanism:
             raise DescriptionError(f"{where}.direction", "missing: the line's direction [x, y, z]")
         slides.append(Slide3(sname, slider, guide, point, _direction(st["direction"], f"{where}.direction")))
 
-    drive = _drive(_table(data.get("drive", {}), "drive"), joints, slides)
+    drive = read_drive(_table(data.get("drive", {}), "drive"), joints, slides)
     point_forces, torques = read_loads(dict(data), {l.name: l.points for l in links})
     if drive.slides:  # a stroke is a range of crank angles: a slider's input has none
         for i, f in enumerate(point_forces):
@@ -265,45 +250,6 @@ def _from_dict(data: Mapping, source: str | None) -> SpatialMechanism:
                                                              f"({drive.joint}) there is none: remove it")
     return SpatialMechanism(name, title, MappingProxyType(points), links, tuple(joints), tuple(slides),
                             drive, gravity, source, point_forces, torques)
-
-
-def _drive(drive_t: dict, joints: list, slides: list) -> Drive3:
-    """[drive]: a revolute between ground and the crank, or a prismatic pair between ground and
-    the input slider with its range."""
-    dj = drive_t.get("joint")
-    inputs = [s for s in slides if s.guide == GROUND]
-    if dj in [s.name for s in inputs]:
-        _keys(drive_t, _SLIDE_DRIVE, "drive")
-        for key in ("velocity", "start", "stop"):
-            if key not in drive_t:
-                raise DescriptionError(f"drive.{key}", "missing: a prismatic input needs " + {
-                    "velocity": "the slider's velocity [m/s]",
-                    "start": "the start of its range [m] (the slider's displacement from its sketch position)",
-                    "stop": "the end of its range [m] (the slider's displacement from its sketch position)"}[key])
-        v = bounded(finite(drive_t["velocity"], "drive.velocity"), "drive.velocity", limits.MAX_OMEGA, "m/s")
-        a = bounded(finite(drive_t.get("acceleration", 0.0), "drive.acceleration"), "drive.acceleration",
-                    limits.MAX_EPSILON, "m/s²")
-        lo = bounded(length(drive_t["start"], "drive.start"), "drive.start", limits.MAX_LENGTH, "m")
-        hi = bounded(length(drive_t["stop"], "drive.stop"), "drive.stop", limits.MAX_LENGTH, "m")
-        if not hi > lo:
-            raise DescriptionError("drive.stop", f"must be greater than drive.start ({lo:g} m), got {shown(drive_t['stop'])}")
-        return Drive3(dj, v, a, True, (lo, hi))
-    _keys(drive_t, _DRIVE, "drive")
-    revolutes = [j.name for j in joints if j.kind == "revolute" and GROUND in j.links]
-    if dj not in revolutes:
-        other = next((j for j in joints if j.name == dj), None)
-        if other is not None and other.kind != "revolute" and GROUND in other.links:
-            raise DescriptionError(f"joints.{dj}.kind", f"the driven pair {dj!r} must be a revolute with its axis (the "
-                                                        f"crank turns about it), got {other.kind!r}")
-        pairs = revolutes + [s.name for s in inputs]
-        raise DescriptionError("drive.joint", f"must be a revolute or prismatic pair with the ground "
-                                              f"({', '.join(pairs) or 'none'}), got {shown(dj)}")
-    if "omega" not in drive_t:
-        raise DescriptionError("drive.omega", "missing: the crank speed (rad/s, or '120rpm')")
-    omega = bounded(angular_speed(drive_t["omega"], "drive.omega"), "drive.omega", limits.MAX_OMEGA, "rad/s")
-    epsilon = bounded(angular_acceleration(drive_t.get("epsilon", 0.0), "drive.epsilon"), "drive.epsilon",
-                      limits.MAX_EPSILON, "rad/s²")
-    return Drive3(dj, omega, epsilon)
 
 
 def _link(name: str, t: dict, points: dict) -> Link3:

@@ -22,7 +22,7 @@ from __future__ import annotations
 
 import itertools
 import math
-from dataclasses import dataclass, field, replace
+from dataclasses import replace
 
 import numpy as np
 
@@ -31,6 +31,7 @@ from linkgen.model.names import GROUND
 from linkgen.families.spatial.chain import Chain, angle_about, build_chain, common_normal
 from linkgen.families.spatial.description import SpatialMechanism
 from linkgen.families.spatial.jets import Jet, constant, rotate, variable
+from linkgen.families.spatial.motion import SpatialMotion
 
 # The same rule as the planar groups (linkgen.families.planar.groups.SINGULAR_TOL): F_q normalised to
 # [-1, 1] (2·L·r for a turning output, 2·L for a slider) below this is a dead centre, where the
@@ -44,49 +45,10 @@ ON_LINE_TOL = 1e-9
 BENNETT_SKETCH_TOL = 1e-6
 
 
-@dataclass(frozen=True)
-class SpatialMotion:
-    """Positions and transfer functions over crank angles ``phi`` (n,) [rad].
-
-    ``points[name]``: a vector Jet (4, n, 3) [m, m/rad, m/rad², m/rad³]; ``output``: a scalar
-    Jet, the output's absolute angle about its axis [rad] or its travel from the sketch [m];
-    ``turn``: the output's turn from its sketch (ψ or s) as a Jet; ``spin[link]``: the link's
-    angular velocity and its derivative per unit crank rate, each (n, 3) [rad/rad, rad/rad²]
-    (a coupler between two spherical pairs without spin about its own line); ``frames[link]``:
-    rotation matrices (n, 3, 3) from the sketch pose; ``denominator``: normalised F_q (n,) (for
-    Bennett, the closure's normalised denominator, see ``_bennett_turn``)."""
-
-    chain: Chain
-    phi: np.ndarray
-    points: dict
-    output: Jet
-    turn: Jet
-    spin: dict
-    frames: dict
-    denominator: np.ndarray
-    own: dict = field(default_factory=dict)
-    slides: dict = field(default_factory=dict)
-
-    def at(self, link: str, point: str) -> Jet:
-        """The point as ``link`` carries it: a cylindrical pair's point parts from the first
-        link's (``points``) for the later link (``own``, RCCC)."""
-        return self.own.get((link, point), self.points[point])
-
-    def __repr__(self) -> str:
-        return f"SpatialMotion({self.chain.kind}, {self.phi.shape[0]} angles, {len(self.points)} points)"
-
-
 def _crank_a(chain: Chain, phi: Jet) -> Jet:
     if chain.input_slides:  # the input slider's point A moves with it along the line
         return constant(chain.A, phi.d.shape[1]) + phi * constant(chain.ka, phi.d.shape[1])
     return constant(chain.a0, phi.d.shape[1]) + rotate(chain.ka, chain.A - chain.a0, phi - chain.phi_s)
-
-
-def _worded(exc, chain: Chain, verb: str):
-    """``exc`` (AssemblyError or SingularityError) with its input values worded for the chain's
-    input (crank angles in degrees, a slider's displacements in metres)."""
-    Exception.__init__(exc, f"group {exc.group} {verb} at {chain.input_text(exc.ranges)}: {exc.reason}")
-    return exc
 
 
 # Input values of a slider's range at which the chain is checked to assemble (the range's ends
@@ -221,13 +183,7 @@ def solve(mech_or_chain: SpatialMechanism | Chain, phi, chain: Chain | None = No
     if chain.kind == "RCCC":
         from linkgen.families.spatial.rccc import solve_rccc
 
-        points, own, slides, cols, q, den = solve_rccc(chain, mech, phi, label, _worded)
-        spin = {link: (0.5 * sum(np.cross(ci.d[0], ci.d[1]) for ci in c), 0.5 * sum(np.cross(ci.d[0], ci.d[2]) for ci in c))
-                for link, c in cols.items()}
-        frames = {link: np.stack([ci.d[0] for ci in c], axis=-1) for link, c in cols.items()}
-        r = chain.B - chain.b0
-        out = q + float(angle_about(chain.kb, r - chain.kb * (chain.kb @ r)))
-        return SpatialMotion(chain, phi, points, out, q, spin, frames, den, own, slides)
+        return solve_rccc(chain, mech, phi, label)
     if chain.kind == "Bennett":  # Bennett's closed form: regular over the whole turn
         q, den = _bennett_turn(chain, pj)
         bad = ~(np.abs(den) >= SINGULAR_TOL)
@@ -238,18 +194,17 @@ def solve(mech_or_chain: SpatialMechanism | Chain, phi, chain: Chain | None = No
     a = _crank_a(chain, pj).value
     q1, q2, fail, scale = _roots(chain, a)
     if fail.any():
-        raise _worded(AssemblyError(label, angle_ranges(phi, fail), "the coupler cannot reach the output (the distance "
-                                    "it must span leaves the range the output's point can take)"), chain,
-                      "cannot be assembled")
+        raise chain.worded(AssemblyError(label, angle_ranges(phi, fail), "the coupler cannot reach the output (the "
+                                         "distance it must span leaves the range the output's point can take)"),
+                           "cannot be assembled")
     q0 = q1 if _branch(chain) > 0 else q2
     # implicit derivatives: F's k-th derivative is F_q·q⁽ᵏ⁾ + (terms in lower derivatives)
     fq = _residual(chain, variable(phi, (0.0, 0.0, 0.0)), variable(q0)).d[1]
     den = fq / scale
     bad = ~(np.abs(den) >= SINGULAR_TOL)
     if bad.any():
-        raise _worded(SingularityError(label, angle_ranges(phi, bad),
-                                       "a dead centre: the coupler is square to the output's path (|F_q| normalised "
-                                       f"below {SINGULAR_TOL:g})"), chain, "is singular")
+        raise chain.worded(SingularityError(label, angle_ranges(phi, bad), "a dead centre: the coupler is square to "
+                                            f"the output's path (|F_q| normalised below {SINGULAR_TOL:g})"), "is singular")
     qd = [q0, np.zeros(n), np.zeros(n), np.zeros(n)]
     for k in (1, 2, 3):
         rk = _residual(chain, pj, variable(qd[0], tuple(qd[1:]))).d[k]

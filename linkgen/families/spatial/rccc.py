@@ -33,8 +33,9 @@ import numpy as np
 
 from linkgen.errors import AssemblyError, SingularityError, angle_ranges
 from linkgen.model.names import GROUND
-from linkgen.families.spatial.chain import Chain
+from linkgen.families.spatial.chain import Chain, angle_about
 from linkgen.families.spatial.jets import Jet, constant, rotate, variable
+from linkgen.families.spatial.motion import SpatialMotion
 
 # The normalised denominators below this are a dead centre (the other kinds' rule).
 SINGULAR_TOL = 1e-4
@@ -79,17 +80,17 @@ def _frame(u1: Jet, u2: Jet) -> list[Jet]:
     return [u1, x, u1.cross(x)]
 
 
-def solve_rccc(chain: Chain, mech, phi: np.ndarray, label: str, worded):
-    """(points, own, slides, cols, output angle θ Jet, normalised denominator) at crank angles
-    ``phi`` (n,); ``mech`` None: the pair points only. ``worded`` words an error for the input."""
+def solve_rccc(chain: Chain, mech, phi: np.ndarray, label: str) -> SpatialMotion:
+    """The motion at crank angles ``phi`` (n,) (``mech`` None: of the pair points only); errors
+    name the group ``label``."""
     n = phi.shape[0]
     pj = variable(phi)
     u1v = _axis1(chain, pj).value
     q1, q2, fail, e1 = _roots(chain, u1v)
     if fail.any():
-        raise worded(AssemblyError(label, angle_ranges(phi, fail), "the coupler's twist cannot be kept: the output's "
-                                   "axis cannot turn to the angle the coupler keeps with the crank's"), chain,
-                     "cannot be assembled")
+        raise chain.worded(AssemblyError(label, angle_ranges(phi, fail), "the coupler's twist cannot be kept: the "
+                                         "output's axis cannot turn to the angle the coupler keeps with the crank's"),
+                           "cannot be assembled")
     q0 = q1 if branch(chain) > 0 else q2
     fq = _twist(chain, variable(phi, (0.0, 0.0, 0.0)), variable(q0)).d[1]
     qd = [q0, np.zeros(n), np.zeros(n), np.zeros(n)]
@@ -103,9 +104,9 @@ def solve_rccc(chain: Chain, mech, phi: np.ndarray, label: str, worded):
     den = np.where(np.abs(fq / e1) <= np.abs(kn.value / sin_a), fq / e1, kn.value / sin_a)
     bad = ~(np.abs(den) >= SINGULAR_TOL)
     if bad.any():
-        raise worded(SingularityError(label, angle_ranges(phi, bad), "a dead centre: the output's axis turns square "
-                                      "to the coupler's twist, or slides square to its common normal (a normalised "
-                                      f"denominator below {SINGULAR_TOL:g})"), chain, "is singular")
+        raise chain.worded(SingularityError(label, angle_ranges(phi, bad), "a dead centre: the output's axis turns "
+                                            "square to the coupler's twist, or slides square to its common normal (a "
+                                            f"normalised denominator below {SINGULAR_TOL:g})"), "is singular")
     p1 = _crank_a(chain, pj)
     p2 = constant(chain.b0, n) + rotate(chain.kb, chain.B - chain.b0, q)
     D = float((chain.B - chain.A) @ np.cross(chain.ua, chain.ub))
@@ -142,13 +143,18 @@ def solve_rccc(chain: Chain, mech, phi: np.ndarray, label: str, worded):
     if mech is None:
         points = {chain.pair_a: p1, chain.pair_b: b_cpl, chain.drive_point: constant(chain.a0, n)}
         own = {(chain.coupler, chain.pair_a): a_cpl, (chain.output, chain.pair_b): b_out}
-        return points, own, slides, cols, q, den
-    points, own = {}, {}
-    for name in (GROUND, chain.crank, chain.coupler, chain.output):  # a bare name: its first link's point
-        for p in mech.link(name).points:
-            x = constant(mech.point(p), n) if name == GROUND else known.get((name, p)) or carried(name, mech.point(p))
-            if p in points:
-                own[(name, p)] = x
-            else:
-                points[p] = x
-    return points, own, slides, cols, q, den
+    else:
+        points, own = {}, {}
+        for name in (GROUND, chain.crank, chain.coupler, chain.output):  # a bare name: its first link's point
+            for p in mech.link(name).points:
+                x = constant(mech.point(p), n) if name == GROUND else known.get((name, p)) or carried(name, mech.point(p))
+                if p in points:
+                    own[(name, p)] = x
+                else:
+                    points[p] = x
+    spin = {link: (0.5 * sum(np.cross(ci.d[0], ci.d[1]) for ci in c), 0.5 * sum(np.cross(ci.d[0], ci.d[2]) for ci in c))
+            for link, c in cols.items()}  # Ω = ½·Σ cᵢ × ċᵢ over the frame's columns, and its derivative
+    frames = {link: np.stack([ci.d[0] for ci in c], axis=-1) for link, c in cols.items()}
+    r = chain.B - chain.b0
+    out = q + float(angle_about(chain.kb, r - chain.kb * (chain.kb @ r)))  # the absolute angle, as RSSR's
+    return SpatialMotion(chain, phi, points, out, q, spin, frames, den, own, slides)

@@ -11,7 +11,6 @@ K = (the longer stroke's crank turn) / (the shorter's) ≥ 1, and a peak is a la
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, field
 from typing import Mapping
 
