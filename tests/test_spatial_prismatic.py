@@ -293,3 +293,7 @@ def test_the_cli_speaks_of_the_slider_input(tmp_path):
     csv = run("forces", PSSR, "--samples", "3").splitlines()[0]
     assert csv.startswith("s [m],balancing_force [N],power_balance_force [N]")
     assert "input slider 'slider' (driven at 'input')" in run("structure", PSSR)
+    # the command line's --angle number is the displacement in metres, refused outside the range
+    p = subprocess.run([sys.executable, "-m", "linkgen", "analyze", PSSR, "--angle", "0.2rad"], capture_output=True,
+                       text=True, cwd=ROOT)
+    assert p.returncode != 0 and "outside its [drive] range -0.1..0.1 m" in p.stderr and "Traceback" not in p.stderr
