@@ -295,7 +295,8 @@ def _compare(mech, chain, model, states, w0, settings):
             float(np.abs(np.einsum("ij,ij->i", spin[chain.coupler], axis)).max()) / rate, REL_TOL)
     fc = forces(mech, phi, om, ep, motion=cf)
     t_scale = float(np.abs(fc.balancing_torque).max()) or 1.0
-    errors["balancing_torque"] = (float(np.abs(torque - fc.balancing_torque).max()) / t_scale, FORCE_TOL)
+    drive = "balancing_force" if chain.input_slides else "balancing_torque"  # a slider input's is a force [N]
+    errors[drive] = (float(np.abs(torque - fc.balancing_torque).max()) / t_scale, FORCE_TOL)
     note = ""
     if fc.indeterminate == 0:
         f_scale = max(float(np.abs(r.force).max()) for r in fc.reactions.values()) or 1.0
@@ -312,7 +313,7 @@ def _compare(mech, chain, model, states, w0, settings):
     t_inv, lam_inv = inverse_torque(mech, phi_i, w0, mech.drive.epsilon, settings)
     fi = forces(mech, phi_i, w0, mech.drive.epsilon)
     ti_scale = float(np.abs(fi.balancing_torque).max()) or 1.0
-    errors["inverse.balancing_torque"] = (float(np.abs(t_inv - fi.balancing_torque).max()) / ti_scale, INVERSE_TOL)
+    errors[f"inverse.{drive}"] = (float(np.abs(t_inv - fi.balancing_torque).max()) / ti_scale, INVERSE_TOL)
     if fc.indeterminate == 0 and not cyl:  # an RCCC's weld carries half the output's inertia as well: not B's force
         fb = fi.reactions[chain.pair_b].force_on(chain.output)
         errors[f"inverse.reactions.{chain.pair_b}.force"] = (
