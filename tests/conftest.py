@@ -21,6 +21,18 @@ CAM_LINKAGE_MODELS = [p for p in MODELS if linkgen.load(p).cams]
 RIGID_MODELS = [p for p in MODELS if p not in CAM_LINKAGE_MODELS]
 
 
+def input_values(mech, phi):
+    """Crank angles over one turn [0, 2π] mapped onto a spatial model's input: the angles
+    themselves for a crank, the same fractions of the range for a slider input (PSSR, PSSP)."""
+    import numpy as np
+
+    phi = np.asarray(phi, dtype=float)
+    if not mech.drive.slides:
+        return phi
+    lo, hi = mech.drive.range
+    return lo + (hi - lo) * phi / (2 * np.pi)
+
+
 @pytest.fixture(params=MODELS, ids=[p.stem for p in MODELS])
 def model_path(request) -> Path:
     return request.param

@@ -22,14 +22,15 @@ SPATIAL = ["rssr.toml", "rssp.toml", "bennett.toml", "spherical_fourbar.toml"]
 
 # Keys holding a length [m] (besides [points] and plate shapes): a number, or text with a unit.
 _LENGTH_KEYS = {"length", "offset", "base_radius", "roller_radius", "arm_length", "pivot_distance", "module",
-                "height", "com", "pin_radius", "block_length"}
+                "height", "com", "pin_radius", "block_length", "start", "stop"}  # start, stop: a slider drive's range
 _LENGTH_UNITS = {"mm": 1e-3, "cm": 1e-2, "m": 1.0}
 # Exponent of the length scale s in each other dimensional key, the material (density in kg/m³)
 # kept: masses ∝ s³, so kg/m ∝ s², kg/m² ∝ s, kg·m² ∝ s⁵; forces ∝ s³ (weights), torques and
 # powers ∝ s⁴ (the speeds kept), spring rates ∝ s².
 _EXPONENT = {"density": 2, "areal_density": 1, "mass": 3, "inertia": 5, "flywheel_inertia": 5, "rotor_inertia": 5,
              "spring_rate": 2, "spring_preload": 3, "force": 3, "torque": 4, "stall_torque": 4,
-             "torque_constant": 4, "rated_power": 4, "stiffness": 4, "damping": 4}
+             "torque_constant": 4, "rated_power": 4, "stiffness": 4, "damping": 4,
+             "velocity": 1, "acceleration": 1}  # a slider drive's m/s and m/s², the times kept
 
 
 def _length(value) -> float:

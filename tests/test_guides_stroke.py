@@ -167,7 +167,8 @@ SPATIAL_SLIDERS = [p for p in SPATIAL_MODELS if load(p).slides]
 
 @pytest.mark.parametrize("path", SPATIAL_SLIDERS, ids=[p.stem for p in SPATIAL_SLIDERS])
 def test_spatial_guide_spans_the_stroke_and_no_more(path):
-    """A spatial slider's fixed guide (RSSP): along its line, over the slider's stroke in a turn."""
+    """A spatial slider's fixed guide (RSSP; PSSR and PSSP's input): along its line, over the
+    slider's stroke in a turn (over the input's range)."""
     mech = load(path)
     chain = assembled_chain(mech)
     text = write_spatial_mjcf(mech)
@@ -178,7 +179,7 @@ def test_spatial_guide_spans_the_stroke_and_no_more(path):
         rot = np.zeros(9)
         mujoco.mju_quat2Mat(rot, g.quat)
         axis, half = rot.reshape(3, 3)[:, 2], float(g.size[2])  # the box's long axis is its z
-        r = spatial_solve(mech, np.linspace(0.0, 2 * math.pi, DENSE), chain).points[sl.point].d[0] - g.pos
+        r = spatial_solve(mech, np.linspace(*chain.input_range, DENSE), chain).points[sl.point].d[0] - g.pos
         along = r @ axis
         assert np.linalg.norm(r - np.outer(along, axis), axis=1).max() <= ON_LINE_TOL * chain.size
         assert -half <= along.min() and along.max() <= half, (half, along.min(), along.max())

@@ -6,6 +6,7 @@ import tomllib
 from pathlib import Path
 
 from linkgen.families.spatial import description as d
+from linkgen.families.spatial import drive
 from linkgen.families.spatial import loads
 from linkgen.families.spatial.description import spatial_from_dict
 
@@ -37,8 +38,22 @@ def test_the_loads_example_loads():
     assert [f.force for f in mech.forces] == [(0.0, 40.0, 0.0)] and [t.torque for t in mech.torques] == [(0.0, 0.0, -100.0)]
 
 
+def test_the_slider_input_fragment_loads():
+    """The PSSR made of the example's rocker and the slider-input fragment loads as a PSSR."""
+    full = tomllib.loads(BLOCKS[0])
+    part = tomllib.loads(BLOCKS[3])
+    data = dict(full)
+    data["links"] = {k: v for k, v in full["links"].items() if k != "crank"} | part["links"]
+    data["links"]["ground"] = {"points": ["B0"]}
+    data["joints"] = {k: v for k, v in full["joints"].items() if k != "A0"}
+    data["points"] = {k: v for k, v in full["points"].items() if k != "A0"}
+    data["prismatic"], data["drive"] = part["prismatic"], part["drive"]
+    mech = spatial_from_dict(data)
+    assert mech.drive.slides and mech.drive.range == (-0.1, 0.1) and mech.drive.omega == 0.5
+
+
 def test_every_allowed_key_is_documented():
-    for table in (d._MECH, d._LINK, d._JOINT, d._PRISMATIC, d._DRIVE, loads._FORCE, loads._TORQUE):
+    for table in (d._MECH, d._LINK, d._JOINT, d._PRISMATIC, drive._DRIVE, drive._SLIDE_DRIVE, loads._FORCE, loads._TORQUE):
         for key in table:
             assert re.search(rf"^{key} =", PAGE, flags=re.M), key
 

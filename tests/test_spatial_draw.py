@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 from PIL import Image
 
-from conftest import SPATIAL_MODELS
+from conftest import SPATIAL_MODELS, input_values
 
 from linkgen.draw.plan import DPI
 from linkgen.draw.skeleton import CRANK, LINK
@@ -54,8 +54,8 @@ def test_the_spatial_models_are_found():
 @pytest.mark.parametrize("path", SPATIAL, ids=[p.stem for p in SPATIAL])
 def test_skeleton_and_position_plan_of_every_spatial_model(path, tmp_path):
     mech = load(path)
-    one = draw_spatial(mech, np.array([np.radians(30.0)]), tmp_path / "one.png")
-    plan = draw_spatial(mech, PLAN, tmp_path / "plan.png")
+    one = draw_spatial(mech, input_values(mech, [np.radians(30.0)]), tmp_path / "one.png")
+    plan = draw_spatial(mech, input_values(mech, PLAN), tmp_path / "plan.png")
     assert (one, plan) == (tmp_path / "one.png", tmp_path / "plan.png")
     px_one, px_plan = _pixels(one, FIG_PX), _pixels(plan, FIG_PX)
     for px in (px_one, px_plan):  # the crank and the coupler are drawn, in four views, in their colours

@@ -19,7 +19,7 @@ from linkgen.families.spatial.kinematics import solve
 from linkgen.mujoco.spatial_mjcf import write_spatial_mjcf
 from linkgen.mujoco.spatial_state import reduced_inertia
 
-from conftest import ROOT, SPATIAL_MODELS
+from conftest import ROOT, SPATIAL_MODELS, input_values
 
 RSSR = ROOT / "models" / "rssr.toml"
 # Energy balance by central differences of J(φ) with step H: truncation H²·|J‴|/6 relative to
@@ -41,16 +41,17 @@ def test_bundled_spatial_models_cover_the_four_kinds():
 def test_balancing_torque_equals_the_energy_balance(spatial):
     """τ·ω = dT/dt + (power of gravity against the motion): at constant ω, τ = ½·J′(φ)·ω² −
     Σ m·g·c′(φ), with J′ by central differences of the kinetic energy — no Newton–Euler."""
-    phi = np.linspace(0.0, 2 * np.pi, 48, endpoint=False)
+    phi = input_values(spatial, np.linspace(0.0, 2 * np.pi, 48, endpoint=False))
     w = 7.0
     f = forces(spatial, phi, w, 0.0)
-    jp = (reduced_inertia(spatial, solve(spatial, phi + H)) - reduced_inertia(spatial, solve(spatial, phi - H))) / (2 * H)
+    h = float(np.ptp(input_values(spatial, [0.0, H])))  # H of a turn, or the same fraction of a slider's range
+    jp = (reduced_inertia(spatial, solve(spatial, phi + h)) - reduced_inertia(spatial, solve(spatial, phi - h))) / (2 * h)
     k = solve(spatial, phi)
     g = np.array(spatial.gravity)
     grav = np.zeros_like(phi)
     for link in (k.chain.crank, k.chain.coupler, k.chain.output):
         l = spatial.link(link)
-        c = k.points[l.points[0]] if len(l.points) == 1 else (k.points[l.points[0]] + k.points[l.points[1]]) * 0.5
+        c = k.at(link, l.points[0]) if len(l.points) == 1 else (k.at(link, l.points[0]) + k.at(link, l.points[1])) * 0.5
         grav += l.mass * (c.d[1] @ g)
     expected = 0.5 * jp * w**2 - grav
     scale = np.abs(expected).max()
@@ -63,11 +64,13 @@ def test_mujoco_agrees_with_the_closed_form(spatial):
     assert not bad, r.summary()
     assert r.gap <= GAP_TOL
     assert r.ok
-    assert "inverse.balancing_torque" in r.errors
-    if r.kind in ("RSSR", "RSSP"):  # determinate: every reaction compared
+    assert ("inverse.balancing_force" if spatial.drive.slides else "inverse.balancing_torque") in r.errors
+    if r.kind in ("RSSR", "RSSP", "PSSR", "PSSP", "RCCC"):  # determinate: every reaction compared
         assert sum(k.startswith("reactions.") for k in r.errors) == 4
     else:
         assert "indeterminate" in r.note
+    if r.kind == "RCCC":  # the later links' copies of the cylindrical pairs' points are compared too
+        assert {"points.A:coupler.position", "points.B:output.position", "points.B0:output.position"} <= set(r.errors)
 
 
 def test_keyframe_turns_the_crank_at_omega(spatial):
@@ -76,7 +79,9 @@ def test_keyframe_turns_the_crank_at_omega(spatial):
     mujoco.mj_resetDataKeyframe(model, data, model.key("sketch").id)
     drive = model.joint(spatial.drive.joint).qposadr[0]
     q0 = data.qpos[drive]
-    while data.time < 1.0:
+    # a second, or (a slider input) 0.8 of the way from the sketch to the end of the range
+    end = 1.0 if not spatial.drive.slides else 0.8 * spatial.drive.range[1] / spatial.drive.omega
+    while data.time < end:
         mujoco.mj_step(model, data)
     assert abs((data.qpos[drive] - q0) - spatial.drive.omega * data.time) <= 0.01 * spatial.drive.omega
 

@@ -610,11 +610,17 @@ def test_spatial_summary_extrema_agree_with_a_dense_independent_scan(path):
 
     mech = load(path)
     s = spatial_summarize(mech)
-    phi = np.linspace(0.0, 2 * math.pi, SPATIAL_DENSE, endpoint=False)
+    slides = mech.drive.slides  # a slider's range: its ends are limit positions too, nothing wraps
+    phi = (np.linspace(*mech.drive.range, SPATIAL_DENSE) if slides
+           else np.linspace(0.0, 2 * math.pi, SPATIAL_DENSE, endpoint=False))
     k = spatial_solve(mech, phi)
     d1 = k.output.d[1]
     ref = []
-    for i in np.flatnonzero(np.sign(d1) != np.sign(np.roll(d1, -1))):
+    if slides:
+        for i, rising in ((0, d1[0] < 0), (-1, d1[-1] > 0)):
+            ref.append(("max" if rising else "min", float(phi[i]), float(k.output.d[0][i])))
+    turns = np.flatnonzero(np.sign(d1) != np.sign(np.roll(d1, -1)))
+    for i in (turns[turns < phi.shape[0] - 1] if slides else turns):
         x = float(phi[i])
         for _ in range(30):  # Newton on dq/dφ with the analytic d²q/dφ²
             t = spatial_solve(mech, [x]).output
@@ -622,7 +628,7 @@ def test_spatial_summary_extrema_agree_with_a_dense_independent_scan(path):
             x -= step
             if abs(step) < 1e-16:
                 break
-        x %= 2 * math.pi
+        x = x if slides else x % (2 * math.pi)
         if all(min(abs(x - y), 2 * math.pi - abs(x - y)) > 1e-9 for _, y, _ in ref):
             t = spatial_solve(mech, [x]).output  # the joint variable analyze gives
             ref.append(("max" if t.d[2][0] < 0 else "min", x, float(t.d[0][0])))

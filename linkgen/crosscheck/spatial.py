@@ -34,14 +34,18 @@ from linkgen.families.spatial.jets import motion as jet_motion
 from linkgen.families.spatial.kinematics import assembled_chain, solve
 from linkgen.mujoco.spatial_mjcf import DRIVE_ACTUATOR, write_spatial_mjcf
 from linkgen.mujoco.spatial_loads import loads_at_state, loads_while_stepping
-from linkgen.mujoco.spatial_state import SCAN, derive_settings, joint_state
+from linkgen.mujoco.spatial_names import closing_body
+from linkgen.mujoco.spatial_state import SCAN, derive_settings, joint_state, loop_name
 
 # The run starts this many crank radians before the compared revolution, from the closed-form
 # state: the loop's transient from the start (a few time constants τ = PHASE/ω, i.e. a few
 # hundredths of a radian) has died out by the first sample.
 LEAD = 0.2
+# A slider input's run starts at its range's start; the samples compared begin this fraction of
+# the range later (PHASE of the input unit per τ: the transient has died out many times over).
+LEAD_RANGE = 0.05
 # Chains whose coupler turns on two ball joints and so has an idle spin about its own line.
-IDLE_SPIN = ("RSSR", "RSSP")
+IDLE_SPIN = ("RSSR", "RSSP", "PSSR", "PSSP")
 # Closed-form states at which MuJoCo's inverse dynamics is compared (every 10°).
 INVERSE_SAMPLES = 36
 
@@ -124,7 +128,7 @@ def derived_settings(mech: SpatialMechanism, omega: float | None = None, chain=N
     chain = assembled_chain(mech) if chain is None else chain
     w0 = mech.drive.omega if omega is None else float(omega)
     model = mujoco.MjModel.from_xml_string(write_spatial_mjcf(mech, chain=chain))
-    scan = solve(mech, np.linspace(0.0, 2 * np.pi, SCAN, endpoint=False), chain)
+    scan = solve(mech, chain.input_samples(SCAN), chain)
     return derive_settings(mech, chain, scan, model, w0)
 
 
@@ -140,21 +144,29 @@ def check_spatial(mech: SpatialMechanism, samples: int = 360, omega: float | Non
     wall0 = time.perf_counter()
     w0 = mech.drive.omega if omega is None else float(omega)
     if not (math.isfinite(w0) and w0 > 0):
+        if mech.drive.slides:
+            raise SimulationError(f"{'drive.velocity' if omega is None else 'velocity'}: must be > 0 m/s for a MuJoCo "
+                                  f"run (it drives the input slider forwards over its range), got {w0!r}")
         raise SimulationError(f"{'drive.omega' if omega is None else 'omega'}: must be > 0 rad/s for a MuJoCo run "
                               f"(it drives the crank forwards through a turn), got {w0!r}")
     chain = assembled_chain(mech)
-    scan = solve(mech, np.linspace(0.0, 2 * np.pi, SCAN, endpoint=False), chain)
+    scan = solve(mech, chain.input_samples(SCAN), chain)
     settings, scales = derived_settings(mech, w0, chain)
     model = mujoco.MjModel.from_xml_string(write_spatial_mjcf(mech, settings, chain))
     model.actuator(SERVO).biasprm[:] = 0.0  # the viewer's speed servo is off: the rotor holds the speed
     data = mujoco.MjData(model)
-    phi_start = -LEAD
+    lo, hi = chain.input_range
+    if chain.input_slides:  # from the range's start; the compared samples after a lead inside it
+        lead = LEAD_RANGE * (hi - lo)
+        phi_start, spacing = lo, (hi - lo - lead) / (samples - 1)
+    else:
+        lead, phi_start, spacing = LEAD, -LEAD, 2 * np.pi / samples
     start = solve(mech, np.array([phi_start]), chain)
     data.qpos[:], data.qvel[:] = joint_state(model, chain, start, 0, w0)
     mean_torque = float(np.mean(forces(mech, scan.phi, w0, 0.0, motion=scan).balancing_torque))
     data.ctrl[model.actuator(DRIVE_ACTUATOR).id] = mean_torque
     dt = settings.timestep
-    t_samples = (LEAD + np.arange(samples) * (2 * np.pi / samples)) / w0
+    t_samples = (lead + np.arange(samples) * spacing) / w0
     steps_at = np.rint(t_samples / dt).astype(int)
     within_budget(mech.name, int(steps_at[-1]), dt, MAX_STEPS if max_steps is None else max_steps)
     states = []
@@ -202,13 +214,26 @@ def _after_switches(mech, chain, model, states, settings, scales, w0) -> tuple[l
     return [s for s, h in zip(states, hit) if not h], note
 
 
+def _halves_apart(mech, chain, model, d) -> float:
+    """The largest distance [m] between an RCCC output's points as its two welded halves carry
+    them (the half on the ground's pair from B0, the coupler's from B)."""
+    g, o = model.body(closing_body(chain)).id, model.body(chain.output).id
+    return max(float(np.linalg.norm(d.xpos[g] + d.xmat[g].reshape(3, 3) @ (x - chain.B)
+                                    - d.xpos[o] - d.xmat[o].reshape(3, 3) @ (x - chain.b0)))
+               for x in [mech.point(p) for p in mech.link(chain.output).points if p != chain.pair_b] + [chain.B])
+
+
 def _compare(mech, chain, model, states, w0, settings):
     d = mujoco.MjData(model)
     m = len(states)
     crank = model.joint(chain.drive)
-    eq = model.equality(chain.pair_b).id
+    eq = model.equality(loop_name(chain)).id
+    cyl = chain.kind == "RCCC"  # the loop closes by a weld: 3 translation rows, then 3 rotation rows
     g = np.array(mech.gravity)
     names = [p for p in mech.points if p not in mech.link("ground").points]
+    cf0 = solve(mech, np.array([chain.phi_s]), chain)
+    copies = {f"{p}:{link}": (link, p) for link, p in cf0.own}  # a cylindrical pair's later copy (RCCC)
+    names += list(copies)
     mj = {p: np.zeros((m, 3, 3)) for p in names}
     phi, om, ep, gap, torque = (np.zeros(m) for _ in range(5))
     react = {k: np.zeros((m, 3)) for k in (chain.drive, chain.pair_a, chain.pair_b, chain.pair_out)}
@@ -226,7 +251,9 @@ def _compare(mech, chain, model, states, w0, settings):
         om[k], ep[k] = qvel[crank.dofadr[0]], d.qacc[crank.dofadr[0]]
         torque[k] = d.actuator(DRIVE_ACTUATOR).force[0] - settings.armature * ep[k]
         rows = np.flatnonzero((d.efc_type == mujoco.mjtConstraint.mjCNSTR_EQUALITY) & (d.efc_id == eq))
-        gap[k] = float(np.linalg.norm(d.efc_pos[rows]))
+        # the gap across the closing pair: the connect's distance, or (an RCCC's weld) the farthest apart
+        # the output's two halves put its points
+        gap[k] = _halves_apart(mech, chain, model, d) if cyl else float(np.linalg.norm(d.efc_pos[rows]))
         for p in names:
             sid = model.site(p).id
             mujoco.mj_objectVelocity(model, d, mujoco.mjtObj.mjOBJ_SITE, sid, r6, 0)
@@ -237,29 +264,39 @@ def _compare(mech, chain, model, states, w0, settings):
             mujoco.mj_objectVelocity(model, d, mujoco.mjtObj.mjOBJ_BODY, model.body(link).id, r6, 0)
             spin[link][k] = r6[:3]
         react[chain.drive][k] = d.cfrc_int[model.body(chain.crank).id, 3:]
+        if chain.input_slides:  # a slide passes the drive's force along its line: the pair's reaction is the rest
+            react[chain.drive][k] -= torque[k] * chain.ka
         react[chain.pair_a][k] = d.cfrc_int[model.body(chain.coupler).id, 3:]
-        react[chain.pair_b][k] = -d.efc_force[rows]  # the connect's force on the coupler, reversed
+        if cyl:  # the coupler's force on the output's half it carries, through B's hinge and slide
+            react[chain.pair_b][k] = d.cfrc_int[model.body(closing_body(chain)).id, 3:]
+        else:
+            react[chain.pair_b][k] = -d.efc_force[rows]  # the connect's force on the coupler, reversed
         react[chain.pair_out][k] = d.cfrc_int[model.body(chain.output).id, 3:]
     cf = solve(mech, phi, chain)
-    size = chain.size
-    acc_scale = size * (w0**2 + float(np.abs(ep).max())) + float(np.linalg.norm(g))
+    size, unit = chain.size, chain.input_unit
+    rate = w0 / unit  # the input's rate in its own unit per second: ω, or a slider's v / size
+    acc_scale = size * (rate**2 + float(np.abs(ep).max()) / unit) + float(np.linalg.norm(g))
     errors = {}
+    def jet_of(p):
+        return cf.at(*copies[p]) if p in copies else cf.points[p]
+
     for p in names:
-        pos, vel, acc, _ = jet_motion(cf.points[p], om, ep)
-        for i, (what, ref, scale) in enumerate((("position", pos, size), ("velocity", vel, size * w0),
+        pos, vel, acc, _ = jet_motion(jet_of(p), om, ep)
+        for i, (what, ref, scale) in enumerate((("position", pos, size), ("velocity", vel, size * rate),
                                                 ("acceleration", acc, acc_scale))):
             errors[f"points.{p}.{what}"] = (float(np.abs(mj[p][:, i] - ref).max()) / scale, REL_TOL)
     for link in moving:
         ref = cf.spin[link][0] * om[:, None]
-        errors[f"links.{link}.angular_velocity"] = (float(np.abs(spin[link] - ref).max()) / w0, REL_TOL)
+        errors[f"links.{link}.angular_velocity"] = (float(np.abs(spin[link] - ref).max()) / rate, REL_TOL)
     if chain.kind in IDLE_SPIN:  # the coupler's spin about its own line, which nothing drives
         ends = [cf.points[q].d[0] for q in mech.link(chain.coupler).points[:2]]
         axis = (ends[1] - ends[0]) / np.linalg.norm(ends[1] - ends[0], axis=1)[:, None]
         errors[f"links.{chain.coupler}.idle_spin"] = (
-            float(np.abs(np.einsum("ij,ij->i", spin[chain.coupler], axis)).max()) / w0, REL_TOL)
+            float(np.abs(np.einsum("ij,ij->i", spin[chain.coupler], axis)).max()) / rate, REL_TOL)
     fc = forces(mech, phi, om, ep, motion=cf)
     t_scale = float(np.abs(fc.balancing_torque).max()) or 1.0
-    errors["balancing_torque"] = (float(np.abs(torque - fc.balancing_torque).max()) / t_scale, FORCE_TOL)
+    drive = "balancing_force" if chain.input_slides else "balancing_torque"  # a slider input's is a force [N]
+    errors[drive] = (float(np.abs(torque - fc.balancing_torque).max()) / t_scale, FORCE_TOL)
     note = ""
     if fc.indeterminate == 0:
         f_scale = max(float(np.abs(r.force).max()) for r in fc.reactions.values()) or 1.0
@@ -272,17 +309,17 @@ def _compare(mech, chain, model, states, w0, settings):
         note = (f"pair reactions not compared: the {chain.kind} chain is statically indeterminate by {fc.indeterminate} "
                 "(its redundant constraints share the load in a way rigid-body statics does not fix)")
     # the inverse route: MuJoCo's inverse dynamics at closed-form states (no integration)
-    phi_i = np.linspace(0.0, 2 * np.pi, INVERSE_SAMPLES, endpoint=False)
+    phi_i = chain.input_samples(INVERSE_SAMPLES)
     t_inv, lam_inv = inverse_torque(mech, phi_i, w0, mech.drive.epsilon, settings)
     fi = forces(mech, phi_i, w0, mech.drive.epsilon)
     ti_scale = float(np.abs(fi.balancing_torque).max()) or 1.0
-    errors["inverse.balancing_torque"] = (float(np.abs(t_inv - fi.balancing_torque).max()) / ti_scale, INVERSE_TOL)
-    if fc.indeterminate == 0:
+    errors[f"inverse.{drive}"] = (float(np.abs(t_inv - fi.balancing_torque).max()) / ti_scale, INVERSE_TOL)
+    if fc.indeterminate == 0 and not cyl:  # an RCCC's weld carries half the output's inertia as well: not B's force
         fb = fi.reactions[chain.pair_b].force_on(chain.output)
         errors[f"inverse.reactions.{chain.pair_b}.force"] = (
             float(np.abs(lam_inv - fb).max()) / (float(np.abs(fb).max()) or 1.0), INVERSE_TOL)
     samples = {"phi": phi, "omega": om, "epsilon": ep, "gap": gap, "torque": torque, "closed_torque": fc.balancing_torque,
-               "points": mj, "closed": {p: jet_motion(cf.points[p], om, ep) for p in names}}
+               "points": mj, "closed": {p: jet_motion(jet_of(p), om, ep) for p in names}}
     return errors, float(gap.max()) / size, note, samples
 
 

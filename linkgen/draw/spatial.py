@@ -130,8 +130,8 @@ def _pose(view, mech, chain, motion, i, colors, travel, alpha):
     """Sample i: bars, slider, pairs; the first (solid) one also with guide, centre lines, supports, names."""
     s, at, first, bars_at = view.span, {p: j.d[0][i] for p, j in motion.points.items()}, alpha == 1, {p: [] for p in mech.points}
     for l in mech.links:
-        for q in l.points[1:] if l.name != GROUND else ():
-            a, b = at[l.points[0]], at[q]
+        for q in l.points[1:] if l.name != GROUND else ():  # each link's own copy of its points (RCCC's part)
+            a, b = motion.at(l.name, l.points[0]).d[0][i], motion.at(l.name, q).d[0][i]
             bars_at[l.points[0]].append(b), bars_at[q].append(a)
             view.line(np.array([a, b]), avoid=first, color=colors[l.name], lw=3.4 if first else 2.2, alpha=alpha,
                       solid_capstyle="round", zorder=3)
@@ -228,12 +228,17 @@ def draw_spatial(mech, angles, out: Path, arrows=None) -> Path:
     handles = [Line2D([], [], color=colors[l.name], lw=3, label=l.name) for l in mech.links if l.name != GROUND] + [
         Line2D([], [], ls="none", marker=m, ms=8, mfc=fc, mec=INK, mew=1.4 if m == "+" else 1, label=t) for kind, m, fc, t in (
             ("spherical", "o", "0.82", "spherical pair"), ("revolute", "s", "white", "revolute pair (along its axis)"),
+            ("cylindrical", "s", "white", "cylindrical pair (along its axis)"),
             ("ground", "^", "white", "ground pivot"), ("centre", "+", INK, "centre O and its sphere")) if kind in kinds]
     handles += views[0].ax.get_legend_handles_labels()[0]
     fig.legend(handles=handles, loc="outside lower center", ncol=min(len(handles), 5), fontsize=8, frameon=False)
-    deg, step = np.degrees(angles), np.diff(np.degrees(angles))
-    what = (f"φ = {deg[0]:.4g}°" if len(angles) == 1 else f"position plan: {len(angles)} positions from φ = {deg[0]:.4g}°"
-            + (f", every {step[0]:.4g}°" if np.allclose(step, step[0]) else "") + " (0 solid, numbered at the crank pin)")
+    if chain.input_slides:  # the input's displacement s [m] where a crank has its angle
+        deg, step, sym, unit = angles, np.diff(angles), "s", " m"
+    else:
+        deg, step, sym, unit = np.degrees(angles), np.diff(np.degrees(angles)), "φ", "°"
+    what = (f"{sym} = {deg[0]:.4g}{unit}" if len(angles) == 1 else f"position plan: {len(angles)} positions from "
+            f"{sym} = {deg[0]:.4g}{unit}" + (f", every {step[0]:.4g}{unit}" if np.allclose(step, step[0]) else "")
+            + f" (0 solid, numbered at the {'input slider' if chain.input_slides else 'crank pin'})")
     if arrows is not None:
         what += f", {arrows.what}: 1 m of drawing = {mu:g} {arrows.unit}"
     fig.suptitle(title_of(mech, 100) + f"\n{what}", fontsize=11)
@@ -241,7 +246,7 @@ def draw_spatial(mech, angles, out: Path, arrows=None) -> Path:
     return Path(out)
 
 
-def _columns(plt, path, title, cols, phi, thin, size):
+def _columns(plt, path, title, cols, phi, thin, size, xlabel="φ [deg]"):
     """A column a quantity: closed form (line) and MuJoCo (markers) over φ, their difference below."""
     fig = plt.figure(figsize=size, layout="constrained")
     axes, seen = fig.subplots(2, len(cols), sharex="col", squeeze=False, gridspec_kw={"height_ratios": (2, 1)}), {}
@@ -252,7 +257,7 @@ def _columns(plt, path, title, cols, phi, thin, size):
             top.plot(phi[::thin], theirs[::thin], "o", ms=4, mfc="none", mec=color, mew=0.9)
             low.plot(phi, theirs - ours, color=color, lw=0.9)
         top.set(title=head, ylabel=f"[{unit}]")
-        low.set(xlabel="φ [deg]", ylabel=f"MuJoCo − closed form [{unit}]", xlim=(phi.min(), phi.max()))
+        low.set(xlabel=xlabel, ylabel=f"MuJoCo − closed form [{unit}]", xlim=(phi.min(), phi.max()))
         low.ticklabel_format(axis="y", style="sci", scilimits=(-2, 3))
         top.grid(True, lw=0.3, alpha=0.5), low.grid(True, lw=0.3, alpha=0.5)
     style = [Line2D([], [], color="k", lw=1.3, label="closed form"),
@@ -267,7 +272,9 @@ def plot_spatial_check(check, out_dir: Path, mech=None) -> list[str]:
     loop gap; their file names."""
     plt = plt_module()
     s, name, out_dir, kind = check.samples, check.model, Path(out_dir), f"{check.model} ({check.kind})"
-    phi, thin = np.degrees(s["phi"]), max(1, len(s["phi"]) // 36)
+    slides = check.kind in ("PSSR", "PSSP")  # the input's displacement s [m] on the x axis, a balancing force
+    phi, thin = (s["phi"] if slides else np.degrees(s["phi"])), max(1, len(s["phi"]) // 36)
+    xlabel = "s [m]" if slides else "φ [deg]"
     cols, size = [], (float(s["gap"].max()) / check.gap if check.gap > 0 else None)
     if mech is not None:
         chain = assembled_chain(mech)
@@ -282,19 +289,23 @@ def plot_spatial_check(check, out_dir: Path, mech=None) -> list[str]:
              for p in s["points"]]
     names = [f"{name}_coordinates.png", f"{name}_velocities.png", f"{name}_accelerations.png", f"{name}_torque.png",
              f"{name}_loop_gap.png"]
-    _columns(plt, out_dir / names[0], f"{kind}: positions, closed form vs MuJoCo", cols, phi, thin, (3.4 * len(cols) + 1.8, 6))
+    _columns(plt, out_dir / names[0], f"{kind}: positions, closed form vs MuJoCo", cols, phi, thin, (3.4 * len(cols) + 1.8, 6),
+             xlabel)
     for order, (fname, what, unit) in enumerate(((names[1], "velocities", "m/s"), (names[2], "accelerations", "m/s²")), 1):
         moving = [(f"point {p}", unit, {c: (s["closed"][p][order][:, k], s["points"][p][:, order, k], f"C{k}")
                                         for k, c in enumerate("xyz")}) for p in s["points"]]
         _columns(plt, out_dir / fname, f"{kind}: {what}, closed form vs MuJoCo", moving, phi, thin,
-                 (3.4 * len(moving) + 1.8, 6))
-    _columns(plt, out_dir / names[3], f"{kind}: balancing torque on the crank, closed form vs MuJoCo",
-             [("", "N·m", {"balancing torque": (s["closed_torque"], s["torque"], "C3")})], phi, thin, (9, 6))
+                 (3.4 * len(moving) + 1.8, 6), xlabel)
+    load = ("force on the input slider", "N", "balancing force") if slides else ("torque on the crank", "N·m",
+                                                                              "balancing torque")
+    _columns(plt, out_dir / names[3], f"{kind}: balancing {load[0]}, closed form vs MuJoCo",
+             [("", load[1], {load[2]: (s["closed_torque"], s["torque"], "C3")})], phi, thin, (9, 6), xlabel)
     fig, ax = plt.subplots(figsize=(9.0, 3.8), layout="constrained")
     ax.semilogy(phi, np.maximum(s["gap"], 1e-18), "k", lw=1, label="loop gap in MuJoCo:\ndistance across the closing pair")
     if size:
         ax.axhline(GAP_TOL * size, color="r", ls=":", lw=1.2, label=f"tolerance {GAP_TOL:g} × size = {GAP_TOL * size:.2g} m")
-    ax.set(title=f"{kind}: loop gap over the revolution", xlabel="φ [deg]", ylabel="[m]", xlim=(phi.min(), phi.max()))
+    ax.set(title=f"{kind}: loop gap over the {'input range' if slides else 'revolution'}", xlabel=xlabel, ylabel="[m]",
+           xlim=(phi.min(), phi.max()))
     ax.grid(True, which="both", lw=0.3, alpha=0.5)
     ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0, frameon=False)
     save(fig, out_dir / names[4], dpi=CHECK_DPI)

@@ -164,7 +164,8 @@ SPATIAL = {
     "links": Each({"points": Items(string), "length": length, "mass": finite, "density": finite}),
     "joints": Each({"kind": string, "axis": _numbers3}),
     "prismatic": Each({"slider": string, "guide": string, "point": string, "direction": _numbers3}),
-    "drive": {"joint": string, "omega": angular_speed, "epsilon": angular_acceleration},
+    "drive": {"joint": string, "omega": angular_speed, "epsilon": angular_acceleration, "velocity": finite,
+              "acceleration": finite, "start": length, "stop": length},
 }
 
 __all__ = ["CAM_FILE", "Each", "Items", "MACHINE", "PLANAR", "SPATIAL", "check", "quantity", "string", "title", "whole"]

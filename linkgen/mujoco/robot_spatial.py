@@ -45,6 +45,10 @@ def spatial_robot_mjcf(mech, options: RobotOptions) -> str:
     anchor = tuple(float(x) for x in (chain.B - origin.get(second, np.zeros(3))))
     body = {n: (MOUNT if n not in origin else n) for n in pair.links}
     sites = (ReactionSite(chain.pair_b, body[pair.links[0]], body[second], anchor=anchor),)
+    if chain.kind == "RCCC":  # no connect to sense: the loop closes by welding the output's two halves
+        sites = ()
+        notes += (f"the RCCC's loop closes by a weld between the output's two halves (on {chain.pair_out} and on "
+                  f"{chain.pair_b}); no reaction is sensed",)
     size = chain.size
     inertia = sum(l.mass for l in mech.links) * size**2  # an upper scale: no reduced inertia in this family
     loads = tuple(f"[[force]] ({', '.join(f'{x:g}' for x in f.force)}) N on link {f.link} at point {f.point}"

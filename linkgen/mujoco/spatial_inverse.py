@@ -25,7 +25,7 @@ from linkgen.families.spatial.description import SpatialMechanism
 from linkgen.families.spatial.kinematics import assembled_chain, solve
 from linkgen.mujoco.spatial_mjcf import write_spatial_mjcf
 from linkgen.mujoco.spatial_loads import loads_at_state
-from linkgen.mujoco.spatial_state import joint_state
+from linkgen.mujoco.spatial_state import cylinder_state, joint_state, loop_name
 
 
 def _joint_acceleration(model, chain, motion, k, omega, epsilon) -> np.ndarray:
@@ -55,6 +55,7 @@ def _joint_acceleration(model, chain, motion, k, omega, epsilon) -> np.ndarray:
 def inverse_torque(mech: SpatialMechanism, phi, omega: float | None = None, epsilon: float | None = None,
                    settings=None) -> tuple[np.ndarray, np.ndarray]:
     """Balancing torque (n,) [N·m] and the loop force on the output at the closing pair (n, 3) [N]
+    (an RCCC's weld: the force the coupler's half of the output passes to the other half)
     by MuJoCo's inverse dynamics at the closed-form states (rotor inertia excluded)."""
     w = mech.drive.omega if omega is None else float(omega)
     e = mech.drive.epsilon if epsilon is None else float(epsilon)
@@ -64,24 +65,31 @@ def inverse_torque(mech: SpatialMechanism, phi, omega: float | None = None, epsi
     data = mujoco.MjData(model)
     motion = solve(mech, np.atleast_1d(np.asarray(phi, dtype=float)), chain)
     n = motion.phi.shape[0]
-    eq = model.equality(chain.pair_b).id
+    cyl = chain.kind == "RCCC"
+    eq = model.equality(loop_name(chain)).id
     drive = model.joint(chain.drive).dofadr[0]
     torque, loop = np.zeros(n), np.zeros((n, 3))
     jac_p1, jac_p2 = np.zeros((3, model.nv)), np.zeros((3, model.nv))
+    jac_r1, jac_r2 = np.zeros((3, model.nv)), np.zeros((3, model.nv))
     b1, b2 = model.eq_obj1id[eq], model.eq_obj2id[eq]
     for k in range(n):
-        data.qpos[:], data.qvel[:] = joint_state(model, chain, motion, k, w)
-        data.qacc[:] = _joint_acceleration(model, chain, motion, k, w, e)
+        if cyl:
+            data.qpos[:], data.qvel[:], data.qacc[:] = cylinder_state(model, chain, motion, k, w, e)
+        else:
+            data.qpos[:], data.qvel[:] = joint_state(model, chain, motion, k, w)
+            data.qacc[:] = _joint_acceleration(model, chain, motion, k, w, e)
         loads_at_state(mech, model, data, float(motion.phi[k]))
         mujoco.mj_inverse(model, data)
         point = motion.points[chain.pair_b].d[0][k]
-        mujoco.mj_jac(model, data, jac_p1, None, point, b1)
-        mujoco.mj_jac(model, data, jac_p2, None, point, b2)
+        mujoco.mj_jac(model, data, jac_p1, jac_r1, point, b1)
+        mujoco.mj_jac(model, data, jac_p2, jac_r2, point, b2)
         jl = jac_p1 - jac_p2  # λ on body 1 (the coupler), −λ on body 2
+        if cyl:  # a weld: a force and a moment
+            jl = np.vstack([jl, jac_r1 - jac_r2])
         a = np.column_stack([jl.T, np.eye(model.nv)[:, drive]])
         rhs = data.qfrc_inverse + data.qfrc_constraint - applied_generalized(model, data)
         x = np.linalg.lstsq(a, rhs, rcond=1e-12)[0]
-        loop[k], torque[k] = -x[:3], x[3]
+        loop[k], torque[k] = -x[:3], x[-1]
     return torque, loop
 
 

@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import math
 
+import mujoco
 import numpy as np
 from lxml import etree
 
@@ -28,11 +29,15 @@ from linkgen.families.spatial.description import SpatialMechanism
 from linkgen.families.spatial.kinematics import assembled_chain
 from linkgen.families.spatial.mass import ROD_RADIUS, rod_inertia
 from linkgen.families.spatial.travel import full_turn, slide_travel
+from linkgen.mujoco.spatial_names import closing_body, slide_joint
 
 DRIVE_ACTUATOR = "drive:motor"
 # Geom sizes as fractions of the mechanism's size.
 BAR_RADIUS = ROD_RADIUS
 SITE_SIZE = 0.01
+# The share of an RCCC output's mass and inertia on its body on the ground's pair (the rest on
+# its half carried by the coupler, welded to it).
+OUTPUT_SHARE = 0.5
 
 
 def _v(x) -> str:
@@ -47,9 +52,11 @@ def sketch_points(mech: SpatialMechanism, chain: Chain) -> dict[str, np.ndarray]
     return pts
 
 
-def link_inertial(mech: SpatialMechanism, link: str, pts: dict, origin: np.ndarray, size: float) -> tuple:
+def link_inertial(mech: SpatialMechanism, link: str, pts: dict, origin: np.ndarray, size: float,
+                  share: float = 1.0) -> tuple:
     """COM (3,) relative to ``origin`` and the full inertia (Ixx Iyy Izz Ixy Ixz Iyz) about it,
-    world-aligned (``linkgen.families.spatial.mass``)."""
+    world-aligned (``linkgen.families.spatial.mass``); ``share``: the fraction of the link's mass
+    and inertia this body carries (an RCCC output is two welded bodies, half each)."""
     l = mech.link(link)
     p0 = pts[l.points[0]]
     if len(l.points) == 1:
@@ -59,7 +66,7 @@ def link_inertial(mech: SpatialMechanism, link: str, pts: dict, origin: np.ndarr
         com, d = (p0 + p1) / 2, p1 - p0
         span2 = float(d @ d)
         x = d / math.sqrt(span2)
-    full = rod_inertia(l.mass, x[None], np.array([span2]), size)[0]
+    full = rod_inertia(l.mass, x[None], np.array([span2]), size)[0] * share
     return com - origin, (full[0, 0], full[1, 1], full[2, 2], full[0, 1], full[0, 2], full[1, 2])
 
 
@@ -71,9 +78,11 @@ def write_spatial_mjcf(mech: SpatialMechanism, settings: Settings | None = None,
     size = chain.size
     root = etree.Element("mujoco", model=mech.name)
     root.append(etree.Comment(
-        f" linkgen spatial four-bar ({chain.kind}): timestep {settings.timestep:g} s (RK4), loop-closing connect with "
-        f"time constant {settings.timeconst:g} s, rotor inertia {settings.armature:g} kg·m² on the drive joint "
-        "that keeps the crank speed constant. " + _loads_note(mech)))
+        f" linkgen spatial four-bar ({chain.kind}): timestep {settings.timestep:g} s (RK4), loop-closing "
+        f"{'weld' if chain.kind == 'RCCC' else 'connect'} with "
+        f"time constant {settings.timeconst:g} s, " + (f"rotor inertia {settings.armature:g} kg·m² on the drive joint "
+        "that keeps the crank speed constant" if not chain.input_slides else f"drive mass {settings.armature:g} kg "
+        "(armature) on the input's slide that keeps its speed constant") + ". " + _loads_note(mech)))
     etree.SubElement(root, "compiler", angle="radian", inertiafromgeom="false", autolimits="true")
     etree.SubElement(root, "option", timestep=repr(settings.timestep), integrator=settings.integrator,
                      solver="Newton", iterations=str(settings.iterations), tolerance=repr(settings.tolerance),
@@ -106,10 +115,10 @@ def write_spatial_mjcf(mech: SpatialMechanism, settings: Settings | None = None,
         named.add(p)
     _guides(world, mech, chain, 2 * r_bar)
 
-    def body(parent, link, origin, parent_origin, material):
+    def body(parent, link, origin, parent_origin, material, share=1.0):
         b = etree.SubElement(parent, "body", name=link, pos=_v(origin - parent_origin))
-        com, inertia = link_inertial(mech, link, pts, origin, size)
-        etree.SubElement(b, "inertial", pos=_v(com), mass=repr(mech.link(link).mass), fullinertia=_v(inertia))
+        com, inertia = link_inertial(mech, link, pts, origin, size, share)
+        etree.SubElement(b, "inertial", pos=_v(com), mass=repr(mech.link(link).mass * share), fullinertia=_v(inertia))
         lp = mech.link(link).points
         for i in range(len(lp) - 1):
             if np.linalg.norm(pts[lp[i + 1]] - pts[lp[i]]) < MUJOCO_MIN_BAR:  # MuJoCo refuses it; a drawing only
@@ -126,22 +135,40 @@ def write_spatial_mjcf(mech: SpatialMechanism, settings: Settings | None = None,
 
     zero = np.zeros(3)
     crank = body(world, chain.crank, chain.a0, zero, "mat:crank")
-    etree.SubElement(crank, "joint", name=chain.drive, type="hinge", pos="0 0 0", axis=_v(chain.ka),
-                     armature=repr(settings.armature))
+    etree.SubElement(crank, "joint", name=chain.drive, type="slide" if chain.input_slides else "hinge", pos="0 0 0",
+                     axis=_v(chain.ka), armature=repr(settings.armature))
     coupler = body(crank, chain.coupler, chain.A, chain.a0, "mat:link")
+    cyl = chain.kind == "RCCC"  # a cylindrical pair: a hinge and a slide on one axis
     if chain.ua is None:
         etree.SubElement(coupler, "joint", name=chain.pair_a, type="ball", pos="0 0 0")
     else:
         etree.SubElement(coupler, "joint", name=chain.pair_a, type="hinge", pos="0 0 0", axis=_v(chain.ua))
-    if chain.output_slides:
+    if cyl:
+        etree.SubElement(coupler, "joint", name=slide_joint(chain.pair_a), type="slide", pos="0 0 0", axis=_v(chain.ua))
+        # the loop closes by welding the output to its second half, carried by the coupler on B's pair
+        half = etree.SubElement(coupler, "body", name=closing_body(chain), pos=_v(chain.B - chain.A))
+        com, inertia = link_inertial(mech, chain.output, pts, chain.B, size, 1.0 - OUTPUT_SHARE)
+        etree.SubElement(half, "inertial", pos=_v(com), mass=repr(mech.link(chain.output).mass * (1.0 - OUTPUT_SHARE)),
+                         fullinertia=_v(inertia))
+        etree.SubElement(half, "joint", name=chain.pair_b, type="hinge", pos="0 0 0", axis=_v(chain.ub))
+        etree.SubElement(half, "joint", name=slide_joint(chain.pair_b), type="slide", pos="0 0 0", axis=_v(chain.ub))
+        out = body(world, chain.output, chain.b0, zero, "mat:link", OUTPUT_SHARE)
+        etree.SubElement(out, "joint", name=chain.pair_out, type="hinge", pos="0 0 0", axis=_v(chain.kb))
+        etree.SubElement(out, "joint", name=slide_joint(chain.pair_out), type="slide", pos="0 0 0", axis=_v(chain.kb))
+    elif chain.output_slides:
         out = body(world, chain.output, chain.B, zero, "mat:slider")
         etree.SubElement(out, "joint", name=chain.pair_out, type="slide", pos="0 0 0", axis=_v(chain.kb))
     else:
         out = body(world, chain.output, chain.b0, zero, "mat:link")
         etree.SubElement(out, "joint", name=chain.pair_out, type="hinge", pos="0 0 0", axis=_v(chain.kb))
     eq = etree.SubElement(root, "equality")
-    etree.SubElement(eq, "connect", name=chain.pair_b, body1=chain.coupler, body2=chain.output,
-                     anchor=_v(chain.B - chain.A), solref=settings.solref, solimp=settings.solimp_text)
+    if cyl:
+        etree.SubElement(eq, "weld", name=closing_body(chain), body1=closing_body(chain), body2=chain.output,
+                         relpose=_v(np.r_[chain.b0 - chain.B, 1.0, 0.0, 0.0, 0.0]), solref=settings.solref,
+                         solimp=settings.solimp_text)
+    else:
+        etree.SubElement(eq, "connect", name=chain.pair_b, body1=chain.coupler, body2=chain.output,
+                         anchor=_v(chain.B - chain.A), solref=settings.solref, solimp=settings.solimp_text)
     act = etree.SubElement(root, "actuator")
     etree.SubElement(act, "motor", name=DRIVE_ACTUATOR, joint=chain.drive, gear="1")
     kv = settings.armature / SERVO_TIME
@@ -177,11 +204,19 @@ def _loads_note(mech: SpatialMechanism) -> str:
 
 def _keyframe(root, mech: SpatialMechanism, chain: Chain) -> None:
     """Keyframe ``sketch``: the assembled sketch moving at the drive's ω (a plain viewer then
-    turns the crank, its speed servo holding ω)."""
+    turns the crank, its speed servo holding ω; a slider input moves at its velocity)."""
     from linkgen.families.spatial.kinematics import solve
 
     k = solve(mech, np.array([chain.phi_s]), chain)
     w = mech.drive.omega
+    if chain.kind == "RCCC":
+        from linkgen.mujoco.spatial_state import cylinder_state
+
+        model = mujoco.MjModel.from_xml_string(etree.tostring(root, encoding="unicode"))
+        qpos, qvel, _ = cylinder_state(model, chain, k, 0, w)
+        key = etree.SubElement(root, "keyframe")
+        etree.SubElement(key, "key", name=KEY, qpos=_v(qpos), qvel=_v(qvel))
+        return
     w_rel = (k.spin[chain.coupler][0][0] - k.spin[chain.crank][0][0]) * w  # body frames are world-aligned here
     if chain.ua is None:
         qpos, qvel = [0.0, 1.0, 0.0, 0.0, 0.0], [w, *w_rel]

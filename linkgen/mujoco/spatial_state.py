@@ -18,6 +18,7 @@ from linkgen.families.spatial.kinematics import SpatialMotion
 from linkgen.families.spatial.forces import check_line_moments
 from linkgen.families.spatial.mass import link_body
 from linkgen.mujoco.spatial_loads import loads_at_state
+from linkgen.mujoco.spatial_names import closing_body, slide_joint, weld_lever
 
 # Crank angles scanned for the peak reduced inertia and loop force.
 SCAN = 73
@@ -29,8 +30,39 @@ def _hinge_angle(rel: np.ndarray, axis: np.ndarray) -> float:
     return math.atan2(float(vee @ axis), (float(np.trace(rel)) - 1) / 2)
 
 
+def cylinder_state(model: mujoco.MjModel, chain: Chain, motion: SpatialMotion, k: int, omega: float,
+                   epsilon: float = 0.0) -> tuple:
+    """qpos, qvel, qacc of an RCCC at sample ``k`` with the crank at ω [rad/s] and ε [rad/s²]:
+    each cylindrical pair's hinge (the relative turn about its axis: q′ = (Ω′_C − Ω′_P)·u,
+    q″ = (Ω″_C − Ω″_P)·u + (Ω′_C − Ω′_P)·(Ω′_P × u), the axis u carried by the parent P) and
+    slide (the pair's slide jet)."""
+    qpos, qvel, qacc = np.zeros(model.nq), np.zeros(model.nv), np.zeros(model.nv)
+    fr, sp = motion.frames, motion.spin
+    j = model.joint(chain.drive)
+    qpos[j.qposadr[0]], qvel[j.dofadr[0]], qacc[j.dofadr[0]] = motion.phi[k] - chain.phi_s, omega, epsilon
+    eye, zero = np.eye(3), (np.zeros((motion.phi.shape[0], 3)),) * 2
+    for pair, parent, child, axis in ((chain.pair_a, chain.crank, chain.coupler, chain.ua),
+                                      (chain.pair_b, chain.coupler, chain.output, chain.ub),
+                                      (chain.pair_out, None, chain.output, chain.kb)):
+        rp = fr[parent][k] if parent else eye
+        u = rp @ axis
+        (p1, p2), (c1, c2) = (sp[parent] if parent else zero), sp[child]
+        d1 = float((c1[k] - p1[k]) @ u)
+        d2 = float((c2[k] - p2[k]) @ u + (c1[k] - p1[k]) @ np.cross(p1[k], u))
+        h = model.joint(pair)
+        qpos[h.qposadr[0]] = _hinge_angle(rp.T @ fr[child][k], axis)
+        qvel[h.dofadr[0]], qacc[h.dofadr[0]] = d1 * omega, d2 * omega**2 + d1 * epsilon
+        t = motion.slides[pair].d
+        s = model.joint(slide_joint(pair))
+        qpos[s.qposadr[0]] = t[0][k]
+        qvel[s.dofadr[0]], qacc[s.dofadr[0]] = t[1][k] * omega, t[2][k] * omega**2 + t[1][k] * epsilon
+    return qpos, qvel, qacc
+
+
 def joint_state(model: mujoco.MjModel, chain: Chain, motion: SpatialMotion, k: int, omega: float) -> tuple:
     """qpos, qvel at sample ``k`` of ``motion`` with the crank at ω [rad/s]."""
+    if chain.kind == "RCCC":
+        return cylinder_state(model, chain, motion, k, omega)[:2]
     qpos, qvel = np.zeros(model.nq), np.zeros(model.nv)
     fr, sp = motion.frames, motion.spin
     j = model.joint(chain.drive)
@@ -54,6 +86,11 @@ def joint_state(model: mujoco.MjModel, chain: Chain, motion: SpatialMotion, k: i
     return qpos, qvel
 
 
+def loop_name(chain: Chain) -> str:
+    """The equality that closes the loop: the connect at B, or an RCCC's weld."""
+    return closing_body(chain) if chain.kind == "RCCC" else chain.pair_b
+
+
 def reduced_inertia(mech: SpatialMechanism, motion: SpatialMotion) -> np.ndarray:
     """J(φ) = 2T/ω² (n,) [kg·m²]: Σ m·|c′|² + Ω′ᵀ·I·Ω′ over the moving links."""
     chain = motion.chain
@@ -66,11 +103,12 @@ def reduced_inertia(mech: SpatialMechanism, motion: SpatialMotion) -> np.ndarray
 
 
 def phase_time(mech: SpatialMechanism, chain: Chain, omega: float) -> float:
-    """τ_phase [s]: PHASE radians of crank at |ω|; at ω = 0 PHASE of the time the mechanism
+    """τ_phase [s]: PHASE radians of crank at |ω| (a slider input: PHASE of its input unit, the
+    chain's size, at its speed); at ω = 0 PHASE of the time the mechanism
     falls by its size under gravity, √(size/|g|); with neither, PHASE of a second (nothing
     moves or loads the loop: any time constant holds it)."""
     if omega != 0.0:
-        return PHASE / abs(omega)
+        return PHASE * chain.input_unit / abs(omega)
     g = float(np.linalg.norm(mech.gravity))
     return PHASE * math.sqrt(chain.size / g) if g > 0.0 else PHASE * 1.0
 
@@ -87,13 +125,16 @@ def derive_settings(mech: SpatialMechanism, chain: Chain, scan: SpatialMotion, m
     model.dof_armature[model.joint(chain.drive).dofadr[0]] = armature
     data = mujoco.MjData(model)
     a0 = 0.0
-    eq = model.equality(chain.pair_b).id
+    eq = model.equality(loop_name(chain)).id
+    lever = max(float(np.linalg.norm(chain.B - chain.b0)), weld_lever(mech, chain)) if chain.kind == "RCCC" else 0.0
     for k in range(scan.phi.shape[0]):
         data.qpos[:], data.qvel[:] = joint_state(model, chain, scan, k, omega)
         loads_at_state(mech, model, data, float(scan.phi[k]))  # the loop carries the loads as well
         mujoco.mj_forward(model, data)
         rows = np.flatnonzero((data.efc_type == mujoco.mjtConstraint.mjCNSTR_EQUALITY) & (data.efc_id == eq))
-        a0 = max(a0, float(np.abs(data.efc_diagA[rows] * data.efc_force[rows]).max()) if rows.size else 0.0)
+        # an RCCC's weld: its translation at the anchor and its rotation over the output's lever
+        a = np.abs(data.efc_diagA[rows] * data.efc_force[rows])
+        a0 = max(a0, float(a[:3].max(initial=0.0)) + lever * float(a[3:].max(initial=0.0)))
     tau_phase = phase_time(mech, chain, omega)
     tau_gap = math.sqrt(GAP_TARGET * chain.size / ((1 - IMPEDANCE) * IMPEDANCE * a0)) if a0 > 0 else math.inf
     tau = round_down(min(tau_phase, tau_gap))
@@ -102,4 +143,4 @@ def derive_settings(mech: SpatialMechanism, chain: Chain, scan: SpatialMotion, m
     return settings, {"reduced_inertia": j_peak, "loop_acceleration": a0, "tau_gap": tau_gap, "tau_phase": tau_phase}
 
 
-__all__ = ["derive_settings", "joint_state", "phase_time", "reduced_inertia"]
+__all__ = ["cylinder_state", "derive_settings", "joint_state", "loop_name", "phase_time", "reduced_inertia"]

@@ -8,11 +8,15 @@ from linkgen.pipeline.family import Family
 from linkgen.pipeline.spatial_mujoco import STAGES as MUJOCO_STAGES
 
 def _angles(desc, samples: int | None = None):
-    """The default crank angle (0), or ``samples`` angles over one turn (its end excluded)."""
+    """The default crank angle (0), or ``samples`` angles over one turn (its end excluded); for
+    a prismatic input the range's start, or ``samples`` displacements over it (both ends)."""
     import math
 
     import numpy as np
 
+    if desc.drive.slides:
+        lo, hi = desc.drive.range
+        return lo if samples is None else np.linspace(lo, hi, samples)
     return 0.0 if samples is None else np.linspace(0.0, 2 * math.pi, samples, endpoint=False)
 
 
@@ -22,15 +26,34 @@ def _structure(desc):
     return structure(desc)
 
 
+def _within_range(desc, phi) -> None:
+    """A slider input's values [m] must lie in its [drive] range (where the chain is known to
+    assemble): else an ArgumentError naming the range."""
+    import numpy as np
+
+    from linkgen.errors import ArgumentError
+
+    if not desc.drive.slides:
+        return
+    lo, hi = desc.drive.range
+    x = np.atleast_1d(np.asarray(phi, dtype=float))
+    out = x[(x < lo) | (x > hi)]
+    if out.size:
+        raise ArgumentError(f"{desc.name}'s input is a slider: its displacement {float(out[0]):.6g} (the number given, "
+                            f"in metres) is outside its [drive] range {lo:.6g}..{hi:.6g} m")
+
+
 def _kinematics(desc, phi, omega=None, epsilon=None, *, on_singular: str = "raise"):
     from linkgen.families.spatial.results import kinematics
 
+    _within_range(desc, phi)
     return kinematics(desc, phi, omega, epsilon, on_singular=on_singular)
 
 
 def _forces(desc, phi, omega=None, epsilon=None, *, on_singular: str = "raise"):
     from linkgen.families.spatial.results import forces
 
+    _within_range(desc, phi)
     return forces(desc, phi, omega, epsilon, on_singular=on_singular)
 
 

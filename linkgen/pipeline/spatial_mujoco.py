@@ -9,6 +9,8 @@ import numpy as np
 
 # Positions in the report's position plan of a spatial four-bar (every 30° of the crank's turn).
 PLAN_STEP_DEG = 30.0
+# Positions in the plan of a chain driven by a slider, over its range (both ends).
+PLAN_POSITIONS = 9
 
 
 def mjcf(desc, settings=None, practical: bool = False, robot=None) -> str:
@@ -47,10 +49,15 @@ def figures(desc, check, out) -> dict:
     from linkgen.families.spatial.kinematics import assembled_chain
 
     names = [f"{check.model}_drawing.png", f"{check.model}_plan.png"]
-    # the sketch's own pose, as ``linkgen draw`` shows it: φ = 0 can be a folded pose (Bennett's
-    # four joints in line there, stacked in the side view)
-    draw_spatial(desc, np.array([assembled_chain(desc).phi_s]), out / names[0])
-    draw_spatial(desc, np.radians(np.arange(0.0, 360.0, PLAN_STEP_DEG)), out / names[1])
+    if desc.drive.slides:  # a slider input: its range's start, and a plan over the range
+        lo, hi = desc.drive.range
+        draw_spatial(desc, np.array([lo]), out / names[0])
+        draw_spatial(desc, np.linspace(lo, hi, PLAN_POSITIONS), out / names[1])
+    else:
+        # the sketch's own pose, as ``linkgen draw`` shows it: φ = 0 can be a folded pose (Bennett's
+        # four joints in line there, stacked in the side view)
+        draw_spatial(desc, np.array([assembled_chain(desc).phi_s]), out / names[0])
+        draw_spatial(desc, np.radians(np.arange(0.0, 360.0, PLAN_STEP_DEG)), out / names[1])
     return {"figures": names + plot_spatial_check(check, out, desc)}
 
 
@@ -77,7 +84,7 @@ def draw(desc, angles, out, *, vectors=None, parts: bool = False, free_body=None
 
         angles = np.array([assembled_chain(desc).phi_s])
     angles = np.atleast_1d(np.asarray(angles, dtype=float))
-    at = f"φ = {math.degrees(float(angles[0])):.6g}°"
+    at = (f"s = {float(angles[0]):.6g} m" if desc.drive.slides else f"φ = {math.degrees(float(angles[0])):.6g}°")
     if plan is not None and len(angles) == 1:
         from linkgen.draw.polygons import spatial_plan_figure
         from linkgen.families.spatial.plans import spatial_plan
@@ -119,6 +126,8 @@ def animate(desc, frames: int, progress=None, mujoco: bool = False, notice=None)
 
         raise ArgumentError("--mujoco puts MuJoCo's run beside planar linkages; for this model `linkgen render` "
                             "gives MuJoCo's frames and `linkgen validate` its run")
+    if desc.drive.slides:
+        return spatial_frames(desc, np.linspace(*desc.drive.range, frames), progress), " over the input's range"
     return spatial_frames(desc, turn_angles(frames), progress), " over one turn"
 
 
@@ -127,6 +136,9 @@ def render(desc, angle, width: int, height: int) -> tuple[np.ndarray, str]:
     posed from the closed form, and what it shows."""
     from linkgen.draw.frames import spatial_render
 
+    if desc.drive.slides:
+        s = desc.drive.range[0] if angle is None else float(angle)
+        return spatial_render(desc, s, width, height)[0], f"MuJoCo frame of {desc.name} at s = {s:.6g} m"
     phi = 0.0 if angle is None else float(angle)
     return spatial_render(desc, phi, width, height)[0], f"MuJoCo frame of {desc.name} at φ = {math.degrees(phi):.6g}°"
 

@@ -1,16 +1,22 @@
 """The structure of a spatial four-bar: which link is the crank, the coupler and the output, the
 kind of chain, its mobility, and its exact geometry at the sketch.
 
-Kinds (the crank is always the driven revolute with the ground):
+Kinds (the crank is the driven revolute with the ground, or for PSSR and PSSP the input slider
+on its driven prismatic pair with the ground):
     RSSR       spherical pairs at both ends of the coupler, the output turns on a revolute;
     RSSP       spherical pairs at both ends of the coupler, the output slides on a line;
+    PSSR       RSSR with a slider as the input;
+    PSSP       RSSP with a slider as the input;
+    RCCC       three cylindrical pairs (each turning about and sliding along its axis) after the
+               crank, on any axes (``rccc``);
     spherical  four revolutes whose axes meet at one point (the centre);
     planar     four revolutes with parallel axes;
     Bennett    four revolutes on skew axes with Bennett's conditions (opposite links equal in
                length and twist, zero offsets, a1·sin α2 = a2·sin α1).
 
 Mobility by the spatial structure formula W = 6n − 5p5 − 3p3 (n moving links; p5 revolute or
-prismatic, p3 spherical pairs). RSSR and RSSP give 2: one is the idle spin of the coupler about
+prismatic, p4 cylindrical, p3 spherical pairs: W = 6n − 5p5 − 4p4 − 3p3). RCCC gives 1.
+RSSR, RSSP, PSSR and PSSP give 2: one is the idle spin of the coupler about
 the line through its two spherical pairs, which moves nothing else (a slender coupler's inertia
 about that line is zero). The 4R chains give −2: three constraints repeat themselves, by the
 common centre (spherical: W = 3n − 2p5 = 1 in the spherical family), the parallel axes (planar:
@@ -24,11 +30,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from linkgen.errors import DescriptionError, StructureError
+from linkgen.errors import DescriptionError, StructureError, format_ranges
 from linkgen.model.names import GROUND
 from linkgen.families.spatial.description import SpatialMechanism
 
-KINDS = ("RSSR", "RSSP", "spherical", "planar", "Bennett")
+KINDS = ("RSSR", "RSSP", "PSSR", "PSSP", "RCCC", "spherical", "planar", "Bennett")
 # Geometric conditions (axes meeting, parallel, Bennett's equalities) hold to this fraction of
 # the mechanism's size (or in radians): a description written to 9 significant digits passes.
 GEOMETRY_TOL = 1e-8
@@ -39,8 +45,11 @@ class Chain:
     """A spatial four-bar at its sketch: link names, pair names, kind, mobility figures and the
     exact geometry (world frame, m; unit axes).
 
-    ``a0``/``ka``: the drive pivot and axis; ``ref``: the direction φ is measured from;
-    ``phi_s``: the crank angle of the sketch [rad]; ``A``, ``B``: the coupler's pair points at
+    ``a0``/``ka``: the drive pivot and axis (a prismatic input: the slider's point at the sketch
+    and its line's direction); ``ref``: the direction φ is measured from; ``phi_s``: the crank
+    angle of the sketch [rad] (0 for a prismatic input, whose coordinate s is the displacement
+    from the sketch); ``input_slides``: the input is a slider; ``input_range``: the input's
+    range, a full turn (0, 2π) [rad] for a crank, (start, stop) [m] for a slider; ``A``, ``B``: the coupler's pair points at
     the sketch (B as described, before assembly); ``length``: the coupler's |AB| [m];
     ``b0``/``kb``: the output's pivot and axis (revolute) or the line's point and direction
     (prismatic); ``centre``: the common point of a spherical chain; ``ua``/``ub``: the axes of
@@ -71,6 +80,35 @@ class Chain:
     mobility_formula: int
     mobility: int
     idle: str
+    input_slides: bool = False
+    input_range: tuple[float, float] = (0.0, 2 * math.pi)
+    drive_point: str = ""
+
+    def input_samples(self, n: int) -> np.ndarray:
+        """``n`` input values: over a crank's turn (its end excluded), or over a slider's range
+        (both ends)."""
+        lo, hi = self.input_range
+        return np.linspace(lo, hi, n, endpoint=self.input_slides)
+
+    def worded(self, exc, verb: str):
+        """``exc`` (AssemblyError or SingularityError) with its input values worded for this
+        chain's input (crank angles in degrees, a slider's displacements in metres)."""
+        Exception.__init__(exc, f"group {exc.group} {verb} at {self.input_text(exc.ranges)}: {exc.reason}")
+        return exc
+
+    def input_text(self, runs) -> str:
+        """(first, last) input values as the user reads them: crank angles in degrees, or a
+        slider's displacements in metres."""
+        if not self.input_slides:
+            return "crank angles " + format_ranges(runs)
+        return "input displacements " + ", ".join(f"{lo:.6g} m" if lo == hi else f"{lo:.6g}..{hi:.6g} m"
+                                                  for lo, hi in runs)
+
+    @property
+    def input_unit(self) -> float:
+        """The input's natural unit: 1 rad for a crank, the size [m] for a slider (a point of
+        the chain moves by about the size when the input moves by this much)."""
+        return self.size if self.input_slides else 1.0
 
     @property
     def output_variable(self) -> str:
@@ -108,8 +146,9 @@ def build_chain(mech: SpatialMechanism) -> Chain:
     if len(moving) != 3:
         raise StructureError(f"{mech.name}: a spatial mechanism is solved as a four-bar (three moving links: crank, "
                              f"coupler, output); this one has {len(moving)} moving link(s)")
-    drive = mech.joint(mech.drive.joint)
-    crank = drive.links[1] if drive.links[0] == GROUND else drive.links[0]
+    slide_in = mech.drive.slides
+    drive = next(s for s in mech.slides if s.name == mech.drive.joint) if slide_in else mech.joint(mech.drive.joint)
+    crank = drive.slider if slide_in else (drive.links[1] if drive.links[0] == GROUND else drive.links[0])
     pairs = list(mech.joints) + list(mech.slides)
     if len(pairs) != 4:
         raise StructureError(f"{mech.name}: a four-bar has four pairs; this one has {len(pairs)} "
@@ -129,24 +168,27 @@ def build_chain(mech: SpatialMechanism) -> Chain:
     jb = at_coupler[0]
     output = other(jb, coupler)
     ground_pairs = [j for j in mech.joints if GROUND in j.links and output in j.links]
-    slides = [s for s in mech.slides if {s.slider, s.guide} == {output, GROUND}]
+    slides = [s for s in mech.slides if {s.slider, s.guide} == {output, GROUND} and s is not drive]
     if len(ground_pairs) + len(slides) != 1:
         raise StructureError(f"{mech.name}: the output link {output} must join the ground by one revolute or one prismatic pair")
     slides_out = bool(slides)
     pts = [p for l in mech.links for p in l.points]
     size = max(math.dist(mech.points[p], mech.points[q]) for p in pts for q in pts) or 1.0
 
-    a0 = mech.point(drive.name)
-    ka = np.array(drive.axis)
+    a0 = mech.point(drive.point if slide_in else drive.name)
+    ka = np.array(drive.direction if slide_in else drive.axis)
     ref = reference_direction(ka)
     A = mech.point(ja.name)
     crank_link = mech.link(crank)
-    if crank_link.length is not None:  # the crank's length is exact: scale A about the pivot
-        A = a0 + (A - a0) * (crank_link.length / np.linalg.norm(A - a0))
-    ra = A - a0
-    if np.linalg.norm(ra - ka * (ka @ ra)) < GEOMETRY_TOL * size:
-        raise DescriptionError(f"joints.{ja.name}", f"point {ja.name} lies on the drive axis: the crank moves nothing")
-    phi_s = float(angle_about(ka, ra))
+    if slide_in:
+        phi_s = 0.0  # the input's coordinate: the slider's displacement from its sketch position
+    else:
+        if crank_link.length is not None:  # the crank's length is exact: scale A about the pivot
+            A = a0 + (A - a0) * (crank_link.length / np.linalg.norm(A - a0))
+        ra = A - a0
+        if np.linalg.norm(ra - ka * (ka @ ra)) < GEOMETRY_TOL * size:
+            raise DescriptionError(f"joints.{ja.name}", f"point {ja.name} lies on the drive axis: the crank moves nothing")
+        phi_s = float(angle_about(ka, ra))
     B = mech.point(jb.name)
     if slides_out:
         s = slides[0]
@@ -155,21 +197,32 @@ def build_chain(mech: SpatialMechanism) -> Chain:
         b0, kb, pair_out = B.copy(), np.array(s.direction), s.name
     else:
         jo = ground_pairs[0]
-        if jo.kind != "revolute":
-            raise StructureError(f"{mech.name}: the output's pair with the ground, {jo.name}, must be revolute or prismatic")
+        if jo.kind not in ("revolute", "cylindrical"):
+            raise StructureError(f"{mech.name}: the output's pair with the ground, {jo.name}, must be revolute, "
+                                 "cylindrical or prismatic")
         b0, kb, pair_out = mech.point(jo.name), np.array(jo.axis), jo.name
         out_link = mech.link(output)
-        if out_link.length is not None:
+        if out_link.length is not None and jo.kind == "revolute":
             B = b0 + (B - b0) * (out_link.length / np.linalg.norm(B - b0))
     coupler_link = mech.link(coupler)
     L = coupler_link.length if coupler_link.length is not None else float(np.linalg.norm(B - A))
 
     kinds = (ja.kind, jb.kind)
     centre = ua = ub = None
-    if kinds == ("spherical", "spherical"):
-        kind = "RSSP" if slides_out else "RSSR"
+    out_kind = "prismatic" if slides_out else ground_pairs[0].kind
+    if "cylindrical" in (*kinds, out_kind) and (kinds, out_kind, slide_in) != (("cylindrical",) * 2, "cylindrical", False):
+        raise StructureError(
+            f"{mech.name}: the chain's pairs after the crank are {ja.kind} {ja.name}, {jb.kind} {jb.name}, {out_kind} "
+            f"{pair_out}; with cylindrical pairs linkgen solves the RCCC chain: a crank on a revolute, then three "
+            "cylindrical pairs")
+    if kinds == ("cylindrical", "cylindrical"):
+        ua, ub = np.array(ja.axis), np.array(jb.axis)
+        kind, formula, idle = "RCCC", 6 * 3 - 5 * 1 - 4 * 3, ""
+        _check_rccc(mech, (drive.name, ka), (ja.name, ua), (jb.name, ub), (pair_out, kb))
+    elif kinds == ("spherical", "spherical"):
+        kind = ("P" if slide_in else "R") + ("SSP" if slides_out else "SSR")
         formula, idle = 6 * 3 - 5 * 2 - 3 * 2, f"the coupler {coupler!r} spins about the line {ja.name}{jb.name}"
-    elif kinds == ("revolute", "revolute") and not slides_out:
+    elif kinds == ("revolute", "revolute") and not slides_out and not slide_in:
         formula, idle = 6 * 3 - 5 * 4, ""
         ua, ub = np.array(ja.axis), np.array(jb.axis)
         axes = [(a0, ka), (A, ua), (B, ub), (b0, kb)]
@@ -177,10 +230,23 @@ def build_chain(mech: SpatialMechanism) -> Chain:
     else:
         raise StructureError(
             f"{mech.name}: the coupler {coupler} has a {ja.kind} pair at {ja.name} and a {jb.kind} pair at {jb.name}"
-            f"{' and the output slides' if slides_out else ''}; linkgen solves RSSR and RSSP (spherical pairs at both "
-            "ends) and the 4R chains (spherical, planar, Bennett)")
+            f"{' and the output slides' if slides_out else ''}{' and the input slides' if slide_in else ''}; linkgen "
+            "solves RSSR, RSSP, PSSR and PSSP (spherical pairs at both ends) and the 4R chains (spherical, planar, "
+            "Bennett) driven by a crank")
+    span = mech.drive.range if slide_in else (0.0, 2 * math.pi)
     return Chain(kind, crank, coupler, output, drive.name, ja.name, jb.name, pair_out, a0, ka, ref, phi_s, A, B, L,
-                 b0, kb, slides_out, centre, ua, ub, size, formula, 1, idle)
+                 b0, kb, slides_out, centre, ua, ub, size, formula, 1, idle, slide_in, span,
+                 drive.point if slide_in else drive.name)
+
+
+def _check_rccc(mech, drive, pa, pb, pout) -> None:
+    """No two successive axes of an RCCC may be parallel: the crank would not turn A's axis, or
+    the coupler's twist would not fix the output's turn."""
+    pairs = [drive, pa, pb, pout]
+    for (n1, u1), (n2, u2) in zip(pairs, pairs[1:] + pairs[:1]):
+        if np.linalg.norm(np.cross(u1, u2)) < GEOMETRY_TOL:
+            raise StructureError(f"{mech.name}: the axes of {n1} and {n2} are parallel; an RCCC needs skew successive "
+                                 "axes (with parallel ones the coupler's twist does not fix the output's turn)")
 
 
 def _four_revolutes(mech, axes, size: float, names) -> tuple[str, np.ndarray | None]:

@@ -8,18 +8,23 @@ inside, SI units and radians.
     [links.NAME]       points; length (two-point links: the exact distance); mass [kg] or
                        density [kg/m] (a uniform slender rod over the first two points; a
                        one-point link is a point mass)
-    [joints.POINT]     kind = "revolute" (axis = [x, y, z]) or "spherical": the pair at a point
-                       two links share
+    [joints.POINT]     kind = "revolute" or "cylindrical" (axis = [x, y, z]), or "spherical":
+                       the pair at a point two links share (a cylindrical pair turns about and
+                       slides along its axis)
     [prismatic.NAME]   slider, guide (default "ground"), point (default the slider's first),
                        direction = [x, y, z]: the slider's point moves on the line through its
                        sketch position along ``direction``
-    [drive]            joint (the revolute between ground and the crank), omega, epsilon
+    [drive]            joint: the revolute between ground and the crank (omega, epsilon), or a
+                       prismatic pair between ground and the input slider (velocity [m/s],
+                       acceleration [m/s²], start, stop [m]: the input's range, displacements of
+                       the slider's point from its sketch position along the line)
     [[force]]          link, point, force = [Fx, Fy, Fz], stroke (optional) — see ``spatial.loads``
     [[torque]]         link, torque = [Tx, Ty, Tz]
 
 The crank angle φ is the angle of the crank's second point about the drive axis, measured
 from the world axis least aligned with the drive axis (x, then y, then z) projected onto the
-plane square to it — for an axis along z, from +x about +z.
+plane square to it — for an axis along z, from +x about +z. A prismatic input's coordinate s
+[m] takes φ's place everywhere (the "input"): its rate and acceleration are m/s and m/s².
 """
 
 from __future__ import annotations
@@ -36,7 +41,8 @@ from linkgen.model import limits
 from linkgen.model.defaults import DEFAULT_BLOCK_MASS, DEFAULT_DENSITY
 from linkgen.model.names import GROUND, check_name
 from linkgen.model.schema import SPATIAL, check as check_types
-from linkgen.model.units import angular_acceleration, angular_speed, bounded, finite, length, shown
+from linkgen.model.units import bounded, finite, length, shown
+from linkgen.families.spatial.drive import Drive3, read_drive
 from linkgen.families.spatial.loads import LinkTorque3, PointForce3, read_loads
 
 _TOP = {"mechanism", "points", "links", "joints", "prismatic", "drive", "force", "torque"}
@@ -44,8 +50,7 @@ _MECH = {"name", "title", "space", "gravity"}
 _LINK = {"points", "length", "mass", "density"}
 _JOINT = {"kind", "axis"}
 _PRISMATIC = {"slider", "guide", "point", "direction"}
-_DRIVE = {"joint", "omega", "epsilon"}
-JOINT_KINDS = ("revolute", "spherical")
+JOINT_KINDS = ("revolute", "cylindrical", "spherical")
 # A direction shorter than this (relative to its largest component's scale) has no direction.
 MIN_DIRECTION = 1e-12
 
@@ -83,13 +88,6 @@ class Slide3:
     guide: str
     point: str
     direction: tuple[float, float, float]
-
-
-@dataclass(frozen=True)
-class Drive3:
-    joint: str
-    omega: float
-    epsilon: float = 0.0
 
 
 @dataclass(frozen=True)
@@ -212,9 +210,9 @@ def _from_dict(data: Mapping, source: str | None) -> SpatialMechanism:
         if kind not in JOINT_KINDS:
             raise DescriptionError(f"{where}.kind", f"must be one of {', '.join(JOINT_KINDS)}, got {shown(kind)}")
         axis = None
-        if kind == "revolute":
+        if kind in ("revolute", "cylindrical"):
             if "axis" not in jt:
-                raise DescriptionError(f"{where}.axis", "missing: a revolute pair needs its axis [x, y, z]")
+                raise DescriptionError(f"{where}.axis", f"missing: a {kind} pair needs its axis [x, y, z]")
             axis = _direction(jt["axis"], f"{where}.axis")
         elif "axis" in jt:
             raise DescriptionError(f"{where}.axis", "a spherical pair has no axis; remove the key")
@@ -243,25 +241,15 @@ def _from_dict(data: Mapping, source: str | None) -> SpatialMechanism:
             raise DescriptionError(f"{where}.direction", "missing: the line's direction [x, y, z]")
         slides.append(Slide3(sname, slider, guide, point, _direction(st["direction"], f"{where}.direction")))
 
-    drive_t = _table(data.get("drive", {}), "drive")
-    _keys(drive_t, _DRIVE, "drive")
-    dj = drive_t.get("joint")
-    revolutes = [j.name for j in joints if j.kind == "revolute" and GROUND in j.links]
-    if dj not in revolutes:
-        other = next((j for j in joints if j.name == dj), None)
-        if other is not None and other.kind != "revolute" and GROUND in other.links:
-            raise DescriptionError(f"joints.{dj}.kind", f"the driven pair {dj!r} must be a revolute with its axis (the "
-                                                        f"crank turns about it), got {other.kind!r}")
-        raise DescriptionError("drive.joint", f"must be a revolute pair with the ground ({', '.join(revolutes) or 'none'}), "
-                                              f"got {shown(dj)}")
-    if "omega" not in drive_t:
-        raise DescriptionError("drive.omega", "missing: the crank speed (rad/s, or '120rpm')")
-    omega = bounded(angular_speed(drive_t["omega"], "drive.omega"), "drive.omega", limits.MAX_OMEGA, "rad/s")
-    epsilon = bounded(angular_acceleration(drive_t.get("epsilon", 0.0), "drive.epsilon"), "drive.epsilon",
-                      limits.MAX_EPSILON, "rad/s²")
+    drive = read_drive(_table(data.get("drive", {}), "drive"), joints, slides)
     point_forces, torques = read_loads(dict(data), {l.name: l.points for l in links})
+    if drive.slides:  # a stroke is a range of crank angles: a slider's input has none
+        for i, f in enumerate(point_forces):
+            if f.stroke is not None:
+                raise DescriptionError(f"force[{i}].stroke", "is a range of crank angles; with a prismatic input "
+                                                             f"({drive.joint}) there is none: remove it")
     return SpatialMechanism(name, title, MappingProxyType(points), links, tuple(joints), tuple(slides),
-                            Drive3(dj, omega, epsilon), gravity, source, point_forces, torques)
+                            drive, gravity, source, point_forces, torques)
 
 
 def _link(name: str, t: dict, points: dict) -> Link3:

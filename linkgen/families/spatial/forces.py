@@ -7,8 +7,10 @@ Each moving link is a uniform rod over its first two points (a small ball for a 
 link; ``mass``), axisymmetric about its line, so a coupler's idle spin stays zero and carries
 no load. Unknowns per pair: a revolute carries a force (3) and a moment square to its axis
 (2); a spherical pair a force (3); a prismatic pair a force square to its line (2) and a moment
-(3); the drive adds the torque about its axis. Eighteen equations (six per link) are solved for
-them at every crank angle by least squares. RSSR and RSSP have 17 unknowns and one identity (the
+(3); a cylindrical pair a force and a moment square to its axis (2 + 2); the drive adds the
+torque about its axis (a slider input: the force along its line). Eighteen equations (six per link) are solved for
+them at every crank angle by least squares. RCCC has 18 unknowns, all determined. RSSR and RSSP
+(PSSR, PSSP) have 17 unknowns and one identity (the
 moment about the coupler's line): every reaction is determined. The 4R chains (spherical, planar,
 Bennett) have 21 unknowns and rank 18: three components are statically indeterminate, and the
 minimum-norm solution is given (``Forces.indeterminate`` = 3); the balancing torque is
@@ -66,8 +68,9 @@ class Reaction:
 
 @dataclass(frozen=True)
 class SpatialForces:
-    """Balancing torque (n,) [N·m] on the crank about its axis, the same from the power balance
-    (n,) [N·m], reactions by pair name, the number of statically indeterminate components (0:
+    """Balancing torque (n,) [N·m] on the crank about its axis (for a prismatic input the
+    balancing force [N] on the slider along its line), the same from the power balance
+    (n,) [N·m or N], reactions by pair name, the number of statically indeterminate components (0:
     all determined)."""
 
     phi: np.ndarray
@@ -126,7 +129,7 @@ def applied_loads(mech: SpatialMechanism, motion: SpatialMotion) -> dict:
             continue
         force, moment = out.setdefault(f.link, (np.zeros((n, 3)), np.zeros((n, 3))))
         vec = np.where(stroke_active(f, motion.phi)[:, None], np.asarray(f.force, dtype=float), 0.0)
-        arm = motion.points[f.point].d[0] - link_body(mech, motion, f.link)[1].d[0]
+        arm = motion.at(f.link, f.point).d[0] - link_body(mech, motion, f.link)[1].d[0]
         force += vec
         moment += np.cross(arm, vec)
     for t in mech.torques:
@@ -187,15 +190,22 @@ def forces(mech: SpatialMechanism, phi, omega: float | None = None, epsilon: flo
     # prismatic one on the slider by the guide (Reaction)
     eye = [np.broadcast_to(v, (n, 3)) for v in np.eye(3)]
     order = {j.name: j.links for j in mech.joints}
-    pairs = [(chain.drive, *order[chain.drive], pts[chain.drive].d[0], eye, list(_square_basis(ka))),
-             (chain.pair_a, *order[chain.pair_a], pts[chain.pair_a].d[0], eye,
+    if chain.input_slides:  # the input's prismatic pair: on the slider by the ground, as the output's
+        first = (chain.drive, chain.crank, GROUND, pts[chain.drive_point].d[0], list(_square_basis(ka)), eye)
+    else:
+        first = (chain.drive, *order[chain.drive], pts[chain.drive].d[0], eye, list(_square_basis(ka)))
+    # a cylindrical pair (RCCC) carries a force and a moment square to its axis, about a point of it
+    cyl = chain.kind == "RCCC"
+    pairs = [first,
+             (chain.pair_a, *order[chain.pair_a], pts[chain.pair_a].d[0], list(_square_basis(ua)) if cyl else eye,
               list(_square_basis(ua)) if ua is not None else []),
-             (chain.pair_b, *order[chain.pair_b], pts[chain.pair_b].d[0], eye,
+             (chain.pair_b, *order[chain.pair_b], pts[chain.pair_b].d[0], list(_square_basis(ub)) if cyl else eye,
               list(_square_basis(ub)) if ub is not None else [])]
     if chain.output_slides:
         pairs.append((chain.pair_out, chain.output, GROUND, pts[chain.pair_b].d[0], list(_square_basis(kb)), eye))
     else:
-        pairs.append((chain.pair_out, *order[chain.pair_out], pts[chain.pair_out].d[0], eye, list(_square_basis(kb))))
+        pairs.append((chain.pair_out, *order[chain.pair_out], pts[chain.pair_out].d[0],
+                      list(_square_basis(kb)) if cyl else eye, list(_square_basis(kb))))
     columns, rhs = [], np.zeros((n, 18))
     com = {b: loads[b][1] for b in bodies}
     layout = []
@@ -216,7 +226,11 @@ def forces(mech: SpatialMechanism, phi, omega: float | None = None, epsilon: flo
             columns.append(col)
         layout.append((name, on, by, start, len(fbasis), len(mbasis), fbasis, mbasis))
     drive_col = np.zeros((n, 18))
-    drive_col[:, row[chain.crank] + 3:row[chain.crank] + 6] = ka
+    if chain.input_slides:  # the driving force along the line, at the slider's point
+        drive_col[:, row[chain.crank]:row[chain.crank] + 3] = ka
+        drive_col[:, row[chain.crank] + 3:row[chain.crank] + 6] = np.cross(pts[chain.drive_point].d[0] - com[chain.crank], ka)
+    else:
+        drive_col[:, row[chain.crank] + 3:row[chain.crank] + 6] = ka
     columns.append(drive_col)
     # The pair reactions balance the d'Alembert load less the given one; the power balance is the
     # virtual work of the given and d'Alembert loads with the crank turned by δφ.

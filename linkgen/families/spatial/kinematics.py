@@ -22,7 +22,7 @@ from __future__ import annotations
 
 import itertools
 import math
-from dataclasses import dataclass, replace
+from dataclasses import replace
 
 import numpy as np
 
@@ -31,6 +31,7 @@ from linkgen.model.names import GROUND
 from linkgen.families.spatial.chain import Chain, angle_about, build_chain, common_normal
 from linkgen.families.spatial.description import SpatialMechanism
 from linkgen.families.spatial.jets import Jet, constant, rotate, variable
+from linkgen.families.spatial.motion import SpatialMotion
 
 # The same rule as the planar groups (linkgen.families.planar.groups.SINGULAR_TOL): F_q normalised to
 # [-1, 1] (2·L·r for a turning output, 2·L for a slider) below this is a dead centre, where the
@@ -44,33 +45,32 @@ ON_LINE_TOL = 1e-9
 BENNETT_SKETCH_TOL = 1e-6
 
 
-@dataclass(frozen=True)
-class SpatialMotion:
-    """Positions and transfer functions over crank angles ``phi`` (n,) [rad].
-
-    ``points[name]``: a vector Jet (4, n, 3) [m, m/rad, m/rad², m/rad³]; ``output``: a scalar
-    Jet, the output's absolute angle about its axis [rad] or its travel from the sketch [m];
-    ``turn``: the output's turn from its sketch (ψ or s) as a Jet; ``spin[link]``: the link's
-    angular velocity and its derivative per unit crank rate, each (n, 3) [rad/rad, rad/rad²]
-    (a coupler between two spherical pairs without spin about its own line); ``frames[link]``:
-    rotation matrices (n, 3, 3) from the sketch pose; ``denominator``: normalised F_q (n,) (for
-    Bennett, the closure's normalised denominator, see ``_bennett_turn``)."""
-
-    chain: Chain
-    phi: np.ndarray
-    points: dict
-    output: Jet
-    turn: Jet
-    spin: dict
-    frames: dict
-    denominator: np.ndarray
-
-    def __repr__(self) -> str:
-        return f"SpatialMotion({self.chain.kind}, {self.phi.shape[0]} angles, {len(self.points)} points)"
-
-
 def _crank_a(chain: Chain, phi: Jet) -> Jet:
+    if chain.input_slides:  # the input slider's point A moves with it along the line
+        return constant(chain.A, phi.d.shape[1]) + phi * constant(chain.ka, phi.d.shape[1])
     return constant(chain.a0, phi.d.shape[1]) + rotate(chain.ka, chain.A - chain.a0, phi - chain.phi_s)
+
+
+# Input values of a slider's range at which the chain is checked to assemble (the range's ends
+# included): 0.05 % of the range apart.
+RANGE_SAMPLES = 2001
+
+
+def _check_range(chain: Chain, mech: SpatialMechanism) -> None:
+    """A prismatic input's [drive] start..stop must lie where the coupler reaches the output:
+    else a DescriptionError naming the range and the displacements where it does not."""
+    s = np.linspace(*chain.input_range, RANGE_SAMPLES)
+    fail = _roots(chain, _crank_a(chain, variable(s)).value)[2]
+    if fail.any():
+        from linkgen.errors import DescriptionError
+
+        ok = s[~fail]
+        where = (f"; it assembles only at {chain.input_text(angle_ranges(s, ~fail))} of it" if ok.size
+                 else "; it assembles nowhere in it")
+        raise DescriptionError("drive.stop" if fail[-1] else "drive.start",
+                               f"the input range {chain.input_range[0]:.6g}..{chain.input_range[1]:.6g} m does not "
+                               f"assemble: the coupler cannot reach the output at {chain.input_text(angle_ranges(s, fail))}"
+                               f"{where}", mech.source)
 
 
 def _output_b(chain: Chain, q: Jet) -> Jet:
@@ -140,6 +140,8 @@ def assembled_chain(mech: SpatialMechanism) -> Chain:
     """The chain with its output placed exactly on the loop at the sketch's crank angle (the
     root nearest the described output point; for Bennett the one that keeps the coupler)."""
     chain = build_chain(mech)
+    if chain.kind == "RCCC":  # the sketch lies on the loop by construction (families.spatial.rccc)
+        return chain
     a = _crank_a(chain, variable(np.array([chain.phi_s]))).value
     q1, q2, fail, _ = _roots(chain, a)
     if fail[0]:
@@ -157,7 +159,10 @@ def assembled_chain(mech: SpatialMechanism) -> Chain:
     ub = chain.ub
     if ub is not None and not chain.output_slides:
         ub = rotate(chain.kb, ub, qj).value[0]
-    return replace(chain, B=b, ub=ub)
+    chain = replace(chain, B=b, ub=ub)
+    if chain.input_slides:
+        _check_range(chain, mech)
+    return chain
 
 
 def solve(mech_or_chain: SpatialMechanism | Chain, phi, chain: Chain | None = None) -> SpatialMotion:
@@ -175,6 +180,10 @@ def solve(mech_or_chain: SpatialMechanism | Chain, phi, chain: Chain | None = No
     n = phi.shape[0]
     label = f"{chain.kind} [{chain.crank}, {chain.coupler}, {chain.output}]"
     pj = variable(phi)
+    if chain.kind == "RCCC":
+        from linkgen.families.spatial.rccc import solve_rccc
+
+        return solve_rccc(chain, mech, phi, label)
     if chain.kind == "Bennett":  # Bennett's closed form: regular over the whole turn
         q, den = _bennett_turn(chain, pj)
         bad = ~(np.abs(den) >= SINGULAR_TOL)
@@ -185,17 +194,17 @@ def solve(mech_or_chain: SpatialMechanism | Chain, phi, chain: Chain | None = No
     a = _crank_a(chain, pj).value
     q1, q2, fail, scale = _roots(chain, a)
     if fail.any():
-        raise AssemblyError(label, angle_ranges(phi, fail), "the coupler cannot reach the output (the distance it must "
-                            "span leaves the range the output's point can take)")
+        raise chain.worded(AssemblyError(label, angle_ranges(phi, fail), "the coupler cannot reach the output (the "
+                                         "distance it must span leaves the range the output's point can take)"),
+                           "cannot be assembled")
     q0 = q1 if _branch(chain) > 0 else q2
     # implicit derivatives: F's k-th derivative is F_q·q⁽ᵏ⁾ + (terms in lower derivatives)
     fq = _residual(chain, variable(phi, (0.0, 0.0, 0.0)), variable(q0)).d[1]
     den = fq / scale
     bad = ~(np.abs(den) >= SINGULAR_TOL)
     if bad.any():
-        raise SingularityError(label, angle_ranges(phi, bad),
-                               "a dead centre: the coupler is square to the output's path (|F_q| normalised "
-                               f"below {SINGULAR_TOL:g})")
+        raise chain.worded(SingularityError(label, angle_ranges(phi, bad), "a dead centre: the coupler is square to "
+                                            f"the output's path (|F_q| normalised below {SINGULAR_TOL:g})"), "is singular")
     qd = [q0, np.zeros(n), np.zeros(n), np.zeros(n)]
     for k in (1, 2, 3):
         rk = _residual(chain, pj, variable(qd[0], tuple(qd[1:]))).d[k]
@@ -255,7 +264,10 @@ def _frames_of(chain: Chain, pj: Jet, q: Jet, points: dict) -> tuple[dict, dict,
     n = pj.d.shape[1]
     cols = {}
     eye = np.eye(3)
-    cols[chain.crank] = [rotate(chain.ka, eye[i], pj - chain.phi_s) for i in range(3)]
+    if chain.input_slides:  # the input slider translates
+        cols[chain.crank] = [constant(eye[i], n) for i in range(3)]
+    else:
+        cols[chain.crank] = [rotate(chain.ka, eye[i], pj - chain.phi_s) for i in range(3)]
     if chain.output_slides:
         cols[chain.output] = [constant(eye[i], n) for i in range(3)]
     else:
@@ -322,7 +334,8 @@ def _motion(chain: Chain, mech: SpatialMechanism | None, phi: np.ndarray, pj: Je
                     continue
                 pts[p] = _carried(chain, mech, link.name, p, cols, pts)
     else:
-        pts[chain.drive] = constant(chain.a0, n)
+        pts[chain.drive_point] = constant(chain.a0, n) if not chain.input_slides else _crank_a(chain, pj) + (
+            chain.a0 - chain.A)
     if chain.output_slides:
         out = q
     else:

@@ -47,9 +47,9 @@ def link_body(mech, motion, link: str):
     (a SpatialMotion of ``mech``)."""
     l = mech.link(link)
     n = motion.phi.shape[0]
-    p0 = motion.points[l.points[0]]
+    p0 = motion.at(link, l.points[0])
     if len(l.points) >= 2:
-        p1 = motion.points[l.points[1]]
+        p1 = motion.at(link, l.points[1])
         c = (p0 + p1) * 0.5
         r = (p1 - p0).d[0]
         span2 = np.einsum("ij,ij->i", r, r)

@@ -12,6 +12,11 @@ import numpy as np
 
 from linkgen.model.results import AngleMotion, PointMotion, Reaction, SlideMotion, column, per_sample, plain, shaped
 
+# The kinds driven by a slider: the input's coordinate s [m] (the "phi" key), its velocity [m/s]
+# and acceleration [m/s²] ("omega", "epsilon"), transfer functions per metre of s, and a balancing
+# force [N] for the torque.
+INPUT_SLIDES = ("PSSR", "PSSP")
+SLIDE_UNITS = {"phi": "m", "omega": "m/s", "epsilon": "m/s²", "d1": "per m", "d2": "per m²", "d3": "per m³"}
 UNITS = {"position": "m", "velocity": "m/s", "acceleration": "m/s²", "jerk": "m/s³", "angle": "rad",
          "angular_velocity": "rad/s", "angular_acceleration": "rad/s²", "angular_jerk": "rad/s³", "displacement": "m",
          "d1": "per rad", "d2": "per rad²", "d3": "per rad³"}
@@ -36,13 +41,13 @@ class SpatialKinematics:
 
     def to_dict(self, transfer: bool = True) -> dict:
         return {"model": self.model, "kind": self.kind, "phi": plain(self.phi), "omega": self.omega,
-                "epsilon": self.epsilon, "units": UNITS,
+                "epsilon": self.epsilon, "units": UNITS | (SLIDE_UNITS if self.kind in INPUT_SLIDES else {}),
                 "points": {n: p.to_dict(transfer) for n, p in self.points.items()},
                 "links": {n: q.to_dict(transfer) for n, q in self.links.items()},
                 "sliders": {n: q.to_dict(transfer) for n, q in self.sliders.items()}}
 
     def columns(self, transfer: bool = True) -> dict[str, np.ndarray]:
-        cols = {"phi [rad]": column(self.phi)}
+        cols = {"s [m]" if self.kind in INPUT_SLIDES else "phi [rad]": column(self.phi)}
         for table in (self.points, self.links, self.sliders):
             for n, q in table.items():
                 cols |= q.columns(n, q.names(transfer))
@@ -55,8 +60,9 @@ class SpatialKinematics:
     def text(self, transfer: bool = False) -> str:
         d = self.to_dict(transfer=False)
         phi = float(self.phi)
-        lines = [f"{self.model} ({self.kind}): φ = {math.degrees(phi):.6g}° ({phi:.9g} rad), ω = {self.omega:g} rad/s, "
-                 f"ε = {self.epsilon:g} rad/s²"]
+        lines = [f"{self.model} ({self.kind}): " + (
+            f"s = {phi:.9g} m, v = {self.omega:g} m/s, a = {self.epsilon:g} m/s²" if self.kind in INPUT_SLIDES else
+            f"φ = {math.degrees(phi):.6g}° ({phi:.9g} rad), ω = {self.omega:g} rad/s, ε = {self.epsilon:g} rad/s²")]
         head = "".join(f"{h:>13}" for h in ("x [m]", "y [m]", "z [m]", "vx [m/s]", "vy [m/s]", "vz [m/s]", "ax [m/s²]",
                                               "ay [m/s²]", "az [m/s²]", "jx [m/s³]", "jy [m/s³]", "jz [m/s³]"))
         lines.append(f"{'point':<8}{head}")
@@ -68,9 +74,11 @@ class SpatialKinematics:
                 lines.append(f"{kind[:-1]} {n}: " + ", ".join(f"{k} {v:.9g}" for k, v in q.items()))
         if transfer:  # the output: the slider, or the turning link after the crank
             out = next(iter(self.sliders.values()), None) or list(self.links.values())[-1]
-            lines.append("transfer functions (derivatives with respect to φ) of the output: " + ", ".join(
-                f"{k} {float(getattr(out, q)):.9g}" for k, q in (("d/dphi", "d1"), ("d2/dphi2", "d2"),
-                                                                 ("d3/dphi3", "d3"))))
+            x = "s" if self.kind in INPUT_SLIDES else "phi"
+            out = (list(self.sliders.values()) + list(self.links.values()))[-1] if self.kind in INPUT_SLIDES else out
+            lines.append(f"transfer functions (derivatives with respect to {'s' if x == 's' else 'φ'}) of the output: "
+                         + ", ".join(f"{k} {float(getattr(out, q)):.9g}" for k, q in (
+                             (f"d/d{x}", "d1"), (f"d2/d{x}2", "d2"), (f"d3/d{x}3", "d3"))))
         return "\n".join(lines)
 
     def __repr__(self) -> str:
@@ -93,16 +101,21 @@ def kinematics(mech, phi, omega=None, epsilon=None, *, on_singular: str = "raise
     def s(x):
         return shaped(x, scalar)
 
+    # a cylindrical pair's point as its later link carries it (RCCC) is "POINT:LINK", as in the MJCF
+    jets = k.points | {f"{p}:{link}": jet for (link, p), jet in k.own.items() if link != c.crank or p != c.drive_point}
     points = {n: PointMotion(*(s(x) for x in (*jet_motion(jet, w, e), jet.d[1], jet.d[2], jet.d[3])))
-              for n, jet in k.points.items()}
+              for n, jet in jets.items()}
     n = phis.shape[0]
     # The crank turns with φ itself: dφ/dφ = 1, higher transfer functions 0.
-    crank = AngleMotion(s(phis), s(np.full(n, w)), s(np.full(n, e)), s(np.zeros(n)), s(np.ones(n)), s(np.zeros(n)),
-                        s(np.zeros(n)))
+    crank = (SlideMotion if c.input_slides else AngleMotion)(
+        s(phis), s(np.full(n, w)), s(np.full(n, e)), s(np.zeros(n)), s(np.ones(n)), s(np.zeros(n)), s(np.zeros(n)))
     out = (SlideMotion if c.output_slides else AngleMotion)(
         *(s(x) for x in (*jet_motion(k.output, w, e), k.output.d[1], k.output.d[2], k.output.d[3])))
-    links = {c.crank: crank} | ({} if c.output_slides else {c.output: out})
-    sliders = {c.pair_out: out} if c.output_slides else {}
+    # a slider as the input is listed under its pair's name, as a sliding output
+    links = ({} if c.input_slides else {c.crank: crank}) | ({} if c.output_slides else {c.output: out})
+    sliders = ({c.drive: crank} if c.input_slides else {}) | ({c.pair_out: out} if c.output_slides else {})
+    sliders |= {pair: SlideMotion(*(s(x) for x in (*jet_motion(jet, w, e), jet.d[1], jet.d[2], jet.d[3])))
+                for pair, jet in k.slides.items()}  # each cylindrical pair's slide (RCCC)
     return SpatialKinematics(mech.name, c.kind, float(phis[0]) if scalar else phis, w, e, points, links, sliders)
 
 
@@ -122,17 +135,28 @@ class SpatialForcesResult:
     reactions: Mapping[str, Reaction]
     statically_indeterminate: int
 
+    input_slides: bool = False
+
+    @property
+    def _drive(self) -> tuple[str, str]:
+        """The balancing load's name and unit: a force [N] on a slider input, else a torque."""
+        return ("force", "N") if self.input_slides else ("torque", "N·m")
+
     def to_dict(self, transfer: bool = True) -> dict:
+        what, unit = self._drive
         return {"model": self.model, "phi": plain(self.phi), "omega": self.omega, "epsilon": self.epsilon,
-                "units": {"force": "N", "moment": "N·m", "balancing_torque": "N·m", "power_balance_torque": "N·m"},
-                "balancing_torque": plain(self.balancing_torque),
-                "power_balance_torque": plain(self.power_balance_torque),
+                "units": {"force": "N", "moment": "N·m", f"balancing_{what}": unit, f"power_balance_{what}": unit}
+                | (SLIDE_UNITS if self.input_slides else {}),
+                f"balancing_{what}": plain(self.balancing_torque),
+                f"power_balance_{what}": plain(self.power_balance_torque),
                 "statically_indeterminate": self.statically_indeterminate,
                 "reactions": {n: r.to_dict() for n, r in self.reactions.items()}}
 
     def columns(self, transfer: bool = True) -> dict[str, np.ndarray]:
-        cols = {"phi [rad]": column(self.phi), "balancing_torque [N·m]": column(self.balancing_torque),
-                "power_balance_torque [N·m]": column(self.power_balance_torque)}
+        what, unit = self._drive
+        cols = {"s [m]" if self.input_slides else "phi [rad]": column(self.phi),
+                f"balancing_{what} [{unit}]": column(self.balancing_torque),
+                f"power_balance_{what} [{unit}]": column(self.power_balance_torque)}
         for n, r in self.reactions.items():
             cols |= r.columns(n)
         return cols
@@ -143,9 +167,11 @@ class SpatialForcesResult:
     @per_sample
     def text(self, transfer: bool = False) -> str:
         phi = float(self.phi)
-        lines = [f"{self.model}: φ = {math.degrees(phi):.6g}°, ω = {self.omega:g} rad/s, ε = {self.epsilon:g} rad/s²: "
-                 f"balancing torque {float(self.balancing_torque):.6g} N·m (power balance: "
-                 f"{float(self.power_balance_torque):.6g} N·m)"]
+        what, unit = self._drive
+        at = (f"s = {phi:.6g} m, v = {self.omega:g} m/s, a = {self.epsilon:g} m/s²" if self.input_slides else
+              f"φ = {math.degrees(phi):.6g}°, ω = {self.omega:g} rad/s, ε = {self.epsilon:g} rad/s²")
+        lines = [f"{self.model}: {at}: balancing {what} {float(self.balancing_torque):.6g} {unit} (power balance: "
+                 f"{float(self.power_balance_torque):.6g} {unit})"]
         for n, r in self.reactions.items():
             lines.append(f"pair {n}: on {r.on} by {r.by}: force [{', '.join(f'{x:.6g}' for x in r.force)}] N, "
                          f"moment [{', '.join(f'{x:.6g}' for x in r.moment)}] N·m")
@@ -174,7 +200,7 @@ def forces(mech, phi, omega=None, epsilon=None, *, on_singular: str = "raise") -
     return SpatialForcesResult(mech.name, float(phis[0]) if scalar else phis, w, e, s(f.balancing_torque),
                          s(f.power_balance_torque),
                          {n: Reaction(s(r.force), r.on, r.by, s(r.moment)) for n, r in f.reactions.items()},
-                         f.indeterminate)
+                         f.indeterminate, mech.drive.slides)
 
 
 __all__ = ["SpatialForcesResult", "SpatialKinematics", "forces", "kinematics"]

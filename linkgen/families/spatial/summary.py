@@ -11,7 +11,6 @@ K = (the longer stroke's crank turn) / (the shorter's) ≥ 1, and a peak is a la
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, field
 from typing import Mapping
 
@@ -23,6 +22,8 @@ from linkgen.families.spatial.forces import forces
 from linkgen.families.spatial.kinematics import assembled_chain, solve
 from linkgen.model.summary import Extreme, Limit, Output, summary_dict
 
+# The kinds driven by a slider.
+INPUT_SLIDES = ("PSSR", "PSSP")
 # Crank angles over a turn at which the output is scanned for its limit positions (every 0.1°).
 SCAN = 3600
 # Limit positions are refined to this crank angle [rad] (Brent's method on dq/dφ).
@@ -51,7 +52,16 @@ class SpatialSummary:
     statically_indeterminate: int = 0
 
     @property
+    def input_slides(self) -> bool:
+        """The input is a slider (PSSR, PSSP): its coordinate s [m] stands for φ, its balancing
+        force [N] for the torque."""
+        return self.kind in INPUT_SLIDES
+
+    @property
     def units(self) -> dict[str, str]:
+        if self.input_slides:
+            return {"phi": "m", "drive_range": "m", "omega": "m/s", "epsilon": "m/s²", "slider": "m", "rocker": "rad",
+                    "peak_balancing_torque": "N", "peak_reactions": "N"}
         return {"phi": "rad", "drive_range": "rad", "slider": "m", "rocker": "rad", "peak_balancing_torque": "N·m",
                 "peak_reactions": "N"}
 
@@ -65,21 +75,25 @@ class SpatialSummary:
 
 
 def summarize(mech: SpatialMechanism) -> SpatialSummary:
-    """The summary over one turn of the crank (it must assemble over the whole turn)."""
+    """The summary over one turn of the crank (it must assemble over the whole turn), or over
+    a prismatic input's range (limit positions inside it and its ends; no time ratio: the
+    slider does not return by itself)."""
     chain = assembled_chain(mech)
-    turn = 2 * math.pi
-    phi = samples(0.0, turn, SCAN, periodic=True)
+    lo, hi = chain.input_range
+    period = None if chain.input_slides else hi - lo  # a crank's turn wraps; a slider's range does not
+    phi = samples(lo, hi, SCAN, periodic=period is not None)
     k = solve(mech, phi, chain)
-    found = stationary(lambda x: solve(mech, x, chain).turn.d[1], phi, k.turn.d[1], period=turn, xtol=ANGLE_TOL)
+    found = stationary(lambda x: solve(mech, x, chain).turn.d[1], phi, k.turn.d[1], period=period, xtol=ANGLE_TOL)
     ends = solve(mech, [e.x for e in found], chain) if found else None
     values = ends.output.d[0] if found else []  # the joint variable analyze gives, absolute
     limits = tuple(Limit(e.x, float(v), e.kind) for e, v in zip(found, values))
     swing = float(max(values) - min(values)) if limits else None  # None: the output turns fully
     strokes = ratio = None
-    if len(limits) == 2:
-        lo = next(x.phi for x in limits if x.kind == "min")
-        hi = next(x.phi for x in limits if x.kind == "max")
-        out = (hi - lo) % turn
+    if len(limits) == 2 and period is not None:
+        turn = period
+        lo_at = next(x.phi for x in limits if x.kind == "min")
+        hi_at = next(x.phi for x in limits if x.kind == "max")
+        out = (hi_at - lo_at) % turn
         strokes = (out, turn - out)
         ratio = max(strokes) / min(strokes)
     slides = chain.output_slides
@@ -87,18 +101,18 @@ def summarize(mech: SpatialMechanism) -> SpatialSummary:
     w, e = mech.drive.omega, mech.drive.epsilon
     f = forces(mech, phi, w, e, motion=k)
     t_at, _ = peak(lambda x: np.abs(forces(mech, x, w, e).balancing_torque), phi, np.abs(f.balancing_torque),
-                   period=turn)
+                   period=period)
     torque = float(abs(forces(mech, [t_at], w, e).balancing_torque[0]))
     peaks, note = {}, None
     if f.indeterminate == 0:
         for name, r in f.reactions.items():
             at, mag = peak(lambda x, n=name: np.linalg.norm(forces(mech, x, w, e).reactions[n].force, axis=1), phi,
-                           np.linalg.norm(r.force, axis=1), period=turn)
+                           np.linalg.norm(r.force, axis=1), period=period)
             peaks[name] = Extreme(mag, at)
     else:
         note = f"pair forces: statically indeterminate by {f.indeterminate}, not summarised"
     name = chain.pair_out if slides else chain.output  # a slider by its pair, a rocker by its link, as planar
-    return SpatialSummary(mech.name, w, e, (0.0, turn), chain.kind, {name: output}, Extreme(torque, t_at), peaks,
+    return SpatialSummary(mech.name, w, e, (lo, hi), chain.kind, {name: output}, Extreme(torque, t_at), peaks,
                           note, f.indeterminate)
 
 

@@ -40,14 +40,19 @@ def structure(mech) -> SpatialStructure:
     from linkgen.families.spatial.kinematics import assembled_chain
 
     c = assembled_chain(mech)
-    lines = [f"{mech.name}: spatial {c.kind} four-bar — crank {c.crank!r} (driven at {c.drive!r}), coupler "
+    lines = [f"{mech.name}: spatial {c.kind} four-bar — {'input slider' if c.input_slides else 'crank'} {c.crank!r} "
+             f"(driven at {c.drive!r}), coupler "
              f"{c.coupler!r}, output {c.output!r} ({'sliding on' if c.output_slides else 'turning about'} its pair "
              f"{c.pair_out!r})"]
     spherical = sum(1 for j in mech.joints if j.kind == "spherical")
-    lower = len(mech.joints) + len(mech.slides) - spherical
-    lines.append(f"mobility by the spatial formula W = 6·n − 5·p5 − 3·p3 = 6·3 − 5·{lower} − 3·{spherical} = "
-                 f"{c.mobility_formula}")
-    if c.idle:
+    cylindrical = sum(1 for j in mech.joints if j.kind == "cylindrical")
+    lower = len(mech.joints) + len(mech.slides) - spherical - cylindrical
+    lines.append(f"mobility by the spatial formula W = 6·n − 5·p5 − 4·p4 − 3·p3 = 6·3 − 5·{lower} − 4·{cylindrical} − "
+                 f"3·{spherical} = {c.mobility_formula}")
+    if c.kind == "RCCC":
+        lines.append("no idle freedom and no repeated constraint: the coupler keeps the twist and the distance of its "
+                     "two axes, which fix the output's turn and slide")
+    elif c.idle:
         lines.append(f"idle freedom: {c.idle} (moves no other point); the mechanism's mobility is {c.mobility}")
     else:
         why = {"spherical": "all axes meet at one point: the spherical family, W = 3·n − 2·p5 = 3·3 − 2·4 = 1",
@@ -57,6 +62,9 @@ def structure(mech) -> SpatialStructure:
         lines.append(f"overconstrained: {why}")
     lines.append("pairs: " + ", ".join(f"{j.kind} {j.name} [{j.links[0]}, {j.links[1]}]" for j in mech.joints)
                  + "".join(f", prismatic {s.name} [{s.guide}, {s.slider}]" for s in mech.slides))
+    if c.kind == "RCCC":
+        lines.append("a cylindrical pair's point belongs to its first link (A: the crank's, B: the coupler's); the later "
+                     "link's copy, which slides along the axis, is named POINT:LINK")
     lines.append(_assembly_range(mech, c))
     return SpatialStructure(mech.name, int(c.mobility), c.crank, c.drive, c.kind, c.coupler, c.output, c.pair_out,
                             tuple(lines))
@@ -93,6 +101,17 @@ def _assembly_range(mech, chain) -> str:
     """Whether the chain assembles over the whole turn of its crank, or where it does not."""
     from linkgen.model.turn import EDGE_TOL, degrees_text, turn_assembly
 
+    if chain.input_slides:  # assembled_chain has checked the range; a dead centre is found by solve
+        from linkgen.errors import SingularityError
+        from linkgen.families.spatial.kinematics import RANGE_SAMPLES, solve
+
+        lo, hi = chain.input_range
+        try:
+            solve(mech, np.linspace(lo, hi, RANGE_SAMPLES), chain)
+        except SingularityError as exc:
+            return f"assembly: over the input's range {lo:.6g}..{hi:.6g} m, with {exc}"
+        return (f"assembly: over the input's range {lo:.6g}..{hi:.6g} m (checked at {RANGE_SAMPLES} displacements), "
+                "no dead centre")
     t = turn_assembly(_status(mech, chain))
     if not t.full:
         return (f"assembly: not over the whole turn — the coupler cannot reach the output at crank angles "
@@ -109,7 +128,33 @@ def summary_text(sm) -> str:
     family shares (``model.summary.summary_text``), naming the chain's kind."""
     from linkgen.model.summary import summary_text as common
 
+    if sm.input_slides:
+        return _slide_summary_text(sm)
     return common(sm, f" of the spatial {sm.kind}")
+
+
+def _slide_summary_text(sm) -> str:
+    """The design summary of a chain driven by a slider: the input's displacement s [m] where
+    a crank has φ, the balancing force [N] where it has the torque."""
+    import math
+
+    start, stop = sm.drive_range
+    lines = [f"{sm.model}: design summary of the spatial {sm.kind} over s = {start:.6g}..{stop:.6g} m at "
+             f"v = {sm.omega:g} m/s, a = {sm.epsilon:g} m/s²"]
+    for name, o in sm.outputs.items():
+        slider = o.kind == "slider"
+        lines.append(f"  {o.kind} {name}: " + (f"stroke {o.travel:.6g} m" if slider else
+                                                f"swing {math.degrees(o.travel):.6g}° ({o.travel:.6g} rad)"))
+        for lim in o.limits:
+            value = f"{lim.value:.6g} m" if slider else f"{math.degrees(lim.value):.6g}°"
+            lines.append(f"    limit position ({lim.kind}) at s = {lim.phi:.6g} m: {value}")
+    t = sm.peak_balancing_torque
+    lines.append(f"  peak balancing force: {t.value:.6g} N at s = {t.phi:.6g} m")
+    for name, p in sorted(sm.peak_reactions.items(), key=lambda kv: -kv[1].value):
+        lines.append(f"  peak reaction at {name}: {p.value:.6g} N at s = {p.phi:.6g} m")
+    if sm.forces_note:
+        lines.append(f"  {sm.forces_note}")
+    return "\n".join(lines)
 
 
 __all__ = ["SpatialStructure", "structure", "summary_text"]

@@ -12,14 +12,15 @@ from linkgen.families.spatial.chain import Chain
 from linkgen.families.spatial.description import SpatialMechanism
 from linkgen.families.spatial.kinematics import solve
 
-# Crank angles of the turn traced: every 1° from 0 to 2π, both ends included.
+# Crank angles of the turn traced: every 1° from 0 to 2π, both ends included (a prismatic
+# input's range in as many steps).
 TURN = 361
 
 
 def full_turn(mech: SpatialMechanism, chain: Chain) -> dict[str, np.ndarray]:
-    """Every point over a full revolution, (TURN, 3) [m]: at once, else angle by angle with NaN
-    where the chain cannot be assembled."""
-    phi, gap = np.linspace(0.0, 2 * np.pi, TURN), {p: np.full((1, 3), np.nan) for p in mech.points}
+    """Every point over a full revolution (a prismatic input: over its range), (TURN, 3) [m]: at
+    once, else angle by angle with NaN where the chain cannot be assembled."""
+    phi, gap = np.linspace(*chain.input_range, TURN), {p: np.full((1, 3), np.nan) for p in mech.points}
 
     def at(part):
         with contextlib.suppress(LinkgenError):
