@@ -143,9 +143,8 @@ def run_machine(machine: Machine, red: Reduced, *, samples: int = 2000, duration
     either way, and sample it at ``samples`` equal time steps (the steady cycle, the start-up and
     the peak motor torque come from the solver's dense output, not from the samples), at the
     relative tolerance ``rtol`` (default the description's ``[machine] rtol``; absolute: 1e-3 of
-    it on the state). ``progress(fraction,
-    elapsed seconds)`` is called during a long integration. The energy balance is checked at
-    every sample (``MachineRun.energy``)."""
+    it on the state). ``progress(fraction, elapsed seconds)`` is called during a long
+    integration. The energy balance is checked at every sample (``MachineRun.energy``)."""
     model = _Model(machine, red)
     rtol = machine.rtol if rtol is None else float(rtol)
     T = machine.duration if duration is None else float(duration)

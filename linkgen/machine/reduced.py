@@ -13,7 +13,8 @@ twice). The tables err by ~1e-10 of J between their angles (the Hermite spline's
 4096 angles a turn) and their derivatives have kinks at every angle, which bounds what a tighter
 integration can reach: ``[machine] tables = false`` (``reduce(..., exact=True)``) evaluates the
 closed form itself at every call of the equation instead (``ClosedForm``: the kinematics and the
-reduced dynamics at each φ, ~1 ms a call), so that only the integration's tolerance is left. MuJoCo's side of the comparison applies the same grid's values as a linear table
+reduced dynamics at each φ, ~1 ms a call), so that only the integration's tolerance is left.
+MuJoCo's side of the comparison applies the same grid's values as a linear table
 (``tables.PeriodicTable``: its step means), which differs from the spline by
 (2π/n)²/8·|M″| ≈ 4.6e-9·|M″|, far inside that comparison's tolerance."""
 
