@@ -102,8 +102,7 @@ def test_the_benchmark_table_in_the_docs_is_the_models_run(capsys):
 
 # The two routes on a machine with a spring and a damper (slider_crank_torque over 1 s, 3.6 turns):
 # they differ by the tables' interpolation, measured 1.3e-10 on φ, 1.2e-10 of the dampers' work and
-# 3.5e-10 of the loads';
-# some times the largest.
+# 3.5e-10 of the loads' work; 2e-9 is six times the largest.
 ROUTES_TOL = 2e-9
 
 
