@@ -80,6 +80,15 @@ def _figure(path: Path, name: str) -> Path:
     return output_folder(path) / f"{name}.png"
 
 
+def _equation_source(machine) -> str:
+    """Where the machine's equation reads J(φ), J′(φ) and M(φ) from (``[machine] tables``)."""
+    from linkgen.machine.reduced import GRID, MOMENT_GRID
+
+    if machine.tables:
+        return f"tables over a turn (J at {GRID} angles, M at {MOMENT_GRID})"
+    return "the closed form at every step"
+
+
 def cmd_dynamics(args) -> int:
     from linkgen.machine.machine import run_machine
     from linkgen.machine.plots import plot_run
@@ -90,8 +99,8 @@ def cmd_dynamics(args) -> int:
     asm, machine = load_machine(args.model)
     name = asm.mechanism.name
     duration = args.duration if args.duration is not None else machine.duration
-    run = run_machine(machine, reduce(asm, machine.process_load), samples=args.samples, duration=duration,
-                      progress=integration_progress(name))
+    run = run_machine(machine, reduce(asm, machine.process_load, exact=not machine.tables), samples=args.samples,
+                      duration=duration, progress=integration_progress(name))
     forces = cycle_forces(asm, run)
     kinds = [k for k in ("links", "points", "reactions") if getattr(args, k, False)]
     extra = {}
@@ -114,7 +123,8 @@ def cmd_dynamics(args) -> int:
            "added_inertia": machine.added_inertia,
            "steady": run.steady.to_json() if run.steady else None, "startup_time": run.startup_time,
            "peak_motor_torque": run.peak_motor_torque, "peak_motor_torque_at": run.peak_motor_torque_at,
-           "integrator": {"method": run.method, "rtol": run.rtol, "atol": run.rtol * 1e-3},
+           "integrator": {"method": run.method, "rtol": run.rtol, "atol": run.rtol * 1e-3,
+                          "equation": _equation_source(machine)},
            "start": {"phi": float(run.phi[0]), "omega": float(run.omega[0])},
            "end": {"t": float(run.t[-1]), "phi": float(run.phi[-1]), "omega": float(run.omega[-1]),
                    "turns": float((run.phi[-1] - run.phi[0]) / (2 * math.pi))},
@@ -156,9 +166,9 @@ def cmd_dynamics(args) -> int:
     drive = "free motion (no motor)" if machine.free else f"{machine.motor.kind} motor"
     print(f"{name}: {drive}, {run.t[-1]:.6g} s from φ = {math.degrees(run.phi[0]):.6g}°, ω = {run.omega[0]:.6g} rad/s, "
           f"rotor + flywheel {machine.added_inertia:.6g} kg·m² at the crank")
-    print(f"  at the end: φ = {math.degrees(run.phi[-1]):.10g}° ({out['end']['turns']:.6g} turns), "
-          f"ω = {run.omega[-1]:.10g} rad/s; integrated by {run.method} at rtol {run.rtol:g}, atol "
-          f"{run.rtol * 1e-3:g} (rad, rad/s)")
+    print(f"  at the end: φ = {float(run.phi[-1])!r} rad = {math.degrees(run.phi[-1]):.10g}° ({out['end']['turns']:.6g} "
+          f"turns), ω = {float(run.omega[-1])!r} rad/s; integrated by {run.method} at rtol {run.rtol:g}, atol "
+          f"{run.rtol * 1e-3:g} (rad, rad/s), J, J′ and M from {_equation_source(machine)}")
     what = ("drive, loads, springs, dampers" + (", friction" if e.friction is not None else "")
             + (", brake" if e.brake is not None else ""))
     print(f"  energy balance (ΔT = work of the {what}) at every sample: worst residual "

@@ -44,7 +44,7 @@ def _window(asm: Assembly, machine: Machine, cycles: int | None, progress=None, 
     that never settles (e.g. a constant torque without friction) is compared over its whole
     duration instead (then the cycles compared are None). A run that stops after its
     ``[machine] turns`` is compared up to there (the window returned is the run's)."""
-    red = reduce(asm, machine.process_load)
+    red = reduce(asm, machine.process_load, exact=not machine.tables)
     if machine.schedule is not None or machine.brake is not None:  # the whole run: on, off, braked to rest
         run = run_machine(machine, red, samples=COMPARE_SAMPLES, progress=progress)
         return run, float(run.t[-1]), red, None

@@ -7,7 +7,9 @@ Along the motion the kinetic energy changes by the work done on the machine:
 T = ½·(J(φ) + J_add)·ω² (with an elastic shaft ½·(J(φ) + J_f)·ω² + ½·J_rotor·u²·ω_r²),
 W_loads = ∫ M₀(φ) dφ the work of every load that depends on the crank angle only (gravity,
 springs, forces, torques, the process load: minus their potential where they have one), exact
-over the same table M₀ the equation reads (``PeriodicTable.integral``), W_dampers = ∫ C(φ)·ω² dt
+over the same table M₀ the equation reads (``SmoothTable.integral``) — or, where the equation
+reads the closed form itself (``[machine] tables = false``), ∫ M₀(φ)·ω dt by the quadrature
+below —, W_dampers = ∫ C(φ)·ω² dt
 (≤ 0), W_drive = ∫ u·η·M_motor·ω_r dt, and with a shaft ΔV_shaft = ½·c·dz(θ − φ)² − its start
 value and W_shaft_damper = −∫ b·(ω_r − ω)² dt; with friction in the pairs W_friction =
 −∫ s·M_f·ω dt ≤ 0, the friction's reduced moment at each quadrature point's state and its
@@ -79,17 +81,19 @@ class EnergyBalance:
 
 
 def _powers(model, y: np.ndarray, t: np.ndarray) -> np.ndarray:
-    """Rows: the drive's, the dampers', the shaft damper's, the friction's and the brake's power [W]
-    at states y (n, k), times t (k,)."""
+    """Rows: the drive's, the dampers', the shaft damper's, the friction's, the brake's and (where
+    the equation reads the closed form, not the tables) the φ-dependent loads' power [W] at states
+    y (n, k), times t (k,)."""
     phi, w = y[0], y[1]
     w_rotor = y[3] if model.shaft else w
     mm, _ = model.motor(w_rotor, y, t)
     drive = model.u * model.eta * np.asarray(mm, dtype=float) * w_rotor
     red = model.red
-    damp = red.table("damping_grid").at(phi) * w * w if red.damping_grid is not None else np.zeros_like(w)
+    damp = red.damping(phi) * w * w
     shaft = -model.shaft.damping * (w_rotor - w) ** 2 if model.shaft else np.zeros_like(w)
     friction = -model.friction_moment(y, t) * w if red.friction is not None else np.zeros_like(w)
-    return np.vstack([drive, damp, shaft, friction, model.brake(t, w) * w])
+    loads = red.load_moment(phi) * w if red.exact else np.zeros_like(w)
+    return np.vstack([drive, damp, shaft, friction, model.brake(t, w) * w, loads])
 
 
 def _kinetic(model, y: np.ndarray) -> np.ndarray:
@@ -115,13 +119,16 @@ def energy_balance(model, dense, steps: np.ndarray, t: np.ndarray) -> EnergyBala
     x, wts = np.polynomial.legendre.leggauss(GAUSS)
     a, b = knots[:-1], knots[1:]
     nodes = (0.5 * (b - a)[:, None] * (x[None, :] + 1.0) + a[:, None]).ravel()
-    p = _powers(model, dense(nodes), nodes).reshape(5, a.size, GAUSS)
+    p = _powers(model, dense(nodes), nodes).reshape(6, a.size, GAUSS)
     cells = (p * wts).sum(axis=2) * 0.5 * (b - a)
-    cumulative = np.concatenate([np.zeros((5, 1)), np.cumsum(cells, axis=1)], axis=1)
+    cumulative = np.concatenate([np.zeros((6, 1)), np.cumsum(cells, axis=1)], axis=1)
     at = cumulative[:, np.searchsorted(knots, t)]
     y = dense(t)
-    table = model.red.table("moment_grid")
-    loads = table.integral(y[0]) - table.integral(y[0][0])
+    if model.red.exact:
+        loads = at[5]
+    else:
+        table = model.red.table("moment_grid")
+        loads = table.integral(y[0]) - table.integral(y[0][0])
     kinetic = _kinetic(model, y)
     shaft_energy = _shaft_energy(model, y) if model.shaft else None
     stored = kinetic - kinetic[0] + (shaft_energy - shaft_energy[0] if model.shaft else 0.0)

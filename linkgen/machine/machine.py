@@ -34,10 +34,11 @@ from linkgen.machine.equation import Model as _Model, choose_method, motor_torqu
 from linkgen.machine.reduced import Reduced
 from linkgen.machine.schedule import Stopping, Switching, integrate, stopping
 from linkgen.errors import DescriptionError, SimulationError
-from linkgen.model.machine import FREE, Machine
+from linkgen.model.machine import DEFAULT_RTOL, FREE, Machine
 
-# Relative tolerance of the integration; the absolute one is this times the state's scale.
-RTOL = 1e-10
+# Relative tolerance of the integration by default (``[machine] rtol`` sets it); the absolute one
+# is 1e-3 of it on every state.
+RTOL = DEFAULT_RTOL
 # The solver's step is at most this fraction of a turn at the top speed: the load table M(φ) is
 # linear between 4096+ angles, and a step over hundreds of its kinks has an error the solver's
 # estimate does not see (dynamics.cycle).
@@ -138,15 +139,16 @@ class _Budget:
 
 
 def run_machine(machine: Machine, red: Reduced, *, samples: int = 2000, duration: float | None = None,
-                progress=None, rtol: float = RTOL) -> MachineRun:
+                progress=None, rtol: float | None = None) -> MachineRun:
     """Integrate the machine from its start state (``Machine.start``, ``start_speed``) over
     ``duration`` [s] (default the description's), or until the crank has turned ``turns`` turns
     either way, and sample it at ``samples`` equal time steps (the steady cycle, the start-up and
     the peak motor torque come from the solver's dense output, not from the samples), at the
-    relative tolerance ``rtol`` (absolute: 1e-3 of it on the state). ``progress(fraction,
-    elapsed seconds)`` is called during a long integration. The energy balance is checked at
-    every sample (``MachineRun.energy``)."""
+    relative tolerance ``rtol`` (default the description's ``[machine] rtol``; absolute: 1e-3 of
+    it on the state). ``progress(fraction, elapsed seconds)`` is called during a long
+    integration. The energy balance is checked at every sample (``MachineRun.energy``)."""
     model = _Model(machine, red)
+    rtol = machine.rtol if rtol is None else float(rtol)
     T = machine.duration if duration is None else float(duration)
     phi0 = machine.start(float(red.phi[0]))
     lo, hi = float(red.phi[0]), red.stop

@@ -9,7 +9,12 @@ not a table: its moment depends on the acceleration too (``machine.friction``, `
 
 M₀(φ) and c(φ) are cubic splines through a fine grid (``tables.SmoothTable``), and M₀ jumps
 exactly where a stroke-switched force switches (``tables``: the switch angles are in its grid
-twice). MuJoCo's side of the comparison applies the same grid's values as a linear table
+twice). The tables err by ~1e-10 of J between their angles (the Hermite spline's h⁴·J⁗/384 at
+4096 angles a turn) and their derivatives have kinks at every angle, which bounds what a tighter
+integration can reach: ``[machine] tables = false`` (``reduce(..., exact=True)``) evaluates the
+closed form itself at every call of the equation instead (``ClosedForm``: the kinematics and the
+reduced dynamics at each φ, ~1 ms a call), so that only the integration's tolerance is left.
+MuJoCo's side of the comparison applies the same grid's values as a linear table
 (``tables.PeriodicTable``: its step means), which differs from the spline by
 (2π/n)²/8·|M″| ≈ 4.6e-9·|M″|, far inside that comparison's tolerance."""
 
@@ -25,7 +30,8 @@ from linkgen.machine.tables import SmoothTable, jump_grid, switch_angles
 from linkgen.errors import DescriptionError
 from linkgen.model.machine import ProcessLoad
 from linkgen.families.planar.assembly import Assembly
-from linkgen.families.planar.kinetostatics import forces
+from linkgen.families.planar.kinematics import Kinematics, raise_failure, solve_block
+from linkgen.families.planar.kinetostatics import forces, reduced_dynamics
 
 # Grid points over one turn. J(φ) of the bundled models is reproduced by the spline to < 1e-10
 # relative between the grid points (checked in tests/test_dynamics.py against the closed form).
@@ -52,6 +58,12 @@ class Reduced:
     damping_grid: np.ndarray | None = None  # c = ∂M/∂ω at moment_phi [N·m·s/rad]; None: no dampers
     stop: float | None = None  # the drive range's end [rad] where the crank does not turn fully; None: it does
     friction: object = None  # ``machine.friction.PairFriction`` with [[friction]]: M_f(φ, ω, ε); None without
+    closed_form: object = None  # ``ClosedForm``: J, J′, M₀, C evaluated at each φ instead of the tables; None: tables
+
+    @property
+    def exact(self) -> bool:
+        """Whether J, J′, M₀ and C come from the closed form at each angle (no tables)."""
+        return self.closed_form is not None
 
     @property
     def full_turn(self) -> bool:
@@ -59,20 +71,43 @@ class Reduced:
         return self.stop is None
 
     def j(self, phi):
+        if self.closed_form is not None:
+            return self.closed_form.at(phi)[0]
         return self.inertia(self._wrap(phi))
 
     def dj(self, phi):
         """dJ/dφ: the derivative of the very function ``j`` is (so that ½·J·ω² is the equation's
         kinetic energy to the last digit: ``machine.energy``)."""
+        if self.closed_form is not None:
+            return self.closed_form.at(phi)[1]
         return self.inertia_derivative(self._wrap(phi))
 
     def moment(self, phi, omega=0.0):
         """M(φ, ω) [N·m]: the loads' reduced moment at crank angle φ and speed ω (the one place
         the machine's equation reads it)."""
+        if self.closed_form is not None:
+            m = self.closed_form.at(phi)[2] + self.damping(phi) * omega
+            return m if np.ndim(m) else float(m)
         m = self.table("moment_grid").at(phi)
         if self.damping_grid is not None:
             m = m + self.table("damping_grid").at(phi) * omega
         return m if np.ndim(m) else float(m)
+
+    def load_moment(self, phi):
+        """M₀(φ) [N·m]: the reduced moment of the loads that depend on φ alone (at ω = 0)."""
+        if self.closed_form is not None:
+            return self.closed_form.at(phi)[2]
+        m = self.table("moment_grid").at(phi)
+        return m if np.ndim(m) else float(m)
+
+    def damping(self, phi):
+        """C(φ) = ∂M/∂ω [N·m·s/rad] (≤ 0; 0 without dampers)."""
+        if self.damping_grid is None:
+            return np.zeros_like(np.asarray(phi, dtype=float)) if np.ndim(phi) else 0.0
+        if self.closed_form is not None:
+            return self.closed_form.at(phi)[3]
+        c = self.table("damping_grid").at(phi)
+        return c if np.ndim(c) else float(c)
 
     def table(self, name: str) -> SmoothTable:
         """The smooth table (``tables.SmoothTable``) of ``moment_grid`` or ``damping_grid``."""
@@ -104,11 +139,40 @@ def process_torque(load: ProcessLoad | None, phi: np.ndarray) -> np.ndarray:
     return process_torque_function(load)(phi)
 
 
+class ClosedForm:
+    """J, dJ/dφ, M₀ (at ω = 0, less the process load) and C at crank angles φ from the closed form
+    itself: the kinematics and ``kinetostatics.reduced_dynamics``, the same functions the tables
+    are made of, without the reactions. ``at`` keeps its last angles' values, since the equation
+    reads J, J′ and M at the same φ one after the other."""
+
+    def __init__(self, asm: Assembly, load: ProcessLoad | None):
+        self.asm, self.process = asm, process_torque_function(load)
+        self._key, self._values = None, None
+
+    def at(self, phi) -> tuple:
+        """(J [kg·m²], dJ/dφ [kg·m²/rad], M₀ [N·m], C [N·m·s/rad]) at φ [rad], each shaped as φ.
+        AssemblyError or SingularityError where the mechanism does not assemble or is singular."""
+        x = np.asarray(phi, dtype=float)
+        key = (x.shape, x.tobytes())
+        if key != self._key:
+            flat = np.atleast_1d(x).ravel()
+            (poses, points, sliders, near, marked), ok = solve_block(self.asm, flat)
+            if not ok:
+                raise_failure(self.asm, flat)
+            red = reduced_dynamics(self.asm, Kinematics(self.asm, flat, poses, points, sliders, near, marked))
+            values = (red.inertia, red.inertia_derivative, red.moment - self.process(flat), red.damping)
+            shaped = tuple(v.reshape(x.shape) if x.ndim else float(v[0]) for v in values)
+            self._key, self._values = key, shaped
+        return self._values
+
+
 def reduce(asm: Assembly, load: ProcessLoad | None = None, grid: int = GRID,
-           moment_grid: int = MOMENT_GRID) -> Reduced:
+           moment_grid: int = MOMENT_GRID, *, exact: bool = False) -> Reduced:
     """J, dJ/dφ over one turn of the crank from the drive's start angle (splines through ``grid``
     angles) and M (a table of ``moment_grid`` cells); over the drive's range only where it spans
-    less than a turn (``Reduced.stop``: a motion that leaves it is stopped there)."""
+    less than a turn (``Reduced.stop``: a motion that leaves it is stopped there). ``exact``: the
+    equation reads J, J′, M₀ and C from the closed form at each angle (``ClosedForm``) rather
+    than from the tables (which are still made: the speed scale and the flywheel read them)."""
     d = asm.mechanism.drive
     full = d.stop - d.start >= 2 * math.pi - 1e-9
     span = 2 * math.pi if full else d.stop - d.start
@@ -136,7 +200,7 @@ def reduce(asm: Assembly, load: ProcessLoad | None = None, grid: int = GRID,
 
         friction = PairFriction(asm)
     return Reduced(phi, inertia, inertia.derivative(), table_phi, m, float(d.omega), c, None if full else float(d.stop),
-                   friction)
+                   friction, ClosedForm(asm, load) if exact else None)
 
 
 def require_full_turn(red: Reduced, what: str) -> None:
@@ -146,4 +210,4 @@ def require_full_turn(red: Reduced, what: str) -> None:
                                f"spans {math.degrees(red.stop - red.phi[0]):.6g}°")
 
 
-__all__ = ["GRID", "MOMENT_GRID", "Reduced", "process_torque", "process_torque_function", "reduce", "require_full_turn"]
+__all__ = ["ClosedForm", "GRID", "MOMENT_GRID", "Reduced", "process_torque", "process_torque_function", "reduce", "require_full_turn"]

@@ -11,6 +11,8 @@ elastic shaft between rotor and crank, and a process load over the crank angle.
     start_speed = 0.0            # crank speed at t = 0 [rad/s] (from rest by default; either sign)
     duration = 5.0               # s of machine time to integrate (default 10 s)
     turns = 10                   # optional: stop once the crank has turned this many turns either way
+    rtol = 1e-10                 # the integration's relative tolerance (absolute: 1e-3 of it on the state)
+    tables = true                # false: the equation reads the closed form at every step, not its tables
 
     [machine.motor]              # kind = "constant" | "linear" | "induction" | "dc" | "none";
                                  # no [machine.motor] table: "none", free motion under the loads
@@ -59,8 +61,14 @@ MOTOR_KEYS = {
     "dc": ("voltage", "resistance", "inductance", "torque_constant", "emf_constant"),
 }
 _MACHINE = {"rotor_inertia", "gear_ratio", "gear_efficiency", "flywheel_inertia", "start_angle", "start_speed", "duration",
-            "turns", "motor", "shaft", "process_load", "schedule", "brake"}
+            "turns", "rtol", "tables", "motor", "shaft", "process_load", "schedule", "brake"}
 DEFAULT_DURATION = 10.0  # s
+# The integration's relative tolerance by default (``machine.machine.run_machine``; absolute: 1e-3
+# of it on every state), and the range a description may ask for: scipy's solvers raise any rtol
+# below 100·eps = 2.2e-14 to that, silently, so 1e-13 is the tightest asked for here; above 1e-6
+# the energy balance's check (1e-7 of the run's energy) would fail on the integration's own error.
+DEFAULT_RTOL = 1e-10
+RTOL_RANGE = (1e-13, 1e-6)
 # No motor: free motion of the mechanism under its loads from the start state.
 FREE = "none"
 
@@ -111,6 +119,8 @@ class Machine:
     turns: float | None = None  # the run stops after this many crank turns (either way); None: duration only
     schedule: Schedule | None = None  # when the motor runs; None: the whole run
     brake: Brake | None = None  # a brake on the crank; None: none
+    rtol: float = DEFAULT_RTOL  # the integration's relative tolerance
+    tables: bool = True  # the equation reads J, J′, M from tables over a turn (False: the closed form at each step)
 
     def start(self, drive_start: float) -> float:
         """The crank angle at t = 0 [rad]: ``start_angle``, or the drive's start angle if not given."""
@@ -203,6 +213,15 @@ def _motor(t: dict) -> Motor:
     return m
 
 
+def _rtol(t: dict) -> float:
+    x = _number(t, "rtol", "machine", default=DEFAULT_RTOL)
+    lo, hi = RTOL_RANGE
+    if not lo <= x <= hi:
+        raise DescriptionError("machine.rtol", f"must be between {lo:g} and {hi:g} (the integration's relative "
+                               f"tolerance), got {shown(t['rtol'])}")
+    return x
+
+
 def machine_from_dict(data: dict) -> Machine | None:
     """The ``[machine]`` table of a parsed description, or None if it has none."""
     if "machine" not in data:
@@ -256,6 +275,8 @@ def machine_from_dict(data: dict) -> Machine | None:
         process_load=load,
         schedule=schedule,
         brake=brake,
+        rtol=_rtol(t),
+        tables=t.get("tables", True),
     )
     # The motor's own top speed at the crank (a DC motor's U/(k_e·u), say) within linkgen's
     # speeds, like every other speed of the description: past it the machine's time constants
@@ -268,4 +289,4 @@ def machine_from_dict(data: dict) -> Machine | None:
     return machine
 
 
-__all__ = ["FREE", "MOTOR_KEYS", "Machine", "Motor", "ProcessLoad", "Shaft", "machine_from_dict"]
+__all__ = ["DEFAULT_RTOL", "FREE", "MOTOR_KEYS", "Machine", "Motor", "ProcessLoad", "Shaft", "machine_from_dict"]

@@ -52,6 +52,11 @@ def title(value: object, field: str) -> None:
                                       f"U+{ord(value[bad]):04X} at position {bad + 1}")
 
 
+def boolean(value: object, field: str) -> None:
+    if not isinstance(value, bool):
+        raise DescriptionError(field, f"must be true or false, got {shown(value)}")
+
+
 def whole(value: object, field: str) -> None:
     if isinstance(value, bool) or not isinstance(value, int):
         # TOML reads 60.0 and 1e18 as floats: say how to write the number, not that it is not whole
@@ -117,6 +122,7 @@ MECHANISM = {"name": string, "title": title, "space": string}
 MACHINE = {
     "rotor_inertia": finite, "gear_ratio": finite, "gear_efficiency": finite, "flywheel_inertia": finite,
     "start_angle": parse_angle, "start_speed": angular_speed, "duration": finite, "turns": finite,
+    "rtol": finite, "tables": boolean,
     "motor": {"kind": string, "torque": finite, "stall_torque": finite, "no_load_speed": angular_speed,
               "rated_power": finite, "synchronous_speed": angular_speed, "rated_slip": finite,
               "breakdown_ratio": finite, "voltage": finite, "resistance": finite, "inductance": finite,
@@ -168,4 +174,4 @@ SPATIAL = {
               "acceleration": finite, "start": length, "stop": length},
 }
 
-__all__ = ["CAM_FILE", "Each", "Items", "MACHINE", "PLANAR", "SPATIAL", "check", "quantity", "string", "title", "whole"]
+__all__ = ["CAM_FILE", "Each", "Items", "boolean", "MACHINE", "PLANAR", "SPATIAL", "check", "quantity", "string", "title", "whole"]
