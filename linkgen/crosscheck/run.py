@@ -5,6 +5,8 @@ cost in accuracy (``practical``)."""
 from __future__ import annotations
 
 import math
+
+import numpy as np
 from dataclasses import dataclass, replace
 
 from linkgen.families.planar.assembly import Assembly
@@ -263,6 +265,8 @@ def _predict(asm: Assembly, first: Attempt, max_steps: int) -> tuple[Prediction 
         return predict_run(asm, first.settings, first.scales, max_steps), ""
     except LinkgenError as exc:
         return None, str(exc)
+    except np.linalg.LinAlgError as exc:  # the constraint model has no solution at some scanned state
+        return None, f"MuJoCo's constraint model could not be solved at the scanned states ({exc})"
 
 
 __all__ = ["Attempt", "CrossCheck", "crosscheck", "finer", "headline", "headline_worst"]
