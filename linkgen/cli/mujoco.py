@@ -259,6 +259,11 @@ def _summary(r: dict) -> str:
     from linkgen.crosscheck.diagnose import finding_line
 
     shown = r.get("diagnosis", [])[:DIAGNOSIS_LINES]
+    pred = r.get("prediction") or {}
+    if not r["ok"] and "text" in pred:  # what was foreseen before the run, and how the run compares
+        factor = pred.get("worst_factor")
+        lines.append(f"    {pred['text']}" + ("" if factor is None else
+                                              f"; measured within {factor:.2g}× of the prediction"))
     lines += [f"    {finding_line(d)}" for d in shown]
     if len(r.get("diagnosis", [])) > len(shown):
         lines.append(f"    … and {len(r['diagnosis']) - len(shown)} more quantities (see --json)")

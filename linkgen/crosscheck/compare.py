@@ -23,7 +23,7 @@ from linkgen.mujoco.state import joint_states
 from linkgen.families.planar.motion import Motion
 from linkgen.mujoco.simulate import Run
 
-from linkgen.mujoco.tolerances import FORCE_TOL, GAP_TOL, INVERSE_TOL, REL_TOL  # noqa: F401 (re-exported)
+from linkgen.mujoco.tolerances import FORCE_TOL, GAP_TOL, INVERSE_TOL, REL_TOL, gap_tolerance  # noqa: F401 (re-exported)
 
 
 @dataclass(frozen=True)
@@ -163,7 +163,8 @@ def compare(asm: Assembly, run: Run, *, inverse: bool = True) -> Comparison:
     j = cf.reduced.inertia
     out["reduced_inertia"] = _error(j, s.reduced_inertia, 0.0, FORCE_TOL)
     gap = max(run.gap_max, float(s.violation.max()) if s.violation.size else 0.0)
-    out["loop_gap"] = QuantityError(gap, gap, size, GAP_TOL, s.violation)
+    gap_tol = gap_tolerance(run.scales.sigma_min) if run.scales is not None else GAP_TOL
+    out["loop_gap"] = QuantityError(gap, gap, size, gap_tol, s.violation)
     return Comparison(asm.mechanism.name, asm, out, mo, run, cf, inv, size)
 
 

@@ -5,11 +5,14 @@ cost in accuracy (``practical``)."""
 from __future__ import annotations
 
 import math
+
+import numpy as np
 from dataclasses import dataclass, replace
 
 from linkgen.families.planar.assembly import Assembly
 from linkgen.crosscheck.compare import Comparison, compare
 from linkgen.crosscheck.diagnose import Finding, diagnose
+from linkgen.crosscheck.prediction import Prediction, Verdict, predict_run, verdict
 from linkgen.errors import SimulationError
 from linkgen.mujoco.options import Settings
 from linkgen.mujoco.result_shape import loop_gap, validation
@@ -31,6 +34,7 @@ class Attempt:
     wall: float
     error: str | None = None
     capped: bool = False  # a step budget coarsened the settings
+    scales: object = None  # what the settings were derived from (mujoco.settings.Scales), when derived
 
     def to_json(self) -> dict:
         return {"settings": self.settings.to_json() if self.settings else None, "ok": self.ok, "worst": self.worst,
@@ -52,10 +56,21 @@ class CrossCheck:
     attempts: tuple[Attempt, ...]
     diagnosis: tuple[Finding, ...]
     practical: tuple[PracticalRow, ...]
+    prediction: Prediction | None = None  # before the first run (None: not modelled, e.g. a cam's contact)
+    prediction_unavailable: str = ""  # why there is no prediction
+    verdict: Verdict | None = None  # the compared run against the prediction
 
     @property
     def ok(self) -> bool:
         return self.comparison is not None and self.comparison.ok and not self.diagnosis
+
+    @property
+    def status(self) -> str:
+        """"ok", "explained failure" (predicted to miss, and missed as predicted: within
+        ``prediction.EXPLAINED_FACTOR``) or "failed"."""
+        if self.ok:
+            return "ok"
+        return self.verdict.status if self.verdict is not None else "failed"
 
     def summary(self, wall: str | None = None) -> str:
         """One line; ``wall``: the wall time as the caller measured it (default: the runs')."""
@@ -103,7 +118,27 @@ class CrossCheck:
             }
         out["attempts"] = [a.to_json() for a in self.attempts]
         out["practical_settings"] = [r.to_json() for r in self.practical]
+        out["status"] = self.status
+        out["prediction"] = (self.prediction.to_json() | {"text": self.prediction.text()} if self.prediction
+                             else {"unavailable": self.prediction_unavailable or "no run was derived"})
+        if self.verdict is not None:
+            out["prediction"] |= {"measured": self.verdict.measured.to_dict(),
+                                  "measured_over_predicted": self.verdict.to_json()["measured_over_predicted"],
+                                  "worst_factor": self.verdict.to_json()["worst_factor"]}
+        out["best_achievable"] = self._best_achievable()
         return out
+
+    def _best_achievable(self) -> dict | None:
+        """What the compared run reached at its settings (the step budget's, when it binds): the
+        loop gap, the worst quantity and the four predicted quantities' errors."""
+        c = self.comparison
+        if c is None:
+            return None
+        worst = max(c.quantities, key=lambda k: c.quantities[k].relative_error / c.quantities[k].tolerance)
+        q = c.quantities[worst]
+        return {"settings": c.run.settings.to_json(), "loop_gap_relative": c.gap.relative_error,
+                "worst": worst, "worst_relative_error": q.relative_error, "worst_tolerance": q.tolerance,
+                "errors": self.verdict.measured.to_dict() if self.verdict is not None else None}
 
 
 def headline_worst(r: dict) -> tuple[str, float, float]:
@@ -124,24 +159,26 @@ def headline(r: dict, wall: str | None = None) -> str:
         return "FAIL"
     worst, err, tol = headline_worst(r)
     gap = worst == "loop gap"
-    return (f"{'ok  ' if r['ok'] else 'FAIL'} worst {worst} {err:.2e} " + ("of the size " if gap else "")
+    explained = r.get("status") == "explained failure"
+    return (f"{'ok  ' if r['ok'] else 'FAIL (explained, as predicted)' if explained else 'FAIL'} worst {worst} {err:.2e} " + ("of the size " if gap else "")
             + f"(tolerance {tol:g}), " + ("" if gap else f"loop gap {r['loop_gap']['relative']:.1e} of the size, ")
             + f"{r['steps']} steps, {wall or format(r['wall_s'], '.2f') + ' s'}")
 
 
 def _attempt(asm: Assembly, settings: Settings | None, progress, nthread,
              scales=None, max_steps: int = MAX_STEPS) -> tuple[Attempt, Comparison | None]:
-    try:
-        run = simulate(asm, settings=settings, progress=progress, nthread=nthread, scales=scales, max_steps=max_steps)
+    try:  # a run the step budget coarsens still runs: validate reports what it reaches there
+        run = simulate(asm, settings=settings, progress=progress, nthread=nthread, scales=scales, max_steps=max_steps,
+                       refuse_over_budget=False)
     except SimulationError as exc:
         scales = getattr(exc, "scales", None)
         return Attempt(getattr(exc, "settings", settings), False, "run", math.inf, 0, 0.0, str(exc),
-                       bool(scales and scales.capped and settings is None)), None
+                       bool(scales and scales.capped and settings is None), scales), None
     cmp = compare(asm, run)
     worst = max(cmp.quantities, key=lambda k: cmp.quantities[k].relative_error / cmp.quantities[k].tolerance)
     q = cmp.quantities[worst]
     return Attempt(run.settings, cmp.ok, worst, q.relative_error / q.tolerance, run.steps, run.wall,
-                   capped=bool(run.scales.capped and settings is None)), cmp
+                   capped=bool(run.scales.capped and settings is None), scales=run.scales), cmp
 
 
 # Aim of a further run: the worst error at this fraction of its tolerance.
@@ -176,6 +213,7 @@ def crosscheck(asm: Assembly, *, practical: bool = True, progress=None, nthread:
     ``progress(fraction, seconds[, what])``: the validation runs' progress, then the
     practical-settings runs' (``what`` names them)."""
     first, cmp = _attempt(asm, None, progress, nthread, max_steps=max_steps)
+    prediction, why_not = _predict(asm, first, max_steps)
     attempts = [first]
     exponent = 2.0
     exhausted = False  # a finer run would pass the step budget or the float64 floor
@@ -207,7 +245,28 @@ def crosscheck(asm: Assembly, *, practical: bool = True, progress=None, nthread:
                             first.error or "")]
     rows = practical_study(asm, cmp.run.settings, nthread=nthread, scales=cmp.run.scales,
                            progress=progress) if (practical and cmp is not None) else []
-    return CrossCheck(asm.mechanism.name, cmp, tuple(attempts), tuple(findings), tuple(rows))
+    verdict_ = None
+    if cmp is not None:
+        from linkgen.mujoco.accuracy import sample_errors
+
+        verdict_ = verdict(prediction, sample_errors(asm, cmp.run.samples), cmp.ok and not findings)
+    return CrossCheck(asm.mechanism.name, cmp, tuple(attempts), tuple(findings), tuple(rows), prediction, why_not,
+                      verdict_)
+
+
+def _predict(asm: Assembly, first: Attempt, max_steps: int) -> tuple[Prediction | None, str]:
+    """The prediction from the first run's derived settings and what they were derived from
+    (fixed before its first step), or None and why."""
+    from linkgen.errors import LinkgenError
+
+    if first.settings is None or first.scales is None:
+        return None, "the settings were not derived from the closed form (no scan of the loop forces)"
+    try:
+        return predict_run(asm, first.settings, first.scales, max_steps), ""
+    except LinkgenError as exc:
+        return None, str(exc)
+    except np.linalg.LinAlgError as exc:  # the constraint model has no solution at some scanned state
+        return None, f"MuJoCo's constraint model could not be solved at the scanned states ({exc})"
 
 
 __all__ = ["Attempt", "CrossCheck", "crosscheck", "finer", "headline", "headline_worst"]

@@ -217,7 +217,7 @@ def predict(asm: Assembly, settings: Settings, *, omega: float | None = None, ep
         if rows:  # a1 = P·a0 + Q·aref, Q = A·(A + R)⁻¹: ṡ = Q·K·d·(r_λ − r) − Q·B·s
             mujoco.mj_solveM(model, data, m_inv_jt, jac[k])
             a_mat = jac[k] @ m_inv_jt.T
-            q = a_mat @ np.linalg.inv(a_mat + np.diag((1.0 - d) / d * diag))
+            q = a_mat @ np.linalg.pinv(a_mat + np.diag((1.0 - d) / d * diag))  # pinv: a row no body moves (A and R nil) adds nothing
             g[k], hd[k] = q * (k_ref * d)[None, :], q * b_ref
     s_extra = jda + 0.5 * rate(jdvs, t, full)  # 2·H(q̇, q̈) + ½·T(q̇, q̇, q̇), d(J̇·q̇)/dt = T + 2·H(q̇, q̈)
     r, s_gap, a1 = gap_states(settings.integrator, r_phys, jdvs, s_extra, g, hd, settings.timestep, t,

@@ -39,7 +39,9 @@ def forces_at(asm: Assembly, model: mujoco.MjModel, data: mujoco.MjData, qpos: n
     # MuJoCo puts −J̇·q̇ into the reference acceleration: aref = −B·ṙ − K·d·r − J̇·q̇
     jdv = -b[rows] * data.efc_vel[rows] - k[rows] * imp[rows] * data.efc_pos[rows] - data.efc_aref[rows]
     a0 = jac @ data.qacc_smooth + jdv
-    f = np.linalg.solve(jac @ m_inv_jt.T, a1 - a0)
+    # least squares: at a state where the loops have come apart (a predicted gap of the size's order)
+    # two closure rows can be parallel, and the minimum-norm force is the one MuJoCo's solver finds
+    f = np.linalg.lstsq(jac @ m_inv_jt.T, a1 - a0, rcond=None)[0]
     data.efc_force[:] = 0.0
     data.efc_force[rows] = f
     data.qfrc_constraint[:] = jac.T @ f
