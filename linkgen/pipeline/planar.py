@@ -5,6 +5,7 @@ from __future__ import annotations
 
 from typing import Mapping
 
+from linkgen.model.turn import full_turn
 from linkgen.families.planar.description import Mechanism
 from linkgen.pipeline.family import Family
 from linkgen.pipeline.planar_mujoco import STAGES as MUJOCO_STAGES
@@ -26,14 +27,12 @@ def _from_dict(data: Mapping, source: str | None = None) -> Mechanism:
 def _angles(desc, samples: int | None = None):
     """The default crank angle (the drive range's start), or ``samples`` angles over the drive
     range (a full turn excludes its end)."""
-    import math
-
     import numpy as np
 
     d = (desc.mechanism if hasattr(desc, "structure") else desc).drive
     if samples is None:
         return d.start
-    full = d.stop - d.start >= 2 * math.pi - 1e-12
+    full = full_turn(desc.mechanism if hasattr(desc, "structure") else desc)
     return np.linspace(d.start, d.stop, samples, endpoint=not full)
 
 

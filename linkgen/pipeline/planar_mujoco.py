@@ -10,6 +10,7 @@ import math
 
 import numpy as np
 
+from linkgen.model.turn import full_turn
 from linkgen.families.planar.description import Mechanism
 
 
@@ -180,7 +181,7 @@ def _in_range(mech, phi: np.ndarray, option: str) -> None:
     from linkgen.errors import ArgumentError
 
     d = mech.drive
-    if d.stop - d.start >= 2 * math.pi - 1e-12:
+    if full_turn(mech):
         return
     bad = phi[(phi < d.start - 1e-12) | (phi > d.stop + 1e-12)]
     if bad.size:

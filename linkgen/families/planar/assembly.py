@@ -19,7 +19,7 @@ import numpy as np
 
 from linkgen.families.planar.description import Mechanism
 from linkgen.errors import AssemblyError, DescriptionError, MagnitudeError
-from linkgen.families.planar.geometry import GuideShape, LinkPose, LinkShape, guide_shapes, link_shapes
+from linkgen.families.planar.geometry import GuideShape, LinkPose, LinkShape, guide_shapes, link_shapes, sketch_input
 from linkgen.families.planar.groups import SINGULAR_TOL, input_poses, solve_group
 from linkgen.families.planar.structure import Group, GroupKind, Structure, analyze
 
@@ -59,8 +59,7 @@ def assemble(mech: Mechanism, *, sketch_tolerance: float | None = SKETCH_TOLERAN
     structure = analyze(mech)
     shapes = link_shapes(mech)
     guides = guide_shapes(mech, shapes)
-    crank = shapes[structure.crank]
-    phi0 = np.array([crank.sketch_angle])
+    phi0 = np.array([sketch_input(mech, shapes)])
     size = max(_sketch_size(mech), np.finfo(float).tiny)
     poses = input_poses(mech, structure, shapes, phi0)
     branches = []

@@ -24,7 +24,9 @@ from linkgen.families.planar.primitives import (
     Line,
     Result,
     Scalar,
+    Vec,
     circle_circle,
+    pair,
     constant,
     cross,
     line_circle,
@@ -54,6 +56,8 @@ def input_poses(mech: Mechanism, structure: Structure, shapes: dict[str, LinkSha
     followers) at crank angles ``phi`` (n,) [rad]."""
     n = phi.shape[0]
     crank = shapes[structure.crank]
+    if mech.slides:
+        return {GROUND: ground_pose(n), structure.crank: slider_pose(mech, shapes, phi)}
     pivot = shapes[GROUND].local[mech.revolute(mech.drive.joint).point]
     angle = Scalar(phi, np.broadcast_to(1.0, (n,)), zeros(n), zeros(n))  # dφ/dφ = 1, d²φ/dφ² = d³φ/dφ³ = 0
     poses = {
@@ -69,6 +73,20 @@ def input_poses(mech: Mechanism, structure: Structure, shapes: dict[str, LinkSha
     for cam in mech.cams:  # the follower moves by the cam's program from the sketch
         poses[cam.follower] = follower_pose(mech, shapes, cam, phi, crank.sketch_angle)
     return poses
+
+
+def slider_pose(mech: Mechanism, shapes: dict[str, LinkShape], s: np.ndarray) -> LinkPose:
+    """The pose of a prismatic drive's slider at strokes ``s`` (n,) [m]: its point at the guide's base
+    point plus s along the fixed guide line (ds/ds = 1), its angle its sketch angle."""
+    n = s.shape[0]
+    pj = mech.prismatic(mech.drive.joint)
+    slider = shapes[pj.slider]
+    base = shapes[GROUND].local[pj.through] + pj.offset * np.array([-math.sin(pj.angle), math.cos(pj.angle)])
+    u = np.array([math.cos(pj.angle), math.sin(pj.angle)])
+    zero = zeros(n, 2)
+    point = Vec(pair(base[0] + s * u[0], base[1] + s * u[1]), np.broadcast_to(u, (n, 2)), zero, zero)
+    angle = Scalar(np.broadcast_to(slider.sketch_angle, (n,)), zeros(n), zeros(n), zeros(n))
+    return pose_from_point(point, slider.local[pj.point], angle)
 
 
 def fail_reason(group: Group) -> str:

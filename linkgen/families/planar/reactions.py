@@ -1,7 +1,8 @@
 """The group-by-group solution of a linkage's reactions for given total loads on its links (the
 kinetostatics' core, ``kinetostatics``: its conventions): each class-II group's six equations from
 the last group attached back to the first (``equilibrium``), each cam follower's and planet gear's,
-then the crank's three, which give the drive pair's reaction and the balancing torque."""
+then the crank's three, which give the drive pair's reaction and the balancing torque (a prismatic
+drive's: the balancing force along its guide, on the slider)."""
 
 from __future__ import annotations
 
@@ -133,10 +134,22 @@ def solve_reactions(asm: Assembly, kin: Kinematics, given_load: dict, com: dict,
         transmit(pin, crank, x)
         scale += span * np.hypot(*x.T)
 
-    x, singular = three(*column3(drive, crank), (0.0, 0.0, 1.0), given3(crank))
+    x, singular = three(*column3(drive, crank), _input_column(asm, kin, com), given3(crank))
     x = _checked(x, singular, kin.phi, marked, "I(0,1) crank (equilibrium equations)")
     store(drive, x[:, 0:2])
     return x[:, 2].copy(), reactions, normal, moment, tooth, contact, scale
+
+
+def _input_column(asm: Assembly, kin: Kinematics, com: dict) -> Column:
+    """What the drive's unknown puts into the crank's equations: a torque about +z, or a prismatic
+    drive's force along its guide line (+u, on the slider, through the slider's point)."""
+    mech = asm.mechanism
+    if not mech.slides:
+        return (0.0, 0.0, 1.0)
+    g = asm.guides[mech.drive.joint]
+    u = kin.links[g.guide].direction(g.alpha).p
+    d = kin.links[g.slider].point(g.point).p - com[g.slider]
+    return (u[:, 0], u[:, 1], d[:, 0] * u[:, 1] - d[:, 1] * u[:, 0])
 
 
 def _checked(x: tuple[np.ndarray, ...], singular: np.ndarray, phi: np.ndarray, marked: np.ndarray,

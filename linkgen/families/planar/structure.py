@@ -1,4 +1,7 @@
-"""Structural analysis: mobility, decomposition into the input link and class-II Assur groups."""
+"""Structural analysis: mobility, decomposition into the input link and class-II Assur groups.
+
+The input link (``crank``) is the crank of a revolute drive, or the slider of a prismatic drive
+(a linear actuator on a guide fixed to the ground): it and the ground are known first."""
 
 from __future__ import annotations
 
@@ -84,6 +87,12 @@ def pairs_of(mech: Mechanism) -> list[Pair]:
     return out
 
 
+def drive_pair(mech: Mechanism, pairs: list[Pair] | None = None) -> Pair:
+    """The driven pair: the crank's revolute with ground, or a prismatic drive's pair."""
+    kind = "P" if mech.slides else "R"
+    return next(p for p in (pairs_of(mech) if pairs is None else pairs) if p.kind == kind and p.name == mech.drive.joint)
+
+
 def analyze(mech: Mechanism) -> Structure:
     """Mobility (Chebyshev–Grübler) and the decomposition into class-II groups (``decompose``).
 
@@ -93,7 +102,7 @@ def analyze(mech: Mechanism) -> Structure:
     """
     pairs = pairs_of(mech)
     n = len(mech.moving_links)
-    drive = next(p for p in pairs if p.kind == "R" and p.name == mech.drive.joint)
+    drive = drive_pair(mech, pairs)
     crank = mech.crank
     extra = [p for p in pairs if p is not drive and set(p.links) == {GROUND, crank}]
     if extra:

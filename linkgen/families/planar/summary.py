@@ -22,6 +22,7 @@ from typing import Mapping
 
 import numpy as np
 
+from linkgen.model.turn import full_turn
 from linkgen.errors import LinkgenError
 from linkgen.extrema import peak, stationary
 from linkgen.model.summary import Extreme, Limit, Output, output_table, summary_dict
@@ -82,7 +83,7 @@ def _grid(asm: Assembly) -> tuple[np.ndarray, bool]:
     """SAMPLES crank angles over the drive's range, both ends included, and whether it is a full
     turn (or more)."""
     d = asm.mechanism.drive
-    full = d.stop - d.start >= 2 * math.pi - 1e-12
+    full = full_turn(asm.mechanism)
     return np.linspace(d.start, d.stop, SAMPLES), full
 
 
