@@ -19,6 +19,10 @@ UNITS = {"phi": "rad", "omega": "rad/s", "epsilon": "rad/s²", "force": "N", "to
          "reduced_moment": "N·m"}
 # With friction (``[[friction]]``): each pair's friction (a couple [N·m] or a force [N]) and the power lost.
 FRICTION_UNITS = {"friction_couple": "N·m", "friction_force": "N", "friction_power": "W"}
+# A prismatic drive: the input is a stroke s [m], the balancing load a force [N] along the guide on
+# the slider, the reduced mass [kg] (under the names of the crank's quantities).
+STROKE_UNITS = {"phi": "m", "omega": "m/s", "epsilon": "m/s²", "torque": "N", "reduced_inertia": "kg",
+                "reduced_inertia_derivative": "kg/m", "reduced_moment": "N"}
 # The crank-level quantities, their units, in the order the CSV gives them.
 SCALARS = (("balancing_torque", "N·m"), ("power_balance_torque", "N·m"), ("reduced_inertia", "kg·m²"),
            ("reduced_inertia_derivative", "kg·m²/rad"), ("reduced_moment", "N·m"))
@@ -88,10 +92,11 @@ class PlanarForces:
     solution: object = field(default=None, compare=False)  # the planar ``Forces``
     friction: Mapping[str, PairFriction] = field(default_factory=dict)
     friction_power: np.ndarray | float | None = None
+    stroke: bool = False  # a prismatic drive: phi is the stroke s [m], the balancing load a force [N]
 
     def to_dict(self, transfer: bool = True) -> dict:
         out = {"model": self.model, "phi": plain(self.phi), "omega": plain(self.omega), "epsilon": plain(self.epsilon),
-               "units": UNITS, "balancing_torque": plain(self.balancing_torque),
+               "units": UNITS | (STROKE_UNITS if self.stroke else {}), "balancing_torque": plain(self.balancing_torque),
                "power_balance_torque": plain(self.power_balance_torque),
                "reactions": {k: r.to_dict() for k, r in self.reactions.items()},
                "prismatic": {k: p.to_dict() for k, p in self.prismatic.items()},
@@ -105,14 +110,17 @@ class PlanarForces:
         if self.friction:
             out["friction"] = {k: v.to_dict() for k, v in self.friction.items()}
             out["friction_power"] = plain(self.friction_power)
-            out["units"] = UNITS | FRICTION_UNITS
+            out["units"] = out["units"] | FRICTION_UNITS
         if np.ndim(self.phi):  # samples: which are marked singular (one state never is: it raises)
             out["singular"] = plain(self.singular)
         return out
 
     def columns(self, transfer: bool = True) -> dict[str, np.ndarray]:
-        cols = {"phi [rad]": column(self.phi), "singular": np.atleast_1d(np.asarray(self.singular, dtype=bool))}
-        cols |= {f"{q} [{u}]": column(getattr(self, q)) for q, u in SCALARS}
+        cols = {f"phi [{'m' if self.stroke else 'rad'}]": column(self.phi),
+                "singular": np.atleast_1d(np.asarray(self.singular, dtype=bool))}
+        stroke = {"balancing_torque": "N", "power_balance_torque": "N", "reduced_inertia": "kg",
+                  "reduced_inertia_derivative": "kg/m", "reduced_moment": "N"} if self.stroke else {}
+        cols |= {f"{q} [{stroke.get(q, u)}]": column(getattr(self, q)) for q, u in SCALARS}
         for table in (self.reactions, self.prismatic, self.tooth, self.contact, self.friction):
             for k, r in table.items():
                 cols |= r.columns(k)
@@ -141,13 +149,21 @@ class PlanarForces:
     @per_sample
     def text(self, transfer: bool = False) -> str:
         phi = float(self.phi)
-        lines = [f"{self.model}: φ = {math.degrees(phi):.6g}°, ω = {self.omega:g} rad/s, ε = {self.epsilon:g} rad/s²",
-                 f"balancing torque on the crank: {float(self.balancing_torque):.6g} N·m "
-                 f"(power balance: {float(self.power_balance_torque):.6g} N·m)",
-                 f"reduced inertia J = {float(self.reduced_inertia):.6g} kg·m², dJ/dφ = "
-                 f"{float(self.reduced_inertia_derivative):.6g} kg·m²/rad, reduced moment of loads = "
-                 f"{float(self.reduced_moment):.6g} N·m",
-                 f"{'pair':<18}{'on':>10}{'by':>10}{'Fx [N]':>14}{'Fy [N]':>14}{'|F| [N]':>14}"]
+        if self.stroke:
+            lines = [f"{self.model}: s = {phi:.6g} m, ṡ = {self.omega:g} m/s, s̈ = {self.epsilon:g} m/s² (the drive's stroke)",
+                     f"balancing force on the slider along its guide: {float(self.balancing_torque):.6g} N "
+                     f"(power balance: {float(self.power_balance_torque):.6g} N)",
+                     f"reduced mass m = {float(self.reduced_inertia):.6g} kg, dm/ds = "
+                     f"{float(self.reduced_inertia_derivative):.6g} kg/m, reduced force of loads = "
+                     f"{float(self.reduced_moment):.6g} N"]
+        else:
+            lines = [f"{self.model}: φ = {math.degrees(phi):.6g}°, ω = {self.omega:g} rad/s, ε = {self.epsilon:g} rad/s²",
+                     f"balancing torque on the crank: {float(self.balancing_torque):.6g} N·m "
+                     f"(power balance: {float(self.power_balance_torque):.6g} N·m)",
+                     f"reduced inertia J = {float(self.reduced_inertia):.6g} kg·m², dJ/dφ = "
+                     f"{float(self.reduced_inertia_derivative):.6g} kg·m²/rad, reduced moment of loads = "
+                     f"{float(self.reduced_moment):.6g} N·m"]
+        lines.append(f"{'pair':<18}{'on':>10}{'by':>10}{'Fx [N]':>14}{'Fy [N]':>14}{'|F| [N]':>14}")
         for k, r in self.reactions.items():
             fx, fy = (float(x) for x in r.force)
             lines.append(f"{k:<18}{r.on:>10}{r.by:>10}{fx:>14.6g}{fy:>14.6g}{math.hypot(fx, fy):>14.6g}")
@@ -209,7 +225,7 @@ def forces(source, phi, omega=None, epsilon=None, *, on_singular: str = "raise")
         s(f.reduced.inertia), s(f.reduced.inertia_derivative), s(f.reduced.moment),
         bool(f.singular[0]) if scalar else f.singular, (asm, phis),
         {k: PairFriction(f.on[k], f.by[k], *((None, s(v)) if k in pairs else (s(v), None)))
-         for k, v in f.friction.items()}, s(f.friction_power) if f.friction else None)
+         for k, v in f.friction.items()}, s(f.friction_power) if f.friction else None, mech.slides)
 
 
 __all__ = ["ContactForce", "PairFriction", "PlanarForces", "PrismaticLoad", "ToothForce", "forces"]

@@ -247,12 +247,14 @@ def raise_failure(asm: Assembly, phi: np.ndarray, mark: bool = False) -> None:
     (_, points, _, _, _), _ = solve_block(asm, phi, mark, report)
     for group, fail, overflow, singular in report:
         if np.any(fail):
+            slides = asm.mechanism.slides  # a stroke has no turn to scan
             raise AssemblyError(group.label, angle_ranges(phi, fail), fail_reason(group),
-                                lambda: _where_it_assembles(asm))
+                                None if slides else lambda: _where_it_assembles(asm), slides)
         if np.any(overflow):
             raise MagnitudeError(f"group {group.label}'s solution", angle_ranges(phi, overflow))
         if np.any(singular) and not mark:
-            raise SingularityError(group.label, angle_ranges(phi, singular), singular_reason(group))
+            raise SingularityError(group.label, angle_ranges(phi, singular), singular_reason(group),
+                                   asm.mechanism.slides)
     for name, v in points.items():
         bad = ~np.all(np.isfinite(v.p) & np.isfinite(v.d1) & np.isfinite(v.d2) & np.isfinite(v.d3), axis=1)
         if np.any(bad):
