@@ -119,6 +119,12 @@ def planar_robot_mjcf(source: Mechanism | Assembly, options: RobotOptions) -> st
     from linkgen.mujoco.scene import motion_extent
 
     mech = source.mechanism if isinstance(source, Assembly) else source
+    if mech.slides:
+        from linkgen.errors import UnsupportedError
+
+        raise UnsupportedError(f"--robot: {mech.name!r} is driven by the prismatic pair {mech.drive.joint!r} (a linear "
+                               f"actuator); the robot model is written for a driven crank only. linkgen build without "
+                               f"--robot writes its MJCF with the drive on the slide joint")
     src = _source(source)
     xml = write_mjcf(source, PLACEHOLDER)  # the validation model; its settings are replaced
     felt = _felt(source) if options.plane == "xy" else source

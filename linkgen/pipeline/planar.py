@@ -42,16 +42,23 @@ def _structure(desc):
     return structure(desc)
 
 
+def _input(desc, phi):
+    """``phi`` if its unit suits the drive (an angle for a crank, a length for a prismatic drive)."""
+    from linkgen.model.arguments import input_kind
+
+    return input_kind(phi, (desc.mechanism if hasattr(desc, "structure") else desc).slides, "angle")
+
+
 def _kinematics(desc, phi, omega=None, epsilon=None, *, on_singular: str = "raise"):
     from linkgen.families.planar.motion_result import kinematics
 
-    return kinematics(desc, phi, omega, epsilon, on_singular=on_singular)
+    return kinematics(desc, _input(desc, phi), omega, epsilon, on_singular=on_singular)
 
 
 def _forces(desc, phi, omega=None, epsilon=None, *, on_singular: str = "raise"):
     from linkgen.families.planar.forces_result import forces
 
-    return forces(desc, phi, omega, epsilon, on_singular=on_singular)
+    return forces(desc, _input(desc, phi), omega, epsilon, on_singular=on_singular)
 
 
 def _summary(desc, omega=None, epsilon=None):

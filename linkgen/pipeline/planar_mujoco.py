@@ -10,6 +10,7 @@ import math
 
 import numpy as np
 
+from linkgen.model.arguments import input_kind
 from linkgen.model.turn import full_turn
 from linkgen.families.planar.description import Mechanism
 
@@ -184,6 +185,9 @@ def _in_range(mech, phi: np.ndarray, option: str) -> None:
     if full_turn(mech):
         return
     bad = phi[(phi < d.start - 1e-12) | (phi > d.stop + 1e-12)]
+    if bad.size and mech.slides:
+        raise ArgumentError(f"{option}: {float(bad[0]):.6g} m is outside the drive's stroke {d.start:.6g}..{d.stop:.6g} m "
+                            f"(drive.start, drive.stop)")
     if bad.size:
         raise ArgumentError(f"{option}: {math.degrees(float(bad[0])):.6g}° is outside the drive's range "
                             f"{math.degrees(d.start):.6g}°..{math.degrees(d.stop):.6g}° (drive.start, drive.stop)")
@@ -199,10 +203,10 @@ def draw(desc, angles, out) -> str:
         _in_range(mech, np.asarray(angles, dtype=float), "--angles")
         plan_figure(mech, np.asarray(angles, dtype=float), out)
         return f"{mech.name}, position plan of {len(angles)} positions"
-    phi = mech.drive.start if angles is None else float(angles)
+    phi = mech.drive.start if angles is None else float(input_kind(angles, mech.slides, "--angle"))
     _in_range(mech, np.array([phi]), "--angle")
     skeleton_figure(mech, phi, out)
-    return f"{mech.name}, skeleton at φ = {math.degrees(phi):.6g}°"
+    return f"{mech.name}, skeleton at {_at(mech, phi)}"
 
 
 def animate(desc, frames: int, progress=None, mujoco: bool = False, notice=None) -> tuple[list, str]:
@@ -227,10 +231,15 @@ def render(desc, angle, width: int, height: int) -> tuple[np.ndarray, str]:
     from linkgen.draw.render import render_mechanism
 
     mech = _mechanism(desc)
-    phi = mech.drive.start if angle is None else float(angle)
+    phi = mech.drive.start if angle is None else float(input_kind(angle, mech.slides, "--angle"))
     _in_range(mech, np.array([phi]), "--angle")
     _, frames = render_mechanism(mech, phi, width, height)
-    return frames[0], f"MuJoCo frame of {mech.name} at φ = {math.degrees(phi):.6g}°"
+    return frames[0], f"MuJoCo frame of {mech.name} at {_at(mech, phi)}"
+
+
+def _at(mech, phi: float) -> str:
+    """``φ = 30°``, or a prismatic drive's ``s = 0.3 m``."""
+    return f"s = {phi:.6g} m" if mech.slides else f"φ = {math.degrees(phi):.6g}°"
 
 
 STAGES = {"mjcf": mjcf, "coupling": coupling, "simulate": simulate, "validate": validate, "figures": figures, "report": report, "draw": draw,

@@ -261,6 +261,14 @@ def _check_slide_drive(m: Mechanism) -> None:
     if pj.slider == GROUND:
         raise DescriptionError(f"prismatic.{pj.name}.slider", f"a driven prismatic pair's slider must be the moving "
                                                               f"link, not {GROUND!r}; swap slider and guide")
+    for what, items in (("gear", m.gears), ("cam", m.cams)):
+        if items:
+            raise DescriptionError(f"{what}.{items[0].name}", f"a {what} pair turns with a crank; the drive "
+                                   f"{d.joint!r} is a prismatic pair (a linear actuator), which has none")
+    for i, f in enumerate(m.forces):
+        if f.stroke is not None:
+            raise DescriptionError(f"force[{i}].stroke", "is a range of crank angles; with a prismatic drive "
+                                                         "(no crank) a force acts over the whole stroke: leave it out")
     bounded(d.omega, "drive.velocity", limits.MAX_OMEGA * limits.MAX_LENGTH, "m/s")
     bounded(d.epsilon, "drive.acceleration", limits.MAX_EPSILON * limits.MAX_LENGTH, "m/s²")
     _length(d.start, "drive.start")
