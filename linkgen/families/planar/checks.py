@@ -228,8 +228,8 @@ def _check_drive(m: Mechanism) -> None:
     names = [j.name for j in m.revolutes]
     if d.joint not in names:
         slides = [p.name for p in m.prismatics]
-        raise DescriptionError("drive.joint", f"unknown pair {d.joint!r}; revolutes: {names}"
-                               + (f", prismatic pairs: {slides}" if slides else ""))
+        raise DescriptionError("drive.joint", f"unknown revolute {d.joint!r}; revolutes: {names}"
+                               + (f"; or a prismatic pair (a linear actuator): {slides}" if slides else ""))
     joint = m.revolute(d.joint)
     if GROUND not in joint.links:
         raise DescriptionError("drive.joint", f"{d.joint!r} must join {GROUND!r} and the crank, joins {joint.links}")
