@@ -104,7 +104,17 @@ def add_servo(actuator, joint: str, armature: float, omega: float) -> None:
                      biasprm=_vec(kv * omega, 0.0, -kv))
 
 
-def settings_comment(settings) -> str:
+def settings_comment(settings, slides: bool = False) -> str:
+    """The MJCF's first comment: its settings; ``slides``: the drive is a prismatic pair (its rotor
+    a mass [kg] on the slide joint, keeping the slide's speed)."""
+    text = _settings_comment(settings)
+    if slides:
+        text = (text.replace("kg·m² on the drive joint", "kg on the drive's slide joint")
+                .replace("keeps the crank speed constant", "keeps the slide's speed constant"))
+    return text
+
+
+def _settings_comment(settings) -> str:
     if not settings.label.startswith("derived"):
         return (f" settings: {settings.label}: timestep {settings.timestep:g} s ({settings.integrator}), connects with "
                 f"solref {settings.solref}, solimp {settings.solimp_text}; rotor inertia (armature) "

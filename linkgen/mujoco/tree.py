@@ -121,6 +121,11 @@ def spanning_tree(source: Mechanism | Assembly) -> TreeInfo:
     followers = {c.follower for c in mech.cams}
     follower_pins = [p for p in pairs if GROUND in p.links and set(p.links) & followers]
     revolutes = [p for p in revolutes if p not in planet_pins and p not in follower_pins]
+    # a driven cylinder hangs on the ground by its pivot and its rod on it, so that the slide joint's
+    # q counts the stroke (the rod the child): its pivot joins the tree right after the drive
+    cylinder = ([p for p in revolutes if set(p.links) == {GROUND, drive.links[1]}]
+                if drive.kind == "P" and GROUND not in drive.links else [])
+    revolutes = cylinder + [p for p in revolutes if p not in cylinder]
     # a planet hangs on the crank by its pin, so its gear coupling ties two joints of the tree
     ordered = ([drive] + planet_pins + follower_pins + [p for p in pairs if p.kind == "P" and p not in follower_pins and p is not drive]
                + revolutes)

@@ -252,12 +252,9 @@ def _check_drive(m: Mechanism) -> None:
 
 def _check_slide_drive(m: Mechanism) -> None:
     """A prismatic drive: a pair between ground and the slider (a linear actuator on a fixed
-    guide), a speed and acceleration within the limits, a stroke range start < stop."""
+    guide) or between two moving links (a cylinder and its rod: the structure analysis checks how
+    they are held), a speed and acceleration within the limits, a stroke range start < stop."""
     d, pj = m.drive, m.prismatic(m.drive.joint)
-    if GROUND not in (pj.slider, pj.guide):
-        raise DescriptionError(
-            "drive.joint", f"the prismatic pair {d.joint!r} joins {pj.slider!r} and {pj.guide!r}; a driven prismatic "
-                           f"pair must join {GROUND!r} and the slider it drives (its guide fixed to the ground)")
     if pj.slider == GROUND:
         raise DescriptionError(f"prismatic.{pj.name}.slider", f"a driven prismatic pair's slider must be the moving "
                                                               f"link, not {GROUND!r}; swap slider and guide")

@@ -274,7 +274,8 @@ class Mechanism:
 
     @cached_property
     def crank(self) -> str:
-        """The leading link: the crank, or the slider of a prismatic drive."""
+        """The leading link: the crank, or the slider of a prismatic drive with ground; of a prismatic
+        drive between two moving links (an actuator), its guide (the cylinder)."""
         if self.slides:
             pj = self.prismatic(self.drive.joint)
             return pj.slider if pj.guide == GROUND else pj.guide

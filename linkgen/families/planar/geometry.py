@@ -169,7 +169,10 @@ def sketch_input(mech: Mechanism, shapes: dict[str, LinkShape]) -> float:
         return shapes[mech.crank].sketch_angle
     g = guide_shapes(mech, shapes)[mech.drive.joint]
     p = np.asarray(mech.points[mech.prismatic(mech.drive.joint).point], dtype=float)
-    return float(np.dot(p - g.base, [math.cos(g.alpha), math.sin(g.alpha)]))
+    frame = shapes[g.guide]  # the guide's sketch frame: its first point, its sketch angle
+    c, s = math.cos(frame.sketch_angle), math.sin(frame.sketch_angle)
+    base = frame.sketch_origin + np.array([c * g.base[0] - s * g.base[1], s * g.base[0] + c * g.base[1]])
+    return float(np.dot(p - base, [math.cos(frame.sketch_angle + g.alpha), math.sin(frame.sketch_angle + g.alpha)]))
 
 
 def mass_properties(mech: Mechanism, shapes: dict[str, LinkShape], name: str) -> MassProperties | None:

@@ -26,6 +26,8 @@ from linkgen.families.planar.primitives import (
     Scalar,
     Vec,
     circle_circle,
+    direction_of,
+    length_of,
     pair,
     constant,
     cross,
@@ -56,6 +58,8 @@ def input_poses(mech: Mechanism, structure: Structure, shapes: dict[str, LinkSha
     followers) at crank angles ``phi`` (n,) [rad]."""
     n = phi.shape[0]
     crank = shapes[structure.crank]
+    if mech.slides and GROUND not in structure.drive.links:  # an actuator: its group places its links
+        return {GROUND: ground_pose(n)}
     if mech.slides:
         return {GROUND: ground_pose(n), structure.crank: slider_pose(mech, shapes, phi)}
     pivot = shapes[GROUND].local[mech.revolute(mech.drive.joint).point]
@@ -96,7 +100,16 @@ def fail_reason(group: Group) -> str:
                        "exceeds the sum or is below the difference of the link lengths)",
         GroupKind.RRP: "the link cannot reach the guide line",
         GroupKind.RPR: "the pivot is closer to the other pivot than the guide's offset",
+        GroupKind.ACTUATOR: "the cylinder, at this stroke, and the rocker cannot reach each other (the distance between "
+                            "their pivots exceeds the sum or is below the difference of the pivot-to-pin distances)",
     }.get(group.kind, "no intersection")
+
+
+def place(group: Group, poses: dict, p1: LinkPose, p2: LinkPose, res: Result) -> None:
+    """Put a solved group's poses (``solve_group``'s) into ``poses``; an ACTUATOR's rod too."""
+    poses[group.links[0]], poses[group.links[1]] = p1, p2
+    if group.kind is GroupKind.ACTUATOR:
+        poses[group.third] = res.value
 
 
 def _locked_angle(link: str, pair_name: str, known: LinkPose, guides: dict[str, GuideShape]) -> Scalar:
@@ -118,10 +131,14 @@ def _line_of(link: str, local: np.ndarray, angle: Scalar, pair_name: str, other:
 
 
 def solve_group(group: Group, m: int, poses: dict, shapes: dict[str, LinkShape],
-                 guides: dict[str, GuideShape], mech: Mechanism) -> tuple[LinkPose, LinkPose, Result]:
+                 guides: dict[str, GuideShape], mech: Mechanism, stroke: np.ndarray | None = None
+                 ) -> tuple[LinkPose, LinkPose, Result]:
     """Poses of the group's two links given the poses of the links it attaches to, and the
-    primitive's Result (failure mask and transfer-function denominator)."""
+    primitive's Result (failure mask and transfer-function denominator); ``place`` puts them.
+    An ACTUATOR needs the drive's ``stroke`` (n,) [m]; its Result's value is the rod's pose."""
     (l1, l2), (o1, inner, o2), (k1, k2) = group.links, group.pairs, group.known
+    if group.kind is GroupKind.ACTUATOR:
+        return _actuator(group, m, poses, shapes, guides, mech, stroke)
     s1, s2 = shapes[l1], shapes[l2]
 
     def pin(pair, link):  # (local coords on link, world Vec from the known link)
@@ -183,3 +200,36 @@ def solve_group(group: Group, m: int, poses: dict, shapes: dict[str, LinkShape],
     res = line_line(_line_of(l2, origin, th2, inner.name, pose1, guides),
                     _line_of(l2, origin, th2, o2.name, poses[k2], guides))
     return pose1, pose_from_point(res.value, origin, th2), res
+
+
+def _actuator(group: Group, m: int, poses: dict, shapes: dict[str, LinkShape], guides: dict[str, GuideShape],
+              mech: Mechanism, stroke: np.ndarray) -> tuple[LinkPose, LinkPose, Result]:
+    """The ACTUATOR (``structure``): the rod's pin B lies, in the cylinder's frame, at
+    c0 + s·e(α) (the guide line's base plus the stroke along it, plus the pin's offset from the
+    rod's sliding point turned by the rod's angle to the cylinder), so the pivot A and the pin
+    are |B − A|(s) apart; B is on that circle about A and on the rocker's circle about its pivot
+    C (``circle_circle`` with a side that changes with s). The cylinder's angle is the angle of
+    A→B in the world less its angle in the cylinder's frame; the rod turns with the cylinder."""
+    cyl, rocker = group.links
+    rod = group.third
+    a_pair, b_pair, c_pair = group.pairs
+    g = guides[mech.drive.joint]
+    a_name, b_name, c_name = (mech.revolute(p.name).point for p in (a_pair, b_pair, c_pair))
+    a = poses[group.known[0]].point(shapes[group.known[0]].local[a_name])
+    c = poses[group.known[1]].point(shapes[group.known[1]].local[c_name])
+    a_l = shapes[cyl].local[a_name]
+    cr, sr = math.cos(g.relative_angle), math.sin(g.relative_angle)
+    w = shapes[rod].local[b_name] - g.point
+    c0 = g.base + np.array([cr * w[0] - sr * w[1], sr * w[0] + cr * w[1]]) - a_l
+    u = np.array([math.cos(g.alpha), math.sin(g.alpha)])
+    n = stroke.shape[0]
+    zero = zeros(n, 2)
+    side = Vec(pair(c0[0] + stroke * u[0], c0[1] + stroke * u[1]), np.broadcast_to(u, (n, 2)), zero, zero)
+    b_l, c_l = shapes[rocker].local[b_name], shapes[rocker].local[c_name]
+    res = circle_circle(a, length_of(side), c, float(np.hypot(*(b_l - c_l))), m)
+    b = res.value
+    world, local = direction_of(b - a), direction_of(side)
+    theta = Scalar(world.v - local.v, world.d1 - local.d1, world.d2 - local.d2, world.d3 - local.d3)
+    pose_rod = pose_from_point(b, shapes[rod].local[b_name], theta.shifted(g.relative_angle))
+    return (pose_from_point(a, a_l, theta), pose_from_two_points(b, b_l, c, c_l),
+            Result(pose_rod, res.fail, res.denominator))

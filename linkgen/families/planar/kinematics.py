@@ -18,7 +18,7 @@ from linkgen.families.planar.blocks import in_blocks
 from linkgen.families.planar.description import Mechanism
 from linkgen.errors import ArgumentError, AssemblyError, MagnitudeError, SingularityError, angle_ranges
 from linkgen.families.planar.geometry import GuideShape, LinkPose
-from linkgen.families.planar.groups import SINGULAR_TOL, fail_reason, input_poses, solve_group
+from linkgen.families.planar.groups import SINGULAR_TOL, fail_reason, input_poses, place, solve_group
 from linkgen.families.planar.motion import Motion, all_finite, checked_derivatives, derivatives, rate
 from linkgen.families.planar.primitives import Scalar, Vec, constant_along, dot, is_zero
 from linkgen.families.planar.structure import Group, GroupKind
@@ -32,6 +32,7 @@ _REASONS = {
     GroupKind.RPR: "the slot is (nearly) perpendicular to the line joining the two pivots, a dead centre",
     GroupKind.PRP: "its two guides are (nearly) parallel",
     GroupKind.RPP: "its two guides are (nearly) parallel",
+    GroupKind.ACTUATOR: "the rod's pin is (nearly) in line with the cylinder's pivot and the rocker's, a dead centre",
 }
 
 
@@ -191,7 +192,7 @@ def solve_block(asm: Assembly, phi: np.ndarray, mark: bool = False, report: list
     n = phi.shape[0]
     near, marked, ok = {}, np.zeros(n, dtype=bool), True
     for group, m in zip(asm.structure.groups, asm.branches):
-        p1, p2, res = solve_group(group, m, poses, asm.shapes, asm.guides, mech)
+        p1, p2, res = solve_group(group, m, poses, asm.shapes, asm.guides, mech, phi)
         den = np.abs(np.broadcast_to(res.denominator, (n,)))
         fail = res.fail & ~marked
         overflow = ~np.isfinite(den) & ~marked & ~res.fail
@@ -201,7 +202,7 @@ def solve_block(asm: Assembly, phi: np.ndarray, mark: bool = False, report: list
             report.append((group, fail, overflow, singular))
         near[group.label] = singular
         marked |= singular
-        poses[group.links[0]], poses[group.links[1]] = p1, p2
+        place(group, poses, p1, p2, res)
     points = {}
     for link in mech.links:
         for p in link.points:

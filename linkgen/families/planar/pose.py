@@ -200,12 +200,16 @@ class _Constraints:
                 put(r, cam.follower, [u[0], u[1], u @ dc])
             put(r, crank, [0.0, 0.0, -sig * d[1][0]])
             r += 1
-        if self.mech.slides:  # the slider's point along the guide (fixed to the ground) − s
+        if self.mech.slides:  # the slider's point along the guide line from its base − s
             g = self.guides[self.mech.drive.joint]
             ps, ds = self._place(q, g.slider, g.point)
-            u = np.array([math.cos(g.alpha), math.sin(g.alpha)])
-            f[r] = u @ (ps - g.base) - phi
+            pg, dg = self._place(q, g.guide, g.base)
+            th_g = self._frame(q, g.guide)[1] + g.alpha
+            u = np.array([math.cos(th_g), math.sin(th_g)])
+            d = ps - pg
+            f[r] = u @ d - phi
             put(r, g.slider, [u[0], u[1], u @ ds])
+            put(r, g.guide, [-u[0], -u[1], -(u @ dg) + np.array([-u[1], u[0]]) @ d])
             return f, jac
         f[r] = self._frame(q, self.mech.crank)[1] - phi
         put(r, self.mech.crank, [0.0, 0.0, 1.0])

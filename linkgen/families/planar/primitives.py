@@ -208,6 +208,32 @@ def angle_between_points(a: Vec, b: Vec) -> Scalar:
                   _cross(e.p, e.d3) * inv2 + d1 * d1 * d1, cs)
 
 
+def direction_of(e: Vec) -> Scalar:
+    """Direction angle θ of a vector e whose length may change along the input [rad]: with
+    N = e×e′ and D = e·e, θ′ = N/D, θ″ = (e×e″ − θ′D′)/D and
+    θ‴ = (e′×e″ + e×e‴ − θ″D′ − θ′D″)/D − (e×e″ − θ′D′)D′/D², D′ = 2e·e′, D″ = 2(e′·e′ + e·e″)."""
+    dd = dot(e.p, e.p)
+    inv = 1.0 / dd
+    d1 = 2.0 * dot(e.p, e.d1)
+    d2 = 2.0 * (dot(e.d1, e.d1) + _dot(e.p, e.d2))
+    t1 = cross(e.p, e.d1) * inv
+    n2 = _cross(e.p, e.d2) - t1 * d1
+    t2 = n2 * inv
+    t3 = (_cross(e.d1, e.d2) + _cross(e.p, e.d3) - t2 * d1 - t1 * d2) * inv - n2 * d1 * inv * inv
+    return Scalar(np.arctan2(e.p[:, 1], e.p[:, 0]), t1, t2, t3)
+
+
+def length_of(e: Vec) -> Scalar:
+    """|e| [m] and its transfer functions: L′ = e·e′/L, L″ = (e′·e′ + e·e″ − L′²)/L,
+    L‴ = (3e′·e″ + e·e‴ − 3L′L″)/L."""
+    length = np.sqrt(dot(e.p, e.p))
+    inv = 1.0 / length
+    l1 = dot(e.p, e.d1) * inv
+    l2 = (dot(e.d1, e.d1) + _dot(e.p, e.d2) - l1 * l1) * inv
+    l3 = (3.0 * _dot(e.d1, e.d2) + _dot(e.p, e.d3) - 3.0 * l1 * l2) * inv
+    return Scalar(length, l1, l2, l3)
+
+
 def _sq(v: np.ndarray) -> np.ndarray | float:
     return 0.0 if is_zero(v) else dot(v, v)
 
@@ -220,12 +246,19 @@ def _cross(r: np.ndarray, v: np.ndarray) -> np.ndarray | float:
     return 0.0 if is_zero(v) else cross(r, v)
 
 
-def circle_circle(a: Vec, ra: float, c: Vec, rc: float, m: int) -> Result:
+def circle_circle(a: Vec, ra, c: Vec, rc: float, m: int) -> Result:
     """Point B with |B - A| = ra and |B - C| = rc (RRR). m = +1 puts B left of A→C.
 
     Differentiating (B - A)·(B - A) = ra² three times, with r = B - A:
     r·r′ = 0, r·r″ + r′·r′ = 0, r·r‴ + 3r′·r″ = 0; the same for C. Each order is one 2×2
-    system in B′, B″, B‴ with the rows B - A and B - C."""
+    system in B′, B″, B‴ with the rows B - A and B - C. ``ra`` may be a Scalar, a side that
+    changes along the input (an actuator's, set by its stroke): its rows then gain ra·ra′,
+    ra·ra″ + ra′² and ra·ra‴ + 3ra′·ra″ on the right."""
+    if isinstance(ra, Scalar):
+        grow = (ra.v * ra.d1, ra.v * ra.d2 + ra.d1 * ra.d1, ra.v * ra.d3 + 3.0 * ra.d1 * ra.d2)
+        ra = ra.v
+    else:
+        grow = (0.0, 0.0, 0.0)
     d = c.p - a.p
     dd = dot(d, d)
     inv = 1.0 / np.sqrt(dd)
@@ -239,11 +272,12 @@ def circle_circle(a: Vec, ra: float, c: Vec, rc: float, m: int) -> Result:
     ba, bc = b - a.p, b - c.p
     det = cross(ba, bc)
     inv_det = 1.0 / det
-    b1 = _solve2(ba, bc, _dot(ba, a.d1), _dot(bc, c.d1), inv_det)
+    b1 = _solve2(ba, bc, _dot(ba, a.d1) + grow[0], _dot(bc, c.d1), inv_det)
     r1a, r1c = _minus(b1, a.d1), _minus(b1, c.d1)
-    b2 = _solve2(ba, bc, _dot(ba, a.d2) - _sq(r1a), _dot(bc, c.d2) - _sq(r1c), inv_det)
+    b2 = _solve2(ba, bc, _dot(ba, a.d2) - _sq(r1a) + grow[1], _dot(bc, c.d2) - _sq(r1c), inv_det)
     r2a, r2c = _minus(b2, a.d2), _minus(b2, c.d2)
-    b3 = _solve2(ba, bc, _dot(ba, a.d3) - 3.0 * dot(r1a, r2a), _dot(bc, c.d3) - 3.0 * dot(r1c, r2c), inv_det)
+    b3 = _solve2(ba, bc, _dot(ba, a.d3) - 3.0 * dot(r1a, r2a) + grow[2], _dot(bc, c.d3) - 3.0 * dot(r1c, r2c),
+                 inv_det)
     return Result(Vec(b, b1, b2, b3), fail, det * (1.0 / (ra * rc)))
 
 

@@ -28,7 +28,7 @@ from linkgen.extrema import peak, stationary
 from linkgen.model.summary import Extreme, Limit, Output, output_table, summary_dict
 from linkgen.families.planar.description import GROUND
 from linkgen.families.planar.assembly import Assembly
-from linkgen.families.planar.groups import input_poses, solve_group
+from linkgen.families.planar.groups import input_poses, place, solve_group
 from linkgen.families.planar.kinematics import solve
 
 # Grid over the drive's range for extrema and peaks: one every 0.1° over a full turn.
@@ -151,10 +151,10 @@ def transmission_angles(asm: Assembly, phi: np.ndarray) -> dict[str, np.ndarray]
     out = {}
     with np.errstate(invalid="ignore", divide="ignore"):
         for group, m in zip(asm.structure.groups, asm.branches):
-            p1, p2, res = solve_group(group, m, poses, asm.shapes, asm.guides, mech)
+            p1, p2, res = solve_group(group, m, poses, asm.shapes, asm.guides, mech, phi)
             den = np.abs(np.broadcast_to(res.denominator, phi.shape))
             out[group.label] = np.arcsin(np.clip(den, 0.0, 1.0))
-            poses[group.links[0]], poses[group.links[1]] = p1, p2
+            place(group, poses, p1, p2, res)
     return out
 
 
