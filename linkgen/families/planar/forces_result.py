@@ -92,7 +92,7 @@ class PlanarForces:
     solution: object = field(default=None, compare=False)  # the planar ``Forces``
     friction: Mapping[str, PairFriction] = field(default_factory=dict)
     friction_power: np.ndarray | float | None = None
-    stroke: bool = False  # a prismatic drive: phi is the stroke s [m], the balancing load a force [N]
+    stroke: bool = field(default=False, compare=False)  # the units say it; a prismatic drive: phi is the stroke s [m], the balancing load a force [N]
 
     def to_dict(self, transfer: bool = True) -> dict:
         out = {"model": self.model, "phi": plain(self.phi), "omega": plain(self.omega), "epsilon": plain(self.epsilon),

@@ -209,6 +209,8 @@ def solve_block(asm: Assembly, phi: np.ndarray, mark: bool = False, report: list
             if p not in points:
                 points[p] = poses[link.name].point(asm.shapes[link.name].local[p])
     sliders = {name: slider_motion(poses, g) for name, g in asm.guides.items()}
+    if mech.slides:  # the driven pair's stroke is the input itself: s, ds/ds = 1, 0, 0 exactly
+        sliders[mech.drive.joint] = Scalar(phi.copy(), np.ones(n), np.zeros(n), np.zeros(n))
     if mark and marked.any():
         _clear([*points.values(), *poses.values(), *sliders.values()], marked)
     ok = ok and all(all_finite(a) for v in points.values() for a in (v.p, v.d1, v.d2, v.d3))

@@ -79,7 +79,7 @@ class PlanarKinematics:
     followers: Mapping[str, FollowerMotion]
     singular: np.ndarray | bool
     solution: object = field(default=None, compare=False)  # the planar ``Kinematics`` (singular groups)
-    stroke: bool = False  # a prismatic drive: phi is the stroke s [m], omega ṡ, epsilon s̈ (STROKE_UNITS)
+    stroke: bool = field(default=False, compare=False)  # the units say it; a prismatic drive: phi is the stroke s [m], omega ṡ, epsilon s̈ (STROKE_UNITS)
 
     def to_dict(self, transfer: bool = True) -> dict:
         units = UNITS | (STROKE_UNITS if self.stroke else {})

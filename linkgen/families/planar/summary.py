@@ -63,6 +63,7 @@ class DesignSummary:
     peak_friction_power: Extreme | None = None
     mean_friction_power: float | None = None
     stroke: bool = False  # a prismatic drive: phi and drive_range are strokes [m], the balancing load a force [N]
+    drive_joint: str = ""  # the driven pair
 
     @property
     def units(self) -> dict[str, str]:
@@ -172,7 +173,7 @@ def summarize(asm: Assembly, omega: float | None = None, epsilon: float | None =
     e = mech.drive.epsilon if epsilon is None else float(epsilon)
     phi, full = _grid(asm)
     found = [(name, _output(asm, "slider", phi, full, lambda k, n=name: (k.sliders[n].v, k.sliders[n].d1)))
-             for name in asm.guides if not (mech.slides and name == mech.drive.joint)]  # not the input
+             for name in asm.guides]
     pivoted = {p for r in mech.revolutes if GROUND in r.links for p in r.links if p != GROUND}
     for link in mech.links:
         if link.name in pivoted and link.name != mech.crank:
@@ -202,7 +203,7 @@ def summarize(asm: Assembly, omega: float | None = None, epsilon: float | None =
             at, value = _peak(lambda p: forces(asm, p, w, e).friction_power, phi, f.friction_power)
             lost = (Extreme(value, at), float(np.mean(f.friction_power[:-1] if full else f.friction_power)))
     return DesignSummary(mech.name, w, e, (mech.drive.start, mech.drive.stop), outputs, torque, peaks, note, trans,
-                         spring_peaks(asm, phi, w), *lost, mech.slides)
+                         spring_peaks(asm, phi, w), *lost, mech.slides, mech.drive.joint)
 
 
 def spring_peaks(asm: Assembly, phi: np.ndarray, omega: float) -> dict[str, Extreme]:

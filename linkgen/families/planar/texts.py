@@ -177,7 +177,9 @@ def stroke_summary_text(s) -> str:
              f"ṡ = {s.omega:g} m/s, s̈ = {s.epsilon:g} m/s²"]
     for key, o in s.outputs.items():
         name = key.removesuffix(f" ({o.kind})")
-        if o.kind == "slider":
+        if o.kind == "slider" and name == s.drive_joint:
+            lines.append(f"  slider {name}: stroke {o.travel:.6g} m (the drive's own)")
+        elif o.kind == "slider":
             lines.append(f"  slider {name}: stroke {o.travel:.6g} m, {o.travel / span:.6g} m per m of input stroke")
         else:
             lines.append(f"  rocker {name}: swing {_deg(o.travel)} ({o.travel:.6g} rad), {math.degrees(o.travel / span):.6g}°"
