@@ -256,6 +256,11 @@ def _drive(spec: dict, slides: set[str] = frozenset()) -> Drive:
     """A revolute's drive (``omega``, ``epsilon``, ``range``), or a prismatic pair's (``joint`` naming a
     ``[prismatic.NAME]``: ``velocity`` [m/s], ``acceleration`` [m/s²], the stroke's ``start`` and
     ``stop`` [m])."""
+    given = _SLIDE_DRIVE - {"joint"} & set(spec)
+    if given and "omega" not in spec and spec.get("joint") not in slides:
+        raise DescriptionError("drive.joint", f"unknown prismatic pair {shown(spec.get('joint'))}: a drive given by "
+                                              f"{', '.join(sorted(given))} slides along a [prismatic.NAME] pair; "
+                                              f"prismatic pairs: {sorted(slides)}")
     if spec.get("joint") in slides:
         _keys(spec, _SLIDE_DRIVE, {"joint", "velocity", "start", "stop"}, "drive")
         return Drive(joint=spec["joint"], omega=linear_speed(spec["velocity"], "drive.velocity"),
