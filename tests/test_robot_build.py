@@ -63,8 +63,8 @@ def _names(model) -> list[tuple[str, str]]:
 
 
 # The robot model is written for a driven crank; a linkage driven by a prismatic pair is refused.
-CRANKED = [p for p in MODELS if not linkgen.load(p).slides] + SPATIAL_MODELS
-SLIDING = [p for p in MODELS if linkgen.load(p).slides]
+CRANKED = [p for p in MODELS if not linkgen.load(p).slide_drive] + SPATIAL_MODELS
+SLIDING = [p for p in MODELS if linkgen.load(p).slide_drive]
 
 
 @pytest.mark.parametrize("path", SLIDING, ids=[p.stem for p in SLIDING])

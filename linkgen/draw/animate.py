@@ -60,7 +60,8 @@ def drawn_frames(mech: Mechanism, phi: np.ndarray, mujoco_frames: list[np.ndarra
             draw_paths(ax, paths, lw=0.8)
             draw_skeleton(ax, pos, frame, i)
             set_limits(ax, paths, frame)
-            ax.set_title(f"closed form, φ = {math.degrees(float(phi[i])):.1f}°", fontsize=10)
+            ax.set_title(f"closed form, s = {float(phi[i]):.4g} m" if mech.slide_drive else
+                         f"closed form, φ = {math.degrees(float(phi[i])):.1f}°", fontsize=10)
             if mujoco_frames is not None:
                 m = axes[0, 1]
                 m.cla()

@@ -110,7 +110,7 @@ def _drive_arrow(ax, pos: Positions, frame: Frame, i: int, alpha: float) -> None
     from matplotlib.patches import FancyArrowPatch
 
     mech = pos.mechanism
-    if mech.slides:  # a straight arrow along the driven guide beside the slider, its sense that of the speed
+    if mech.slide_drive:  # a straight arrow along the driven guide beside the slider, its sense that of the speed
         _, u = pos.guide_line(mech.drive.joint, i)
         g = pos.guides[mech.drive.joint]
         c = pos.local_to_world(g.slider, g.point, i)

@@ -45,8 +45,7 @@ def angle_text(text: str) -> float:
     except ValueError:
         pass
     else:
-        raise ArgumentError(f"an angle needs its unit: write {text}deg or {text}rad (or {text}°), got {text!r} "
-                            f"(a prismatic drive's stroke: {text}m)")
+        raise ArgumentError(f"an angle needs its unit: write {text}deg or {text}rad (or {text}°), got {text!r}")
     if any(text.strip().endswith(u) for u in LENGTH_UNITS):
         try:
             return Stroke(_within(length(text, "stroke"), limits.MAX_LENGTH, "m", text))

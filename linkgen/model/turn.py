@@ -127,4 +127,4 @@ def full_turn(mech) -> bool:
     """True when the drive's range is a whole turn of a crank (a full turn leaves out its end, which
     repeats its start); never for a prismatic drive, whose range is a stroke [m]."""
     d = mech.drive
-    return not getattr(mech, "slides", False) and d.stop - d.start >= 2 * math.pi - 1e-12
+    return not getattr(mech, "slide_drive", False) and d.stop - d.start >= 2 * math.pi - 1e-12

@@ -277,7 +277,7 @@ def write_mjcf(source: Mechanism | Assembly, settings: Settings | None = None) -
         for p in link.points:
             etree.SubElement(sensor, "framepos", name=sensor_name(mech, link.name, p), objtype="site",
                              objname=site_name(mech, link.name, p))
-    root.insert(0, etree.Comment(settings_comment(settings, mech.slides) + (FRICTION_NOTE if mech.frictions else "")))
+    root.insert(0, etree.Comment(settings_comment(settings, mech.slide_drive) + (FRICTION_NOTE if mech.frictions else "")))
     add_sketch_key(root, source, mech)
     return etree.tostring(root, pretty_print=True, encoding="unicode")
 

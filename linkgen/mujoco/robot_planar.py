@@ -119,7 +119,7 @@ def planar_robot_mjcf(source: Mechanism | Assembly, options: RobotOptions) -> st
     from linkgen.mujoco.scene import motion_extent
 
     mech = source.mechanism if isinstance(source, Assembly) else source
-    if mech.slides:
+    if mech.slide_drive:
         from linkgen.errors import UnsupportedError
 
         raise UnsupportedError(f"--robot: {mech.name!r} is driven by the prismatic pair {mech.drive.joint!r} (a linear "

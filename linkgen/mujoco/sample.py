@@ -119,7 +119,7 @@ def read_samples(asm: Assembly, model: mujoco.MjModel, time: np.ndarray, qpos: n
     def drive_value(crank_body) -> float:
         """The crank's angle [rad], or a prismatic drive's stroke [m] (its slide joint's q from the
         reference pose's)."""
-        if mech.slides:
+        if mech.slide_drive:
             return slider_ref[mech.drive.joint] + float(d.qpos[crank_j.qposadr[0]])
         return math.atan2(crank_body.xmat[3], crank_body.xmat[0])
 
@@ -163,7 +163,7 @@ def read_samples(asm: Assembly, model: mujoco.MjModel, time: np.ndarray, qpos: n
         viol[k] = float(np.max(np.abs(d.efc_pos[: d.ne]) * lever[d.efc_id[: d.ne]])) if d.ne else 0.0
         torque[k] = d.actuator(DRIVE_ACTUATOR).force[0] - armature * d.qacc[crank_j.dofadr[0]]
     # continuous over the run (the closed form is 2π-periodic); a stroke needs no unwrapping
-    phi = crank[:, 0] if mech.slides else np.unwrap(crank[:, 0])
+    phi = crank[:, 0] if mech.slide_drive else np.unwrap(crank[:, 0])
     return Samples(time, qpos, qvel, (phi, crank[:, 1], crank[:, 2]),
                    {p: tuple(a[:, j] for j in range(3)) for p, a in out_pts.items()},
                    {n: tuple(a[:, j] for j in range(3)) for n, a in out_lnk.items()},

@@ -46,7 +46,7 @@ def _input(desc, phi):
     """``phi`` if its unit suits the drive (an angle for a crank, a length for a prismatic drive)."""
     from linkgen.model.arguments import input_kind
 
-    return input_kind(phi, (desc.mechanism if hasattr(desc, "structure") else desc).slides, "angle")
+    return input_kind(phi, (desc.mechanism if hasattr(desc, "structure") else desc).slide_drive, "angle")
 
 
 def _kinematics(desc, phi, omega=None, epsilon=None, *, on_singular: str = "raise"):

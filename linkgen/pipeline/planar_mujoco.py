@@ -185,7 +185,7 @@ def _in_range(mech, phi: np.ndarray, option: str) -> None:
     if full_turn(mech):
         return
     bad = phi[(phi < d.start - 1e-12) | (phi > d.stop + 1e-12)]
-    if bad.size and mech.slides:
+    if bad.size and mech.slide_drive:
         raise ArgumentError(f"{option}: {float(bad[0]):.6g} m is outside the drive's stroke {d.start:.6g}..{d.stop:.6g} m "
                             f"(drive.start, drive.stop)")
     if bad.size:
@@ -203,7 +203,7 @@ def draw(desc, angles, out) -> str:
         _in_range(mech, np.asarray(angles, dtype=float), "--angles")
         plan_figure(mech, np.asarray(angles, dtype=float), out)
         return f"{mech.name}, position plan of {len(angles)} positions"
-    phi = mech.drive.start if angles is None else float(input_kind(angles, mech.slides, "--angle"))
+    phi = mech.drive.start if angles is None else float(input_kind(angles, mech.slide_drive, "--angle"))
     _in_range(mech, np.array([phi]), "--angle")
     skeleton_figure(mech, phi, out)
     return f"{mech.name}, skeleton at {_at(mech, phi)}"
@@ -231,7 +231,7 @@ def render(desc, angle, width: int, height: int) -> tuple[np.ndarray, str]:
     from linkgen.draw.render import render_mechanism
 
     mech = _mechanism(desc)
-    phi = mech.drive.start if angle is None else float(input_kind(angle, mech.slides, "--angle"))
+    phi = mech.drive.start if angle is None else float(input_kind(angle, mech.slide_drive, "--angle"))
     _in_range(mech, np.array([phi]), "--angle")
     _, frames = render_mechanism(mech, phi, width, height)
     return frames[0], f"MuJoCo frame of {mech.name} at {_at(mech, phi)}"
@@ -239,7 +239,7 @@ def render(desc, angle, width: int, height: int) -> tuple[np.ndarray, str]:
 
 def _at(mech, phi: float) -> str:
     """``φ = 30°``, or a prismatic drive's ``s = 0.3 m``."""
-    return f"s = {phi:.6g} m" if mech.slides else f"φ = {math.degrees(phi):.6g}°"
+    return f"s = {phi:.6g} m" if mech.slide_drive else f"φ = {math.degrees(phi):.6g}°"
 
 
 STAGES = {"mjcf": mjcf, "coupling": coupling, "simulate": simulate, "validate": validate, "figures": figures, "report": report, "draw": draw,

@@ -222,7 +222,7 @@ def _check_prismatics(m: Mechanism) -> None:
 
 def _check_drive(m: Mechanism) -> None:
     d = m.drive
-    if m.slides:
+    if m.slide_drive:
         _check_slide_drive(m)
         return
     names = [j.name for j in m.revolutes]

@@ -268,7 +268,7 @@ class Mechanism:
         return self._by_name[2][name]
 
     @cached_property
-    def slides(self) -> bool:
+    def slide_drive(self) -> bool:
         """True when the drive is a prismatic pair (a linear actuator): the input is a stroke [m]."""
         return self.drive.joint in self._by_name[2] and self.drive.joint not in self._by_name[1]
 
@@ -276,7 +276,7 @@ class Mechanism:
     def crank(self) -> str:
         """The leading link: the crank, or the slider of a prismatic drive with ground; of a prismatic
         drive between two moving links (an actuator), its guide (the cylinder)."""
-        if self.slides:
+        if self.slide_drive:
             pj = self.prismatic(self.drive.joint)
             return pj.slider if pj.guide == GROUND else pj.guide
         joint = self.revolute(self.drive.joint)

@@ -225,7 +225,7 @@ def forces(source, phi, omega=None, epsilon=None, *, on_singular: str = "raise")
         s(f.reduced.inertia), s(f.reduced.inertia_derivative), s(f.reduced.moment),
         bool(f.singular[0]) if scalar else f.singular, (asm, phis),
         {k: PairFriction(f.on[k], f.by[k], *((None, s(v)) if k in pairs else (s(v), None)))
-         for k, v in f.friction.items()}, s(f.friction_power) if f.friction else None, mech.slides)
+         for k, v in f.friction.items()}, s(f.friction_power) if f.friction else None, mech.slide_drive)
 
 
 __all__ = ["ContactForce", "PairFriction", "PlanarForces", "PrismaticLoad", "ToothForce", "forces"]

@@ -165,7 +165,7 @@ def guide_shapes(mech: Mechanism, shapes: dict[str, LinkShape]) -> dict[str, Gui
 def sketch_input(mech: Mechanism, shapes: dict[str, LinkShape]) -> float:
     """The drive's input in the sketch: the crank's angle [rad], or a prismatic drive's stroke s [m]
     (the slider's point along the guide line from its base point, as ``kinematics.slider_motion``)."""
-    if not mech.slides:
+    if not mech.slide_drive:
         return shapes[mech.crank].sketch_angle
     g = guide_shapes(mech, shapes)[mech.drive.joint]
     p = np.asarray(mech.points[mech.prismatic(mech.drive.joint).point], dtype=float)

@@ -58,9 +58,9 @@ def input_poses(mech: Mechanism, structure: Structure, shapes: dict[str, LinkSha
     followers) at crank angles ``phi`` (n,) [rad]."""
     n = phi.shape[0]
     crank = shapes[structure.crank]
-    if mech.slides and GROUND not in structure.drive.links:  # an actuator: its group places its links
+    if mech.slide_drive and GROUND not in structure.drive.links:  # an actuator: its group places its links
         return {GROUND: ground_pose(n)}
-    if mech.slides:
+    if mech.slide_drive:
         return {GROUND: ground_pose(n), structure.crank: slider_pose(mech, shapes, phi)}
     pivot = shapes[GROUND].local[mech.revolute(mech.drive.joint).point]
     angle = Scalar(phi, np.broadcast_to(1.0, (n,)), zeros(n), zeros(n))  # dφ/dφ = 1, d²φ/dφ² = d³φ/dφ³ = 0

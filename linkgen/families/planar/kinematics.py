@@ -209,7 +209,7 @@ def solve_block(asm: Assembly, phi: np.ndarray, mark: bool = False, report: list
             if p not in points:
                 points[p] = poses[link.name].point(asm.shapes[link.name].local[p])
     sliders = {name: slider_motion(poses, g) for name, g in asm.guides.items()}
-    if mech.slides:  # the driven pair's stroke is the input itself: s, ds/ds = 1, 0, 0 exactly
+    if mech.slide_drive:  # the driven pair's stroke is the input itself: s, ds/ds = 1, 0, 0 exactly
         sliders[mech.drive.joint] = Scalar(phi.copy(), np.ones(n), np.zeros(n), np.zeros(n))
     if mark and marked.any():
         _clear([*points.values(), *poses.values(), *sliders.values()], marked)
@@ -250,14 +250,14 @@ def raise_failure(asm: Assembly, phi: np.ndarray, mark: bool = False) -> None:
     (_, points, _, _, _), _ = solve_block(asm, phi, mark, report)
     for group, fail, overflow, singular in report:
         if np.any(fail):
-            slides = asm.mechanism.slides  # a stroke has no turn to scan
+            slides = asm.mechanism.slide_drive  # a stroke has no turn to scan
             raise AssemblyError(group.label, angle_ranges(phi, fail), fail_reason(group),
                                 None if slides else lambda: _where_it_assembles(asm), slides)
         if np.any(overflow):
             raise MagnitudeError(f"group {group.label}'s solution", angle_ranges(phi, overflow))
         if np.any(singular) and not mark:
             raise SingularityError(group.label, angle_ranges(phi, singular), singular_reason(group),
-                                   asm.mechanism.slides)
+                                   asm.mechanism.slide_drive)
     for name, v in points.items():
         bad = ~np.all(np.isfinite(v.p) & np.isfinite(v.d1) & np.isfinite(v.d2) & np.isfinite(v.d3), axis=1)
         if np.any(bad):

@@ -199,7 +199,7 @@ def kinematics(source, phi, omega=None, epsilon=None, *, on_singular: str = "rai
         {k: of(PointMotion, v, mo.jerk["points"][k], kin.points[k]) for k, v in mo.points.items()},
         {k: of(AngleMotion, v, mo.jerk["links"][k], kin.links[k].angle) for k, v in mo.links.items()},
         {k: of(SlideMotion, v, mo.jerk["sliders"][k], kin.sliders[k]) for k, v in mo.sliders.items()},
-        _followers(kin, full, w, e), bool(kin.singular[0]) if scalar else kin.singular, kin, asm.mechanism.slides)
+        _followers(kin, full, w, e), bool(kin.singular[0]) if scalar else kin.singular, kin, asm.mechanism.slide_drive)
 
 
 def _followers(kin, full, omega, epsilon) -> dict[str, FollowerMotion]:

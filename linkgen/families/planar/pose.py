@@ -109,9 +109,9 @@ class _Constraints:
         first_cam = 2 * len(self.rev) + 2 * len(self.pri) + len(self.gears)
         for k, (_, _, u) in enumerate(self.cams):
             self.length_row[first_cam + k] = u is not None  # a translating follower's lift [m]
-        self.length_row[-1] = mech.slides  # a prismatic drive's stroke [m]
+        self.length_row[-1] = mech.slide_drive  # a prismatic drive's stroke [m]
         # continuation steps: MAX_STEP of a turn, or of the size along a stroke
-        self.max_step = MAX_STEP * self.size if mech.slides else MAX_STEP
+        self.max_step = MAX_STEP * self.size if mech.slide_drive else MAX_STEP
         # Newton and J·q′ = e work on the dimensionless system (lengths over the size): rows in
         # metres divided by it, origin columns multiplied by it, so that J's conditioning and
         # the steps do not depend on the mechanism's scale (1e-9 m or 1e9 m alike).
@@ -200,7 +200,7 @@ class _Constraints:
                 put(r, cam.follower, [u[0], u[1], u @ dc])
             put(r, crank, [0.0, 0.0, -sig * d[1][0]])
             r += 1
-        if self.mech.slides:  # the slider's point along the guide line from its base − s
+        if self.mech.slide_drive:  # the slider's point along the guide line from its base − s
             g = self.guides[self.mech.drive.joint]
             ps, ds = self._place(q, g.slider, g.point)
             pg, dg = self._place(q, g.guide, g.base)

@@ -157,8 +157,8 @@ def solve_reactions(asm: Assembly, kin: Kinematics, given_load: dict, com: dict,
         scale += span * np.hypot(*x.T)
 
     x, singular = three(*column3(drive, crank), _input_column(asm, kin, com, crank), given3(crank))
-    x = _checked(x, singular, kin.phi, marked, f"I(0,1) {'slider' if mech.slides else 'crank'} "
-                                               f"(equilibrium equations)", mech.slides)
+    x = _checked(x, singular, kin.phi, marked, f"I(0,1) {'slider' if mech.slide_drive else 'crank'} "
+                                               f"(equilibrium equations)", mech.slide_drive)
     store(drive, x[:, 0:2])
     return x[:, 2].copy(), reactions, normal, moment, tooth, contact, scale
 
@@ -168,7 +168,7 @@ def _input_column(asm: Assembly, kin: Kinematics, com: dict, link: str) -> Colum
     prismatic drive's force along its guide line (+u on the slider, −u on the guide, through the
     slider's point)."""
     mech = asm.mechanism
-    if not mech.slides:
+    if not mech.slide_drive:
         return (0.0, 0.0, 1.0)
     g = asm.guides[mech.drive.joint]
     sign = 1.0 if link == g.slider else -1.0

@@ -85,7 +85,7 @@ def loads(raw: bytes | str, source: str = "<description>") -> Mechanism:
     try:
         mech = from_dict(data)
         machine_from_dict(data)  # checked with the rest; linkgen.machine reads it
-        if mech.slides and "machine" in data:
+        if mech.slide_drive and "machine" in data:
             raise DescriptionError("machine", f"a machine's motor turns a crank; the drive {mech.drive.joint!r} is a "
                                               f"prismatic pair (a linear actuator): leave [machine] out")
         return mech

@@ -102,7 +102,7 @@ def pairs_of(mech: Mechanism) -> list[Pair]:
 
 def drive_pair(mech: Mechanism, pairs: list[Pair] | None = None) -> Pair:
     """The driven pair: the crank's revolute with ground, or a prismatic drive's pair."""
-    kind = "P" if mech.slides else "R"
+    kind = "P" if mech.slide_drive else "R"
     return next(p for p in (pairs_of(mech) if pairs is None else pairs) if p.kind == kind and p.name == mech.drive.joint)
 
 

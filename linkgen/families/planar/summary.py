@@ -203,7 +203,7 @@ def summarize(asm: Assembly, omega: float | None = None, epsilon: float | None =
             at, value = _peak(lambda p: forces(asm, p, w, e).friction_power, phi, f.friction_power)
             lost = (Extreme(value, at), float(np.mean(f.friction_power[:-1] if full else f.friction_power)))
     return DesignSummary(mech.name, w, e, (mech.drive.start, mech.drive.stop), outputs, torque, peaks, note, trans,
-                         spring_peaks(asm, phi, w), *lost, mech.slides, mech.drive.joint)
+                         spring_peaks(asm, phi, w), *lost, mech.slide_drive, mech.drive.joint)
 
 
 def spring_peaks(asm: Assembly, phi: np.ndarray, omega: float) -> dict[str, Extreme]:

@@ -68,12 +68,12 @@ def structure(source) -> PlanarStructure:
         kind = "oscillating about its pivot" if oscillating(mech, c) else "translating on its guide"
         lines.append(f"cam pair {c.name!r}: the cam on the crank drives the follower {c.follower!r} ({kind}) through "
                      f"its roller at {c.roller!r} (radius {c.roller_radius:g} m), a higher pair")
-    if mech.slides and GROUND not in s.drive.links:
+    if mech.slide_drive and GROUND not in s.drive.links:
         pj = mech.prismatic(s.drive.name)
         lines.append(f"input: the stroke s [m] of the prismatic pair {s.drive.name!r} between the cylinder "
                      f"{pj.guide!r} and its rod {pj.slider!r} (a linear actuator); with the rocker they form the "
                      f"first group, a triangle whose side from the cylinder's pivot to the rod's pin the stroke sets")
-    elif mech.slides:
+    elif mech.slide_drive:
         lines.append(f"input link: I(0,1) slider {s.crank!r}, driven along the prismatic pair {s.drive.name!r} "
                      f"(a linear actuator: the input is its stroke s [m])")
     else:
@@ -85,7 +85,7 @@ def structure(source) -> PlanarStructure:
     groups = tuple(StructureGroup(g.label, g.kind.value, g.links, tuple(p.name for p in g.pairs), g.known, int(m))
                    for g, m in zip(s.groups, asm.branches))
     return PlanarStructure(mech.name, s.mobility, s.crank, s.drive.name, s.formula, groups,
-                           tuple(lines + (stroke_lines(asm) if mech.slides else turn_lines(asm))))
+                           tuple(lines + (stroke_lines(asm) if mech.slide_drive else turn_lines(asm))))
 
 
 # Strokes over a prismatic drive's range at which ``stroke_lines`` checks the chain.
