@@ -296,3 +296,16 @@ def test_the_piston_validates_in_mujoco():
     assert not bad, bad
     assert cmp.quantities["balancing_torque"].relative_error < 1e-6
     assert cmp.quantities["sliders.ram.displacement"].max_abs_error < 1e-9
+
+
+def test_a_cylinder_held_otherwise_says_what_is_needed():
+    """The pair's guide must be the cylinder pivoted on the ground: the same file with slider and
+    guide swapped (the 'rod' now the guide, not pivoted on the ground) is a structure error."""
+    from linkgen.errors import StructureError
+
+    text = BOOM.read_text().replace('slider = "rod"\nguide = "cylinder"', 'slider = "cylinder"\nguide = "rod"')
+    text = text.replace('point = "B"\nthrough = "A"', 'point = "A"\nthrough = "B"')
+    with pytest.raises(StructureError) as exc:
+        linkgen.structure(loads(text))
+    assert ("its guide 'rod' (the cylinder) must be pivoted on 'ground'" in str(exc.value)
+            and "'rod' has 0 revolutes with 'ground'" in str(exc.value)), str(exc.value)

@@ -114,21 +114,18 @@ def actuator(mech: Mechanism, pairs: list[Pair], drive: Pair) -> Group:
     cyl, rod = pj.guide, pj.slider
     revs = [p for p in pairs if p.kind == "R"]
 
-    def only(link: str, where: str) -> list[Pair]:
-        return [p for p in revs if link in p.links and p.other(link) == GROUND] if where == "ground" else \
-               [p for p in revs if link in p.links and p.other(link) not in (GROUND, cyl)]
+    def grounded(link: str) -> list[Pair]:
+        return [p for p in revs if set(p.links) == {link, GROUND}]
 
     need = (f"the driven prismatic pair {pj.name!r} joins two moving links: its guide {cyl!r} (the cylinder) must "
-            f"be pivoted on {GROUND!r} and its slider {rod!r} (the rod) pinned to a rocker pivoted on {GROUND!r}")
-    a, b = only(cyl, "ground"), only(rod, "rocker")
+            f"be pivoted on {GROUND!r} and its slider {rod!r} (the rod) pinned to one rocker pivoted on {GROUND!r}")
+    a = grounded(cyl)
+    b = [p for p in revs if rod in p.links and p.other(rod) not in (GROUND, cyl) and len(grounded(p.other(rod))) == 1]
     if len(a) != 1 or len(b) != 1:
-        raise StructureError(f"{need}; {cyl!r} has {len(a)} revolutes with {GROUND!r} and {rod!r} {len(b)} with "
-                             f"other moving links")
+        raise StructureError(f"{need}; {cyl!r} has {len(a)} revolutes with {GROUND!r} and {rod!r} is pinned to "
+                             f"{len(b)} links pivoted on {GROUND!r}")
     rocker = b[0].other(rod)
-    c = [p for p in revs if set(p.links) == {rocker, GROUND}]
-    if len(c) != 1:
-        raise StructureError(f"{need}; the rocker {rocker!r} has {len(c)} revolutes with {GROUND!r}")
-    return Group(GroupKind.ACTUATOR, (cyl, rocker), (a[0], b[0], c[0]), (GROUND, GROUND), (1, 2), rod)
+    return Group(GroupKind.ACTUATOR, (cyl, rocker), (a[0], b[0], grounded(rocker)[0]), (GROUND, GROUND), (1, 2), rod)
 
 
 def analyze(mech: Mechanism) -> Structure:
