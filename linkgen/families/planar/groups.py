@@ -26,8 +26,6 @@ from linkgen.families.planar.primitives import (
     Scalar,
     Vec,
     circle_circle,
-    direction_of,
-    length_of,
     pair,
     constant,
     cross,
@@ -37,6 +35,7 @@ from linkgen.families.planar.primitives import (
     rotvec,
     zeros,
 )
+from linkgen.families.planar.actuator import solve_actuator
 from linkgen.families.planar.cam_pair import follower_pose
 from linkgen.families.planar.structure import Group, GroupKind, Structure
 
@@ -138,7 +137,7 @@ def solve_group(group: Group, m: int, poses: dict, shapes: dict[str, LinkShape],
     An ACTUATOR needs the drive's ``stroke`` (n,) [m]; its Result's value is the rod's pose."""
     (l1, l2), (o1, inner, o2), (k1, k2) = group.links, group.pairs, group.known
     if group.kind is GroupKind.ACTUATOR:
-        return _actuator(group, m, poses, shapes, guides, mech, stroke)
+        return solve_actuator(group, m, poses, shapes, guides, mech, stroke)
     s1, s2 = shapes[l1], shapes[l2]
 
     def pin(pair, link):  # (local coords on link, world Vec from the known link)
@@ -201,35 +200,3 @@ def solve_group(group: Group, m: int, poses: dict, shapes: dict[str, LinkShape],
                     _line_of(l2, origin, th2, o2.name, poses[k2], guides))
     return pose1, pose_from_point(res.value, origin, th2), res
 
-
-def _actuator(group: Group, m: int, poses: dict, shapes: dict[str, LinkShape], guides: dict[str, GuideShape],
-              mech: Mechanism, stroke: np.ndarray) -> tuple[LinkPose, LinkPose, Result]:
-    """The ACTUATOR (``structure``): the rod's pin B lies, in the cylinder's frame, at
-    c0 + s·e(α) (the guide line's base plus the stroke along it, plus the pin's offset from the
-    rod's sliding point turned by the rod's angle to the cylinder), so the pivot A and the pin
-    are |B − A|(s) apart; B is on that circle about A and on the rocker's circle about its pivot
-    C (``circle_circle`` with a side that changes with s). The cylinder's angle is the angle of
-    A→B in the world less its angle in the cylinder's frame; the rod turns with the cylinder."""
-    cyl, rocker = group.links
-    rod = group.third
-    a_pair, b_pair, c_pair = group.pairs
-    g = guides[mech.drive.joint]
-    a_name, b_name, c_name = (mech.revolute(p.name).point for p in (a_pair, b_pair, c_pair))
-    a = poses[group.known[0]].point(shapes[group.known[0]].local[a_name])
-    c = poses[group.known[1]].point(shapes[group.known[1]].local[c_name])
-    a_l = shapes[cyl].local[a_name]
-    cr, sr = math.cos(g.relative_angle), math.sin(g.relative_angle)
-    w = shapes[rod].local[b_name] - g.point
-    c0 = g.base + np.array([cr * w[0] - sr * w[1], sr * w[0] + cr * w[1]]) - a_l
-    u = np.array([math.cos(g.alpha), math.sin(g.alpha)])
-    n = stroke.shape[0]
-    zero = zeros(n, 2)
-    side = Vec(pair(c0[0] + stroke * u[0], c0[1] + stroke * u[1]), np.broadcast_to(u, (n, 2)), zero, zero)
-    b_l, c_l = shapes[rocker].local[b_name], shapes[rocker].local[c_name]
-    res = circle_circle(a, length_of(side), c, float(np.hypot(*(b_l - c_l))), m)
-    b = res.value
-    world, local = direction_of(b - a), direction_of(side)
-    theta = Scalar(world.v - local.v, world.d1 - local.d1, world.d2 - local.d2, world.d3 - local.d3)
-    pose_rod = pose_from_point(b, shapes[rod].local[b_name], theta.shifted(g.relative_angle))
-    return (pose_from_point(a, a_l, theta), pose_from_two_points(b, b_l, c, c_l),
-            Result(pose_rod, res.fail, res.denominator))

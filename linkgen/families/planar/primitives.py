@@ -208,32 +208,6 @@ def angle_between_points(a: Vec, b: Vec) -> Scalar:
                   _cross(e.p, e.d3) * inv2 + d1 * d1 * d1, cs)
 
 
-def direction_of(e: Vec) -> Scalar:
-    """Direction angle θ of a vector e whose length may change along the input [rad]: with
-    N = e×e′ and D = e·e, θ′ = N/D, θ″ = (e×e″ − θ′D′)/D and
-    θ‴ = (e′×e″ + e×e‴ − θ″D′ − θ′D″)/D − (e×e″ − θ′D′)D′/D², D′ = 2e·e′, D″ = 2(e′·e′ + e·e″)."""
-    dd = dot(e.p, e.p)
-    inv = 1.0 / dd
-    d1 = 2.0 * dot(e.p, e.d1)
-    d2 = 2.0 * (dot(e.d1, e.d1) + _dot(e.p, e.d2))
-    t1 = cross(e.p, e.d1) * inv
-    n2 = _cross(e.p, e.d2) - t1 * d1
-    t2 = n2 * inv
-    t3 = (_cross(e.d1, e.d2) + _cross(e.p, e.d3) - t2 * d1 - t1 * d2) * inv - n2 * d1 * inv * inv
-    return Scalar(np.arctan2(e.p[:, 1], e.p[:, 0]), t1, t2, t3)
-
-
-def length_of(e: Vec) -> Scalar:
-    """|e| [m] and its transfer functions: L′ = e·e′/L, L″ = (e′·e′ + e·e″ − L′²)/L,
-    L‴ = (3e′·e″ + e·e‴ − 3L′L″)/L."""
-    length = np.sqrt(dot(e.p, e.p))
-    inv = 1.0 / length
-    l1 = dot(e.p, e.d1) * inv
-    l2 = (dot(e.d1, e.d1) + _dot(e.p, e.d2) - l1 * l1) * inv
-    l3 = (3.0 * _dot(e.d1, e.d2) + _dot(e.p, e.d3) - 3.0 * l1 * l2) * inv
-    return Scalar(length, l1, l2, l3)
-
-
 def _sq(v: np.ndarray) -> np.ndarray | float:
     return 0.0 if is_zero(v) else dot(v, v)
 
