@@ -21,11 +21,13 @@ Conventions:
       their relative angle.
     * The drive is the revolute ``drive.joint`` between ground and the crank; the
       crank angle φ is the angle of the crank's x axis (its first point must be the
-      pivot). Or the drive is a prismatic pair ``drive.joint`` between ground and a
-      slider (a linear actuator): the input is the slider's stroke s [m] along the
-      guide line from its base point, its speed [m/s] and acceleration [m/s²], and the
-      slider is the leading link ("crank" in the structure's terms); every ``phi``,
-      ``omega``, ``epsilon`` of the results then holds s, ṡ, s̈.
+      pivot). Or the drive is a prismatic pair ``drive.joint`` (a linear actuator): the
+      input is its stroke s [m] along the guide line from its base point, its speed
+      [m/s] and acceleration [m/s²], and every ``phi``, ``omega``, ``epsilon`` of the
+      results then holds s, ṡ, s̈. Between ground and a slider, the slider is the
+      leading link ("crank" in the structure's terms); between a cylinder pivoted on
+      the ground and its rod pinned to a rocker, the three form the first group
+      (``structure``: the ACTUATOR), the cylinder standing for the crank.
 """
 
 from __future__ import annotations
