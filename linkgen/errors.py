@@ -89,6 +89,14 @@ def format_ranges(runs: list[tuple[float, float]], limit: int = 6) -> str:
     return ", ".join(parts) + more
 
 
+def where_text(runs: list[tuple[float, float]], stroke: bool = False) -> str:
+    """``crank angles 10.000°..20.000°``, or for a prismatic drive ``strokes s = 0.1..0.2 m``."""
+    if not stroke:
+        return f"crank angles {format_ranges(runs)}"
+    parts = [f"{lo:.6g} m" if lo == hi else f"{lo:.6g}..{hi:.6g} m" for lo, hi in runs[:6]]
+    return "strokes s = " + ", ".join(parts) + (f" and {len(runs) - 6} more" if len(runs) > 6 else "")
+
+
 class AssemblyError(LinkgenError):
     """An Assur group cannot be assembled at some crank angles.
 
@@ -104,13 +112,14 @@ class AssemblyError(LinkgenError):
     message is asked for: a caller that catches the error to try other angles pays nothing.
     """
 
-    def __init__(self, group: str, ranges: list[tuple[float, float]], reason: str, where=None):
+    def __init__(self, group: str, ranges: list[tuple[float, float]], reason: str, where=None, stroke: bool = False):
         self.group = group
-        self.ranges = ranges
+        self.ranges = ranges  # strokes [m] for a prismatic drive (``stroke``)
         self.reason = reason
+        self.stroke = stroke
         self._where = where
         self._found: tuple | None = None
-        super().__init__(f"group {group} cannot be assembled at crank angles {format_ranges(ranges)}: {reason}")
+        super().__init__(f"group {group} cannot be assembled at {where_text(ranges, stroke)}: {reason}")
 
     def _lookup(self) -> tuple:
         if self._found is None:
@@ -137,11 +146,11 @@ class AssemblyError(LinkgenError):
 
     def __reduce__(self):  # pickled with what it found, not the function that finds it
         assembles, suggestion = self._lookup()
-        return (_assembly_error, (self.group, self.ranges, self.reason, assembles, suggestion))
+        return (_assembly_error, (self.group, self.ranges, self.reason, assembles, suggestion, self.stroke))
 
 
-def _assembly_error(group, ranges, reason, assembles, suggestion) -> AssemblyError:
-    return AssemblyError(group, ranges, reason, lambda: (assembles, suggestion))
+def _assembly_error(group, ranges, reason, assembles, suggestion, stroke=False) -> AssemblyError:
+    return AssemblyError(group, ranges, reason, lambda: (assembles, suggestion), stroke)
 
 
 class SingularityError(LinkgenError):
@@ -152,11 +161,14 @@ class SingularityError(LinkgenError):
         group: the group's label; ranges: (first, last) crank angles [rad]; reason: in words.
     """
 
-    def __init__(self, group: str, ranges: list[tuple[float, float]], reason: str):
+    def __init__(self, group: str, ranges: list[tuple[float, float]], reason: str, stroke: bool = False):
         self.group = group
         self.ranges = ranges
         self.reason = reason
-        super().__init__(f"group {group} is singular at crank angles {format_ranges(ranges)}: {reason}")
+        super().__init__(f"group {group} is singular at {where_text(ranges, stroke)}: {reason}")
+
+    def __reduce__(self):
+        return (type(self), (self.group, self.ranges, self.reason, "strokes" in str(self)))
 
 
 class MagnitudeError(LinkgenError, ArithmeticError):

@@ -24,6 +24,9 @@ SPATIAL = ["rssr.toml", "rssp.toml", "bennett.toml", "spherical_fourbar.toml"]
 _LENGTH_KEYS = {"length", "offset", "base_radius", "roller_radius", "arm_length", "pivot_distance", "module",
                 "height", "com", "pin_radius", "block_length", "start", "stop"}  # start, stop: a slider drive's range
 _LENGTH_UNITS = {"mm": 1e-3, "cm": 1e-2, "m": 1.0}
+# A prismatic drive's keys, each ∝ s (the angular speeds kept, so its speed and acceleration scale
+# with the lengths); given as numbers in the bundled models.
+_SLIDE_DRIVE_KEYS = {"start", "stop", "velocity", "acceleration"}
 # Exponent of the length scale s in each other dimensional key, the material (density in kg/m³)
 # kept: masses ∝ s³, so kg/m ∝ s², kg/m² ∝ s, kg·m² ∝ s⁵; forces ∝ s³ (weights), torques and
 # powers ∝ s⁴ (the speeds kept), spring rates ∝ s².
@@ -48,6 +51,8 @@ def _scaled(value, key: str, parents: tuple, s: float, mass_exponent_shift: int)
     if isinstance(value, bool) or not isinstance(value, (int, float, str)):
         return value
     if parents[:1] == ("points",) or "shape" in parents or key in _LENGTH_KEYS:
+        return _length(value) * s
+    if parents == ("drive",) and key in _SLIDE_DRIVE_KEYS:  # a prismatic drive's stroke and its rates
         return _length(value) * s
     if key in _EXPONENT and not isinstance(value, str):
         return float(value) * s ** (_EXPONENT[key] - mass_exponent_shift)

@@ -29,7 +29,8 @@ def test_the_complete_example_loads():
 
 
 def test_every_fragment_uses_allowed_keys():
-    allowed = {"links": reader._LINK | {"inertial"}, "prismatic": reader._PRISMATIC, "drive": reader._DRIVE,
+    allowed = {"links": reader._LINK | {"inertial"}, "prismatic": reader._PRISMATIC,
+               "drive": reader._DRIVE | reader._SLIDE_DRIVE,  # a crank's, or a prismatic drive's
                "force": reader._FORCE, "torque": reader._TORQUE, "mechanism": reader._MECH, "gear": reader._GEAR,
                "cam": reader._CAM, "spring": reader._SPRING, "torsion_spring": reader._TORSION,
                "friction": reader._FRICTION}
@@ -49,7 +50,8 @@ def test_every_fragment_uses_allowed_keys():
 
 
 def test_every_key_is_documented():
-    for keys in (reader._MECH, reader._LINK, reader._INERTIAL, reader._PRISMATIC, reader._DRIVE, reader._FORCE,
+    for keys in (reader._MECH, reader._LINK, reader._INERTIAL, reader._PRISMATIC, reader._DRIVE, reader._SLIDE_DRIVE,
+                 reader._FORCE,
                  reader._TORQUE, reader._GEAR, reader._CAM, reader._SPRING, reader._TORSION, reader._FRICTION):
         for k in keys:
             assert f"`{k}`" in FORMAT or f"[links.NAME.{k}]" in FORMAT or f"cam.NAME.{k}]" in FORMAT, k

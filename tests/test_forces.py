@@ -272,8 +272,8 @@ def test_forces_raise_when_the_two_torques_disagree(monkeypatch):
 
     solve_systems = ks._checked
 
-    def skewed(x, singular, phi, marked, label):
-        x = solve_systems(x, singular, phi, marked, label)
+    def skewed(x, singular, phi, marked, label, *rest):  # rest: a prismatic drive's stroke flag
+        x = solve_systems(x, singular, phi, marked, label, *rest)
         if label.startswith("I(0,1)"):
             x[:, 2] *= 1.0 + 1e-6
         return x

@@ -23,7 +23,7 @@ from linkgen.cli.common import crank_grid
 from linkgen.cli.main import main
 from linkgen.families.planar import blocks
 from linkgen.families.planar.corpus import to_toml
-from linkgen.families.planar.groups import input_poses, solve_group
+from linkgen.families.planar.groups import input_poses, place, solve_group
 from strategies import mechanisms
 
 # Step of the differences [rad] (in time: the step that turns the crank by about H).
@@ -70,9 +70,9 @@ def smallest_denominator(asm, phi: np.ndarray) -> np.ndarray:
     poses = input_poses(mech, asm.structure, asm.shapes, phi)
     out = np.ones(phi.shape[0])
     for group, m in zip(asm.structure.groups, asm.branches):
-        p1, p2, res = solve_group(group, m, poses, asm.shapes, asm.guides, mech)
+        p1, p2, res = solve_group(group, m, poses, asm.shapes, asm.guides, mech, phi)
         out = np.minimum(out, np.abs(np.broadcast_to(res.denominator, phi.shape)))
-        poses[group.links[0]], poses[group.links[1]] = p1, p2
+        place(group, poses, p1, p2, res)
     return out
 
 

@@ -38,7 +38,8 @@ def test_compiles_with_constraints_satisfied_at_qpos0(model_path):
     assert d.ne == 0 or np.abs(d.efc_pos[: d.ne]).max() < QPOS0_TOL
     mech = load(model_path)
     tip = mech.link(mech.crank).points[-1]  # the crank's pin, a site of every model
-    assert m.site(tip).id >= 0 and m.joint(mech.drive.joint).type == mujoco.mjtJoint.mjJNT_HINGE
+    kind = mujoco.mjtJoint.mjJNT_SLIDE if mech.slide_drive else mujoco.mjtJoint.mjJNT_HINGE  # a prismatic drive's slide
+    assert m.site(tip).id >= 0 and m.joint(mech.drive.joint).type == kind
 
 
 @pytest.mark.parametrize("path", RIGID_MODELS, ids=[p.stem for p in RIGID_MODELS])

@@ -229,8 +229,10 @@ TEXT_ANGLES = (0.1, 0.2)  # [rad] two drive angles where every bundled model ass
 def test_text_of_a_sampled_result_is_each_angles_block(path, name):
     desc = linkgen.load(path)
     run = stage(desc, name)
-    sampled = run(desc, np.array(TEXT_ANGLES), on_singular="mark").text()
-    assert sampled == "\n\n".join(run(desc, phi, on_singular="mark").text() for phi in TEXT_ANGLES)
+    # a prismatic drive's input is a stroke [m]: two inside its range
+    at = np.linspace(desc.drive.start, desc.drive.stop, 4)[1:3] if getattr(desc, "slide_drive", False) else TEXT_ANGLES
+    sampled = run(desc, np.array(at), on_singular="mark").text()
+    assert sampled == "\n\n".join(run(desc, phi, on_singular="mark").text() for phi in at)
 
 
 # ---------------------------------------------------------------------------------------------
@@ -287,7 +289,8 @@ SLIDER = ["displacement", "velocity", "acceleration", "jerk"]
 def test_kinematics_name_the_drive_phi_and_give_each_quantity_its_unit(path, name):
     r = _result(path, name)
     d = json.loads(json.dumps(r.to_dict(), allow_nan=False))
-    assert "theta" not in _keys(d) and "phi [rad]" in r.columns() and "phi" in d
+    phi = "phi [m]" if getattr(linkgen.load(path), "slide_drive", False) else "phi [rad]"  # a prismatic drive's stroke
+    assert "theta" not in _keys(d) and phi in r.columns() and "phi" in d
     for f in dataclasses.fields(r):
         if f.compare:
             v = getattr(r, f.name)

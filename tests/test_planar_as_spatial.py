@@ -237,7 +237,8 @@ def _check_forces(planar, spatial, p: dict, epsilon: float) -> None:
 # description has neither), the spatial one's chain kind (RSSR,
 # RSSP, ...) and its degree of static indeterminacy (a planar chain is always determinate).
 # ``model`` both have, with the names of two different files.
-PLANAR_ONLY = {"min_transmission_angle", "peak_spring_forces", "peak_friction_power", "mean_friction_power"}
+PLANAR_ONLY = {"min_transmission_angle", "peak_spring_forces", "peak_friction_power", "mean_friction_power",
+               "stroke", "drive_joint"}  # the last two: whether the drive is a prismatic pair, and its name
 SPATIAL_ONLY = {"kind", "statically_indeterminate"}
 
 

@@ -62,7 +62,21 @@ def _names(model) -> list[tuple[str, str]]:
     return out
 
 
-@pytest.mark.parametrize("path", MODELS + SPATIAL_MODELS, ids=[p.stem for p in MODELS + SPATIAL_MODELS])
+# The robot model is written for a driven crank; a linkage driven by a prismatic pair is refused.
+CRANKED = [p for p in MODELS if not linkgen.load(p).slide_drive] + SPATIAL_MODELS
+SLIDING = [p for p in MODELS if linkgen.load(p).slide_drive]
+
+
+@pytest.mark.parametrize("path", SLIDING, ids=[p.stem for p in SLIDING])
+def test_a_prismatic_drive_is_refused_naming_its_pair(tmp_path, capsys, path):
+    out = tmp_path / "robot.xml"
+    assert main(["build", str(path), "--robot", "-o", str(out)]) != 0
+    err = capsys.readouterr().err
+    assert f"prismatic pair {linkgen.load(path).drive.joint!r}" in err and "without --robot" in err, err
+    assert not out.exists()
+
+
+@pytest.mark.parametrize("path", CRANKED, ids=[p.stem for p in CRANKED])
 def test_every_bundled_model_builds_a_robot_model(tmp_path, capfd, path):
     model, _ = _compiled(_build(tmp_path, path, "--prefix", PREFIX), capfd)
     names = _names(model)

@@ -12,6 +12,7 @@ from pathlib import Path
 
 import numpy as np
 
+from linkgen.model.turn import full_turn
 from linkgen.errors import ArgumentError, LinkgenError
 from linkgen.model import limits
 from linkgen.model.arguments import angle_text, rate_text
@@ -22,7 +23,7 @@ from linkgen.cli.singular import SINGULAR_STATUS
 def crank_grid(mech, samples: int) -> np.ndarray:
     """``samples`` crank angles [rad] over the drive range (a full turn excludes its end)."""
     d = mech.drive
-    full = d.stop - d.start >= 2 * math.pi - 1e-12
+    full = full_turn(mech)
     return np.linspace(d.start, d.stop, samples, endpoint=not full)
 
 

@@ -38,6 +38,8 @@ MAX_PLAN_POSITIONS = 73
 
 def _angle_part(text: str, unit: str | None) -> float:
     t = text.strip()
+    if unit == "m":  # a prismatic drive's strokes [m]
+        return float(t.removesuffix("m"))
     for suffix, to_rad in (("deg", math.radians), ("°", math.radians), ("rad", float)):
         if t.endswith(suffix):
             return to_rad(float(t[: -len(suffix)]))
@@ -47,18 +49,21 @@ def _angle_part(text: str, unit: str | None) -> float:
 
 def angles_arg(text: str) -> np.ndarray:
     """``START:STOP:STEP``, in degrees unless a unit is given (``0:360:30``, ``0deg:180deg:15deg``,
-    ``0:3:0.5rad`` — a unit on the last part applies to the parts without one): the angles
+    ``0:3:0.5rad`` — a unit on the last part applies to the parts without one; strokes of a prismatic
+    drive in metres with ``m`` on the last part, ``0.3:0.6:0.05m``): the angles
     START, START + STEP, … up to STOP [rad], STOP included when it falls on the grid (but not
     when it repeats START a full turn later)."""
     parts = text.split(":")
     if len(parts) != 3:
         raise argparse.ArgumentTypeError(f"expected START:STOP:STEP such as 0:360:30 (degrees) or 0:3.14:0.5rad, "
                                          f"got {text!r}")
-    unit = "rad" if parts[2].strip().endswith("rad") else None
+    last = parts[2].strip()
+    unit = "rad" if last.endswith("rad") else "m" if last.endswith("m") and not last.endswith("mm") else None
     try:
         start, stop, step = (_angle_part(p, unit) for p in parts)
     except ValueError:
-        raise argparse.ArgumentTypeError(f"expected three numbers with an optional unit (deg, °, rad), got {text!r}") from None
+        raise argparse.ArgumentTypeError(f"expected three numbers with an optional unit (deg, °, rad; m for a "
+                                         f"prismatic drive's strokes), got {text!r}") from None
     if not all(math.isfinite(x) for x in (start, stop, step)) or step <= 0.0 or stop < start:
         raise argparse.ArgumentTypeError(f"expected STEP > 0 and STOP >= START, got {text!r}")
     count = int(math.floor((stop - start) / step * (1 + 1e-12))) + 1

@@ -4,6 +4,7 @@ stages (``pipeline.registry.stage``): mjcf, simulate, validate and the report's 
 from __future__ import annotations
 
 import json
+import math
 import multiprocessing
 import os
 import sys
@@ -181,7 +182,10 @@ def cmd_simulate(args) -> int:
         check_finite_columns(list(arrays), list(arrays.values()))  # nothing non-finite is written
         _write_samples(args.out, run.samples)
     st = run.settings
-    print(f"{desc.name}: {run.steps} steps ({steps_per_revolution(run):.0f} per revolution) in {run.wall:.2f} s "
+    # a prismatic drive's stroke is no revolution: steps per metre of it (2π rad of a crank's, in the same units)
+    rate = (f"{steps_per_revolution(run) / (2 * math.pi):.0f} per m of stroke" if getattr(desc, "slide_drive", False)
+            else f"{steps_per_revolution(run):.0f} per revolution")
+    print(f"{desc.name}: {run.steps} steps ({rate}) in {run.wall:.2f} s "
           f"on {run.segments} thread(s); timestep {st.timestep:g} s, loop time constant {st.timeconst:g} s; "
           f"largest loop gap {run.gap_max:.3g} m; {run.samples.time.shape[0]} samples"
           + (f"; wrote {args.out}" if args.out else ""))

@@ -11,8 +11,11 @@ def cmd_assemble(args) -> int:
     from linkgen.pipeline.registry import load
     from linkgen.families.planar.sketch import exact_sketch
 
+    from linkgen.model.arguments import input_kind
+
     mech = load(args.model)
-    sk = exact_sketch(mech, args.angle)
+    sk = exact_sketch(mech, input_kind(args.angle, mech.slide_drive, "--angle"))
+    at = f"s = {sk.phi:.9g} m" if mech.slide_drive else f"φ = {math.degrees(sk.phi):.9g}°"  # a prismatic drive's stroke
     if args.write:
         import tomlkit
 
@@ -25,10 +28,10 @@ def cmd_assemble(args) -> int:
         atomic_write_text(Path(args.model), tomlkit.dumps(doc), follow_symlink=True)
         load(args.model)  # the written file loads, its sketch now within the tolerance
         worst = max(sk.moved.values())
-        print(f"wrote the assembled sketch at φ = {math.degrees(sk.phi):.6g}° into {args.model} "
+        print(f"wrote the assembled sketch at {at} into {args.model} "
               f"(points moved by up to {worst:.6g} m)")
         return 0
-    print(f"# {mech.name}: assembled at φ = {math.degrees(sk.phi):.9g}° from the link lengths")
+    print(f"# {mech.name}: assembled at {at} from the link lengths")
     print("[points]")
     width = max(len(n) for n in sk.points)
     for name, (x, y) in sk.points.items():

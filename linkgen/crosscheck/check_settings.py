@@ -99,6 +99,7 @@ class CheckSettings:
     cheapest: AccuracyPrediction | None
     verified: tuple[Measured, ...]
     note: str
+    stroke: bool = False  # a prismatic drive: its slide's speed [m/s] and balancing force (the text says so)
 
     def ratios(self) -> dict[str, float | None]:
         """predicted / measured per quantity (None where the run failed or both are rounding)."""
@@ -137,10 +138,12 @@ class CheckSettings:
         p, m = self.predicted, self.measured
         lines = [f"{self.model}: {settings_text(p.settings)} (loop time constant used: {p.timeconst:.3g} s"
                  + (", raised to 2·timestep by MuJoCo" if p.timeconst > p.settings.timeconst else "")
-                 + f"), crank at {p.omega:.4g} rad/s, size {p.size:.3g} m",
+                 + (f"), slide at {p.omega:.4g} m/s" if self.stroke else f"), crank at {p.omega:.4g} rad/s")
+                 + f", size {p.size:.3g} m",
                  f"  {'relative error':<34}{'predicted':>11}{'measured':>11}{'ratio':>8}"]
         names = {"gap": "loop gap / size", "position": "point positions / size",
-                 "reaction": "reactions / peak reaction", "torque": "crank torque / peak torque"}
+                 "reaction": "reactions / peak reaction",
+                 "torque": "drive force / peak force" if self.stroke else "crank torque / peak torque"}
         agrees, ratios = self.agrees(), self.ratios()
         for q in QUANTITIES:
             pv = getattr(p.errors, q)
@@ -228,7 +231,7 @@ def check_settings(asm: Assembly, settings: Settings, *, tolerance: float = 1e-3
     cheapest, verified, note = None, [], ""
     if search:
         cheapest, verified, note = _search(asm, user, scales, tolerance, report)
-    return CheckSettings(mech.name, tolerance, predicted, measured, cheapest, tuple(verified), note)
+    return CheckSettings(mech.name, tolerance, predicted, measured, cheapest, tuple(verified), note, mech.slide_drive)
 
 
 def _search(asm: Assembly, user: Settings, scales, tolerance: float, report):

@@ -102,7 +102,8 @@ def practical_study(asm: Assembly, validation: Settings, *, nthread: int | None 
         reac += [np.abs(run.samples.forces.normal_force[k] - v).max() for k, v in cf.normal_force.items()]
         torque = float(np.abs(run.samples.forces.balancing_torque - cf.balancing_torque).max())
         per_rev = steps_per_revolution(run)
-        rows.append(PracticalRow(s, cmp.gap.relative_error, float(max(reac)) / f, torque / (f * cmp.size),
+        arm = 1.0 if asm.mechanism.slide_drive else cmp.size  # a prismatic drive's balancing load is a force
+        rows.append(PracticalRow(s, cmp.gap.relative_error, float(max(reac)) / f, torque / (f * arm),
                                  per_rev, run.wall * per_rev / run.steps))
         _report(progress, (i + 1) / len(steps), t0)
     return rows

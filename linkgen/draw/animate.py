@@ -10,6 +10,7 @@ from typing import Callable
 
 import numpy as np
 
+from linkgen.model.turn import full_turn
 from linkgen.draw.plan import draw_paths, plt_module, title_of
 from linkgen.draw.skeleton import draw_skeleton, frame_of, set_limits
 from linkgen.draw.limits import MAX_FRAMES, MIN_FRAMES
@@ -30,7 +31,7 @@ def frame_angles(mech: Mechanism, frames: int) -> np.ndarray:
     if not (MIN_FRAMES <= frames <= MAX_FRAMES):
         raise ArgumentError(f"frames must be {MIN_FRAMES}..{MAX_FRAMES}, got {frames}")
     d = mech.drive
-    if d.stop - d.start >= 2 * math.pi - 1e-12:
+    if full_turn(mech):
         return d.start + (d.stop - d.start) * np.arange(frames) / frames
     return np.linspace(d.start, d.stop, frames)
 
@@ -59,7 +60,8 @@ def drawn_frames(mech: Mechanism, phi: np.ndarray, mujoco_frames: list[np.ndarra
             draw_paths(ax, paths, lw=0.8)
             draw_skeleton(ax, pos, frame, i)
             set_limits(ax, paths, frame)
-            ax.set_title(f"closed form, φ = {math.degrees(float(phi[i])):.1f}°", fontsize=10)
+            ax.set_title(f"closed form, s = {float(phi[i]):.4g} m" if mech.slide_drive else
+                         f"closed form, φ = {math.degrees(float(phi[i])):.1f}°", fontsize=10)
             if mujoco_frames is not None:
                 m = axes[0, 1]
                 m.cla()

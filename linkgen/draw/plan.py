@@ -60,7 +60,8 @@ def skeleton_figure(mech: Mechanism, phi: float, out: Path | None = None, *, pat
     fig, ax = plt.subplots(figsize=FIGSIZE, dpi=DPI, layout="constrained")
     draw_skeleton(ax, pos, frame, 0)
     set_limits(ax, paths, frame)
-    ax.set_title(f"{title_of(mech)}\nφ = {np.degrees(phi):.4g}°", fontsize=10)
+    ax.set_title(f"{title_of(mech)}\n" + (f"s = {phi:.4g} m" if mech.slide_drive else f"φ = {np.degrees(phi):.4g}°"),
+                 fontsize=10)
     return _finish(fig, out)
 
 
@@ -77,7 +78,11 @@ def plan_figure(mech: Mechanism, angles, out: Path | None = None, *, paths: Posi
     tip = mech.link(mech.crank).points[1] if len(mech.link(mech.crank).points) > 1 else None
     for i in range(len(pos)):
         draw_skeleton(ax, pos, frame, i, alpha=1.0 if i == 0 else 0.35, labels=i == 0, arrow=i == 0)
-        if tip is not None:
+        if mech.slide_drive:  # numbered beside the slider's point, off its guide line
+            _, u = pos.guide_line(mech.drive.joint, i)
+            q = pos.points[mech.prismatic(mech.drive.joint).point][i] - 0.05 * frame.size * np.array([-u[1], u[0]])
+            ax.text(q[0], q[1], str(i), fontsize=8, color=CRANK, ha="center", va="center", zorder=8)
+        elif tip is not None:
             p = pos.points[tip][i]
             c = pos.points[mech.link(mech.crank).points[0]][i]
             d = p - c
@@ -87,10 +92,16 @@ def plan_figure(mech: Mechanism, angles, out: Path | None = None, *, paths: Posi
                     bbox=dict(boxstyle="circle,pad=0.15", fc="white", ec=CRANK, lw=0.6))
     set_limits(ax, paths, frame)
     ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0, frameon=False)
-    step = np.degrees(np.diff(angles))
-    spacing = f", every {step[0]:.4g}°" if len(step) and np.allclose(step, step[0]) else ""
-    ax.set_title(f"{title_of(mech)}\nposition plan: {len(angles)} positions from φ = {np.degrees(angles[0]):.4g}°"
-                 f"{spacing} (0 solid)", fontsize=10)
+    if mech.slide_drive:
+        step = np.diff(angles)
+        spacing = f", every {step[0]:.4g} m" if len(step) and np.allclose(step, step[0]) else ""
+        first = f"s = {angles[0]:.4g} m"
+    else:
+        step = np.degrees(np.diff(angles))
+        spacing = f", every {step[0]:.4g}°" if len(step) and np.allclose(step, step[0]) else ""
+        first = f"φ = {np.degrees(angles[0]):.4g}°"
+    ax.set_title(f"{title_of(mech)}\nposition plan: {len(angles)} positions from {first}{spacing} (0 solid)",
+                 fontsize=10)
     return _finish(fig, out)
 
 

@@ -112,6 +112,19 @@ def _drive_arrow(ax, pos: Positions, frame: Frame, i: int, alpha: float) -> None
     from matplotlib.patches import FancyArrowPatch
 
     mech = pos.mechanism
+    if mech.slide_drive:  # a straight arrow along the driven guide beside the slider, its sense that of the speed
+        _, u = pos.guide_line(mech.drive.joint, i)
+        g = pos.guides[mech.drive.joint]
+        c = pos.local_to_world(g.slider, g.point, i)
+        sense = 1.0 if mech.drive.omega >= 0.0 else -1.0
+        r = ARROW_RADIUS * frame.size
+        side = np.array([-u[1], u[0]]) * 1.2 * r
+        p0, p1 = c + side - 0.5 * sense * r * u, c + side + 0.9 * sense * r * u
+        ax.add_patch(FancyArrowPatch(p0, p1, arrowstyle="-|>", mutation_scale=10, color=CRANK, lw=1.2,
+                                     alpha=alpha, zorder=6))
+        q = c + 1.8 * side
+        ax.text(q[0], q[1], "ṡ", color=CRANK, fontsize=10, ha="center", va="center", alpha=alpha, zorder=6)
+        return
     pivot = pos.points[mech.revolute(mech.drive.joint).point][i]
     th = float(pos.angles[mech.crank][i])
     sense = 1.0 if mech.drive.omega >= 0.0 else -1.0

@@ -15,22 +15,47 @@ import numpy as np
 
 from linkgen.errors import ArgumentError, DescriptionError
 from linkgen.model import limits
-from linkgen.model.units import angular_acceleration, angular_speed, parse_angle
+from linkgen.model.units import LENGTH_UNITS, angular_acceleration, angular_speed, length, parse_angle
+
+
+class Angle(float):
+    """A drive input given with an angle's unit ("30deg"): a crank angle [rad]."""
+
+
+class Stroke(float):
+    """A drive input given with a length's unit ("0.45m", "450mm"): a prismatic drive's stroke [m]."""
+
+
+def input_kind(value, slides: bool, name: str):
+    """``value`` unchanged if its unit (when it had one) suits the drive: an angle for a crank, a
+    length for a prismatic drive (``slides``); else an ArgumentError naming ``name``."""
+    if slides and isinstance(value, Angle):
+        raise ArgumentError(f"{name}: the drive is a prismatic pair: give its stroke with a length's unit "
+                            f"(e.g. 0.45m or 450mm), got an angle")
+    if not slides and isinstance(value, Stroke):
+        raise ArgumentError(f"{name}: the drive turns a crank: give an angle with its unit (e.g. 30deg), got a length")
+    return value
 
 
 def angle_text(text: str) -> float:
-    """An angle [rad] from a string with its unit; ArgumentError saying what is allowed."""
+    """An angle [rad] (``Angle``) from a string with its unit, or a prismatic drive's stroke [m]
+    (``Stroke``) from one with a length's unit; ArgumentError saying what is allowed."""
     try:
         float(text)
     except ValueError:
         pass
     else:
         raise ArgumentError(f"an angle needs its unit: write {text}deg or {text}rad (or {text}°), got {text!r}")
+    if any(text.strip().endswith(u) for u in LENGTH_UNITS):
+        try:
+            return Stroke(_within(length(text, "stroke"), limits.MAX_LENGTH, "m", text))
+        except DescriptionError:
+            raise ArgumentError(f"expected a stroke like 0.45m or 450mm, got {text!r}") from None
     try:
         x = parse_angle(text, "angle")
     except DescriptionError:
         raise ArgumentError(f"expected an angle like 30deg, 30° or 0.52rad, got {text!r}") from None
-    return _within(x, limits.MAX_ANGLE, "rad", text)
+    return Angle(_within(x, limits.MAX_ANGLE, "rad", text))
 
 
 def rate_text(text: str, unit: str, limit: float | None = None) -> float:
@@ -123,4 +148,4 @@ def one_rate(value, name: str, unit: str) -> float | None:
     return rate_argument(value, name, unit)
 
 
-__all__ = ["angle_argument", "angle_text", "argument", "one_rate", "rate_argument", "rate_text"]
+__all__ = ["Angle", "Stroke", "input_kind", "angle_argument", "angle_text", "argument", "one_rate", "rate_argument", "rate_text"]

@@ -18,8 +18,8 @@ from dataclasses import dataclass
 from typing import Any
 
 from linkgen.errors import DescriptionError
-from linkgen.model.units import (FIELD_SHOWN, angular_acceleration, angular_speed, finite, length, parse_angle, point2, seconds,
-                                 shown, vector2)
+from linkgen.model.units import (FIELD_SHOWN, angular_acceleration, angular_speed, finite, length, linear_acceleration,
+                                 linear_speed, parse_angle, point2, seconds, shown, vector2)
 
 
 @dataclass(frozen=True)
@@ -140,7 +140,8 @@ PLANAR = {
                    "inertial": {"mass": finite, "com": point2, "inertia": finite}, "shape": Each(point2)}),
     "prismatic": Each({"slider": string, "guide": string, "point": string, "through": string, "angle": parse_angle,
                        "offset": length}),
-    "drive": {"joint": string, "omega": angular_speed, "epsilon": angular_acceleration, "range": _angles2},
+    "drive": {"joint": string, "omega": angular_speed, "epsilon": angular_acceleration, "range": _angles2,
+              "velocity": linear_speed, "acceleration": linear_acceleration, "start": length, "stop": length},
     "force": Items({"link": string, "point": string, "force": vector2, "stroke": _angles2}),
     "torque": Items({"link": string, "torque": finite}),
     "gear": Each({"planet": string, "kind": string, "module": length, "teeth": Items(whole),

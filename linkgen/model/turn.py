@@ -121,3 +121,10 @@ def turn_assembly(status: Status, start: float = 0.0, samples: int = RANGE_SAMPL
 
 __all__ = ["EDGE_TOL", "RANGE_SAMPLES", "SUGGEST_STEP_DEG", "TurnAssembly", "degrees_text", "drive_range_text",
            "turn_assembly"]
+
+
+def full_turn(mech) -> bool:
+    """True when the drive's range is a whole turn of a crank (a full turn leaves out its end, which
+    repeats its start); never for a prismatic drive, whose range is a stroke [m]."""
+    d = mech.drive
+    return not getattr(mech, "slide_drive", False) and d.stop - d.start >= 2 * math.pi - 1e-12

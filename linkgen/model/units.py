@@ -92,6 +92,20 @@ def angular_acceleration(value: object, field: str) -> float:
     return _with_unit(value, field, ACCELERATION_UNITS, "an angular acceleration", "'2rad/s2' or '60rpm/s'")
 
 
+LINEAR_SPEED_UNITS = {"m/s": 1.0, "mm/s": 1e-3, "cm/s": 1e-2}
+LINEAR_ACCELERATION_UNITS = {"m/s2": 1.0, "m/s²": 1.0, "mm/s2": 1e-3, "mm/s²": 1e-3}
+
+
+def linear_speed(value: object, field: str) -> float:
+    """A speed [m/s] from a number (m/s) or "50mm/s", "0.05m/s" (a prismatic drive's)."""
+    return _with_unit(value, field, LINEAR_SPEED_UNITS, "a speed", "'50mm/s' or '0.05m/s'")
+
+
+def linear_acceleration(value: object, field: str) -> float:
+    """An acceleration [m/s²] from a number or "0.1m/s2", "100mm/s²" (a prismatic drive's)."""
+    return _with_unit(value, field, LINEAR_ACCELERATION_UNITS, "an acceleration", "'0.1m/s2' or '100mm/s²'")
+
+
 def point2(value: object, field: str) -> tuple[float, float]:
     """A 2-vector of lengths [m], each a number (metres) or a string with a length unit."""
     if not isinstance(value, (list, tuple)) or len(value) != 2:

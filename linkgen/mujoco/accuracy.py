@@ -38,6 +38,7 @@ from dataclasses import dataclass
 import mujoco
 import numpy as np
 
+from linkgen.model.turn import full_turn
 from linkgen.errors import SimulationError, UnsupportedError
 from linkgen.families.planar.assembly import Assembly
 from linkgen.families.planar.kinematics import solve
@@ -180,8 +181,7 @@ def predict(asm: Assembly, settings: Settings, *, omega: float | None = None, ep
     eps = mech.drive.epsilon if epsilon is None else float(epsilon)
     model = mujoco.MjModel.from_xml_string(write_mjcf(asm, PLACEHOLDER))
     apply(model, settings, mech.drive.joint)
-    span = mech.drive.stop - mech.drive.start
-    full = span >= 2 * math.pi - 1e-12
+    full = full_turn(mech)
     phi = np.linspace(mech.drive.start, mech.drive.stop, samples, endpoint=not full)
     t = crank_time(phi, mech.drive.start, w, eps)
     cold = not full and _starts_cold(asm, settings, w, eps)

@@ -43,7 +43,7 @@ from linkgen.families.planar.description import GROUND, MassProperties, Mechanis
 from linkgen.errors import (AssemblyError, DescriptionError, LinkgenError, SimulationError, SingularityError,
                             StructureError)
 from linkgen.families.planar.plate import convex_hull, hull_area
-from linkgen.families.planar.geometry import GuideShape, LinkShape, effective_mass_properties, guide_shapes, link_shapes
+from linkgen.families.planar.geometry import GuideShape, LinkShape, effective_mass_properties, guide_shapes, link_shapes, sketch_input
 from linkgen.families.planar.kinematics import solve
 from linkgen.mujoco.options import MESH_VOLUME_MARGIN, MUJOCO_MIN_BAR, MUJOCO_MIN_MESH_VOLUME
 from linkgen.mujoco.options import PLACEHOLDER, Settings
@@ -136,7 +136,7 @@ class _Source:
         try:
             return guide_travel(self.mech)
         except LinkgenError:
-            sketch = positions(self.mech, [self.shapes[self.mech.crank].sketch_angle])
+            sketch = positions(self.mech, [sketch_input(self.mech, self.shapes)])
             return {pair: sketch.travel(pair) for pair in self.guides}
 
 
@@ -236,8 +236,12 @@ def write_mjcf(source: Mechanism | Assembly, settings: Settings | None = None) -
         else:
             g = src.guides[pair.name]
             direction = pose[g.guide][1] + g.alpha - ca
-            etree.SubElement(body, "joint", name=pair.name, type="slide",
-                             axis=vec(math.cos(direction), math.sin(direction), 0.0))
+            attrs = dict(name=pair.name, type="slide", axis=vec(math.cos(direction), math.sin(direction), 0.0))
+            if pair.name == mech.drive.joint:  # a prismatic drive: its rotor, a viewer's stops at the stroke's ends
+                ref = sketch_input(mech, src.shapes)
+                attrs.update(armature=fmt(settings.armature), limited="true",
+                             range=vec(mech.drive.start - ref, mech.drive.stop - ref))
+            etree.SubElement(body, "joint", **attrs)
         material = "mat:crank" if child == mech.crank else (
             "mat:slider" if len(mech.link(child).points) == 1 else "mat:link")
         _link_visuals(src, body, child, material)
@@ -273,7 +277,7 @@ def write_mjcf(source: Mechanism | Assembly, settings: Settings | None = None) -
         for p in link.points:
             etree.SubElement(sensor, "framepos", name=sensor_name(mech, link.name, p), objtype="site",
                              objname=site_name(mech, link.name, p))
-    root.insert(0, etree.Comment(settings_comment(settings) + (FRICTION_NOTE if mech.frictions else "")))
+    root.insert(0, etree.Comment(settings_comment(settings, mech.slide_drive) + (FRICTION_NOTE if mech.frictions else "")))
     add_sketch_key(root, source, mech)
     return etree.tostring(root, pretty_print=True, encoding="unicode")
 

@@ -12,7 +12,7 @@ import numpy as np
 from linkgen.families.planar.assembly import Assembly
 from linkgen.families.planar.description import Mechanism
 from linkgen.errors import SimulationError
-from linkgen.families.planar.geometry import GuideShape, LinkShape, guide_shapes, link_shapes
+from linkgen.families.planar.geometry import GuideShape, LinkShape, guide_shapes, link_shapes, sketch_input
 from linkgen.families.planar.kinematics import solve
 from linkgen.families.planar.pose import LinkStates, reference_pose
 
@@ -31,7 +31,7 @@ class Posed:
 def posed(mech: Mechanism) -> Posed:
     """The numeric stand-in for ``assemble(mech)`` (raises as ``pose.state`` does)."""
     shapes = link_shapes(mech)
-    return Posed(mech, shapes, guide_shapes(mech, shapes), shapes[mech.crank].sketch_angle, reference_pose(mech))
+    return Posed(mech, shapes, guide_shapes(mech, shapes), sketch_input(mech, shapes), reference_pose(mech))
 
 
 def slider_reference(source: Assembly | Posed) -> dict[str, float]:

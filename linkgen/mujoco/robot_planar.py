@@ -9,6 +9,7 @@ from dataclasses import replace
 
 import numpy as np
 
+from linkgen.model.turn import full_turn
 from linkgen.errors import LinkgenError
 from linkgen.families.planar.assembly import Assembly
 from linkgen.families.planar.description import GROUND, Mechanism
@@ -84,7 +85,7 @@ def _loads(mech: Mechanism) -> tuple[str, ...]:
 
 def planar_drive(source: Mechanism | Assembly) -> RobotDrive:
     """What the robot build needs of a planar linkage (assembled, or a class III and higher one)."""
-    from linkgen.families.planar.geometry import link_shapes
+    from linkgen.families.planar.geometry import link_shapes, sketch_input
     from linkgen.mujoco.tree import site_name, spanning_tree
 
     mech = source.mechanism if isinstance(source, Assembly) else source
@@ -103,10 +104,10 @@ def planar_drive(source: Mechanism | Assembly) -> RobotDrive:
         sites.append(ReactionSite(pair.name, _body(rev.links[0]), _body(rev.links[1]),
                                   anchor=(float(local[0]), float(local[1]), 0.0)))
     d = mech.drive
-    full = d.stop - d.start >= 2 * math.pi - 1e-12
+    full = full_turn(mech)
     notes = (("each cam pair's contact keeps the stiff contact of linkgen's validation model (its solref is "
               "below two timesteps at 2 ms, so MuJoCo's safety limit sets it to 4 ms)",) if mech.cams else ())
-    return RobotDrive("planar", d.joint, float(shapes[mech.crank].sketch_angle), None if full else (d.start, d.stop),
+    return RobotDrive("planar", d.joint, float(sketch_input(mech, shapes)), None if full else (d.start, d.stop),
                       peak, w_max, inertia if inertia is not None else _inertia_scale(mech), tuple(sites),
                       (float(mech.gravity[0]), float(mech.gravity[1]), 0.0), _loads(mech), notes)
 
@@ -118,6 +119,12 @@ def planar_robot_mjcf(source: Mechanism | Assembly, options: RobotOptions) -> st
     from linkgen.mujoco.scene import motion_extent
 
     mech = source.mechanism if isinstance(source, Assembly) else source
+    if mech.slide_drive:
+        from linkgen.errors import UnsupportedError
+
+        raise UnsupportedError(f"--robot: {mech.name!r} is driven by the prismatic pair {mech.drive.joint!r} (a linear "
+                               f"actuator); the robot model is written for a driven crank only. linkgen build without "
+                               f"--robot writes its MJCF with the drive on the slide joint")
     src = _source(source)
     xml = write_mjcf(source, PLACEHOLDER)  # the validation model; its settings are replaced
     felt = _felt(source) if options.plane == "xy" else source

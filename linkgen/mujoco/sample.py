@@ -115,17 +115,25 @@ def read_samples(asm: Assembly, model: mujoco.MjModel, time: np.ndarray, qpos: n
     lever = np.ones(max(model.neq, 1))
     for gear in mech.gears:
         lever[model.equality(f"gear:{gear.name}").id] = max(asm.shapes[gear.planet].span(), 1e-300)
+
+    def drive_value(crank_body) -> float:
+        """The crank's angle [rad], or a prismatic drive's stroke [m] (its slide joint's q from the
+        reference pose's)."""
+        if mech.slide_drive:
+            return slider_ref[mech.drive.joint] + float(d.qpos[crank_j.qposadr[0]])
+        return math.atan2(crank_body.xmat[3], crank_body.xmat[0])
+
     for k in range(m):
         d.qpos[:], d.qvel[:], d.time = qpos[k], qvel[k], time[k]
         d.ctrl[:] = drive_ctrl
         mujoco.mj_kinematics(model, d)
         mujoco.mj_comPos(model, d)
         crank_body = d.body(body_name(mech.crank))
-        apply_loads(asm, model, d, math.atan2(crank_body.xmat[3], crank_body.xmat[0]))
+        at = drive_value(crank_body)
+        apply_loads(asm, model, d, at)
         mujoco.mj_forward(model, d)
         if mech.frictions:  # the friction at the state's own crank acceleration (mujoco.friction)
-            apply_loads(asm, model, d, math.atan2(crank_body.xmat[3], crank_body.xmat[0]),
-                        float(d.qacc[crank_j.dofadr[0]]))
+            apply_loads(asm, model, d, at, float(d.qacc[crank_j.dofadr[0]]))
             mujoco.mj_forward(model, d)
         mujoco.mj_rnePostConstraint(model, d)
         states.append(forward_forces(asm, model, d))
@@ -151,10 +159,11 @@ def read_samples(asm: Assembly, model: mujoco.MjModel, time: np.ndarray, qpos: n
                 s0 = slider_ref[pair.name]
                 out_sld[pair.name][k] = (s0 + sign * d.qpos[j.qposadr[0]], sign * d.qvel[j.dofadr[0]],
                                          sign * d.qacc[j.dofadr[0]])
-        crank[k] = (out_lnk[mech.crank][k][0], d.qvel[crank_j.dofadr[0]], d.qacc[crank_j.dofadr[0]])
+        crank[k] = (drive_value(crank_body), d.qvel[crank_j.dofadr[0]], d.qacc[crank_j.dofadr[0]])
         viol[k] = float(np.max(np.abs(d.efc_pos[: d.ne]) * lever[d.efc_id[: d.ne]])) if d.ne else 0.0
         torque[k] = d.actuator(DRIVE_ACTUATOR).force[0] - armature * d.qacc[crank_j.dofadr[0]]
-    phi = np.unwrap(crank[:, 0])  # continuous over the run; the closed form is 2π-periodic
+    # continuous over the run (the closed form is 2π-periodic); a stroke needs no unwrapping
+    phi = crank[:, 0] if mech.slide_drive else np.unwrap(crank[:, 0])
     return Samples(time, qpos, qvel, (phi, crank[:, 1], crank[:, 2]),
                    {p: tuple(a[:, j] for j in range(3)) for p, a in out_pts.items()},
                    {n: tuple(a[:, j] for j in range(3)) for n, a in out_lnk.items()},

@@ -104,7 +104,17 @@ def add_servo(actuator, joint: str, armature: float, omega: float) -> None:
                      biasprm=_vec(kv * omega, 0.0, -kv))
 
 
-def settings_comment(settings) -> str:
+def settings_comment(settings, slides: bool = False) -> str:
+    """The MJCF's first comment: its settings; ``slides``: the drive is a prismatic pair (its rotor
+    a mass [kg] on the slide joint, keeping the slide's speed)."""
+    text = _settings_comment(settings)
+    if slides:
+        text = (text.replace("kg·m² on the drive joint", "kg on the drive's slide joint")
+                .replace("keeps the crank speed constant", "keeps the slide's speed constant"))
+    return text
+
+
+def _settings_comment(settings) -> str:
     if not settings.label.startswith("derived"):
         return (f" settings: {settings.label}: timestep {settings.timestep:g} s ({settings.integrator}), connects with "
                 f"solref {settings.solref}, solimp {settings.solimp_text}; rotor inertia (armature) "
@@ -121,14 +131,14 @@ def settings_comment(settings) -> str:
 @no_log_file()  # MuJoCo's warnings stay out of the user's folder (linkgen.mujoco.log)
 def add_sketch_key(root, source, mech) -> None:
     """The keyframe ``sketch``: the assembled sketch pose, moving at the drive's ω."""
-    from linkgen.families.planar.geometry import link_shapes
+    from linkgen.families.planar.geometry import link_shapes, sketch_input
     from linkgen.mujoco.state import tree_state
 
     try:
         model = mujoco.MjModel.from_xml_string(etree.tostring(root, encoding="unicode"))
     except ValueError:  # MuJoCo rejects the model: the caller's own compile says why
         return
-    phi = link_shapes(mech)[mech.crank].sketch_angle
+    phi = sketch_input(mech, link_shapes(mech))
     qpos, qvel = tree_state(mech, model, [phi], mech.drive.omega)
     keyframe = etree.SubElement(root, "keyframe")
     etree.SubElement(keyframe, "key", name=KEY, qpos=_vec(*qpos[0]), qvel=_vec(*qvel[0]))

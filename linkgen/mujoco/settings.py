@@ -30,6 +30,7 @@ from dataclasses import asdict, dataclass
 import mujoco
 import numpy as np
 
+from linkgen.model.turn import full_turn
 from linkgen.families.planar.assembly import Assembly
 from linkgen.families.planar.description import Mechanism
 from linkgen.errors import SimulationError
@@ -122,7 +123,7 @@ def round_down(x: float) -> float:
 
 def scan_angles(asm: Assembly, n: int = SCAN) -> np.ndarray:
     d = asm.mechanism.drive
-    full = d.stop - d.start >= 2 * math.pi - 1e-12
+    full = full_turn(asm.mechanism)
     return np.linspace(d.start, d.stop, n, endpoint=not full)
 
 

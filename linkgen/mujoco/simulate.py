@@ -19,6 +19,7 @@ import mujoco
 import numpy as np
 from mujoco import rollout
 
+from linkgen.model.turn import full_turn
 from linkgen.families.planar.assembly import Assembly
 from linkgen.families.planar.blocks import default_threads
 from linkgen.errors import AssemblyError, SimulationError, SingularityError
@@ -157,7 +158,7 @@ def simulate(asm: Assembly | Posed, *, revolutions: float = 1.0, omega: float | 
     if not math.isfinite(eps):
         raise SimulationError(f"epsilon must be finite, got {eps!r}")
     span = mech.drive.stop - mech.drive.start
-    full = span >= 2 * math.pi - 1e-12
+    full = full_turn(mech)
     if not (math.isfinite(revolutions) and revolutions > 0):
         raise SimulationError(f"revolutions must be > 0, got {revolutions!r}")
     if not full and revolutions != 1.0:

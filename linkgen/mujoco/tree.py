@@ -10,7 +10,7 @@ from linkgen.errors import StructureError
 from linkgen.families.planar.description import GROUND, Mechanism
 from linkgen.families.planar.geometry import effective_mass_properties, link_shapes
 from linkgen.families.planar.assembly import Assembly
-from linkgen.families.planar.structure import Pair, pairs_of
+from linkgen.families.planar.structure import Pair, drive_pair, pairs_of
 
 DRIVE_ACTUATOR = "drive:motor"
 WORLD = "world"  # MuJoCo's name for the world body
@@ -109,7 +109,7 @@ def spanning_tree(source: Mechanism | Assembly) -> TreeInfo:
     if cached is not None:
         return cached
     pairs = pairs_of(mech)
-    drive = next(p for p in pairs if p.kind == "R" and p.name == mech.drive.joint)
+    drive = drive_pair(mech, pairs)
     shapes = link_shapes(mech)
     mass = {n: effective_mass_properties(mech, shapes, n).mass for n in mech.moving_links} | {GROUND: math.inf}
     revolutes = sorted((p for p in pairs if p.kind == "R" and p is not drive),
@@ -121,8 +121,13 @@ def spanning_tree(source: Mechanism | Assembly) -> TreeInfo:
     followers = {c.follower for c in mech.cams}
     follower_pins = [p for p in pairs if GROUND in p.links and set(p.links) & followers]
     revolutes = [p for p in revolutes if p not in planet_pins and p not in follower_pins]
+    # a driven cylinder hangs on the ground by its pivot and its rod on it, so that the slide joint's
+    # q counts the stroke (the rod the child): its pivot joins the tree right after the drive
+    cylinder = ([p for p in revolutes if set(p.links) == {GROUND, drive.links[1]}]
+                if drive.kind == "P" and GROUND not in drive.links else [])
+    revolutes = cylinder + [p for p in revolutes if p not in cylinder]
     # a planet hangs on the crank by its pin, so its gear coupling ties two joints of the tree
-    ordered = ([drive] + planet_pins + follower_pins + [p for p in pairs if p.kind == "P" and p not in follower_pins]
+    ordered = ([drive] + planet_pins + follower_pins + [p for p in pairs if p.kind == "P" and p not in follower_pins and p is not drive]
                + revolutes)
     tree, closures = grow_tree(mech.link_names, ordered)
     for p in closures:

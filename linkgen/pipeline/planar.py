@@ -5,6 +5,7 @@ from __future__ import annotations
 
 from typing import Mapping
 
+from linkgen.model.turn import full_turn
 from linkgen.families.planar.description import Mechanism
 from linkgen.pipeline.family import Family
 from linkgen.pipeline.planar_mujoco import STAGES as MUJOCO_STAGES
@@ -26,14 +27,12 @@ def _from_dict(data: Mapping, source: str | None = None) -> Mechanism:
 def _angles(desc, samples: int | None = None):
     """The default crank angle (the drive range's start), or ``samples`` angles over the drive
     range (a full turn excludes its end)."""
-    import math
-
     import numpy as np
 
     d = (desc.mechanism if hasattr(desc, "structure") else desc).drive
     if samples is None:
         return d.start
-    full = d.stop - d.start >= 2 * math.pi - 1e-12
+    full = full_turn(desc.mechanism if hasattr(desc, "structure") else desc)
     return np.linspace(d.start, d.stop, samples, endpoint=not full)
 
 
@@ -43,16 +42,23 @@ def _structure(desc):
     return structure(desc)
 
 
+def _input(desc, phi):
+    """``phi`` if its unit suits the drive (an angle for a crank, a length for a prismatic drive)."""
+    from linkgen.model.arguments import input_kind
+
+    return input_kind(phi, (desc.mechanism if hasattr(desc, "structure") else desc).slide_drive, "angle")
+
+
 def _kinematics(desc, phi, omega=None, epsilon=None, *, on_singular: str = "raise"):
     from linkgen.families.planar.motion_result import kinematics
 
-    return kinematics(desc, phi, omega, epsilon, on_singular=on_singular)
+    return kinematics(desc, _input(desc, phi), omega, epsilon, on_singular=on_singular)
 
 
 def _forces(desc, phi, omega=None, epsilon=None, *, on_singular: str = "raise"):
     from linkgen.families.planar.forces_result import forces
 
-    return forces(desc, phi, omega, epsilon, on_singular=on_singular)
+    return forces(desc, _input(desc, phi), omega, epsilon, on_singular=on_singular)
 
 
 def _summary(desc, omega=None, epsilon=None):

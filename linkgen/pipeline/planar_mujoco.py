@@ -10,6 +10,8 @@ import math
 
 import numpy as np
 
+from linkgen.model.arguments import input_kind
+from linkgen.model.turn import full_turn
 from linkgen.families.planar.description import Mechanism
 
 
@@ -180,9 +182,12 @@ def _in_range(mech, phi: np.ndarray, option: str) -> None:
     from linkgen.errors import ArgumentError
 
     d = mech.drive
-    if d.stop - d.start >= 2 * math.pi - 1e-12:
+    if full_turn(mech):
         return
     bad = phi[(phi < d.start - 1e-12) | (phi > d.stop + 1e-12)]
+    if bad.size and mech.slide_drive:
+        raise ArgumentError(f"{option}: {float(bad[0]):.6g} m is outside the drive's stroke {d.start:.6g}..{d.stop:.6g} m "
+                            f"(drive.start, drive.stop)")
     if bad.size:
         raise ArgumentError(f"{option}: {math.degrees(float(bad[0])):.6g}° is outside the drive's range "
                             f"{math.degrees(d.start):.6g}°..{math.degrees(d.stop):.6g}° (drive.start, drive.stop)")
@@ -207,9 +212,12 @@ def draw(desc, angles, out, *, vectors=None, parts: bool = False, free_body=None
 
     from linkgen.draw.defaults import default_angle
 
-    phi = default_angle(mech) if angles is None else float(angles)
+    if angles is None:  # a crank off its dead centres; a stroke's start
+        phi = mech.drive.start if mech.slide_drive else default_angle(mech)
+    else:
+        phi = float(input_kind(angles, mech.slide_drive, "--angle"))
     _in_range(mech, np.array([phi]), "--angle")
-    at = f"φ = {math.degrees(phi):.6g}°"
+    at = _at(mech, phi)
     try:
         asm = assemble(mech)
     except StructureError as exc:  # class III and higher: the skeleton from the numeric pose only
@@ -290,10 +298,15 @@ def render(desc, angle, width: int, height: int) -> tuple[np.ndarray, str]:
     from linkgen.draw.render import render_mechanism
 
     mech = _mechanism(desc)
-    phi = mech.drive.start if angle is None else float(angle)
+    phi = mech.drive.start if angle is None else float(input_kind(angle, mech.slide_drive, "--angle"))
     _in_range(mech, np.array([phi]), "--angle")
     _, frames = render_mechanism(mech, phi, width, height)
-    return frames[0], f"MuJoCo frame of {mech.name} at φ = {math.degrees(phi):.6g}°"
+    return frames[0], f"MuJoCo frame of {mech.name} at {_at(mech, phi)}"
+
+
+def _at(mech, phi: float) -> str:
+    """``φ = 30°``, or a prismatic drive's ``s = 0.3 m``."""
+    return f"s = {phi:.6g} m" if mech.slide_drive else f"φ = {math.degrees(phi):.6g}°"
 
 
 STAGES = {"mjcf": mjcf, "coupling": coupling, "simulate": simulate, "validate": validate, "figures": figures, "report": report, "draw": draw, "page": page,

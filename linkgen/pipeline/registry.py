@@ -92,6 +92,8 @@ def family_stage(family: Family, name: str, model: str):
     """The stage ``name`` of ``family``; UnsupportedError naming the model, the families that
     have the stage, or the interface's stages for a name that is none of them."""
     fn = family.stages.get(name)
+    if fn is not None and name in _AT_INPUT and family.name != "planar":  # only planar linkages have prismatic drives
+        return _no_stroke(fn)
     if fn is not None:
         return fn
     if name not in BY_STAGE:
@@ -99,6 +101,23 @@ def family_stage(family: Family, name: str, model: str):
     others = [f.plural for f in FAMILIES if name in f.stages]
     has = f"it is for {' and '.join(others)}" if others else "no family has it yet"
     raise UnsupportedError(f"{model}: {family.plural} have no {name.replace('_', ' ')} stage; {has}")
+
+
+# Stages whose second argument is the drive's input (an angle, or a prismatic drive's stroke).
+_AT_INPUT = ("kinematics", "forces", "draw", "render")
+
+
+def _no_stroke(fn):
+    """``fn`` refusing a stroke ("0.45m", ``arguments.Stroke``) where a crank angle is meant."""
+    from functools import wraps
+
+    from linkgen.model.arguments import input_kind
+
+    @wraps(fn)
+    def checked(desc, at=None, *args, **kwargs):
+        return fn(desc, input_kind(at, False, "angle"), *args, **kwargs)
+
+    return checked
 
 
 def require(description: Any, family_name: str, what: str, instead: Mapping[str, str]) -> Family:

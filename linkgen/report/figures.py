@@ -57,19 +57,29 @@ def _flat_limits(ax, curves: list[np.ndarray], scale: float) -> None:
         ax.set_ylim(mid - FLAT_SPAN * scale, mid + FLAT_SPAN * scale)
 
 
+def _drive_axis(cmp: Comparison) -> tuple[np.ndarray, str]:
+    """The samples' drive input for the x axes: crank angles [deg], or a prismatic drive's stroke [m]."""
+    s = cmp.run.samples
+    if cmp.assembly.mechanism.slide_drive:
+        return np.asarray(s.crank[0]), "s [m]"
+    return np.degrees(s.crank[0]), "φ [deg]"
+
+
 def _overlay(ax, phi, series: dict[str, tuple[np.ndarray, np.ndarray]], colors, scale: float,
-             title: str, unit: str) -> None:
-    """Closed form (pale, wide) and MuJoCo (dashed black) of each named series over φ [deg]."""
+             title: str, unit: str, xlabel: str = "φ [deg]") -> None:
+    """Closed form (pale, wide) and MuJoCo (dashed black) of each named series over φ [deg] (or the
+    stroke, ``xlabel``)."""
     for i, (name, (ours, theirs)) in enumerate(series.items()):
         ax.plot(phi, ours, color=colors[i % len(colors)], lw=3, alpha=0.45, label=name)
         ax.plot(phi, theirs, color="k", ls="--", lw=0.8)
     _flat_limits(ax, [s[0] for s in series.values()], scale)
-    ax.set(title=title, xlabel="φ [deg]", ylabel=f"[{unit}]")
+    ax.set(title=title, xlabel=xlabel, ylabel=f"[{unit}]")
     ax.set_xlim(phi.min(), phi.max())
     _legend(ax, len(series))
 
 
-def _errors(ax, phi, cmp: Comparison, names: list[str], labels: list[str], colors, title: str) -> None:
+def _errors(ax, phi, cmp: Comparison, names: list[str], labels: list[str], colors, title: str,
+            xlabel: str = "φ [deg]") -> None:
     """Per-sample |MuJoCo − closed form| / scale of the named quantities, with their tolerance."""
     tols = set()
     for i, (name, label) in enumerate(zip(names, labels)):
@@ -79,7 +89,7 @@ def _errors(ax, phi, cmp: Comparison, names: list[str], labels: list[str], color
         tols.add(q.tolerance)
     for t in sorted(tols):
         ax.axhline(t, color="r", ls=":", lw=1.2, label=f"tolerance {t:g}")
-    ax.set(title=f"|MuJoCo − closed form| / scale: {title}", xlabel="φ [deg]")
+    ax.set(title=f"|MuJoCo − closed form| / scale: {title}", xlabel=xlabel)
     ax.set_xlim(phi.min(), phi.max())
     _legend(ax, len(names) + len(tols))
 
@@ -106,21 +116,21 @@ def plot_kinematics(cmp: Comparison, path: Path) -> None:
     """Link angles and slider displacements over φ; errors of every kinematic quantity."""
     plt = _plt()
     s, mo = cmp.run.samples, cmp.closed_form
-    phi = np.degrees(s.crank[0])
+    phi, xlabel = _drive_axis(cmp)
     fig, axes = plt.subplots(2, 3, figsize=(17, 8), constrained_layout=True)
     links = {n: (np.degrees(np.unwrap(mo.links[n][0])), np.degrees(np.unwrap(s.links[n][0]))) for n in s.links}
-    _overlay(axes[0, 0], phi, links, _colors(plt, len(links)), 180.0, "link angles", "deg")
+    _overlay(axes[0, 0], phi, links, _colors(plt, len(links)), 180.0, "link angles", "deg", xlabel)
     ax = axes[0, 1]
     if s.sliders:
         sl = {n: (mo.sliders[n][0], s.sliders[n][0]) for n in s.sliders}
-        _overlay(ax, phi, sl, _colors(plt, len(sl)), cmp.size, "slider displacements", "m")
+        _overlay(ax, phi, sl, _colors(plt, len(sl)), cmp.size, "slider displacements", "m", xlabel)
     else:
         ax.set_axis_off()
         ax.text(0.5, 0.5, "no prismatic pairs", ha="center", va="center", transform=ax.transAxes)
     ax = axes[0, 2]
     ax.semilogy(phi, np.maximum(s.violation / cmp.size, ERROR_FLOOR), "k", lw=1, label="loop gap / size")
     ax.axhline(cmp.gap.tolerance, color="r", ls=":", lw=1.2, label=f"tolerance {cmp.gap.tolerance:g}")
-    ax.set(title="loop gap in MuJoCo", xlabel="φ [deg]")
+    ax.set(title="loop gap in MuJoCo", xlabel=xlabel)
     ax.set_xlim(phi.min(), phi.max())
     _legend(ax, 2)
     for j, (kind, lk, sk) in enumerate((("position", "angle", "displacement"),
@@ -135,7 +145,7 @@ def plot_kinematics(cmp: Comparison, path: Path) -> None:
             names.append(f"sliders.{n}.{sk}"), labels.append(f"slider {n}")
         keep = [i for i, n in enumerate(names) if n in cmp.quantities]
         _errors(axes[1, j], phi, cmp, [names[i] for i in keep], [labels[i] for i in keep],
-                _colors(plt, len(keep)), kind)
+                _colors(plt, len(keep)), kind, xlabel)
     fig.suptitle(f"{cmp.model}: kinematics — closed form (wide pale lines) vs MuJoCo (black dashed)")
     save_figure(fig, path, dpi=DPI)
     plt.close(fig)
@@ -146,25 +156,28 @@ def plot_forces(cmp: Comparison, path: Path) -> None:
     J(φ) over φ; errors of every force quantity (forward and inverse routes)."""
     plt = _plt()
     s, cf = cmp.run.samples, cmp.closed_forces
-    phi = np.degrees(s.crank[0])
+    phi, xlabel = _drive_axis(cmp)
+    slides = cmp.assembly.mechanism.slide_drive  # a prismatic drive: a balancing force [N], a reduced mass [kg]
     f_scale = max((float(np.abs(r).max()) for r in cf.reactions.values()), default=1.0) or 1.0
     fig, axes = plt.subplots(2, 3, figsize=(17, 8), constrained_layout=True)
     rx = {k: (np.linalg.norm(r, axis=1), np.linalg.norm(s.forces.reactions[k], axis=1)) for k, r in cf.reactions.items()}
-    _overlay(axes[0, 0], phi, rx, _colors(plt, len(rx)), f_scale, "reaction magnitudes |F|", "N")
+    _overlay(axes[0, 0], phi, rx, _colors(plt, len(rx)), f_scale, "reaction magnitudes |F|", "N", xlabel)
     ax = axes[0, 1]
     if cf.normal_force:
         nf = {f"{k} N": (cf.normal_force[k], s.forces.normal_force[k]) for k in cf.normal_force}
         nf |= {f"{k} M / size": (cf.moment[k] / cmp.size, s.forces.moment[k] / cmp.size) for k in cf.moment}
-        _overlay(ax, phi, nf, _colors(plt, len(nf)), f_scale, "prismatic: normal force N, moment M / size", "N")
+        _overlay(ax, phi, nf, _colors(plt, len(nf)), f_scale, "prismatic: normal force N, moment M / size", "N",
+                 xlabel)
     else:
         ax.set_axis_off()
         ax.text(0.5, 0.5, "no prismatic pairs", ha="center", va="center", transform=ax.transAxes)
     torque = {"Assur groups": (cf.balancing_torque, s.forces.balancing_torque),
               "power balance": (cf.power_balance_torque, s.forces.balancing_torque)}
-    _overlay(axes[0, 2], phi, torque, _colors(plt, 2), f_scale * cmp.size, "balancing torque", "N·m")
+    _overlay(axes[0, 2], phi, torque, _colors(plt, 2), f_scale * (1.0 if slides else cmp.size),
+             "balancing force" if slides else "balancing torque", "N" if slides else "N·m", xlabel)
     j_peak = float(np.abs(cf.reduced.inertia).max()) or 1.0
-    _overlay(axes[1, 0], phi, {"J(φ)": (cf.reduced.inertia, s.reduced_inertia)}, _colors(plt, 1), j_peak,
-             "reduced moment of inertia", "kg·m²")
+    _overlay(axes[1, 0], phi, {"m(s)" if slides else "J(φ)": (cf.reduced.inertia, s.reduced_inertia)}, _colors(plt, 1),
+             j_peak, "reduced mass" if slides else "reduced moment of inertia", "kg" if slides else "kg·m²", xlabel)
     for ax, prefix, route in ((axes[1, 1], "", "forward route"), (axes[1, 2], "inverse.", "inverse route")):
         names = [n for n in cmp.quantities if n.startswith(prefix)
                  and n[len(prefix):].startswith(("reactions.", "prismatic.", "balancing_torque", "reduced_inertia"))]
@@ -173,7 +186,7 @@ def plot_forces(cmp: Comparison, path: Path) -> None:
             ax.text(0.5, 0.5, f"no {route}", ha="center", va="center", transform=ax.transAxes)
             continue
         labels = [n[len(prefix):].replace("reactions.", "").replace(".force", "") for n in names]
-        _errors(ax, phi, cmp, names, labels, _colors(plt, len(names)), f"forces, {route}")
+        _errors(ax, phi, cmp, names, labels, _colors(plt, len(names)), f"forces, {route}", xlabel)
     fig.suptitle(f"{cmp.model}: forces — closed form (wide pale lines) vs MuJoCo (black dashed)")
     save_figure(fig, path, dpi=DPI)
     plt.close(fig)

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from linkgen.model.turn import full_turn
 from linkgen.report.figures import plot_model
 
 
@@ -24,7 +25,7 @@ def plot_mechanism(asm, out: Path) -> list[str]:
     mech = asm.mechanism
     paths = positions(mech, drive_angles(mech))
     d = mech.drive
-    full = d.stop - d.start >= 2 * np.pi - 1e-12
+    full = full_turn(mech)
     plan = np.linspace(d.start, d.stop, PLAN_POSITIONS, endpoint=not full)
     names = [f"{mech.name}_drawing.png", f"{mech.name}_plan.png"]
     skeleton_figure(mech, asm.sketch_phi, out / names[0], paths=paths)

@@ -140,33 +140,41 @@ def _summary_lines(s: dict) -> list[str]:
 
     deg = math.degrees
     lines = ["**Design summary** (at the drive's ω and ε)", ""]
+    stroke = bool(s.get("stroke"))  # a prismatic drive: strokes [m], a balancing force [N]
+
+    def at(x: float) -> str:
+        return f"s = {x:.4g} m" if stroke else f"φ = {deg(x):.4g}°"
+
+    def short(x: float) -> str:
+        return f"s = {x:.4g} m" if stroke else f"{deg(x):.4g}°"
     for key, o in s["outputs"].items():
         name = key.removesuffix(f" ({o['kind']})")
         if o["travel"] is None:
             lines.append(f"- {o['kind']} `{name}`: turns fully round")
             continue
         travel = f"stroke {o['travel']:.6g} m" if o["kind"] == "slider" else f"swing {deg(o['travel']):.4g}°"
-        limits = ", ".join(f"{x['kind']} at φ = {deg(x['phi']):.4g}°" for x in o["limits"]) or "extremes at the range's ends"
+        limits = ", ".join(f"{x['kind']} at {at(x['phi'])}" for x in o["limits"]) or "extremes at the range's ends"
         ratio = f"; time ratio K = {o['time_ratio']:.4g}" if o["time_ratio"] is not None else ""
         lines.append(f"- {o['kind']} `{name}`: {travel}; limit positions {limits}{ratio}")
     for g, t in s.get("min_transmission_angle", {}).items():
-        lines.append(f"- least transmission angle of {g}: {deg(t['value']):.4g}° at φ = {deg(t['phi']):.4g}°")
+        lines.append(f"- least transmission angle of {g}: {deg(t['value']):.4g}° at {at(t['phi'])}")
     if s["peak_balancing_torque"]:
         t = s["peak_balancing_torque"]
-        lines.append(f"- peak balancing torque {t['value']:.4g} N·m at φ = {deg(t['phi']):.4g}°")
+        what = "balancing force {:.4g} N" if s.get("stroke") else "balancing torque {:.4g} N·m"
+        lines.append(f"- peak {what.format(t['value'])} at {at(t['phi'])}")
         worst = sorted(s["peak_reactions"].items(), key=lambda kv: -kv[1]["value"])[:3]
-        lines.append("- largest reactions: " + ", ".join(f"{k} {v['value']:.4g} N at {deg(v['phi']):.4g}°"
+        lines.append("- largest reactions: " + ", ".join(f"{k} {v['value']:.4g} N at {short(v['phi'])}"
                                                          for k, v in worst))
     elif s["forces_note"]:
         lines.append(f"- {s['forces_note']}")
     springs = s.get("peak_spring_forces") or {}
     if springs:
         lines.append("- peak spring forces: " + ", ".join(
-            f"{k} {v['value']:.4g} {'N·m' if k.startswith('torsion') else 'N'} at {deg(v['phi']):.4g}°"
+            f"{k} {v['value']:.4g} {'N·m' if k.startswith('torsion') else 'N'} at {short(v['phi'])}"
             for k, v in springs.items()))
     if s.get("peak_friction_power"):
         p = s["peak_friction_power"]
-        lines.append(f"- power lost to friction in the pairs: peak {p['value']:.4g} W at {deg(p['phi']):.4g}°, mean "
+        lines.append(f"- power lost to friction in the pairs: peak {p['value']:.4g} W at {short(p['phi'])}, mean "
                      f"{s['mean_friction_power']:.4g} W")
     return lines + [""]
 

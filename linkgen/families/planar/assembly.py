@@ -19,14 +19,14 @@ import numpy as np
 
 from linkgen.families.planar.description import Mechanism
 from linkgen.errors import AssemblyError, DescriptionError, MagnitudeError
-from linkgen.families.planar.geometry import GuideShape, LinkPose, LinkShape, guide_shapes, link_shapes
-from linkgen.families.planar.groups import SINGULAR_TOL, input_poses, solve_group
+from linkgen.families.planar.geometry import GuideShape, LinkPose, LinkShape, guide_shapes, link_shapes, sketch_input
+from linkgen.families.planar.groups import SINGULAR_TOL, input_poses, place, solve_group
 from linkgen.families.planar.structure import Group, GroupKind, Structure, analyze
 
 # The sketch must agree with the assembled pose to this fraction of the mechanism's size:
 # loose enough for a sketch drawn to three digits, tight enough to catch a wrong branch or typo.
 SKETCH_TOLERANCE = 0.02
-_BRANCHED = (GroupKind.RRR, GroupKind.RRP, GroupKind.RPR)
+_BRANCHED = (GroupKind.RRR, GroupKind.RRP, GroupKind.RPR, GroupKind.ACTUATOR)
 
 
 @dataclass(frozen=True)
@@ -59,15 +59,14 @@ def assemble(mech: Mechanism, *, sketch_tolerance: float | None = SKETCH_TOLERAN
     structure = analyze(mech)
     shapes = link_shapes(mech)
     guides = guide_shapes(mech, shapes)
-    crank = shapes[structure.crank]
-    phi0 = np.array([crank.sketch_angle])
+    phi0 = np.array([sketch_input(mech, shapes)])
     size = max(_sketch_size(mech), np.finfo(float).tiny)
     poses = input_poses(mech, structure, shapes, phi0)
     branches = []
     for group in structure.groups:
         best = None
         with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
-            trials = [(m, *solve_group(group, m, poses, shapes, guides, mech))
+            trials = [(m, *solve_group(group, m, poses, shapes, guides, mech, phi0))
                       for m in ((1, -1) if group.kind in _BRANCHED else (1,))]
         if not all(res.fail[0] or np.isfinite(res.denominator[0]) for *_, res in trials):
             raise MagnitudeError(f"group {group.label}'s solution at the sketch pose", [(float(phi0[0]),) * 2])
@@ -75,15 +74,16 @@ def assemble(mech: Mechanism, *, sketch_tolerance: float | None = SKETCH_TOLERAN
         for m, p1, p2, res in trials:
             if res.fail[0]:
                 continue
-            err = _sketch_error(mech, shapes, {group.links[0]: p1, group.links[1]: p2}, size)
+            trial = {group.links[0]: p1, group.links[1]: p2} | ({group.third: res.value} if group.third else {})
+            err = _sketch_error(mech, shapes, trial, size)
             if best is None or err < best[0]:
-                best = (err, m, p1, p2)
+                best = (err, m, p1, p2, res)
         if best is None:
             raise AssemblyError(
                 group.label, [(float(phi0[0]), float(phi0[0]))], "the sketch pose cannot be assembled"
             )
         branches.append(best[1])
-        poses[group.links[0]], poses[group.links[1]] = best[2], best[3]
+        place(group, poses, best[2], best[3], best[4])
     if sketch_tolerance is not None:
         _check_sketch(mech, shapes, poses, sketch_tolerance)
     return Assembly(mech, structure, shapes, guides, tuple(branches), float(phi0[0]))

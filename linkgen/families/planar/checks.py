@@ -222,9 +222,14 @@ def _check_prismatics(m: Mechanism) -> None:
 
 def _check_drive(m: Mechanism) -> None:
     d = m.drive
+    if m.slide_drive:
+        _check_slide_drive(m)
+        return
     names = [j.name for j in m.revolutes]
     if d.joint not in names:
-        raise DescriptionError("drive.joint", f"unknown revolute {d.joint!r}; revolutes: {names}")
+        slides = [p.name for p in m.prismatics]
+        raise DescriptionError("drive.joint", f"unknown revolute {d.joint!r}; revolutes: {names}"
+                               + (f"; or a prismatic pair (a linear actuator): {slides}" if slides else ""))
     joint = m.revolute(d.joint)
     if GROUND not in joint.links:
         raise DescriptionError("drive.joint", f"{d.joint!r} must join {GROUND!r} and the crank, joins {joint.links}")
@@ -243,6 +248,31 @@ def _check_drive(m: Mechanism) -> None:
         raise DescriptionError(
             "drive.range", f"must be [from, to] with from < to <= from + 360deg, got [{d.start!r}, {d.stop!r}] rad"
         )
+
+
+def _check_slide_drive(m: Mechanism) -> None:
+    """A prismatic drive: a pair between ground and the slider (a linear actuator on a fixed
+    guide) or between two moving links (a cylinder and its rod: the structure analysis checks how
+    they are held), a speed and acceleration within the limits, a stroke range start < stop."""
+    d, pj = m.drive, m.prismatic(m.drive.joint)
+    if pj.slider == GROUND:
+        raise DescriptionError(f"prismatic.{pj.name}.slider", f"a driven prismatic pair's slider must be the moving "
+                                                              f"link, not {GROUND!r}; swap slider and guide")
+    for what, items in (("gear", m.gears), ("cam", m.cams)):
+        if items:
+            raise DescriptionError(f"{what}.{items[0].name}", f"a {what} pair turns with a crank; the drive "
+                                   f"{d.joint!r} is a prismatic pair (a linear actuator), which has none")
+    for i, f in enumerate(m.forces):
+        if f.stroke is not None:
+            raise DescriptionError(f"force[{i}].stroke", "is a range of crank angles; with a prismatic drive "
+                                                         "(no crank) a force acts over the whole stroke: leave it out")
+    bounded(d.omega, "drive.velocity", limits.MAX_OMEGA * limits.MAX_LENGTH, "m/s")
+    bounded(d.epsilon, "drive.acceleration", limits.MAX_EPSILON * limits.MAX_LENGTH, "m/s²")
+    _length(d.start, "drive.start")
+    _length(d.stop, "drive.stop")
+    if not d.start < d.stop:
+        raise DescriptionError("drive", f"the stroke needs start < stop, got start = {d.start!r} m, "
+                                        f"stop = {d.stop!r} m")
 
 
 def _check_loads(m: Mechanism) -> None:

@@ -314,19 +314,19 @@ def _emit(b: _Builder, rng: np.random.Generator, size: float | None, omega: floa
 def denominator_crossings(asm, phi: np.ndarray) -> np.ndarray:
     """(n,) True on both sides of a sign change of some group's transfer-function denominator
     between neighbouring angles: a dead centre narrower than the grid step lies there."""
-    from linkgen.families.planar.groups import input_poses, solve_group
+    from linkgen.families.planar.groups import input_poses, place, solve_group
 
     mech = asm.mechanism
     poses = input_poses(mech, asm.structure, asm.shapes, phi)
     out = np.zeros(phi.shape[0], dtype=bool)
     with np.errstate(all="ignore"):
         for group, m in zip(asm.structure.groups, asm.branches):
-            p1, p2, res = solve_group(group, m, poses, asm.shapes, asm.guides, mech)
+            p1, p2, res = solve_group(group, m, poses, asm.shapes, asm.guides, mech, phi)
             den = np.broadcast_to(res.denominator, phi.shape)
             flip = np.sign(den[1:]) * np.sign(den[:-1]) < 0
             out[1:] |= flip
             out[:-1] |= flip
-            poses[group.links[0]], poses[group.links[1]] = p1, p2
+            place(group, poses, p1, p2, res)
     return out
 
 

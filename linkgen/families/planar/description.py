@@ -21,7 +21,13 @@ Conventions:
       their relative angle.
     * The drive is the revolute ``drive.joint`` between ground and the crank; the
       crank angle φ is the angle of the crank's x axis (its first point must be the
-      pivot).
+      pivot). Or the drive is a prismatic pair ``drive.joint`` (a linear actuator): the
+      input is its stroke s [m] along the guide line from its base point, its speed
+      [m/s] and acceleration [m/s²], and every ``phi``, ``omega``, ``epsilon`` of the
+      results then holds s, ṡ, s̈. Between ground and a slider, the slider is the
+      leading link ("crank" in the structure's terms); between a cylinder pivoted on
+      the ground and its rod pinned to a rocker, the three form the first group
+      (``structure``: the ACTUATOR), the cylinder standing for the crank.
 """
 
 from __future__ import annotations
@@ -97,13 +103,23 @@ class Revolute:
 
 @dataclass(frozen=True)
 class Drive:
-    """The driven revolute and its motion: ω [rad/s], ε [rad/s²], crank-angle range [rad]."""
+    """The driven pair and its motion: a revolute's ω [rad/s], ε [rad/s²] and crank-angle range
+    [rad], or a prismatic pair's speed [m/s], acceleration [m/s²] and stroke range [m]
+    (``velocity``, ``acceleration``: the same numbers under the slide's names)."""
 
     joint: str
     omega: float
     epsilon: float = 0.0
     start: float = 0.0
     stop: float = 2.0 * math.pi
+
+    @property
+    def velocity(self) -> float:
+        return self.omega
+
+    @property
+    def acceleration(self) -> float:
+        return self.epsilon
 
 
 @dataclass(frozen=True)
@@ -254,7 +270,17 @@ class Mechanism:
         return self._by_name[2][name]
 
     @cached_property
+    def slide_drive(self) -> bool:
+        """True when the drive is a prismatic pair (a linear actuator): the input is a stroke [m]."""
+        return self.drive.joint in self._by_name[2] and self.drive.joint not in self._by_name[1]
+
+    @cached_property
     def crank(self) -> str:
+        """The leading link: the crank, or the slider of a prismatic drive with ground; of a prismatic
+        drive between two moving links (an actuator), its guide (the cylinder)."""
+        if self.slide_drive:
+            pj = self.prismatic(self.drive.joint)
+            return pj.slider if pj.guide == GROUND else pj.guide
         joint = self.revolute(self.drive.joint)
         return joint.links[1] if joint.links[0] == GROUND else joint.links[0]
 
@@ -301,6 +327,9 @@ def _decomposed_hinges(links, prismatics, drive_joint, carriers, planets=()) -> 
         return None
     point, _, rest = drive_joint.partition(":")
     ends = rest.split("-") if rest else carriers.get(point, [])
+    slide = next((pj for pj in prismatics if pj.name == drive_joint), None)
+    if slide is not None and point not in carriers:  # a prismatic drive: its slider leads
+        point, ends = "", [slide.slider, slide.guide]
     movers = [e for e in ends if e != GROUND]
     if len(ends) != 2 or GROUND not in ends or len(movers) != 1 or movers[0] not in names:
         return None

@@ -22,6 +22,10 @@ FRICTION_UNITS = {"friction_couple": "N·m", "friction_force": "N", "friction_po
 # With springs (``[[spring]]``, ``[[torsion_spring]]``): their forces, moments, lengths and deflections.
 SPRING_UNITS = {"spring_force": "N", "damper_force": "N", "length": "m", "spring_moment": "N·m",
                 "damper_moment": "N·m", "deflection": "rad"}
+# A prismatic drive: the input is a stroke s [m], the balancing load a force [N] along the guide on
+# the slider, the reduced mass [kg] (under the names of the crank's quantities).
+STROKE_UNITS = {"phi": "m", "omega": "m/s", "epsilon": "m/s²", "torque": "N", "reduced_inertia": "kg",
+                "reduced_inertia_derivative": "kg/m", "reduced_moment": "N"}
 # The crank-level quantities, their units, in the order the CSV gives them.
 SCALARS = (("balancing_torque", "N·m"), ("power_balance_torque", "N·m"), ("reduced_inertia", "kg·m²"),
            ("reduced_inertia_derivative", "kg·m²/rad"), ("reduced_moment", "N·m"))
@@ -125,10 +129,11 @@ class PlanarForces:
     friction_power: np.ndarray | float | None = None
     springs: Mapping[str, SpringForce] = field(default_factory=dict)
     torsion_springs: Mapping[str, TorsionMoment] = field(default_factory=dict)
+    stroke: bool = field(default=False, compare=False)  # the units say it; a prismatic drive: phi is the stroke s [m], the balancing load a force [N]
 
     def to_dict(self, transfer: bool = True) -> dict:
         out = {"model": self.model, "phi": plain(self.phi), "omega": plain(self.omega), "epsilon": plain(self.epsilon),
-               "units": UNITS, "balancing_torque": plain(self.balancing_torque),
+               "units": UNITS | (STROKE_UNITS if self.stroke else {}), "balancing_torque": plain(self.balancing_torque),
                "power_balance_torque": plain(self.power_balance_torque),
                "reactions": {k: r.to_dict() for k, r in self.reactions.items()},
                "prismatic": {k: p.to_dict() for k, p in self.prismatic.items()},
@@ -142,7 +147,7 @@ class PlanarForces:
         if self.friction:
             out["friction"] = {k: v.to_dict() for k, v in self.friction.items()}
             out["friction_power"] = plain(self.friction_power)
-            out["units"] = UNITS | FRICTION_UNITS
+            out["units"] = out["units"] | FRICTION_UNITS
         if self.springs:
             out["springs"] = {k: v.to_dict() for k, v in self.springs.items()}
         if self.torsion_springs:
@@ -154,8 +159,11 @@ class PlanarForces:
         return out
 
     def columns(self, transfer: bool = True) -> dict[str, np.ndarray]:
-        cols = {"phi [rad]": column(self.phi), "singular": np.atleast_1d(np.asarray(self.singular, dtype=bool))}
-        cols |= {f"{q} [{u}]": column(getattr(self, q)) for q, u in SCALARS}
+        cols = {f"phi [{'m' if self.stroke else 'rad'}]": column(self.phi),
+                "singular": np.atleast_1d(np.asarray(self.singular, dtype=bool))}
+        stroke = {"balancing_torque": "N", "power_balance_torque": "N", "reduced_inertia": "kg",
+                  "reduced_inertia_derivative": "kg/m", "reduced_moment": "N"} if self.stroke else {}
+        cols |= {f"{q} [{stroke.get(q, u)}]": column(getattr(self, q)) for q, u in SCALARS}
         for table in (self.reactions, self.prismatic, self.tooth, self.contact, self.friction, self.springs,
                       self.torsion_springs):
             for k, r in table.items():
@@ -185,13 +193,21 @@ class PlanarForces:
     @per_sample
     def text(self, transfer: bool = False) -> str:
         phi = float(self.phi)
-        lines = [f"{self.model}: φ = {math.degrees(phi):.6g}°, ω = {self.omega:g} rad/s, ε = {self.epsilon:g} rad/s²",
-                 f"balancing torque on the crank: {float(self.balancing_torque):.6g} N·m "
-                 f"(power balance: {float(self.power_balance_torque):.6g} N·m)",
-                 f"reduced inertia J = {float(self.reduced_inertia):.6g} kg·m², dJ/dφ = "
-                 f"{float(self.reduced_inertia_derivative):.6g} kg·m²/rad, reduced moment of loads = "
-                 f"{float(self.reduced_moment):.6g} N·m",
-                 f"{'pair':<18}{'on':>10}{'by':>10}{'Fx [N]':>14}{'Fy [N]':>14}{'|F| [N]':>14}"]
+        if self.stroke:
+            lines = [f"{self.model}: s = {phi:.6g} m, ṡ = {self.omega:g} m/s, s̈ = {self.epsilon:g} m/s² (the drive's stroke)",
+                     f"balancing force on the slider along its guide: {float(self.balancing_torque):.6g} N "
+                     f"(power balance: {float(self.power_balance_torque):.6g} N)",
+                     f"reduced mass m = {float(self.reduced_inertia):.6g} kg, dm/ds = "
+                     f"{float(self.reduced_inertia_derivative):.6g} kg/m, reduced force of loads = "
+                     f"{float(self.reduced_moment):.6g} N"]
+        else:
+            lines = [f"{self.model}: φ = {math.degrees(phi):.6g}°, ω = {self.omega:g} rad/s, ε = {self.epsilon:g} rad/s²",
+                     f"balancing torque on the crank: {float(self.balancing_torque):.6g} N·m "
+                     f"(power balance: {float(self.power_balance_torque):.6g} N·m)",
+                     f"reduced inertia J = {float(self.reduced_inertia):.6g} kg·m², dJ/dφ = "
+                     f"{float(self.reduced_inertia_derivative):.6g} kg·m²/rad, reduced moment of loads = "
+                     f"{float(self.reduced_moment):.6g} N·m"]
+        lines.append(f"{'pair':<18}{'on':>10}{'by':>10}{'Fx [N]':>14}{'Fy [N]':>14}{'|F| [N]':>14}")
         for k, r in self.reactions.items():
             fx, fy = (float(x) for x in r.force)
             lines.append(f"{k:<18}{r.on:>10}{r.by:>10}{fx:>14.6g}{fy:>14.6g}{math.hypot(fx, fy):>14.6g}")
@@ -260,7 +276,7 @@ def forces(source, phi, omega=None, epsilon=None, *, on_singular: str = "raise")
         bool(f.singular[0]) if scalar else f.singular, (asm, phis),
         {k: PairFriction(f.on[k], f.by[k], *((None, s(v)) if k in pairs else (s(v), None)))
          for k, v in f.friction.items()}, s(f.friction_power) if f.friction else None,
-        *_springs(asm, phis, w, f.singular, s))
+        *_springs(asm, phis, w, f.singular, s), mech.slide_drive)
 
 
 def _springs(asm, phi: np.ndarray, omega, singular: np.ndarray, s) -> tuple[dict, dict]:

@@ -162,6 +162,19 @@ def guide_shapes(mech: Mechanism, shapes: dict[str, LinkShape]) -> dict[str, Gui
     return out
 
 
+def sketch_input(mech: Mechanism, shapes: dict[str, LinkShape]) -> float:
+    """The drive's input in the sketch: the crank's angle [rad], or a prismatic drive's stroke s [m]
+    (the slider's point along the guide line from its base point, as ``kinematics.slider_motion``)."""
+    if not mech.slide_drive:
+        return shapes[mech.crank].sketch_angle
+    g = guide_shapes(mech, shapes)[mech.drive.joint]
+    p = np.asarray(mech.points[mech.prismatic(mech.drive.joint).point], dtype=float)
+    frame = shapes[g.guide]  # the guide's sketch frame: its first point, its sketch angle
+    c, s = math.cos(frame.sketch_angle), math.sin(frame.sketch_angle)
+    base = frame.sketch_origin + np.array([c * g.base[0] - s * g.base[1], s * g.base[0] + c * g.base[1]])
+    return float(np.dot(p - base, [math.cos(frame.sketch_angle + g.alpha), math.sin(frame.sketch_angle + g.alpha)]))
+
+
 def mass_properties(mech: Mechanism, shapes: dict[str, LinkShape], name: str) -> MassProperties | None:
     """Explicit mass properties, or those of a uniform bar from its density, or None."""
     link = mech.link(name)

@@ -24,7 +24,9 @@ from linkgen.families.planar.primitives import (
     Line,
     Result,
     Scalar,
+    Vec,
     circle_circle,
+    pair,
     constant,
     cross,
     line_circle,
@@ -33,6 +35,7 @@ from linkgen.families.planar.primitives import (
     rotvec,
     zeros,
 )
+from linkgen.families.planar.actuator import solve_actuator
 from linkgen.families.planar.cam_pair import follower_pose
 from linkgen.families.planar.structure import Group, GroupKind, Structure
 
@@ -54,6 +57,10 @@ def input_poses(mech: Mechanism, structure: Structure, shapes: dict[str, LinkSha
     followers) at crank angles ``phi`` (n,) [rad]."""
     n = phi.shape[0]
     crank = shapes[structure.crank]
+    if mech.slide_drive and GROUND not in structure.drive.links:  # an actuator: its group places its links
+        return {GROUND: ground_pose(n)}
+    if mech.slide_drive:
+        return {GROUND: ground_pose(n), structure.crank: slider_pose(mech, shapes, phi)}
     pivot = shapes[GROUND].local[mech.revolute(mech.drive.joint).point]
     angle = Scalar(phi, np.broadcast_to(1.0, (n,)), zeros(n), zeros(n))  # dφ/dφ = 1, d²φ/dφ² = d³φ/dφ³ = 0
     poses = {
@@ -71,6 +78,20 @@ def input_poses(mech: Mechanism, structure: Structure, shapes: dict[str, LinkSha
     return poses
 
 
+def slider_pose(mech: Mechanism, shapes: dict[str, LinkShape], s: np.ndarray) -> LinkPose:
+    """The pose of a prismatic drive's slider at strokes ``s`` (n,) [m]: its point at the guide's base
+    point plus s along the fixed guide line (ds/ds = 1), its angle its sketch angle."""
+    n = s.shape[0]
+    pj = mech.prismatic(mech.drive.joint)
+    slider = shapes[pj.slider]
+    base = shapes[GROUND].local[pj.through] + pj.offset * np.array([-math.sin(pj.angle), math.cos(pj.angle)])
+    u = np.array([math.cos(pj.angle), math.sin(pj.angle)])
+    zero = zeros(n, 2)
+    point = Vec(pair(base[0] + s * u[0], base[1] + s * u[1]), np.broadcast_to(u, (n, 2)), zero, zero)
+    angle = Scalar(np.broadcast_to(slider.sketch_angle, (n,)), zeros(n), zeros(n), zeros(n))
+    return pose_from_point(point, slider.local[pj.point], angle)
+
+
 def fail_reason(group: Group) -> str:
     """Why a group of this kind cannot be assembled, in words."""
     return {
@@ -78,7 +99,16 @@ def fail_reason(group: Group) -> str:
                        "exceeds the sum or is below the difference of the link lengths)",
         GroupKind.RRP: "the link cannot reach the guide line",
         GroupKind.RPR: "the pivot is closer to the other pivot than the guide's offset",
+        GroupKind.ACTUATOR: "the cylinder, at this stroke, and the rocker cannot reach each other (the distance between "
+                            "their pivots exceeds the sum or is below the difference of the pivot-to-pin distances)",
     }.get(group.kind, "no intersection")
+
+
+def place(group: Group, poses: dict, p1: LinkPose, p2: LinkPose, res: Result) -> None:
+    """Put a solved group's poses (``solve_group``'s) into ``poses``; an ACTUATOR's rod too."""
+    poses[group.links[0]], poses[group.links[1]] = p1, p2
+    if group.kind is GroupKind.ACTUATOR:
+        poses[group.third] = res.value
 
 
 def _locked_angle(link: str, pair_name: str, known: LinkPose, guides: dict[str, GuideShape]) -> Scalar:
@@ -100,10 +130,14 @@ def _line_of(link: str, local: np.ndarray, angle: Scalar, pair_name: str, other:
 
 
 def solve_group(group: Group, m: int, poses: dict, shapes: dict[str, LinkShape],
-                 guides: dict[str, GuideShape], mech: Mechanism) -> tuple[LinkPose, LinkPose, Result]:
+                 guides: dict[str, GuideShape], mech: Mechanism, stroke: np.ndarray | None = None
+                 ) -> tuple[LinkPose, LinkPose, Result]:
     """Poses of the group's two links given the poses of the links it attaches to, and the
-    primitive's Result (failure mask and transfer-function denominator)."""
+    primitive's Result (failure mask and transfer-function denominator); ``place`` puts them.
+    An ACTUATOR needs the drive's ``stroke`` (n,) [m]; its Result's value is the rod's pose."""
     (l1, l2), (o1, inner, o2), (k1, k2) = group.links, group.pairs, group.known
+    if group.kind is GroupKind.ACTUATOR:
+        return solve_actuator(group, m, poses, shapes, guides, mech, stroke)
     s1, s2 = shapes[l1], shapes[l2]
 
     def pin(pair, link):  # (local coords on link, world Vec from the known link)
@@ -165,3 +199,4 @@ def solve_group(group: Group, m: int, poses: dict, shapes: dict[str, LinkShape],
     res = line_line(_line_of(l2, origin, th2, inner.name, pose1, guides),
                     _line_of(l2, origin, th2, o2.name, poses[k2], guides))
     return pose1, pose_from_point(res.value, origin, th2), res
+

@@ -18,7 +18,7 @@ from linkgen.families.planar.blocks import in_blocks
 from linkgen.families.planar.description import Mechanism
 from linkgen.errors import ArgumentError, AssemblyError, MagnitudeError, SingularityError, angle_ranges
 from linkgen.families.planar.geometry import GuideShape, LinkPose
-from linkgen.families.planar.groups import SINGULAR_TOL, fail_reason, input_poses, solve_group
+from linkgen.families.planar.groups import SINGULAR_TOL, fail_reason, input_poses, place, solve_group
 from linkgen.families.planar.motion import Motion, all_finite, checked_derivatives, derivatives, rate
 from linkgen.families.planar.primitives import Scalar, Vec, constant_along, dot, is_zero
 from linkgen.families.planar.structure import Group, GroupKind
@@ -32,6 +32,7 @@ _REASONS = {
     GroupKind.RPR: "the slot is (nearly) perpendicular to the line joining the two pivots, a dead centre",
     GroupKind.PRP: "its two guides are (nearly) parallel",
     GroupKind.RPP: "its two guides are (nearly) parallel",
+    GroupKind.ACTUATOR: "the rod's pin is (nearly) in line with the cylinder's pivot and the rocker's, a dead centre",
 }
 
 
@@ -191,7 +192,7 @@ def solve_block(asm: Assembly, phi: np.ndarray, mark: bool = False, report: list
     n = phi.shape[0]
     near, marked, ok = {}, np.zeros(n, dtype=bool), True
     for group, m in zip(asm.structure.groups, asm.branches):
-        p1, p2, res = solve_group(group, m, poses, asm.shapes, asm.guides, mech)
+        p1, p2, res = solve_group(group, m, poses, asm.shapes, asm.guides, mech, phi)
         den = np.abs(np.broadcast_to(res.denominator, (n,)))
         fail = res.fail & ~marked
         overflow = ~np.isfinite(den) & ~marked & ~res.fail
@@ -201,13 +202,15 @@ def solve_block(asm: Assembly, phi: np.ndarray, mark: bool = False, report: list
             report.append((group, fail, overflow, singular))
         near[group.label] = singular
         marked |= singular
-        poses[group.links[0]], poses[group.links[1]] = p1, p2
+        place(group, poses, p1, p2, res)
     points = {}
     for link in mech.links:
         for p in link.points:
             if p not in points:
                 points[p] = poses[link.name].point(asm.shapes[link.name].local[p])
     sliders = {name: slider_motion(poses, g) for name, g in asm.guides.items()}
+    if mech.slide_drive:  # the driven pair's stroke is the input itself: s, ds/ds = 1, 0, 0 exactly
+        sliders[mech.drive.joint] = Scalar(phi.copy(), np.ones(n), np.zeros(n), np.zeros(n))
     if mark and marked.any():
         _clear([*points.values(), *poses.values(), *sliders.values()], marked)
     ok = ok and all(all_finite(a) for v in points.values() for a in (v.p, v.d1, v.d2, v.d3))
@@ -247,12 +250,14 @@ def raise_failure(asm: Assembly, phi: np.ndarray, mark: bool = False) -> None:
     (_, points, _, _, _), _ = solve_block(asm, phi, mark, report)
     for group, fail, overflow, singular in report:
         if np.any(fail):
+            slides = asm.mechanism.slide_drive  # a stroke has no turn to scan
             raise AssemblyError(group.label, angle_ranges(phi, fail), fail_reason(group),
-                                lambda: _where_it_assembles(asm))
+                                None if slides else lambda: _where_it_assembles(asm), slides)
         if np.any(overflow):
             raise MagnitudeError(f"group {group.label}'s solution", angle_ranges(phi, overflow))
         if np.any(singular) and not mark:
-            raise SingularityError(group.label, angle_ranges(phi, singular), singular_reason(group))
+            raise SingularityError(group.label, angle_ranges(phi, singular), singular_reason(group),
+                                   asm.mechanism.slide_drive)
     for name, v in points.items():
         bad = ~np.all(np.isfinite(v.p) & np.isfinite(v.d1) & np.isfinite(v.d2) & np.isfinite(v.d3), axis=1)
         if np.any(bad):

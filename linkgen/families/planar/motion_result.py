@@ -18,6 +18,23 @@ UNITS = {"phi": "rad", "omega": "rad/s", "epsilon": "rad/s²", "position": "m", 
          "jerk": "m/s³", "angular_jerk": "rad/s³", "displacement": "m", "d1": "per rad", "d2": "per rad²",
          "d3": "per rad³"}
 KINDS = ("points", "links", "sliders")
+# A prismatic drive's input is a stroke s [m]: phi, omega, epsilon and the transfer functions
+# (d/ds) take lengths where a crank's take angles.
+STROKE_UNITS = {"phi": "m", "omega": "m/s", "epsilon": "m/s²", "d1": "per m", "d2": "per m²", "d3": "per m³"}
+
+
+def per_stroke(cols: dict) -> dict:
+    """CSV columns of a prismatic drive's results: ``phi [m]``, transfer functions per m (not per rad)."""
+    out = {}
+    for name, v in cols.items():
+        if name == "phi [rad]":
+            name = "phi [m]"
+        elif any(f".{d}" in name for d in ("d1", "d2", "d3")):
+            head, _, unit = name.rpartition(" [")
+            num, _, den = unit.rstrip("]").rpartition("/")
+            name = f"{head} [{num}/{den.replace('rad', 'm')}]"
+        out[name] = v
+    return out
 
 
 @dataclass(frozen=True, repr=False)
@@ -62,10 +79,12 @@ class PlanarKinematics:
     followers: Mapping[str, FollowerMotion]
     singular: np.ndarray | bool
     solution: object = field(default=None, compare=False)  # the planar ``Kinematics`` (singular groups)
+    stroke: bool = field(default=False, compare=False)  # the units say it; a prismatic drive: phi is the stroke s [m], omega ṡ, epsilon s̈ (STROKE_UNITS)
 
     def to_dict(self, transfer: bool = True) -> dict:
+        units = UNITS | (STROKE_UNITS if self.stroke else {})
         out = {"model": self.model, "phi": plain(self.phi), "omega": plain(self.omega),
-               "epsilon": plain(self.epsilon), "units": UNITS | ({"pressure_angle": "rad"} if self.followers else {})}
+               "epsilon": plain(self.epsilon), "units": units | ({"pressure_angle": "rad"} if self.followers else {})}
         for kind in KINDS:
             out[kind] = {n: q.to_dict(transfer) for n, q in getattr(self, kind).items()}
         if self.followers:
@@ -87,18 +106,18 @@ class PlanarKinematics:
             for kind in KINDS:
                 for n, q in getattr(self, kind).items():
                     cols |= q.columns(n, ("d1", "d2", "d3"))
-        return cols
+        return per_stroke(cols) if self.stroke else cols
 
     def singular_lines(self) -> list[str]:
         """One line per group with singular samples (``families.planar.kinematics``)."""
-        from linkgen.errors import angle_ranges, format_ranges
+        from linkgen.errors import angle_ranges, where_text
         from linkgen.families.planar.kinematics import singular_cause
 
         kin = self.solution
         if kin is None or not np.any(self.singular):
             return []
         groups = {g.label: g for g in kin.assembly.structure.groups}
-        return [f"group {label} is singular at crank angles {format_ranges(angle_ranges(kin.phi, mask))} "
+        return [f"group {label} is singular at {where_text(angle_ranges(kin.phi, mask), self.stroke)} "
                 f"({int(np.count_nonzero(mask))} of {len(kin.phi)} samples: {singular_cause(groups[label])})"
                 for label, mask in kin.near_singular.items() if np.any(mask)]
 
@@ -106,7 +125,9 @@ class PlanarKinematics:
     def text(self, transfer: bool = False) -> str:
         d = self.to_dict(transfer)
         phi = float(self.phi)
-        lines = [f"{self.model}: φ = {math.degrees(phi):.6g}° ({phi:.9g} rad), ω = {float(self.omega):g} rad/s, "
+        lines = [f"{self.model}: s = {phi:.9g} m, ṡ = {float(self.omega):g} m/s, s̈ = {float(self.epsilon):g} m/s² "
+                 f"(the drive's stroke)" if self.stroke else
+                 f"{self.model}: φ = {math.degrees(phi):.6g}° ({phi:.9g} rad), ω = {float(self.omega):g} rad/s, "
                  f"ε = {float(self.epsilon):g} rad/s²"]
         heads = ("x [m]", "y [m]", "vx [m/s]", "vy [m/s]", "ax [m/s²]", "ay [m/s²]", "jx [m/s³]", "jy [m/s³]")
         lines.append(f"{'point':<10}" + "".join(f"{h:>14}" for h in heads))
@@ -123,7 +144,7 @@ class PlanarKinematics:
                 lines.append(f"{n:<10}" + "".join(f"{q[k]:>14.6g}" for k in ("displacement", "velocity",
                                                                                 "acceleration", "jerk")))
         if transfer:
-            lines += _transfer_lines(d)
+            lines += _transfer_lines(d, self.stroke)
         return "\n".join(lines)
 
     def __repr__(self) -> str:
@@ -132,16 +153,17 @@ class PlanarKinematics:
                 f"{len(self.links)} links, {len(self.sliders)} sliders)")
 
 
-def _transfer_lines(d: dict) -> list[str]:
-    lines = ["transfer functions (derivatives with respect to the crank angle φ)"]
-    heads = ("dx/dφ [m]", "dy/dφ [m]", "d²x/dφ² [m]", "d²y/dφ² [m]", "d³x/dφ³ [m]", "d³y/dφ³ [m]")
+def _transfer_lines(d: dict, stroke: bool = False) -> list[str]:
+    x, u = ("s", "m") if stroke else ("φ", "rad")
+    lines = [f"transfer functions (derivatives with respect to the {'stroke s' if stroke else 'crank angle φ'})"]
+    heads = (f"dx/d{x} [m]", f"dy/d{x} [m]", f"d²x/d{x}² [m]", f"d²y/d{x}² [m]", f"d³x/d{x}³ [m]", f"d³y/d{x}³ [m]")
     lines.append(f"{'point':<10}" + "".join(f"{h:>14}" for h in heads))
     for n, q in d["points"].items():
         lines.append(f"{n:<10}" + "".join(f"{x:>14.6g}" for x in q["d1"] + q["d2"] + q["d3"]))
-    for kind, unit in (("links", "rad/rad"), ("sliders", "m/rad")):
+    for kind, unit in (("links", f"rad/{u}"), ("sliders", f"m/{u}")):
         if d[kind]:
-            lines.append(f"{kind[:-1]:<10}" + "".join(f"{h + ' [' + unit + ']':>18}" for h in ("d/dφ", "d²/dφ²",
-                                                                                                "d³/dφ³")))
+            lines.append(f"{kind[:-1]:<10}" + "".join(f"{h + ' [' + unit + ']':>18}" for h in (f"d/d{x}", f"d²/d{x}²",
+                                                                                                f"d³/d{x}³")))
             for n, q in d[kind].items():
                 lines.append(f"{n:<10}{q['d1']:>18.6g}{q['d2']:>18.6g}{q['d3']:>18.6g}")
     return lines
@@ -177,7 +199,7 @@ def kinematics(source, phi, omega=None, epsilon=None, *, on_singular: str = "rai
         {k: of(PointMotion, v, mo.jerk["points"][k], kin.points[k]) for k, v in mo.points.items()},
         {k: of(AngleMotion, v, mo.jerk["links"][k], kin.links[k].angle) for k, v in mo.links.items()},
         {k: of(SlideMotion, v, mo.jerk["sliders"][k], kin.sliders[k]) for k, v in mo.sliders.items()},
-        _followers(kin, full, w, e), bool(kin.singular[0]) if scalar else kin.singular, kin)
+        _followers(kin, full, w, e), bool(kin.singular[0]) if scalar else kin.singular, kin, asm.mechanism.slide_drive)
 
 
 def _followers(kin, full, omega, epsilon) -> dict[str, FollowerMotion]:

@@ -10,7 +10,8 @@ Equations, F(q, φ) = 0 (3·n of them for a mechanism of mobility 1):
     * a revolute at point P between links a and b: P on a − P on b = 0 (2 rows, m);
     * a prismatic pair: the slider's point on the guide line (1 row, m) and the slider's angle
       minus the guide's equal to their sketch difference (1 row, rad);
-    * the drive: the crank's angle − φ = 0 (1 row, rad).
+    * the drive: the crank's angle − φ = 0 (1 row, rad), or a prismatic drive's slider point
+      along its guide line minus the stroke s (1 row, m; φ then stands for s).
 Velocities solve J·q̇ = e·ω, e the drive row's unit vector (only that row depends on φ).
 
 Other crank angles are reached by continuation from the sketch's crank angle in steps of at
@@ -27,7 +28,7 @@ import numpy as np
 
 from linkgen.families.planar.description import GROUND, Mechanism
 from linkgen.errors import ArgumentError, AssemblyError, DescriptionError, SingularityError
-from linkgen.families.planar.geometry import guide_shapes, link_shapes
+from linkgen.families.planar.geometry import guide_shapes, link_shapes, sketch_input
 from linkgen.families.planar.cam_pair import ground_pair, lift, sense
 
 # Newton stops when every position row is below POSE_TOL × the mechanism's size [m] and every
@@ -108,6 +109,9 @@ class _Constraints:
         first_cam = 2 * len(self.rev) + 2 * len(self.pri) + len(self.gears)
         for k, (_, _, u) in enumerate(self.cams):
             self.length_row[first_cam + k] = u is not None  # a translating follower's lift [m]
+        self.length_row[-1] = mech.slide_drive  # a prismatic drive's stroke [m]
+        # continuation steps: MAX_STEP of a turn, or of the size along a stroke
+        self.max_step = MAX_STEP * self.size if mech.slide_drive else MAX_STEP
         # Newton and J·q′ = e work on the dimensionless system (lengths over the size): rows in
         # metres divided by it, origin columns multiplied by it, so that J's conditioning and
         # the steps do not depend on the mechanism's scale (1e-9 m or 1e9 m alike).
@@ -128,7 +132,7 @@ class _Constraints:
         for name in self.links:
             i, sh = self.index[name], self.shapes[name]
             q[i:i + 2], q[i + 2] = sh.sketch_origin, sh.sketch_angle
-        return q, self.shapes[self.mech.crank].sketch_angle
+        return q, sketch_input(self.mech, self.shapes)
 
     def _frame(self, q: np.ndarray, link: str) -> tuple[np.ndarray, float]:
         if link == GROUND:
@@ -196,6 +200,17 @@ class _Constraints:
                 put(r, cam.follower, [u[0], u[1], u @ dc])
             put(r, crank, [0.0, 0.0, -sig * d[1][0]])
             r += 1
+        if self.mech.slide_drive:  # the slider's point along the guide line from its base − s
+            g = self.guides[self.mech.drive.joint]
+            ps, ds = self._place(q, g.slider, g.point)
+            pg, dg = self._place(q, g.guide, g.base)
+            th_g = self._frame(q, g.guide)[1] + g.alpha
+            u = np.array([math.cos(th_g), math.sin(th_g)])
+            d = ps - pg
+            f[r] = u @ d - phi
+            put(r, g.slider, [u[0], u[1], u @ ds])
+            put(r, g.guide, [-u[0], -u[1], -(u @ dg) + np.array([-u[1], u[0]]) @ d])
+            return f, jac
         f[r] = self._frame(q, self.mech.crank)[1] - phi
         put(r, self.mech.crank, [0.0, 0.0, 1.0])
         return f, jac
@@ -232,7 +247,7 @@ class _Constraints:
                                    f"MAX_CONDITION = {MAX_CONDITION:g}: a dead centre or lock-up position, where "
                                    "the velocities are not determined")
         e = np.zeros(self.n)
-        e[-1] = 1.0  # the drive row, in radians: unscaled
+        e[-1] = self.row_scale[-1]  # the drive row: unscaled in radians, over the size in metres
         return self.col_scale * np.linalg.solve(jac, e)
 
     def _dimensionless(self, jac: np.ndarray) -> np.ndarray:
@@ -268,7 +283,7 @@ def _assembled_sketch(con: _Constraints) -> tuple[np.ndarray, float]:
 def _track(con: _Constraints, q: np.ndarray, phi: float, target: float) -> np.ndarray:
     """Continue the solved pose q at crank angle φ to ``target``."""
     while phi != target:
-        step = max(-MAX_STEP, min(MAX_STEP, target - phi))
+        step = max(-con.max_step, min(con.max_step, target - phi))
         for _ in range(MAX_HALVINGS + 1):
             nxt = target if abs(target - phi) <= abs(step) else phi + step
             trial, ok = con.newton(q + con.rates(q, phi) * (nxt - phi), nxt)
@@ -319,7 +334,7 @@ def state(mech: Mechanism, phi, omega=0.0) -> LinkStates:
 
 def reference_pose(mech: Mechanism) -> LinkStates:
     """The assembled pose at the sketch's crank angle (at rest): the MJCF's reference pose."""
-    return state(mech, link_shapes(mech)[mech.crank].sketch_angle, 0.0)
+    return state(mech, sketch_input(mech, link_shapes(mech)), 0.0)
 
 
 __all__ = ["LinkStates", "MAX_STEP", "POSE_TOL", "mechanism_size", "reference_pose", "state"]

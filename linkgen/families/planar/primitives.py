@@ -220,12 +220,19 @@ def _cross(r: np.ndarray, v: np.ndarray) -> np.ndarray | float:
     return 0.0 if is_zero(v) else cross(r, v)
 
 
-def circle_circle(a: Vec, ra: float, c: Vec, rc: float, m: int) -> Result:
+def circle_circle(a: Vec, ra, c: Vec, rc: float, m: int) -> Result:
     """Point B with |B - A| = ra and |B - C| = rc (RRR). m = +1 puts B left of A→C.
 
     Differentiating (B - A)·(B - A) = ra² three times, with r = B - A:
     r·r′ = 0, r·r″ + r′·r′ = 0, r·r‴ + 3r′·r″ = 0; the same for C. Each order is one 2×2
-    system in B′, B″, B‴ with the rows B - A and B - C."""
+    system in B′, B″, B‴ with the rows B - A and B - C. ``ra`` may be a Scalar, a side that
+    changes along the input (an actuator's, set by its stroke): its rows then gain ra·ra′,
+    ra·ra″ + ra′² and ra·ra‴ + 3ra′·ra″ on the right."""
+    if isinstance(ra, Scalar):
+        grow = (ra.v * ra.d1, ra.v * ra.d2 + ra.d1 * ra.d1, ra.v * ra.d3 + 3.0 * ra.d1 * ra.d2)
+        ra = ra.v
+    else:
+        grow = (0.0, 0.0, 0.0)
     d = c.p - a.p
     dd = dot(d, d)
     inv = 1.0 / np.sqrt(dd)
@@ -239,11 +246,12 @@ def circle_circle(a: Vec, ra: float, c: Vec, rc: float, m: int) -> Result:
     ba, bc = b - a.p, b - c.p
     det = cross(ba, bc)
     inv_det = 1.0 / det
-    b1 = _solve2(ba, bc, _dot(ba, a.d1), _dot(bc, c.d1), inv_det)
+    b1 = _solve2(ba, bc, _dot(ba, a.d1) + grow[0], _dot(bc, c.d1), inv_det)
     r1a, r1c = _minus(b1, a.d1), _minus(b1, c.d1)
-    b2 = _solve2(ba, bc, _dot(ba, a.d2) - _sq(r1a), _dot(bc, c.d2) - _sq(r1c), inv_det)
+    b2 = _solve2(ba, bc, _dot(ba, a.d2) - _sq(r1a) + grow[1], _dot(bc, c.d2) - _sq(r1c), inv_det)
     r2a, r2c = _minus(b2, a.d2), _minus(b2, c.d2)
-    b3 = _solve2(ba, bc, _dot(ba, a.d3) - 3.0 * dot(r1a, r2a), _dot(bc, c.d3) - 3.0 * dot(r1c, r2c), inv_det)
+    b3 = _solve2(ba, bc, _dot(ba, a.d3) - 3.0 * dot(r1a, r2a) + grow[2], _dot(bc, c.d3) - 3.0 * dot(r1c, r2c),
+                 inv_det)
     return Result(Vec(b, b1, b2, b3), fail, det * (1.0 / (ra * rc)))
 
 

@@ -1,7 +1,8 @@
 """The group-by-group solution of a linkage's reactions for given total loads on its links (the
 kinetostatics' core, ``kinetostatics``: its conventions): each class-II group's six equations from
 the last group attached back to the first (``equilibrium``), each cam follower's and planet gear's,
-then the crank's three, which give the drive pair's reaction and the balancing torque."""
+then the crank's three, which give the drive pair's reaction and the balancing torque (a prismatic
+drive's: the balancing force along its guide, on the slider)."""
 
 from __future__ import annotations
 
@@ -15,7 +16,7 @@ from linkgen.families.planar.cam_pair import contact as cam_contact, ground_pair
 from linkgen.families.planar.description import GROUND
 from linkgen.families.planar.equilibrium import Column, dyad, three
 from linkgen.families.planar.kinematics import Kinematics
-from linkgen.families.planar.structure import Pair
+from linkgen.families.planar.structure import GroupKind, Pair
 
 
 @np.errstate(invalid="ignore", divide="ignore", over="ignore")  # found and named by angle (``_checked``)
@@ -78,10 +79,32 @@ def solve_reactions(asm: Assembly, kin: Kinematics, given_load: dict, com: dict,
         f, m = load[link]
         return -f[:, 0], -f[:, 1], -m
 
+    def moved(cols, src: str, dst: str):
+        """Columns of ``src``'s equations with their moments taken about ``dst``'s centre of mass."""
+        r = com[src] - com[dst]
+        return tuple((fx, fy, m + r[:, 0] * fy - r[:, 1] * fx) for fx, fy, m in cols)
+
+    def merged(b1: Column, b2: Column, src: str, dst: str) -> Column:
+        """Right sides of ``dst`` and ``src`` as one body, moments about ``dst``'s centre of mass."""
+        (fx, fy, m), = moved((b2,), src, dst)
+        return b1[0] + fx, b1[1] + fy, b1[2] + m
+
     crank, drive = asm.structure.crank, asm.structure.drive
     span = asm.shapes[crank].span()
     for group in reversed(asm.structure.groups):
         (l1, l2), (o1, inner, o2) = group.links, group.pairs
+        if group.kind is GroupKind.ACTUATOR:
+            # the cylinder and its rod as one body (their loads about the cylinder's centre of mass)
+            # with the rocker: a dyad; the rod's own equations give the drive's pair and force below
+            rod = group.third
+            x, singular = dyad(column3(o1, l1), moved(column3(inner, rod), rod, l1), column3(inner, l2),
+                               column3(o2, l2), merged(given3(l1), given3(rod), rod, l1), given3(l2))
+            x = _checked(x, singular, kin.phi, marked, f"{group.label} (equilibrium equations)", True)
+            for col, pair in ((0, o1), (2, inner), (4, o2)):
+                store(pair, x[:, col:col + 2])
+            transmit(inner, rod, x[:, 2:4])
+            crank = rod  # the drive's force: from the rod's equations
+            continue
         x, singular = dyad(column3(o1, l1), column3(inner, l1), column3(inner, l2), column3(o2, l2), given3(l1),
                            given3(l2))
         x = _checked(x, singular, kin.phi, marked, f"{group.label} (equilibrium equations)")
@@ -133,14 +156,29 @@ def solve_reactions(asm: Assembly, kin: Kinematics, given_load: dict, com: dict,
         transmit(pin, crank, x)
         scale += span * np.hypot(*x.T)
 
-    x, singular = three(*column3(drive, crank), (0.0, 0.0, 1.0), given3(crank))
-    x = _checked(x, singular, kin.phi, marked, "I(0,1) crank (equilibrium equations)")
+    x, singular = three(*column3(drive, crank), _input_column(asm, kin, com, crank), given3(crank))
+    x = _checked(x, singular, kin.phi, marked, f"I(0,1) {'slider' if mech.slide_drive else 'crank'} "
+                                               f"(equilibrium equations)", mech.slide_drive)
     store(drive, x[:, 0:2])
     return x[:, 2].copy(), reactions, normal, moment, tooth, contact, scale
 
 
+def _input_column(asm: Assembly, kin: Kinematics, com: dict, link: str) -> Column:
+    """What the drive's unknown puts into ``link``'s equations: a torque about +z on the crank, or a
+    prismatic drive's force along its guide line (+u on the slider, −u on the guide, through the
+    slider's point)."""
+    mech = asm.mechanism
+    if not mech.slide_drive:
+        return (0.0, 0.0, 1.0)
+    g = asm.guides[mech.drive.joint]
+    sign = 1.0 if link == g.slider else -1.0
+    u = sign * kin.links[g.guide].direction(g.alpha).p
+    d = kin.links[g.slider].point(g.point).p - com[link]
+    return (u[:, 0], u[:, 1], d[:, 0] * u[:, 1] - d[:, 1] * u[:, 0])
+
+
 def _checked(x: tuple[np.ndarray, ...], singular: np.ndarray, phi: np.ndarray, marked: np.ndarray,
-             label: str) -> np.ndarray:
+             label: str, stroke: bool = False) -> np.ndarray:
     """The unknowns of one system (``equilibrium``) as (n, k), zero at the ``marked`` (singular)
     angles. A system that is exactly singular elsewhere raises SingularityError naming the
     angles; a non-finite solution, MagnitudeError."""
@@ -151,7 +189,7 @@ def _checked(x: tuple[np.ndarray, ...], singular: np.ndarray, phi: np.ndarray, m
     out[marked] = 0.0
     bad = np.broadcast_to(singular, (n,)) & ~marked
     if np.any(bad):
-        raise SingularityError(label, angle_ranges(phi, bad), "the equilibrium equations are singular")
+        raise SingularityError(label, angle_ranges(phi, bad), "the equilibrium equations are singular", stroke)
     bad = ~np.all(np.isfinite(out), axis=1)
     if np.any(bad):
         raise MagnitudeError(f"the solution of {label}", angle_ranges(phi, bad))

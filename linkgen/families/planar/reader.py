@@ -24,7 +24,8 @@ from linkgen.model.toml_file import MAX_FILE_BYTES, parse_toml, read_bytes  # no
 from linkgen.model.names import GROUND, check_name
 from linkgen.model.schema import PLANAR, check as check_types
 from linkgen.errors import DescriptionError
-from linkgen.model.units import angular_acceleration, angular_speed, finite, length, parse_angle, point2, shown, vector2
+from linkgen.model.units import (angular_acceleration, angular_speed, finite, length, linear_acceleration, linear_speed,
+                                 parse_angle, point2, shown, vector2)
 
 _TOP = {"mechanism", "points", "links", "prismatic", "drive", "force", "torque", "machine", "gear", "cam", "spring",
         "torsion_spring", "friction"}
@@ -38,6 +39,7 @@ _LINK = {"points", "length", "inertial", "density", "shape", "areal_density"}
 _INERTIAL = {"mass", "com", "inertia"}
 _PRISMATIC = {"slider", "guide", "point", "through", "angle", "offset"}
 _DRIVE = {"joint", "omega", "epsilon", "range"}
+_SLIDE_DRIVE = {"joint", "velocity", "acceleration", "start", "stop"}
 _FORCE = {"link", "point", "force", "stroke"}
 _TORQUE = {"link", "torque"}
 
@@ -83,6 +85,9 @@ def loads(raw: bytes | str, source: str = "<description>") -> Mechanism:
     try:
         mech = from_dict(data)
         machine_from_dict(data)  # checked with the rest; linkgen.machine reads it
+        if mech.slide_drive and "machine" in data:
+            raise DescriptionError("machine", f"a machine's motor turns a crank; the drive {mech.drive.joint!r} is a "
+                                              f"prismatic pair (a linear actuator): leave [machine] out")
         return mech
     except DescriptionError as exc:
         raise exc.in_file(source) from None
@@ -119,7 +124,7 @@ def from_dict(data: dict) -> Mechanism:
         points=points,
         links=links,
         prismatics=prismatics,
-        drive=_drive(_table(data["drive"], "drive")),
+        drive=_drive(_table(data["drive"], "drive"), {p.name for p in prismatics}),
         gravity=vector2(mech.get("gravity", [0.0, 0.0]), "mechanism.gravity"),
         forces=tuple(_force(i, f) for i, f in enumerate(_list(data.get("force", []), "force"))),
         torques=tuple(_torque(i, t) for i, t in enumerate(_list(data.get("torque", []), "torque"))),
@@ -247,7 +252,20 @@ def _prismatic(name: str, spec: Any) -> Prismatic:
     )
 
 
-def _drive(spec: dict) -> Drive:
+def _drive(spec: dict, slides: set[str] = frozenset()) -> Drive:
+    """A revolute's drive (``omega``, ``epsilon``, ``range``), or a prismatic pair's (``joint`` naming a
+    ``[prismatic.NAME]``: ``velocity`` [m/s], ``acceleration`` [m/s²], the stroke's ``start`` and
+    ``stop`` [m])."""
+    given = _SLIDE_DRIVE - {"joint"} & set(spec)
+    if given and "omega" not in spec and spec.get("joint") not in slides:
+        raise DescriptionError("drive.joint", f"unknown prismatic pair {shown(spec.get('joint'))}: a drive given by "
+                                              f"{', '.join(sorted(given))} slides along a [prismatic.NAME] pair; "
+                                              f"prismatic pairs: {sorted(slides)}")
+    if spec.get("joint") in slides:
+        _keys(spec, _SLIDE_DRIVE, {"joint", "velocity", "start", "stop"}, "drive")
+        return Drive(joint=spec["joint"], omega=linear_speed(spec["velocity"], "drive.velocity"),
+                     epsilon=linear_acceleration(spec.get("acceleration", 0.0), "drive.acceleration"),
+                     start=length(spec["start"], "drive.start"), stop=length(spec["stop"], "drive.stop"))
     _keys(spec, _DRIVE, {"joint", "omega"}, "drive")
     start, stop = 0.0, None
     if "range" in spec:

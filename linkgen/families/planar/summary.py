@@ -22,12 +22,13 @@ from typing import Mapping
 
 import numpy as np
 
+from linkgen.model.turn import full_turn
 from linkgen.errors import LinkgenError
 from linkgen.extrema import peak, stationary
 from linkgen.model.summary import Extreme, Limit, Output, output_table, summary_dict
 from linkgen.families.planar.description import GROUND
 from linkgen.families.planar.assembly import Assembly
-from linkgen.families.planar.groups import input_poses, solve_group
+from linkgen.families.planar.groups import input_poses, place, solve_group
 from linkgen.families.planar.kinematics import solve
 
 # Grid over the drive's range for extrema and peaks: one every 0.1° over a full turn.
@@ -61,13 +62,17 @@ class DesignSummary:
     peak_spring_forces: Mapping[str, Extreme] = field(default_factory=dict)
     peak_friction_power: Extreme | None = None
     mean_friction_power: float | None = None
+    stroke: bool = False  # a prismatic drive: phi and drive_range are strokes [m], the balancing load a force [N]
+    drive_joint: str = ""  # the driven pair
 
     @property
     def units(self) -> dict[str, str]:
-        return {"phi": "rad", "drive_range": "rad", "slider": "m", "rocker": "rad", "peak_balancing_torque": "N·m",
-                "peak_reactions": "N", "min_transmission_angle": "rad",
-                "peak_spring_forces": "N (spring[i]) or N·m (torsion_spring[i])", "peak_friction_power": "W",
-                "mean_friction_power": "W"}
+        out = {"phi": "rad", "drive_range": "rad", "slider": "m", "rocker": "rad", "peak_balancing_torque": "N·m",
+               "peak_reactions": "N", "min_transmission_angle": "rad",
+               "peak_spring_forces": "N (spring[i]) or N·m (torsion_spring[i])", "peak_friction_power": "W",
+               "mean_friction_power": "W"}
+        return out | ({"phi": "m", "drive_range": "m", "peak_balancing_torque": "N", "omega": "m/s",
+                       "epsilon": "m/s²"} if self.stroke else {})
 
     def to_dict(self) -> dict:
         return summary_dict(self)
@@ -82,7 +87,7 @@ def _grid(asm: Assembly) -> tuple[np.ndarray, bool]:
     """SAMPLES crank angles over the drive's range, both ends included, and whether it is a full
     turn (or more)."""
     d = asm.mechanism.drive
-    full = d.stop - d.start >= 2 * math.pi - 1e-12
+    full = full_turn(asm.mechanism)
     return np.linspace(d.start, d.stop, SAMPLES), full
 
 
@@ -147,10 +152,10 @@ def transmission_angles(asm: Assembly, phi: np.ndarray) -> dict[str, np.ndarray]
     out = {}
     with np.errstate(invalid="ignore", divide="ignore"):
         for group, m in zip(asm.structure.groups, asm.branches):
-            p1, p2, res = solve_group(group, m, poses, asm.shapes, asm.guides, mech)
+            p1, p2, res = solve_group(group, m, poses, asm.shapes, asm.guides, mech, phi)
             den = np.abs(np.broadcast_to(res.denominator, phi.shape))
             out[group.label] = np.arcsin(np.clip(den, 0.0, 1.0))
-            poses[group.links[0]], poses[group.links[1]] = p1, p2
+            place(group, poses, p1, p2, res)
     return out
 
 
@@ -198,7 +203,7 @@ def summarize(asm: Assembly, omega: float | None = None, epsilon: float | None =
             at, value = _peak(lambda p: forces(asm, p, w, e).friction_power, phi, f.friction_power)
             lost = (Extreme(value, at), float(np.mean(f.friction_power[:-1] if full else f.friction_power)))
     return DesignSummary(mech.name, w, e, (mech.drive.start, mech.drive.stop), outputs, torque, peaks, note, trans,
-                         spring_peaks(asm, phi, w), *lost)
+                         spring_peaks(asm, phi, w), *lost, mech.slide_drive, mech.drive.joint)
 
 
 def spring_peaks(asm: Assembly, phi: np.ndarray, omega: float) -> dict[str, Extreme]:

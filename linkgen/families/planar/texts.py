@@ -6,6 +6,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+from linkgen.model.names import GROUND
+
 
 
 def _deg(x: float) -> str:
@@ -66,7 +68,16 @@ def structure(source) -> PlanarStructure:
         kind = "oscillating about its pivot" if oscillating(mech, c) else "translating on its guide"
         lines.append(f"cam pair {c.name!r}: the cam on the crank drives the follower {c.follower!r} ({kind}) through "
                      f"its roller at {c.roller!r} (radius {c.roller_radius:g} m), a higher pair")
-    lines.append(f"input link: I(0,1) crank {s.crank!r}, driven at {s.drive.name!r}")
+    if mech.slide_drive and GROUND not in s.drive.links:
+        pj = mech.prismatic(s.drive.name)
+        lines.append(f"input: the stroke s [m] of the prismatic pair {s.drive.name!r} between the cylinder "
+                     f"{pj.guide!r} and its rod {pj.slider!r} (a linear actuator); with the rocker they form the "
+                     f"first group, a triangle whose side from the cylinder's pivot to the rod's pin the stroke sets")
+    elif mech.slide_drive:
+        lines.append(f"input link: I(0,1) slider {s.crank!r}, driven along the prismatic pair {s.drive.name!r} "
+                     f"(a linear actuator: the input is its stroke s [m])")
+    else:
+        lines.append(f"input link: I(0,1) crank {s.crank!r}, driven at {s.drive.name!r}")
     for g, m in zip(s.groups, asm.branches):
         pairs = ", ".join(f"{p.kind} {p.name}" for p in g.pairs)
         lines.append(f"group {g.label}: pairs {pairs}; attached to {list(g.known)}; assembly mode m = {m:+d}")
@@ -74,7 +85,41 @@ def structure(source) -> PlanarStructure:
     groups = tuple(StructureGroup(g.label, g.kind.value, g.links, tuple(p.name for p in g.pairs), g.known, int(m))
                    for g, m in zip(s.groups, asm.branches))
     return PlanarStructure(mech.name, s.mobility, s.crank, s.drive.name, s.formula, groups,
-                           tuple(lines + turn_lines(asm)))
+                           tuple(lines + (stroke_lines(asm) if mech.slide_drive else turn_lines(asm))))
+
+
+# Strokes over a prismatic drive's range at which ``stroke_lines`` checks the chain.
+STROKE_SAMPLES = 1001
+
+
+def stroke_lines(asm) -> list[str]:
+    """Whether a prismatic drive's stroke range lies where the chain is assembled and regular, checked
+    at STROKE_SAMPLES strokes by the block solver's own failure and dead-centre masks."""
+    import numpy as np
+
+    from linkgen.errors import angle_ranges, where_text
+    from linkgen.families.planar.kinematics import solve_block
+
+    d = asm.mechanism.drive
+    s = np.linspace(d.start, d.stop, STROKE_SAMPLES)
+    report: list = []
+    with np.errstate(all="ignore"):
+        solve_block(asm, s, True, report)
+    fails = np.zeros(s.shape[0], dtype=bool)
+    rough = np.zeros(s.shape[0], dtype=bool)
+    for _, fail, overflow, singular in report:
+        fails |= fail
+        rough |= overflow | singular
+    given = f"the drive's stroke s = {d.start:.6g}..{d.stop:.6g} m (drive.start, drive.stop)"
+    if not fails.any() and not rough.any():
+        return [f"{given} lies where the chain is assembled and regular (checked at {STROKE_SAMPLES} strokes)"]
+    lines = []
+    if fails.any():
+        lines.append(f"{given}: the chain cannot be assembled at {where_text(angle_ranges(s, fails), True)}")
+    if (rough & ~fails).any():
+        lines.append(f"{given}: the chain is at or near a dead centre at "
+                     f"{where_text(angle_ranges(s, rough & ~fails), True)}")
+    return lines
 
 
 def turn_lines(asm) -> list[str]:
@@ -109,15 +154,51 @@ def summary_text(s) -> str:
     family shares (``model.summary.summary_text``)."""
     from linkgen.model.summary import summary_text as common
 
-    lines = [common(s)]
+    lines = [stroke_summary_text(s) if s.stroke else common(s)]
     for name, p in s.peak_spring_forces.items():
         what, unit = ("torque", "N·m") if name.startswith("torsion") else ("force", "N")
-        lines.append(f"  peak {what} of {name}: {p.value:.6g} {unit} at φ = {math.degrees(p.phi):.6g}°")
+        where = f"s = {p.phi:.6g} m" if s.stroke else f"φ = {math.degrees(p.phi):.6g}°"
+        lines.append(f"  peak {what} of {name}: {p.value:.6g} {unit} at {where}")
     if s.peak_friction_power is not None:
         p = s.peak_friction_power
-        lines.append(f"  power lost to friction: peak {p.value:.6g} W at φ = {math.degrees(p.phi):.6g}°, mean "
+        where = f"s = {p.phi:.6g} m" if s.stroke else f"φ = {math.degrees(p.phi):.6g}°"
+        lines.append(f"  power lost to friction: peak {p.value:.6g} W at {where}, mean "
                      f"{s.mean_friction_power:.6g} W")
     return "\n".join(lines)
 
 
-__all__ = ["PlanarStructure", "StructureGroup", "structure", "summary_text", "turn_lines"]
+def stroke_summary_text(s) -> str:
+    """The design summary of a linkage with a prismatic drive: each output's travel, its limit
+    positions and its travel per unit input stroke (the mean transmission ratio), strokes in m."""
+    start, stop = s.drive_range
+    span = stop - start
+    at = "s = {:.6g} m".format
+    lines = [f"{s.model}: design summary over the stroke s = {start:.6g}..{stop:.6g} m ({span:.6g} m) at "
+             f"ṡ = {s.omega:g} m/s, s̈ = {s.epsilon:g} m/s²"]
+    for key, o in s.outputs.items():
+        name = key.removesuffix(f" ({o.kind})")
+        if o.kind == "slider" and name == s.drive_joint:
+            lines.append(f"  slider {name}: stroke {o.travel:.6g} m (the drive's own)")
+        elif o.kind == "slider":
+            lines.append(f"  slider {name}: stroke {o.travel:.6g} m, {o.travel / span:.6g} m per m of input stroke")
+        else:
+            lines.append(f"  rocker {name}: swing {_deg(o.travel)} ({o.travel:.6g} rad), {math.degrees(o.travel / span):.6g}°"
+                         f" ({o.travel / span:.6g} rad) per m of input stroke")
+        for lim in o.limits:
+            value = f"{lim.value:.6g} m" if o.kind == "slider" else _deg(lim.value)
+            lines.append(f"    limit position ({lim.kind}) at {at(lim.phi)}: {value}")
+        if not o.limits:
+            lines.append("    no limit position inside the stroke (its extremes are at the stroke's ends)")
+    for group, t in s.min_transmission_angle.items():
+        lines.append(f"  transmission angle of {group}: least {_deg(t.value)} at {at(t.phi)}")
+    if s.peak_balancing_torque is not None:
+        t = s.peak_balancing_torque
+        lines.append(f"  peak balancing force along the drive's guide: {t.value:.6g} N at {at(t.phi)}")
+        for name, p in sorted(s.peak_reactions.items(), key=lambda kv: -kv[1].value):
+            lines.append(f"  peak reaction at {name}: {p.value:.6g} N at {at(p.phi)}")
+    if s.forces_note:
+        lines.append(f"  {s.forces_note}")
+    return "\n".join(lines)
+
+
+__all__ = ["PlanarStructure", "StructureGroup", "stroke_lines", "structure", "summary_text", "turn_lines"]
