@@ -291,7 +291,7 @@ def test_the_cli_speaks_of_the_slider_input(tmp_path):
     text = run("forces", PSSR)
     assert "s = -0.1 m" in text and "balancing force" in text and " N (power balance" in text
     csv = run("forces", PSSR, "--samples", "3").splitlines()[0]
-    assert csv.startswith("s [m],balancing_force [N],power_balance_force [N]")
+    assert csv.startswith("phi [m],balancing_torque [N],power_balance_torque [N]")  # the names of every family, the unit saying it
     assert "input slider 'slider' (driven at 'input')" in run("structure", PSSR)
     # the command line's --angle number is the displacement in metres, refused outside the range
     p = subprocess.run([sys.executable, "-m", "linkgen", "analyze", PSSR, "--angle", "0.2rad"], capture_output=True,

@@ -56,6 +56,9 @@ COMMANDS: dict[str, tuple[list[str], list[str], str | None]] = {
     "draw_svg": (["draw", M, "-o", "out.svg"], ["out.svg"], "out.svg"),
     "draw_pdf": (["draw", M, "-o", "out.pdf", "--angles", "0:360:90"], ["out.pdf"], "out.pdf"),
     "draw_png": (["draw", M, "-o", "out.png"], ["out.png"], "out.png"),
+    "draw_vectors": (["draw", M, "--vectors", "forces", "-o", "out.png"], ["out.png"], "out.png"),
+    "draw_plan": (["draw", M, "--plan", "acceleration", "-o", "out.png"], ["out.png"], "out.png"),
+    "page": (["page", M, "-o", "out.html", "--frames", "12"], ["out.html"], "out.html"),
     "build": (["build", M, "-o", "out.xml"], ["out.xml"], "out.xml"),
     "simulate_npz": (["simulate", M, "--samples", "60", "-o", "out.npz"], ["out.npz"], "out.npz"),
     "simulate_csv": (["simulate", M, "--samples", "60", "-o", "out.csv"], ["out.csv"], "out.csv"),
@@ -79,16 +82,17 @@ COMMANDS: dict[str, tuple[list[str], list[str], str | None]] = {
     "suite_export": (["suite", "export", "suite", "--count", "1", "--no-mujoco"], ["suite/"], None),
 }
 _LINKAGE = ["structure", "assemble_write", "analyze", "analyze_json", "analyze_csv", "analyze_summary",
-            "analyze_summary_json", "forces", "forces_json", "forces_csv", "draw_svg", "draw_pdf", "draw_png", "build",
+            "analyze_summary_json", "forces", "forces_json", "forces_csv", "draw_svg", "draw_pdf", "draw_png", "draw_vectors", "draw_plan", "page", "build",
             "simulate_npz", "simulate_csv", "validate", "validate_report", "render", "animate", "check_settings",
             "check_settings_json", "build_robot", "build_coupling"]
 FOR_FAMILY = {
     "planar": _LINKAGE, "gears": _LINKAGE, "cam_linkage": _LINKAGE,
     "machine": _LINKAGE + ["dynamics", "dynamics_csv", "dynamics_report", "flywheel", "flywheel_report"] * 2,
     "cam": ["structure", "analyze", "analyze_json", "analyze_csv", "analyze_summary", "analyze_summary_json", "draw_svg",
-            "draw_png", "build", "profile", "profile", "validate", "validate_report", "render", "animate"],
+            "draw_png", "draw_vectors", "draw_plan", "page", "build", "profile", "profile", "validate", "validate_report", "render", "animate"],
     "spatial": ["structure", "analyze", "analyze_json", "analyze_csv", "analyze_summary", "analyze_summary_json",
-                "forces", "forces_json", "forces_csv", "draw_svg", "draw_pdf", "build", "build_robot", "validate",
+                "forces", "forces_json", "forces_csv", "draw_svg", "draw_pdf", "draw_vectors", "draw_plan", "page", "build",
+                "build_robot", "validate",
                 "validate_report", "render", "animate"],
     "special": list(COMMANDS),
 }

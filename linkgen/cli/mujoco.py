@@ -264,7 +264,7 @@ def _summary(r: dict) -> str:
 
     shown = r.get("diagnosis", [])[:DIAGNOSIS_LINES]
     pred = r.get("prediction") or {}
-    if not r["ok"] and "text" in pred:  # what was foreseen before the run, and how the run compares
+    if not r.get("ok", True) and "text" in pred:  # what was foreseen before the run, and how the run compares
         factor = pred.get("worst_factor")
         lines.append(f"    {pred['text']}" + ("" if factor is None else
                                               f"; measured within {factor:.2g}× of the prediction"))

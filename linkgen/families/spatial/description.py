@@ -109,6 +109,12 @@ class SpatialMechanism:
     def __repr__(self) -> str:
         return f"SpatialMechanism({self.name!r}, {len(self.links)} links, {len(self.joints) + len(self.slides)} pairs)"
 
+    @property
+    def slide_drive(self) -> bool:
+        """Whether the input is a slider (its displacement s [m] takes the crank angle's place),
+        under the planar description's name for it."""
+        return self.drive.slides
+
     def link(self, name: str) -> Link3:
         return next(l for l in self.links if l.name == name)
 

@@ -29,6 +29,18 @@ class Drive3:
     slides: bool = False
     range: tuple[float, float] | None = None
 
+    @property
+    def start(self) -> float:
+        """The range's start: a slider input's [m], a crank's 0 rad (it turns full circles)."""
+        return self.range[0] if self.range is not None else 0.0
+
+    @property
+    def stop(self) -> float:
+        """The range's end: a slider input's [m], a crank's 2π rad."""
+        import math
+
+        return self.range[1] if self.range is not None else 2 * math.pi
+
 
 def _keys(table: dict, allowed: set, where: str) -> None:
     for k in table:

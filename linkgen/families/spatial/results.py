@@ -47,7 +47,7 @@ class SpatialKinematics:
                 "sliders": {n: q.to_dict(transfer) for n, q in self.sliders.items()}}
 
     def columns(self, transfer: bool = True) -> dict[str, np.ndarray]:
-        cols = {"s [m]" if self.kind in INPUT_SLIDES else "phi [rad]": column(self.phi)}
+        cols = {"phi [m]" if self.kind in INPUT_SLIDES else "phi [rad]": column(self.phi)}  # the input under one name, its unit saying which
         for table in (self.points, self.links, self.sliders):
             for n, q in table.items():
                 cols |= q.columns(n, q.names(transfer))
@@ -119,6 +119,11 @@ def kinematics(mech, phi, omega=None, epsilon=None, *, on_singular: str = "raise
     return SpatialKinematics(mech.name, c.kind, float(phis[0]) if scalar else phis, w, e, points, links, sliders)
 
 
+# Below this fraction of the largest force or moment a printed reaction component is float64's
+# residue (measured ~1e-16..1e-15 of the scale where a pair carries nothing), shown as 0.
+ROUNDING = 1e-12
+
+
 @dataclass(frozen=True, repr=False)
 class SpatialForcesResult:
     """The balancing torque [N·m] (and the same from virtual work), every pair's reaction (3-D
@@ -143,7 +148,9 @@ class SpatialForcesResult:
         return ("force", "N") if self.input_slides else ("torque", "N·m")
 
     def to_dict(self, transfer: bool = True) -> dict:
-        what, unit = self._drive
+        # one name in every family (a planar prismatic drive's too): ``balancing_torque``, its unit
+        # saying what it is, N on a slider input
+        what, unit = "torque", self._drive[1]
         return {"model": self.model, "phi": plain(self.phi), "omega": self.omega, "epsilon": self.epsilon,
                 "units": {"force": "N", "moment": "N·m", f"balancing_{what}": unit, f"power_balance_{what}": unit}
                 | (SLIDE_UNITS if self.input_slides else {}),
@@ -153,8 +160,8 @@ class SpatialForcesResult:
                 "reactions": {n: r.to_dict() for n, r in self.reactions.items()}}
 
     def columns(self, transfer: bool = True) -> dict[str, np.ndarray]:
-        what, unit = self._drive
-        cols = {"s [m]" if self.input_slides else "phi [rad]": column(self.phi),
+        what, unit = "torque", self._drive[1]
+        cols = {"phi [m]" if self.input_slides else "phi [rad]": column(self.phi),
                 f"balancing_{what} [{unit}]": column(self.balancing_torque),
                 f"power_balance_{what} [{unit}]": column(self.power_balance_torque)}
         for n, r in self.reactions.items():
@@ -172,9 +179,16 @@ class SpatialForcesResult:
               f"φ = {math.degrees(phi):.6g}°, ω = {self.omega:g} rad/s, ε = {self.epsilon:g} rad/s²")
         lines = [f"{self.model}: {at}: balancing {what} {float(self.balancing_torque):.6g} {unit} (power balance: "
                  f"{float(self.power_balance_torque):.6g} {unit})"]
+        # rounding's residue (a pair that carries no moment gets ~1e-15 N·m, different bits in a
+        # sampled and a one-angle solve) is shown as 0: below ROUNDING of the largest force or moment
+        floor = ROUNDING * max([1e-300] + [float(np.abs(x).max()) for r in self.reactions.values() for x in (r.force, r.moment)])
+
+        def num(x: float) -> str:
+            return format(0.0 if abs(x) < floor else x, ".6g")
+
         for n, r in self.reactions.items():
-            lines.append(f"pair {n}: on {r.on} by {r.by}: force [{', '.join(f'{x:.6g}' for x in r.force)}] N, "
-                         f"moment [{', '.join(f'{x:.6g}' for x in r.moment)}] N·m")
+            lines.append(f"pair {n}: on {r.on} by {r.by}: force [{', '.join(num(x) for x in r.force)}] N, "
+                         f"moment [{', '.join(num(x) for x in r.moment)}] N·m")
         if self.statically_indeterminate:
             lines.append(f"statically indeterminate by {self.statically_indeterminate}: the reactions shown are the "
                          "least-squares (minimum-norm) ones; the balancing torque is determined")
