@@ -100,8 +100,9 @@ def steps(path: str) -> list[str | int]:
     return out
 
 
-def _walk(data: Any, path: str) -> tuple[Any, str | int]:
-    """The container holding the field and its key or index in it."""
+def _walk(data: Any, path: str, create: bool = False) -> tuple[Any, str | int]:
+    """The container holding the field and its key or index in it (``create``: a table's last
+    key may be missing: an optional field left at its default)."""
     keys = steps(path)
     node, where = data, ""
     for i, step in enumerate(keys):
@@ -111,7 +112,7 @@ def _walk(data: Any, path: str) -> tuple[Any, str | int]:
         if isinstance(step, int):
             if not isinstance(node, list) or step >= len(node):
                 raise ArgumentError(f"--vary {path}: {where or 'the description'} has no item [{step}]")
-        elif not isinstance(node, dict) or step not in node:
+        elif not isinstance(node, dict) or (step not in node and not (create and last)):
             have = ", ".join(map(str, node)) if isinstance(node, dict) else "no keys"
             raise ArgumentError(f"--vary {path}: {where or 'the description'} has no {step!r} (it has {have})")
         if last:
@@ -123,7 +124,11 @@ def _walk(data: Any, path: str) -> tuple[Any, str | int]:
 
 def check_path(data: dict, path: str) -> None:
     """ArgumentError unless ``path`` names a number (or a quantity with its unit) in ``data``."""
-    node, key = _walk(data, path)
+    try:
+        node, key = _walk(data, path)
+    except ArgumentError:
+        _optional(data, path)
+        return
     value = node[key]
     if isinstance(value, bool) or not isinstance(value, (int, float, str)) or \
             (isinstance(value, str) and not _BOUND.match(value)):
@@ -131,11 +136,26 @@ def check_path(data: dict, path: str) -> None:
                             f"varied")
 
 
+def _optional(data: dict, path: str) -> None:
+    """Accept a path whose last key the description leaves out when the loader takes it (an
+    optional field at its default, ``drive.epsilon``); else the ArgumentError naming it."""
+    from linkgen.errors import DescriptionError
+    from linkgen.pipeline.registry import from_dict
+
+    node, key = _walk(data, path, create=True)  # the tables up to it exist, or this raises
+    try:
+        from_dict(override(data, {path: 0.0}), None)
+    except DescriptionError as exc:
+        if "unknown key" in exc.problem:
+            _walk(data, path)  # raises the ArgumentError naming what the table has
+    return None
+
+
 def override(data: dict, values: dict[str, float]) -> dict:
     """A copy of the parsed TOML ``data`` with each path of ``values`` set to its value [SI]."""
     out = copy.deepcopy(data)
     for path, value in values.items():
-        node, key = _walk(out, path)
+        node, key = _walk(out, path, create=True)
         node[key] = float(value)
     return out
 
