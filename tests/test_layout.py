@@ -16,7 +16,7 @@ PACKAGE = Path(linkgen.__file__).parent
 # ``families`` holds one closed form per family; a family imports only those before it in
 # FAMILIES (a planar linkage's cam pair moves by the cam family's motion programs). ``pipeline`` is the registry of families, written against every stage
 # below it; the CLI and the API are written once against it.
-STAGES = ("model", "families", "machine", "mujoco", "crosscheck", "draw", "report", "pipeline", "cli")
+STAGES = ("model", "families", "machine", "mujoco", "crosscheck", "draw", "report", "pipeline", "studies", "cli")
 FAMILIES = ("cam", "spatial", "planar")
 # A module past ~300 lines is asking to be split (the project's style guide); 450 leaves room
 # for a generator of test mechanisms (planar/corpus.py), the largest module, and no more.
