@@ -191,3 +191,14 @@ def test_units_in_a_range_and_the_points_coordinates():
     data = override(read_toml(FOURBAR), {"points.C.y": 0.25, "drive.omega": 3.0})
     mech = load(FOURBAR)
     assert data["points"]["C"] == [1.0, 0.25] and data["drive"]["omega"] == 3.0 and mech.points["C"] == (1.0, 0.0)
+
+
+def test_plots_for_two_and_for_more_fields(tmp_path):
+    from linkgen.studies.plots import plot_study
+
+    two = make_study(FOURBAR, ["links.coupler.length=0.5:1.5:4", "points.C.x=0.6:1.4:3"])
+    names = [p.name for p in plot_study(run_study(two, tmp_path / "a", workers=1, progress=False), two, tmp_path)]
+    assert names == ["map_min_transmission_angle.png", "map_peak_balancing_torque.png"]
+    three = make_study(FOURBAR, ["links.coupler.length=0.5:1.5", "points.C.x=0.6:1.4", "drive.omega=5:15"], lhs=20)
+    got = plot_study(run_study(three, tmp_path / "b", workers=1, progress=False), three, tmp_path)
+    assert [p.name for p in got] == ["parallel.png"] and got[0].stat().st_size > 10_000

@@ -1,6 +1,11 @@
-"""The plots a designer looks at first (matplotlib, PNG): for two varied fields, a map of each
-main metric over them with the failing variants shaded and marked by their reason; for more,
-parallel coordinates of the fields and the metrics, the failing variants drawn apart."""
+"""The plots a designer looks at first (matplotlib, PNG), into the study's folder:
+
+* one field: ``metrics.png``, the main metrics against it, the failing stretches shaded;
+* two fields: ``map_<metric>.png``, each main metric over the two fields (a grid as cells, a
+  Latin hypercube as points), the failing variants shaded grey;
+* more: ``parallel.png``, parallel coordinates of the fields and the main metrics (each axis
+  scaled to its range), the failing variants in grey.
+"""
 
 from __future__ import annotations
 
@@ -8,13 +13,110 @@ from pathlib import Path
 
 import numpy as np
 
-# The metrics mapped, when the table has them.
+# The metrics plotted, when the table has them: what a designer reads first.
 MAIN = ("min_transmission_angle [rad]", "peak_balancing_torque [N·m]")
+# Lines drawn at most on parallel coordinates (a random subset beyond, seeded: the same plot).
+MAX_LINES = 2000
+_FAILED = "#bbbbbb"
+
+
+def _column(table, name: str) -> np.ndarray:
+    return np.array([np.nan if x is None else x for x in table.column(name).to_pylist()], dtype=float)
+
+
+def _label(name: str) -> str:
+    if name.endswith("[rad]"):
+        return name.replace("[rad]", "[deg]")
+    return name
+
+
+def _shown(name: str, v: np.ndarray) -> np.ndarray:
+    return np.degrees(v) if name.endswith("[rad]") else v
 
 
 def plot_study(table, study, out: Path) -> list[Path]:
     """The plots of a study's table into ``out``; the paths written."""
-    return []
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fields = [f.column for f in study.fields]
+    metrics = [m for m in MAIN if m in table.column_names]
+    failed = np.array([s != "ok" for s in table.column("status").to_pylist()])
+    x = [_column(table, f) for f in fields]
+    paths = []
+    if len(fields) == 1:
+        fig, axes = plt.subplots(len(metrics), 1, figsize=(6, 2.6 * len(metrics)), sharex=True, squeeze=False)
+        order = np.argsort(x[0], kind="stable")
+        for ax, m in zip(axes[:, 0], metrics):
+            ax.plot(x[0][order], _shown(m, _column(table, m))[order], ".-", color="C0")
+            for xi in x[0][failed]:
+                ax.axvspan(xi, xi, color=_FAILED)
+            if failed.any():
+                ax.scatter(x[0][failed], np.zeros(failed.sum()), marker="x", color="grey", label="fails")
+                ax.legend(loc="best")
+            ax.set_ylabel(_label(m))
+            ax.grid(alpha=0.3)
+        axes[-1, 0].set_xlabel(fields[0])
+        paths.append(_save(fig, out / "metrics.png"))
+    elif len(fields) == 2:
+        for m in metrics:
+            fig, ax = plt.subplots(figsize=(6.4, 5))
+            v = _shown(m, _column(table, m))
+            grid = study.sampling["method"] == "grid"
+            if grid:
+                n0, n1 = study.fields[0].count, study.fields[1].count
+                X, Y = x[0].reshape(n0, n1), x[1].reshape(n0, n1)
+                ax.pcolormesh(X, Y, failed.reshape(n0, n1).astype(float), cmap="Greys", vmin=0, vmax=4,
+                              shading="nearest")
+                mesh = ax.pcolormesh(X, Y, np.ma.masked_invalid(v.reshape(n0, n1)), cmap="viridis",
+                                     shading="nearest")
+            else:
+                ax.scatter(x[0][failed], x[1][failed], marker="x", color=_FAILED, s=12)
+                mesh = ax.scatter(x[0][~failed], x[1][~failed], c=v[~failed], cmap="viridis", s=12)
+            fig.colorbar(mesh, ax=ax, label=_label(m))
+            ax.set_xlabel(fields[0])
+            ax.set_ylabel(fields[1])
+            ax.set_title(f"{_label(m)}; grey: the variant fails ({int(failed.sum())} of {failed.size})", fontsize=9)
+            slug = m.split(" [")[0]
+            paths.append(_save(fig, out / f"map_{slug}.png"))
+    else:
+        names = fields + metrics
+        cols = [_shown(n, _column(table, n)) for n in names]
+        rows = np.arange(failed.size)
+        if rows.size > MAX_LINES:
+            rows = np.sort(np.random.default_rng(0).choice(rows, MAX_LINES, replace=False))
+        fig, ax = plt.subplots(figsize=(1.6 * len(names) + 2, 4.5))
+        scaled = []
+        for c in cols:
+            lo, hi = np.nanmin(c) if np.isfinite(c).any() else 0.0, np.nanmax(c) if np.isfinite(c).any() else 1.0
+            scaled.append((c - lo) / (hi - lo) if hi > lo else np.full_like(c, 0.5))
+        s = np.stack(scaled, axis=1)
+        colour = scaled[len(fields)] if metrics else np.zeros(failed.size)
+        cmap = plt.get_cmap("viridis")
+        for r in rows:
+            if failed[r]:
+                ax.plot(range(len(fields)), s[r, :len(fields)], color=_FAILED, lw=0.5, alpha=0.5)
+            else:
+                ax.plot(range(len(names)), s[r], color=cmap(float(colour[r])), lw=0.6, alpha=0.6)
+        ax.set_xticks(range(len(names)), [_label(n) for n in names], rotation=20, ha="right", fontsize=8)
+        ax.set_yticks([])
+        ax.set_title(f"each line a variant (scaled to each axis' range); grey: fails ({int(failed.sum())} of "
+                     f"{failed.size})", fontsize=9)
+        paths.append(_save(fig, out / "parallel.png"))
+    return paths
+
+
+def _save(fig, path: Path) -> Path:
+    import matplotlib.pyplot as plt
+
+    fig.tight_layout()
+    tmp = path.with_name(path.stem + ".part.png")
+    fig.savefig(tmp, dpi=110)
+    plt.close(fig)
+    tmp.replace(path)
+    return path
 
 
 __all__ = ["MAIN", "plot_study"]
