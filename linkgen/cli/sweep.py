@@ -33,13 +33,12 @@ def _seed(text: str) -> int:
 
 
 def _out_dir(path: Path) -> Path:
-    if path.exists() and not path.is_dir():
+    from linkgen.outputs import output_folder
+
+    if path.suffix and not path.is_dir():
         raise OptionError(f"-o/--out {path}: `linkgen sweep` writes a folder (sweep.parquet, sweep.csv, sweep.json, "
-                          f"the plots and chunks/); {path} is a file")
-    if path.suffix:
-        raise OptionError(f"-o/--out {path}: `linkgen sweep` writes a folder; give a name without an extension")
-    path.mkdir(parents=True, exist_ok=True)
-    return path
+                          f"the plots and chunks/); give a name without an extension")
+    return output_folder(path)
 
 
 def cmd_sweep(args) -> int:

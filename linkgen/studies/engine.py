@@ -108,7 +108,11 @@ def _plan(study: Study, out: Path, chunk: int | None) -> tuple[Path, int]:
 def _executor(workers: int | None, scheduler: str | None):
     """(submit(task) → future, as_completed, close) for the local processes or the cluster."""
     if scheduler is not None:
-        from distributed import Client, as_completed
+        try:
+            from distributed import Client, as_completed
+        except ImportError:
+            raise ArgumentError("--scheduler: running on a Dask cluster needs dask.distributed "
+                                "(pip install 'linkgen[cluster]')") from None
 
         client = Client(scheduler, timeout="20s")
         return (lambda task: client.submit(run, task, pure=False)), as_completed, client.close

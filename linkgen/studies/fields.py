@@ -14,6 +14,7 @@ from __future__ import annotations
 import copy
 import math
 import re
+from collections.abc import Mapping, MutableSequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -107,13 +108,13 @@ def _walk(data: Any, path: str, create: bool = False) -> tuple[Any, str | int]:
     node, where = data, ""
     for i, step in enumerate(keys):
         last = i == len(keys) - 1
-        if isinstance(step, str) and step in _COORD and isinstance(node, list):
+        if isinstance(step, str) and step in _COORD and isinstance(node, MutableSequence):
             step = _COORD[step]
         if isinstance(step, int):
-            if not isinstance(node, list) or step >= len(node):
+            if not isinstance(node, MutableSequence) or step >= len(node):
                 raise ArgumentError(f"--vary {path}: {where or 'the description'} has no item [{step}]")
-        elif not isinstance(node, dict) or (step not in node and not (create and last)):
-            have = ", ".join(map(str, node)) if isinstance(node, dict) else "no keys"
+        elif not isinstance(node, Mapping) or (step not in node and not (create and last)):
+            have = ", ".join(map(str, node)) if isinstance(node, Mapping) else "no keys"
             raise ArgumentError(f"--vary {path}: {where or 'the description'} has no {step!r} (it has {have})")
         if last:
             return node, step
