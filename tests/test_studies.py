@@ -202,3 +202,19 @@ def test_plots_for_two_and_for_more_fields(tmp_path):
     three = make_study(FOURBAR, ["links.coupler.length=0.5:1.5", "points.C.x=0.6:1.4", "drive.omega=5:15"], lhs=20)
     got = plot_study(run_study(three, tmp_path / "b", workers=1, progress=False), three, tmp_path)
     assert [p.name for p in got] == ["parallel.png"] and got[0].stat().st_size > 10_000
+
+
+def test_validate_picks_the_extremes_of_working_variants_and_runs_mujoco(tmp_path):
+    from linkgen.studies.validate import choose, validate_sample
+
+    study = make_study(FOURBAR, ["links.coupler.length=0.5:1.5:6", "points.C.x=0.8:1.2:3"])
+    table = run_study(study, tmp_path, workers=1, progress=False)
+    rows = table.to_pylist()
+    mu = {r["variant"]: r["min_transmission_angle [rad]"] for r in rows if r["status"] == "ok"}
+    picked = choose(table, 6)
+    assert picked[0] == (min(mu, key=mu.get), "least min_transmission_angle")
+    assert picked[1] == (max(mu, key=mu.get), "greatest min_transmission_angle")
+    assert len(picked) == 6 and all(rows[r]["status"] == "ok" for r, _ in picked)
+    report = validate_sample(study, table, 1, tmp_path)
+    assert report.ok and report.rows[0][0] == picked[0][0]
+    assert (tmp_path / "validation.json").exists()

@@ -132,23 +132,18 @@ def write_design(study: Study, values: tuple[float, ...], path: Path) -> None:
     ``path``, the user's comments and layout kept (tomlkit)."""
     import tomlkit
 
-    from linkgen.families.planar.sketch import exact_sketch
     from linkgen.model.toml_file import parse_toml
     from linkgen.outputs import atomic_write_text
-    from linkgen.pipeline.registry import from_dict
-    from linkgen.studies.fields import override, _walk
+    from linkgen.studies.design import moved_points
+    from linkgen.studies.fields import _walk
 
     doc = tomlkit.parse(study.text)
     given = dict(zip((f.path for f in study.fields), values))
     for p, v in given.items():
         node, key = _walk(doc, p, create=True)
         node[key] = float(v)
-    mech = from_dict(override(parse_toml(study.text, study.source), given), str(path))
-    sketch = exact_sketch(mech)
-    for name, (x, y) in sketch.points.items():
-        if sketch.moved[name] > 0.0 and not any(p.startswith(f"points.{name}.") or p.startswith(f"points.{name}[")
-                                                for p in given):
-            doc["points"][name] = [x, y]
+    for name, xy in moved_points(parse_toml(study.text, study.source), str(path), given).items():
+        doc["points"][name] = xy
     atomic_write_text(path, tomlkit.dumps(doc))
 
 
