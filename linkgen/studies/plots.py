@@ -16,7 +16,7 @@ import numpy as np
 # The metrics plotted, when the table has them: what a designer reads first.
 MAIN = ("min_transmission_angle [rad]", "peak_balancing_torque [N·m]")
 # Lines drawn at most on parallel coordinates (a random subset beyond, seeded: the same plot).
-MAX_LINES = 2000
+MAX_LINES = 600
 _FAILED = "#bbbbbb"
 
 
