@@ -17,6 +17,8 @@ import numpy as np
 MAIN = ("min_transmission_angle [rad]", "peak_balancing_torque [N·m]")
 # Lines drawn at most on parallel coordinates (a random subset beyond, seeded: the same plot).
 MAX_LINES = 600
+# Each parallel axis spans these percentiles of its values.
+AXIS_RANGE = (1.0, 99.0)
 _FAILED = "#bbbbbb"
 
 
@@ -88,22 +90,28 @@ def plot_study(table, study, out: Path) -> list[Path]:
         if rows.size > MAX_LINES:
             rows = np.sort(np.random.default_rng(0).choice(rows, MAX_LINES, replace=False))
         fig, ax = plt.subplots(figsize=(1.6 * len(names) + 2, 4.5))
-        scaled = []
-        for c in cols:
-            lo, hi = np.nanmin(c) if np.isfinite(c).any() else 0.0, np.nanmax(c) if np.isfinite(c).any() else 1.0
-            scaled.append((c - lo) / (hi - lo) if hi > lo else np.full_like(c, 0.5))
+        scaled, ranges = [], []
+        for c in cols:  # each axis over its 1–99 % range: one extreme variant does not flatten the rest
+            fin = c[np.isfinite(c)]
+            lo, hi = (np.percentile(fin, AXIS_RANGE) if fin.size else (0.0, 1.0))
+            ranges.append((lo, hi))
+            scaled.append(np.clip((c - lo) / (hi - lo), -0.02, 1.02) if hi > lo else np.full_like(c, 0.5))
         s = np.stack(scaled, axis=1)
-        colour = scaled[len(fields)] if metrics else np.zeros(failed.size)
+        colour = np.clip(scaled[len(fields)], 0.0, 1.0) if metrics else np.zeros(failed.size)
         cmap = plt.get_cmap("viridis")
-        for r in rows:
-            if failed[r]:
-                ax.plot(range(len(fields)), s[r, :len(fields)], color=_FAILED, lw=0.5, alpha=0.5)
-            else:
-                ax.plot(range(len(names)), s[r], color=cmap(float(colour[r])), lw=0.6, alpha=0.6)
+        for r in rows[~failed[rows]]:
+            ax.plot(range(len(names)), s[r], color=cmap(float(colour[r])), lw=0.6, alpha=0.5)
+        for r in rows[failed[rows]]:
+            ax.plot(range(len(fields)), s[r, :len(fields)], color="0.35", lw=0.8, alpha=0.6)
+        for k, (lo, hi) in enumerate(ranges):
+            ax.axvline(k, color="k", lw=0.8)
+            ax.text(k, -0.06, f"{lo:.3g}", ha="center", va="top", fontsize=7)
+            ax.text(k, 1.06, f"{hi:.3g}", ha="center", va="bottom", fontsize=7)
+        ax.set_ylim(-0.15, 1.15)
         ax.set_xticks(range(len(names)), [_label(n) for n in names], rotation=20, ha="right", fontsize=8)
         ax.set_yticks([])
-        ax.set_title(f"each line a variant (scaled to each axis' range); grey: fails ({int(failed.sum())} of "
-                     f"{failed.size})", fontsize=9)
+        ax.set_title(f"{rows.size} of {failed.size} variants, each axis over its 1–99 % range, coloured by "
+                     f"{_label(metrics[0]) if metrics else 'nothing'}; dark grey: fails", fontsize=9)
         paths.append(_save(fig, out / "parallel.png"))
     return paths
 
@@ -114,7 +122,7 @@ def _save(fig, path: Path) -> Path:
     from linkgen.outputs import save_figure
 
     fig.tight_layout()
-    save_figure(fig, path, dpi=110)
+    save_figure(fig, path, dpi=90)
     plt.close(fig)
     return path
 
