@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import argparse
 import os
+import resource
 import sys
 import tempfile
 import time
@@ -55,6 +56,13 @@ def loop_seconds(study, rows: np.ndarray) -> float:
     return time.perf_counter() - t0
 
 
+def _cpu() -> float:
+    """CPU seconds of this process and its finished children (the local sweep's workers): what the
+    sweep costs whatever else the machine runs."""
+    own, kids = resource.getrusage(resource.RUSAGE_SELF), resource.getrusage(resource.RUSAGE_CHILDREN)
+    return own.ru_utime + own.ru_stime + kids.ru_utime + kids.ru_stime
+
+
 def main() -> None:
     p = argparse.ArgumentParser()
     p.add_argument("variants", type=int, nargs="?", default=100_000)
@@ -69,18 +77,22 @@ def main() -> None:
     print(f"{args.variants} four-bar variants × {study.angles} crank angles, {os.cpu_count()} cores, "
           f"load average {os.getloadavg()[0]:.2f}", flush=True)
     with tempfile.TemporaryDirectory() as tmp:
-        t0 = time.perf_counter()
+        t0, cpu0 = time.perf_counter(), _cpu()
         local = run_study(study, Path(tmp) / "local", progress=False)
-        t_local = time.perf_counter() - t0
+        t_local, cpu = time.perf_counter() - t0, _cpu() - cpu0
         local_bytes = write_outputs(local, study, Path(tmp) / "local")["parquet"].read_bytes()
         ok = local.column("status").to_pylist().count("ok")
-        print(f"local sweep (every core): {t_local:.2f} s ({ok} ok, {local.num_rows - ok} failed)", flush=True)
+        print(f"local sweep (every core): {t_local:.2f} s wall, {cpu:.2f} s CPU in this process and its workers "
+              f"({ok} ok, {local.num_rows - ok} failed)", flush=True)
 
         rows = np.random.default_rng(0).choice(args.variants, args.loop_sample, replace=False)
+        c0 = time.process_time()
         t_loop = loop_seconds(study, rows) / args.loop_sample * args.variants
+        cpu_loop = (time.process_time() - c0) / args.loop_sample * args.variants
         print(f"per-variant loop over linkgen.forces + linkgen.summary: {t_loop / args.variants * 1e3:.1f} ms a "
               f"variant ({args.loop_sample} timed), {t_loop:.0f} s for {args.variants}; sweep is "
-              f"{t_loop / t_local:.0f}× faster", flush=True)
+              f"{t_loop / t_local:.0f}× faster (CPU: {cpu_loop:.0f} s against {cpu:.1f} s, {cpu_loop / cpu:.0f}×)",
+              flush=True)
 
         with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as cluster:
             t0 = time.perf_counter()
