@@ -75,7 +75,7 @@ def parse_vary(spec: str, *, grid: bool = True) -> Field:
     path, _, rng = spec.partition("=")
     path = path.strip()
     parts = rng.split(":")
-    if len(parts) != (3 if grid else 2) and not (not grid and len(parts) == 3):
+    if len(parts) != (3 if grid else 2):
         raise ArgumentError(f"--vary {spec!r}: expected {form}")
     start, stop = _bound(parts[0], f"--vary {path} START"), _bound(parts[1], f"--vary {path} STOP")
     count = None

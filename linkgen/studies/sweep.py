@@ -29,8 +29,9 @@ def make_study(path: str | Path, vary: list[str], *, lhs: int | None = None, see
 
     if not vary:
         raise ArgumentError("--vary: give at least one FIELD=START:STOP:N")
-    text = read_bytes(path).decode("utf-8")
-    data = parse_toml(text, str(path))
+    raw = read_bytes(path)
+    data = parse_toml(raw, str(path))  # refuses a file that is not UTF-8 TOML, naming it
+    text = raw.decode("utf-8-sig")
     desc = from_dict(data, str(path))
     if family_of(desc).name != "planar":
         raise UnsupportedError(f"{path}: `linkgen sweep` is for planar linkages; this is a "
