@@ -218,3 +218,24 @@ def test_validate_picks_the_extremes_of_working_variants_and_runs_mujoco(tmp_pat
     report = validate_sample(study, table, 1, tmp_path)
     assert report.ok and report.rows[0][0] == picked[0][0]
     assert (tmp_path / "validation.json").exists()
+
+
+def test_provenance_in_the_parquet_metadata_and_the_sidecar(tmp_path):
+    import hashlib
+    import json
+
+    import pyarrow.parquet as pq
+
+    study = make_study(FOURBAR, ["links.coupler.length=0.8:1.2", "drive.omega=5:15"], lhs=7, seed=11)
+    paths = write_outputs(run_study(study, tmp_path, workers=1, progress=False), study, tmp_path)
+    meta = json.loads(pq.read_schema(paths["parquet"]).metadata[b"linkgen"])
+    side = json.loads(paths["json"].read_text(encoding="utf-8"))
+    digest = hashlib.sha256(open(FOURBAR, "rb").read()).hexdigest()
+    for prov in (meta, side):
+        assert prov["description_sha256"] == digest
+        assert prov["sampling"] == {"method": "lhs", "n": 7, "seed": 11}
+        assert prov["numpy"] == np.__version__ and prov["linkgen"] and prov["mujoco"]
+        assert [f["path"] for f in prov["fields"]] == ["links.coupler.length", "drive.omega"]
+    assert side["columns"]["peak_balancing_torque [N·m]"] == "N·m" and side["rows"] == 7
+    assert paths["csv"].read_text(encoding="utf-8").splitlines()[0].startswith(
+        '"variant","links.coupler.length [m]","drive.omega [rad/s]","status","error","reason"')

@@ -56,7 +56,7 @@ class Field:
         return f"{self.path} [{self.unit}]"
 
 
-def _bound(text: str, where: str) -> float:
+def bound(text: str, where: str) -> float:
     m = _BOUND.match(text)
     if not m or (m.group(2) and m.group(2) not in _UNITS):
         raise ArgumentError(f"{where}: expected a number, optionally with a unit ({', '.join(sorted(_UNITS))}), "
@@ -77,7 +77,7 @@ def parse_vary(spec: str, *, grid: bool = True) -> Field:
     parts = rng.split(":")
     if len(parts) != (3 if grid else 2):
         raise ArgumentError(f"--vary {spec!r}: expected {form}")
-    start, stop = _bound(parts[0], f"--vary {path} START"), _bound(parts[1], f"--vary {path} STOP")
+    start, stop = bound(parts[0], f"--vary {path} START"), bound(parts[1], f"--vary {path} STOP")
     count = None
     if grid:
         if not parts[2].strip().isdigit() or not 1 <= int(parts[2]) <= 100_000:
@@ -101,7 +101,7 @@ def steps(path: str) -> list[str | int]:
     return out
 
 
-def _walk(data: Any, path: str, create: bool = False) -> tuple[Any, str | int]:
+def walk(data: Any, path: str, create: bool = False) -> tuple[Any, str | int]:
     """The container holding the field and its key or index in it (``create``: a table's last
     key may be missing: an optional field left at its default)."""
     keys = steps(path)
@@ -126,7 +126,7 @@ def _walk(data: Any, path: str, create: bool = False) -> tuple[Any, str | int]:
 def check_path(data: dict, path: str) -> None:
     """ArgumentError unless ``path`` names a number (or a quantity with its unit) in ``data``."""
     try:
-        node, key = _walk(data, path)
+        node, key = walk(data, path)
     except ArgumentError:
         _optional(data, path)
         return
@@ -143,12 +143,12 @@ def _optional(data: dict, path: str) -> None:
     from linkgen.errors import DescriptionError
     from linkgen.pipeline.registry import from_dict
 
-    node, key = _walk(data, path, create=True)  # the tables up to it exist, or this raises
+    node, key = walk(data, path, create=True)  # the tables up to it exist, or this raises
     try:
         from_dict(override(data, {path: 0.0}), None)
     except DescriptionError as exc:
         if "unknown key" in exc.problem:
-            _walk(data, path)  # raises the ArgumentError naming what the table has
+            walk(data, path)  # raises the ArgumentError naming what the table has
     return None
 
 
@@ -156,9 +156,9 @@ def override(data: dict, values: dict[str, float]) -> dict:
     """A copy of the parsed TOML ``data`` with each path of ``values`` set to its value [SI]."""
     out = copy.deepcopy(data)
     for path, value in values.items():
-        node, key = _walk(out, path, create=True)
+        node, key = walk(out, path, create=True)
         node[key] = float(value)
     return out
 
 
-__all__ = ["Field", "check_path", "override", "parse_vary", "steps"]
+__all__ = ["Field", "bound", "check_path", "override", "parse_vary", "steps", "walk"]

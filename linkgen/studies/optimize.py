@@ -20,7 +20,7 @@ import numpy as np
 from linkgen.errors import ArgumentError
 from linkgen.studies.chunk import Task, run
 from linkgen.studies.engine import Study
-from linkgen.studies.fields import _bound
+from linkgen.studies.fields import bound
 
 _CONSTRAINT = re.compile(r"^\s*([A-Za-z_][\w.:\-]*)\s*(>=|<=)\s*(\S+)\s*$")
 # Generations at most, and the population per field (scipy's defaults are 1000 and 15: a
@@ -60,7 +60,7 @@ def parse_constraint(text: str, columns: tuple[str, ...]) -> Constraint:
     if not m:
         raise ArgumentError(f"--subject-to {text!r}: expected METRIC >= VALUE or METRIC <= VALUE, e.g. "
                             f"\"min_transmission_angle >= 40deg\"")
-    return Constraint(metric_column(m.group(1), columns), m.group(2), _bound(m.group(3), f"--subject-to {text!r}"))
+    return Constraint(metric_column(m.group(1), columns), m.group(2), bound(m.group(3), f"--subject-to {text!r}"))
 
 
 @dataclass(frozen=True)
@@ -135,12 +135,12 @@ def write_design(study: Study, values: tuple[float, ...], path: Path) -> None:
     from linkgen.model.toml_file import parse_toml
     from linkgen.outputs import atomic_write_text
     from linkgen.studies.design import moved_points
-    from linkgen.studies.fields import _walk
+    from linkgen.studies.fields import walk
 
     doc = tomlkit.parse(study.text)
     given = dict(zip((f.path for f in study.fields), values))
     for p, v in given.items():
-        node, key = _walk(doc, p, create=True)
+        node, key = walk(doc, p, create=True)
         node[key] = float(v)
     for name, xy in moved_points(parse_toml(study.text, study.source), str(path), given).items():
         doc["points"][name] = xy
