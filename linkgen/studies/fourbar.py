@@ -96,9 +96,10 @@ def _block(fb: FourBar, p: Params, rows: slice, m: np.ndarray, phi: np.ndarray, 
         qx, qy = -ux - w2 * w2 * r2x + w3 * w3 * r3x, -uy - w2 * w2 * r2y + w3 * w3 * r3y
         e2 = -(qx * r3x + qy * r3y) * inv
         e3 = -(qx * r2x + qy * r2y) * inv
-    at = {o: (ox, oy, 0.0 * ux, 0.0 * ux, 0.0 * ux, 0.0 * ux), a: (ax, ay, a1x, a1y, -ux, -uy),
+    # Each joint's position and its first and second transfer functions (the pivots' are 0).
+    at = {o: (ox, oy, 0.0, 0.0, 0.0, 0.0), a: (ax, ay, a1x, a1y, -ux, -uy),
           b: (bx, by, a1x - w2 * r2y, a1y + w2 * r2x, -ux - e2 * r2y - w2 * w2 * r2x, -uy + e2 * r2x - w2 * w2 * r2y),
-          c: (cx, cy, 0.0 * ux, 0.0 * ux, 0.0 * ux, 0.0 * ux)}
+          c: (cx, cy, 0.0, 0.0, 0.0, 0.0)}
     rates = {fb.crank: (1.0, 0.0), fb.coupler: (w2, e2), fb.rocker: (w3, e3)}
     loads, inertia, com = {}, 0.0, {}
     for name in (fb.crank, fb.coupler, fb.rocker):
