@@ -67,6 +67,8 @@ def main() -> None:
     p = argparse.ArgumentParser()
     p.add_argument("variants", type=int, nargs="?", default=100_000)
     p.add_argument("--loop-sample", type=int, default=40)
+    p.add_argument("--repeat", type=int, default=2, help="local and Dask runs, alternated (the machine is shared: "
+                                                          "their medians are compared)")
     args = p.parse_args()
     from distributed import LocalCluster
 
@@ -76,32 +78,38 @@ def main() -> None:
     study = make_study(MODEL, VARY, lhs=args.variants, seed=1)
     print(f"{args.variants} four-bar variants × {study.angles} crank angles, {os.cpu_count()} cores, "
           f"load average {os.getloadavg()[0]:.2f}", flush=True)
-    with tempfile.TemporaryDirectory() as tmp:
-        t0, cpu0 = time.perf_counter(), _cpu()
-        local = run_study(study, Path(tmp) / "local", progress=False)
-        t_local, cpu = time.perf_counter() - t0, _cpu() - cpu0
-        local_bytes = write_outputs(local, study, Path(tmp) / "local")["parquet"].read_bytes()
-        ok = local.column("status").to_pylist().count("ok")
-        print(f"local sweep (every core): {t_local:.2f} s wall, {cpu:.2f} s CPU in this process and its workers "
-              f"({ok} ok, {local.num_rows - ok} failed)", flush=True)
-
-        rows = np.random.default_rng(0).choice(args.variants, args.loop_sample, replace=False)
-        c0 = time.process_time()
-        t_loop = loop_seconds(study, rows) / args.loop_sample * args.variants
-        cpu_loop = (time.process_time() - c0) / args.loop_sample * args.variants
-        print(f"per-variant loop over linkgen.forces + linkgen.summary: {t_loop / args.variants * 1e3:.1f} ms a "
-              f"variant ({args.loop_sample} timed), {t_loop:.0f} s for {args.variants}; sweep is "
-              f"{t_loop / t_local:.0f}× faster (CPU: {cpu_loop:.0f} s against {cpu:.1f} s, {cpu_loop / cpu:.0f}×)",
-              flush=True)
-
-        with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as cluster:
+    local_t, dask_t, same = [], [], True
+    with tempfile.TemporaryDirectory() as tmp, \
+            LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as cluster:
+        reference = None
+        for k in range(args.repeat):
+            t0, cpu0 = time.perf_counter(), _cpu()
+            local = run_study(study, Path(tmp) / f"local{k}", progress=False)
+            local_t.append(time.perf_counter() - t0)
+            cpu = _cpu() - cpu0
+            got = write_outputs(local, study, Path(tmp) / f"local{k}")["parquet"].read_bytes()
+            reference = reference or got
+            ok = local.column("status").to_pylist().count("ok")
+            print(f"local sweep (every core): {local_t[-1]:.2f} s wall, {cpu:.2f} s CPU in this process and its "
+                  f"workers ({ok} ok, {local.num_rows - ok} failed); load average {os.getloadavg()[0]:.2f}",
+                  flush=True)
             t0 = time.perf_counter()
-            remote = run_study(study, Path(tmp) / "dask", scheduler=cluster.scheduler_address, progress=False)
-            t_dask = time.perf_counter() - t0
-        same = write_outputs(remote, study, Path(tmp) / "dask")["parquet"].read_bytes() == local_bytes
-        print(f"Dask LocalCluster (2 worker processes): {t_dask:.2f} s, {t_dask / t_local:.2f}× the local run; "
-              f"tables {'identical' if same else 'DIFFERENT'}", flush=True)
-        print(f"load average after: {os.getloadavg()[0]:.2f}")
+            remote = run_study(study, Path(tmp) / f"dask{k}", scheduler=cluster.scheduler_address, progress=False)
+            dask_t.append(time.perf_counter() - t0)
+            same &= write_outputs(remote, study, Path(tmp) / f"dask{k}")["parquet"].read_bytes() == reference
+            print(f"Dask LocalCluster (2 worker processes, started before the clock): {dask_t[-1]:.2f} s; load "
+                  f"average {os.getloadavg()[0]:.2f}", flush=True)
+    t_local = float(np.median(local_t))
+    print(f"median local {t_local:.2f} s, median Dask {np.median(dask_t):.2f} s: Dask/local "
+          f"{np.median(dask_t) / t_local:.2f}×; tables {'identical' if same else 'DIFFERENT'}", flush=True)
+    rows = np.random.default_rng(0).choice(args.variants, args.loop_sample, replace=False)
+    c0 = time.process_time()
+    t_loop = loop_seconds(study, rows) / args.loop_sample * args.variants
+    cpu_loop = (time.process_time() - c0) / args.loop_sample * args.variants
+    print(f"per-variant loop over linkgen.forces + linkgen.summary: {t_loop / args.variants * 1e3:.1f} ms a "
+          f"variant ({args.loop_sample} timed), {t_loop:.0f} s for {args.variants}: {t_loop / t_local:.0f}× the "
+          f"sweep's wall time (CPU: {cpu_loop:.0f} s against {cpu:.1f} s, {cpu_loop / cpu:.0f}×); load average "
+          f"{os.getloadavg()[0]:.2f}", flush=True)
 
 
 if __name__ == "__main__":
