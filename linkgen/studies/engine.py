@@ -118,8 +118,13 @@ def _executor(workers: int | None, scheduler: str | None):
         return (lambda task: client.submit(run, task, pure=False)), as_completed, client.close
     import concurrent.futures as cf
     import multiprocessing
+    import threading
 
-    pool = cf.ProcessPoolExecutor(max_workers=workers, mp_context=multiprocessing.get_context("spawn"))
+    # Forked workers start at once with linkgen already imported; a process running threads
+    # (a Dask client, a GUI) is not forked safely, and its workers are spawned instead.
+    method = "fork" if threading.active_count() == 1 and "fork" in multiprocessing.get_all_start_methods() \
+        else "spawn"
+    pool = cf.ProcessPoolExecutor(max_workers=workers, mp_context=multiprocessing.get_context(method))
     return (lambda task: pool.submit(run, task)), cf.as_completed, pool.shutdown
 
 
