@@ -25,7 +25,7 @@ def test_dask_cluster_gives_the_local_table(tmp_path):
                                  "links.rocker.density=-2:10:3"])
     local = run_study(study, tmp_path / "local", workers=1, progress=False)
     local_bytes = write_outputs(local, study, tmp_path / "local")["parquet"].read_bytes()
-    with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as cluster:
+    with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=":0") as cluster:
         remote = run_study(study, tmp_path / "dask", scheduler=cluster.scheduler_address, chunk=25, progress=False)
     assert write_outputs(remote, study, tmp_path / "dask")["parquet"].read_bytes() == local_bytes
 

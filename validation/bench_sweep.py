@@ -80,7 +80,7 @@ def main() -> None:
           f"load average {os.getloadavg()[0]:.2f}", flush=True)
     local_t, dask_t, same = [], [], True
     with tempfile.TemporaryDirectory() as tmp, \
-            LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as cluster:
+            LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=":0") as cluster:
         reference = None
         for k in range(args.repeat):
             t0, cpu0 = time.perf_counter(), _cpu()
