@@ -104,9 +104,10 @@ def _compare(text: str, source: str, paths: list[str], values: np.ndarray) -> in
 COMMON = dict(deadline=None, derandomize=True, phases=[Phase.explicit, Phase.generate],
               suppress_health_check=[HealthCheck.too_slow])
 FOURBAR_FIELDS = ["links.crank.length", "links.coupler.length", "links.rocker.length", "points.C.x", "points.C.y",
-                  "points.B.y", "drive.omega", "drive.epsilon", "links.coupler.density", "mechanism.gravity.x"]
+                  "points.B.y", "drive.omega", "drive.epsilon", "links.coupler.density", "mechanism.gravity.x",
+                  "points.O.x", "points.A.y"]
 _RANGES = [(0.1, 0.5), (0.5, 1.5), (0.4, 1.2), (0.5, 1.5), (-0.4, 0.4), (-0.8, 0.8), (-30.0, 30.0), (-50.0, 50.0),
-           (0.5, 30.0), (-5.0, 5.0)]
+           (0.5, 30.0), (-5.0, 5.0), (-0.3, 0.3), (-0.3, 0.3)]
 
 
 @settings(max_examples=25, **COMMON)
