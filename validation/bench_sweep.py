@@ -79,10 +79,11 @@ def main() -> None:
     print(f"{args.variants} four-bar variants × {study.angles} crank angles, {os.cpu_count()} cores, "
           f"load average {os.getloadavg()[0]:.2f}", flush=True)
     local_t, dask_t, same = [], [], True
-    with tempfile.TemporaryDirectory() as tmp, \
-            LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=":0") as cluster:
+    with tempfile.TemporaryDirectory() as tmp:
         reference = None
         for k in range(args.repeat):
+            # The local run as the command runs it: no cluster in the process (its threads would make
+            # the local workers spawned rather than forked, and its scheduler shares the process).
             t0, cpu0 = time.perf_counter(), _cpu()
             local = run_study(study, Path(tmp) / f"local{k}", progress=False)
             local_t.append(time.perf_counter() - t0)
@@ -93,9 +94,11 @@ def main() -> None:
             print(f"local sweep (every core): {local_t[-1]:.2f} s wall, {cpu:.2f} s CPU in this process and its "
                   f"workers ({ok} ok, {local.num_rows - ok} failed); load average {os.getloadavg()[0]:.2f}",
                   flush=True)
-            t0 = time.perf_counter()
-            remote = run_study(study, Path(tmp) / f"dask{k}", scheduler=cluster.scheduler_address, progress=False)
-            dask_t.append(time.perf_counter() - t0)
+            with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=":0") as cluster:
+                t0 = time.perf_counter()
+                remote = run_study(study, Path(tmp) / f"dask{k}", scheduler=cluster.scheduler_address,
+                                   progress=False)
+                dask_t.append(time.perf_counter() - t0)
             same &= write_outputs(remote, study, Path(tmp) / f"dask{k}")["parquet"].read_bytes() == reference
             print(f"Dask LocalCluster (2 worker processes, started before the clock): {dask_t[-1]:.2f} s; load "
                   f"average {os.getloadavg()[0]:.2f}", flush=True)
