@@ -61,9 +61,10 @@ def cmd_optimize(args) -> int:
     print(f"wrote the best design to {args.out}", file=sys.stderr)
     if args.no_validate:
         return 0
-    import linkgen
+    from linkgen.pipeline.registry import load, stage
 
-    result = linkgen.validate(linkgen.load(args.out), practical=False)
+    best_mech = load(args.out)
+    result = stage(best_mech, "validate")(best_mech, practical=False)
     print(result.summary())
     return 0 if result.ok else 1
 

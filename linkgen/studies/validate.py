@@ -54,10 +54,9 @@ def choose(table, k: int, seed: int = 0) -> list[tuple[int, str]]:
 
 def validate_sample(study, table, k: int, out: Path) -> SampleValidation:
     """Validate ``k`` variants of ``table`` in MuJoCo; their verdicts, also in ``out/validation.json``."""
-    import linkgen
     from linkgen.model.toml_file import parse_toml
     from linkgen.outputs import atomic_write_text
-    from linkgen.pipeline.registry import from_dict
+    from linkgen.pipeline.registry import from_dict, stage
     from linkgen.studies.design import variant_data
 
     data = parse_toml(study.text, study.source)
@@ -67,7 +66,7 @@ def validate_sample(study, table, k: int, out: Path) -> SampleValidation:
         values = study.values[row].tolist()
         mech = from_dict(variant_data(data, study.source, dict(zip(paths, values))), study.source)
         print(f"sweep: validating variant {row} ({why}) in MuJoCo, {i + 1} of {k}", file=sys.stderr, flush=True)
-        result = linkgen.validate(mech, practical=False)
+        result = stage(mech, "validate")(mech, practical=False)
         results.append((row, why, bool(result.ok), result.summary()))
         entries.append({"variant": row, "chosen": why, "fields": dict(zip(paths, values)), "ok": bool(result.ok),
                         "summary": result.summary()})
