@@ -15,8 +15,9 @@ PACKAGE = Path(linkgen.__file__).parent
 # The stages, lowest first (docs/architecture.md): a package may import only packages before it.
 # ``families`` holds one closed form per family; a family imports only those before it in
 # FAMILIES (a planar linkage's cam pair moves by the cam family's motion programs). ``pipeline`` is the registry of families, written against every stage
-# below it; the CLI and the API are written once against it; ``referee`` judges a solver's results through it.
-STAGES = ("model", "families", "machine", "mujoco", "crosscheck", "draw", "report", "pipeline", "referee", "cli")
+# below it; the CLI and the API are written once against it; ``studies`` sweeps and optimises
+# designs through it; ``referee`` judges a solver's results through it.
+STAGES = ("model", "families", "machine", "mujoco", "crosscheck", "draw", "report", "pipeline", "studies", "referee", "cli")
 FAMILIES = ("cam", "spatial", "planar")
 # A module past ~300 lines is asking to be split (the project's style guide); 450 leaves room
 # for a generator of test mechanisms (planar/corpus.py), the largest module, and no more.

@@ -32,7 +32,10 @@ ARGS = {"structure": [], "analyze": [], "forces": [], "assemble": [], "profile":
         "simulate": ["--samples", "3", "--revolutions", "0.01"], "validate": ["--no-practical"],
         "animate": ["--frames", "2", "-o", "{tmp}/m.gif"], "render": ["--width", "32", "--height", "24", "-o", "{tmp}/m.png"],
         "dynamics": ["--duration", "0.02", "--samples", "5"], "flywheel": ["--delta", "0.05"],
-        "check-settings": ["--no-search"], "page": ["--frames", "2", "-o", "{tmp}/m.html"]}
+        "check-settings": ["--no-search"], "page": ["--frames", "2", "-o", "{tmp}/m.html"],
+        "sweep": ["--vary", "drive.omega=5:10:2", "-o", "{tmp}/sweep"],
+        "optimize": ["--vary", "drive.omega=5:10", "--minimize", "peak_balancing_torque", "-o", "{tmp}/best.toml",
+                     "--no-validate"]}
 # Commands that take long (a MuJoCo run, an animation, an ODE): run on these models only; on
 # every other model the command must still work or refuse in one line, which for a family that
 # takes the command means running it: those pairs are left to the models below.
@@ -41,7 +44,8 @@ LONG = {"build": {m for m in ALL if not m.startswith("cam_")} | {"cam_translatin
         "animate": {"fourbar.toml", "cam_translating.toml", "rssr.toml"},
         "render": {"fourbar.toml", "cam_translating.toml", "rssr.toml"},
         "dynamics": {"motor_startup.toml"}, "flywheel": {"flywheel_sine.toml"}, "check-settings": {"fourbar.toml"},
-        "page": {"fourbar.toml", "cam_translating.toml", "rssr.toml"}}  # every model's page: test_teaching_pictures
+        "page": {"fourbar.toml", "cam_translating.toml", "rssr.toml"},  # every model's page: test_teaching_pictures
+        "sweep": {"fourbar.toml", "slider_crank_offset.toml"}, "optimize": {"fourbar.toml"}}
 # Commands of ours (this pipeline's stages) that must work on every model whose family takes them.
 MUST_WORK = {"build", "draw"}
 

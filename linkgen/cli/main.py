@@ -16,7 +16,7 @@ import os
 import signal
 import sys
 
-from linkgen.cli import check_settings, closed_form, draw, dynamics, mujoco, referee, sketch
+from linkgen.cli import check_settings, closed_form, draw, dynamics, mujoco, optimize, referee, sketch, sweep
 from linkgen.cli.common import OptionError
 from linkgen.cli.files import message_for
 from linkgen.outputs import Interrupted, OutputError
@@ -72,6 +72,8 @@ def build_parser() -> argparse.ArgumentParser:
     draw.add_commands(sub)
     closed_form.add_profile(sub)
     referee.add_commands(sub)
+    sweep.add_command(sub)
+    optimize.add_command(sub)
     return p
 
 

@@ -82,7 +82,7 @@ PLANAR = Family(
     name="planar", title="planar linkage", plural="planar linkages", doc="docs/format.md", description=Mechanism,
     detects=lambda data: True, from_dict=_from_dict,
     commands=("structure", "analyze", "forces", "assemble", "build", "simulate", "validate", "check-settings", "draw", "page",
-              "animate", "render", "dynamics", "flywheel"),
+              "animate", "render", "dynamics", "flywheel", "sweep", "optimize"),
     stages={"angles": _angles, "structure": _structure, "kinematics": _kinematics, "forces": _forces,
             "summary": _summary, "check_settings": _check_settings, **MUJOCO_STAGES},
     options=("--transfer", "--keep-singular", "--practical", "--robot"))
