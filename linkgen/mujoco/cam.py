@@ -10,9 +10,10 @@ a flat face a thin box. Contacts are frictionless (condim 1), time constant CONT
 convex collision runs to CCD_TOLERANCE.
 
 What this costs (measured, validation figures in docs/cams.md): the profile is a polygon, and
-the roller rolling over its vertices is kicked off the cam at each — contact is lost in about a
-third of the steps — so the follower's displacement follows the closed form to ~1e-4 of the
-stroke and the contact force only as a mean over a few degrees of cam turn (a few per cent);
+the roller rolling over its vertices is kicked off the cam at each — contact is lost in 6–8 % of
+the steps (a sphere roller; a flat face 10 %) — so the follower's displacement follows the
+closed form to ~1e-5 of the stroke (a flat face ~1e-4) and the contact force only as a mean over
+a few degrees of cam turn (under a per cent; docs/cams-mujoco.md measures each contact choice);
 the instantaneous force is a train of impacts. The follower's spring
 is an actuator with an affine bias (no control input): F = −(preload + rate·q)."""
 
@@ -89,8 +90,11 @@ MAX_THICKNESS_RATIO = 1e12
 # The contact force and cam torque are compared as means over this many equal parts of a turn.
 WINDOWS = 72
 # What MuJoCo's soft, faceted contact holds, set from measurement on the bundled cams (twice the
-# worst seen): displacement 8.8e-5 and 2.5e-5 of the stroke; contact force 3.4e-2 and 2.6e-2 and
-# cam torque 3.9e-2 and 2.6e-2 of their peaks as 5° means. Not the linkages' 1e-6: see above.
+# worst seen, with the cylinder roller and RK4 used before): displacement 8.8e-5 and 2.5e-5 of the
+# stroke; contact force 3.4e-2 and 2.6e-2 and cam torque 3.9e-2 and 2.6e-2 of their peaks as 5°
+# means. Kept with the sphere roller (1.1e-5, 7.2e-3, 5.4e-3 at worst on the rollers): the flat
+# face, a box the sphere does not concern, still reaches 9.3e-5, 1.2e-2, 1.8e-2. Not the linkages'
+# 1e-6: see above.
 CAM_TOLERANCES = {"displacement": 2e-4, "contact_force": 0.07, "cam_torque": 0.08}
 
 
