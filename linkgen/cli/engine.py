@@ -32,16 +32,15 @@ def _one(path: Path, progress: bool) -> dict:
     return {"file": str(path), "family": "planar"} | check.to_json() | {"line": f"{check.name:<22} {check.summary()}"}
 
 
-def validate_float32(args) -> int:
-    """The float32 validation of ``args.model`` (a file or a folder), printed; 0 when every file
+def validate_float32(args, paths: list[Path]) -> int:
+    """The float32 validation of ``paths`` (``args.model``'s files), printed; 0 when every file
     holds its float32 tolerances, 1 when one misses, 2 when one could not be run."""
     from linkgen.cli.common import OptionError
-    from linkgen.cli.mujoco import _models
 
     if args.out is not None:
         raise OptionError("-o/--out: --engine mjwarp prints its comparison (add --json for JSON); it writes no report")
     results = []
-    for path in _models(args.model):
+    for path in paths:
         r = _one(path, progress=not args.json)
         results.append(r)
         if not args.json:

@@ -274,7 +274,7 @@ def cmd_validate(args) -> int:
     if args.engine == "mjwarp":  # float32 through MuJoCo Warp (docs/float32.md)
         from linkgen.cli.engine import validate_float32
 
-        return validate_float32(args)
+        return validate_float32(args, _models(args.model))
     from linkgen.families.planar.blocks import default_threads
     from linkgen.pipeline.registry import report_parts
     from linkgen.report.report import write_index
