@@ -36,6 +36,7 @@ import numpy as np
 from linkgen.errors import SimulationError
 from linkgen.families.planar.assembly import Assembly
 from linkgen.families.planar.kinetostatics import forces
+from linkgen.mujoco.forces import has_loads, load_schedule
 from linkgen.mujoco.loops import acceleration_scale, closure_forces, closure_jacobian, mechanism_size
 from linkgen.mujoco.mjcf import write_mjcf
 from linkgen.mujoco.options import PLACEHOLDER, Settings
@@ -146,12 +147,22 @@ def float32_check(asm: Assembly, *, worlds: int | None = None, steps: int | None
     for k in range(worlds):
         qpos[k], qvel[k] = initial_state(asm, model, float(phi0[k]), w0)
 
+    # the description's loads and the pairs' friction, as linkgen's float64 runs apply them: the
+    # closed form's at the crank angle each step starts from (mujoco.forces.load_schedule)
+    xfrc = None
+    if has_loads(asm):
+        at = phi0[:, None] + w0 * dt * np.arange(steps)[None, :]
+        xfrc = np.stack([load_schedule(asm, model, at[k], w0, 0.0) for k in range(worlds)])  # (worlds, steps, 6·nbody)
+        xfrc = xfrc.reshape(worlds, steps, model.nbody, 6)
+
     # float64: MuJoCo, world by world
     q64, f64, j64 = np.zeros_like(qpos), np.zeros((worlds, model.nv)), []
     for k in range(worlds):
         mujoco.mj_resetData(model, data)
         data.qpos[:], data.qvel[:] = qpos[k], qvel[k]
-        for _ in range(steps):
+        for i in range(steps):
+            if xfrc is not None:
+                data.xfrc_applied[:] = xfrc[k, i]
             mujoco.mj_step(model, data)
         mujoco.mj_forward(model, data)
         q64[k], f64[k] = data.qpos, data.qfrc_constraint
@@ -165,6 +176,8 @@ def float32_check(asm: Assembly, *, worlds: int | None = None, steps: int | None
     d.qpos.assign(qpos.astype(np.float32))
     d.qvel.assign(qvel.astype(np.float32))
     for i in range(steps):
+        if xfrc is not None:
+            d.xfrc_applied.assign(xfrc[:, i].astype(np.float32))
         mjw.step(m, d)
         if progress is not None and i % 50 == 49:
             wp.synchronize()
