@@ -85,6 +85,7 @@ VARIANTS = {
     "timestep / 2": ({}, [_half_step]),
     "sphere + solref 20 dt": ({"CONTACT_TIME": 20}, [_roller("sphere")]),
     "sphere + solref 50 dt": ({"CONTACT_TIME": 50}, [_roller("sphere")]),
+    "sphere + points 16000": ({"PROFILE_POINTS": 16000}, [_roller("sphere")]),
     "ccd default": ({}, [_option("ccd_tolerance", "1e-6"), _option("ccd_iterations", "50")]),
 }
 
