@@ -1,8 +1,8 @@
 """A planar linkage's MuJoCo run in float32 through MuJoCo Warp (``mujoco_warp``), against the
 same run in MuJoCo's float64 and against the closed form.
 
-A float32 engine steps about 18 ms a step on this machine's CPU whatever the number of worlds
-(measured: 1, 16 and 128 worlds of models/fourbar.xml cost the same per step), so a whole
+MuJoCo Warp steps in 10–20 ms on this machine's CPU, about the same for 1 to a few hundred
+worlds (measured on models/fourbar.xml, docs/float32.md), so a whole
 revolution at the validation settings (~12 600 steps) is out of reach but many short stretches
 are not: ``worlds`` stretches spread evenly over a turn run as the worlds of one batch, each
 started from the closed-form state at its crank angle (as linkgen's float64 runs start their
