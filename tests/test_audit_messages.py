@@ -105,10 +105,10 @@ def test_teeth_written_as_floats_are_explained(tmp_path, capsys, teeth, shown):
                   "take structure, analyze, forces, build, validate, draw, page, animate, render"),
     ("cam_rocker_slider.toml", "a planar linkage (docs/format.md); `linkgen profile` is for stand-alone cams; planar "
                                "linkages take structure, analyze, forces, assemble, build, simulate, validate, "
-                               "check-settings, draw, page, animate, render, dynamics, flywheel"),
+                               "check-settings, draw, page, animate, render, dynamics, flywheel, sweep, optimize"),
     ("fourbar.toml", "a planar linkage (docs/format.md); `linkgen profile` is for stand-alone cams; planar linkages "
                      "take structure, analyze, forces, assemble, build, simulate, validate, check-settings, draw, page, animate, "
-                     "render, dynamics, flywheel")])
+                     "render, dynamics, flywheel, sweep, optimize")])
 def test_profile_says_what_it_takes(capsys, model, what):
     # before: a spatial file was told `profile` "is for planar linkages"; a linkage with a [cam.disc]
     # table was told it needs "a [cam] table"

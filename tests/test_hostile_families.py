@@ -308,7 +308,8 @@ def test_help_texts_are_plain_and_complete():
 
 # Options a command needs before it reads its model (argparse checks them first).
 _REQUIRED = {"flywheel": ["--delta", "0.02"], "draw": ["-o", "{tmp}/x.svg"], "animate": ["-o", "{tmp}/x.gif"],
-             "render": ["-o", "{tmp}/x.png"]}
+             "render": ["-o", "{tmp}/x.png"], "sweep": ["--vary", "drive.omega=1:2:2", "-o", "{tmp}/s"],
+             "optimize": ["--vary", "drive.omega=1:2", "--minimize", "peak_balancing_torque", "-o", "{tmp}/b.toml"]}
 
 
 def test_every_command_that_refuses_a_cam_file_names_exactly_those_that_take_it(tmp_path, capsys):
@@ -321,7 +322,8 @@ def test_every_command_that_refuses_a_cam_file_names_exactly_those_that_take_it(
     from linkgen.cli.main import EVERY_FAMILY_COMMANDS
 
     refusing = [c for c in _subcommands() if c not in CAM_COMMANDS and c not in EVERY_FAMILY_COMMANDS]
-    assert sorted(refusing) == ["assemble", "check-settings", "dynamics", "flywheel", "forces", "simulate", "structure"]
+    assert sorted(refusing) == ["assemble", "check-settings", "dynamics", "flywheel", "forces", "optimize", "simulate",
+                                "structure", "sweep"]
     for command in refusing:
         extra = [a.format(tmp=tmp_path) for a in _REQUIRED.get(command, [])]
         assert main([command, str(cam), *extra]) == 2, command

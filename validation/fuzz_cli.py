@@ -78,13 +78,16 @@ COMMANDS: dict[str, tuple[list[str], list[str], str | None]] = {
     "build_coupling": (["build", M, "--loops", "coupling", "-o", "out.xml"], ["out.xml"], "out.xml"),
     "render": (["render", M, "-o", "out.png", "--width", "160", "--height", "120"], ["out.png"], "out.png"),
     "animate": (["animate", M, "-o", "out.gif", "--frames", "3"], ["out.gif"], "out.gif"),
+    "sweep": (["sweep", M, "--vary", "drive.omega=5:10:2", "-o", "study"], ["study/"], None),
+    "optimize": (["optimize", M, "--vary", "drive.omega=5:10", "--minimize", "peak_balancing_torque", "-o", "best.toml",
+                  "--no-validate"], ["best.toml"], "best.toml"),
     "referee": (["referee", M, "answers.csv"], [], None),
     "suite_export": (["suite", "export", "suite", "--count", "1", "--no-mujoco"], ["suite/"], None),
 }
 _LINKAGE = ["structure", "assemble_write", "analyze", "analyze_json", "analyze_csv", "analyze_summary",
             "analyze_summary_json", "forces", "forces_json", "forces_csv", "draw_svg", "draw_pdf", "draw_png", "draw_vectors", "draw_plan", "page", "build",
             "simulate_npz", "simulate_csv", "validate", "validate_report", "render", "animate", "check_settings",
-            "check_settings_json", "build_robot", "build_coupling"]
+            "check_settings_json", "build_robot", "build_coupling", "sweep", "optimize"]
 FOR_FAMILY = {
     "planar": _LINKAGE, "gears": _LINKAGE, "cam_linkage": _LINKAGE,
     "machine": _LINKAGE + ["dynamics", "dynamics_csv", "dynamics_report", "flywheel", "flywheel_report"] * 2,
