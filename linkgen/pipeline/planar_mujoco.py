@@ -272,7 +272,7 @@ def page(desc, out, frames: int = 72, mujoco: bool = False, progress=None) -> st
 
         data = replace(data, mujoco=mujoco_curves(data, run(asm, progress=progress).samples))
     write_page(data, out)
-    return (f"{mech.name}, {len(data.phi)} crank angles, vectors {', '.join(data.vectors)}, curves {', '.join(data.curves)}"
+    return (f"{mech.name}, {data.inputs_text}, vectors {', '.join(data.vectors)}, curves {', '.join(data.curves)}"
             + (f", MuJoCo's run beside {', '.join(data.mujoco)}" if mujoco else ""))
 
 
