@@ -1,7 +1,8 @@
-"""The interactive page follows its model's input: a prismatic input (a planar linkage's slide
-drive, a PSSR/PSSP chain's slider) is sampled over its strokes s [m] from the description's
-[drive] start..stop, and its slider, curves' axis and balancing load speak of s, metres and a
-force [N]; a crank's page keeps φ, degrees and a torque [N·m]."""
+"""The pictures follow their model's input: a prismatic input (a planar linkage's slide drive, a
+PSSR/PSSP chain's slider) is a stroke s [m] at ṡ [m/s]. The interactive page samples it over the
+description's [drive] start..stop and its slider, curves' axis and balancing load speak of s,
+metres and a force [N]; the skeleton's and the plans' titles and the design summary say s and ṡ
+(they said φ = 45.84° and ω = 0.1 rad/s for s = 0.8 m). A crank's keep φ, degrees and ω."""
 
 import numpy as np
 import pytest
@@ -55,3 +56,37 @@ def test_the_page_command_words_a_stroke_and_a_crank(tmp_path, capsys):
     assert not data.stroke and "balancing torque [N·m]" in data.curves
     assert layout.xaxis2.title.text == "φ [°]" and layout.sliders[0].currentvalue.prefix == "φ = "
     assert layout.sliders[0].steps[1].label == "72°"  # a turn in 5: every 72°
+
+
+def test_a_stroke_drawing_says_s_and_its_speed_not_an_angle():
+    from linkgen.draw.polygons import spatial_plan_figure, vector_plan_figure
+    from linkgen.draw.plan import plt_module
+    from linkgen.draw.teaching import summary_lines, teaching_figure
+    from linkgen.families.planar.assembly import assemble
+    from linkgen.families.planar.summary import summarize
+    from linkgen.families.planar.vector_plan import vector_plan
+    from linkgen.families.spatial.plans import spatial_plan
+
+    plt = plt_module()
+    boom = assemble(load(ROOT / "models" / "hydraulic_boom.toml"))
+    s0 = STROKES["hydraulic_boom"][0]
+    fig, _, _ = teaching_figure(boom, s0)
+    title = fig._suptitle.get_text()
+    plt.close(fig)
+    assert "s = 0.8 m, ṡ = 0.1 m/s" in title and "φ" not in title and "rad" not in title, title
+    fig, _ = vector_plan_figure(boom.mechanism, vector_plan(boom, s0, "acceleration"))
+    title = fig.axes[0].get_title()
+    plt.close(fig)
+    assert "plan at s = 0.8 m, ṡ = 0.1 m/s, s̈ = 0 m/s²" in title and "φ" not in title, title
+    where = [line for line in summary_lines(summarize(boom)) if " at " in line]
+    assert where and all(" at s = " in line and line.endswith(" m") for line in where), where
+    pssr = load(ROOT / "models" / "pssr.toml")
+    fig, _ = spatial_plan_figure(pssr, spatial_plan(pssr, 0.05, "velocity"))
+    title = fig._suptitle.get_text()
+    plt.close(fig)
+    assert "plan at s = 0.05 m, ṡ = 0.5 m/s" in title and "φ" not in title, title
+    fourbar = assemble(load(ROOT / "models" / "fourbar.toml"))
+    fig, _, _ = teaching_figure(fourbar, np.radians(30.0))
+    title = fig._suptitle.get_text()
+    plt.close(fig)
+    assert "φ = 30°, ω = 10 rad/s" in title, title
