@@ -144,7 +144,8 @@ def summary_lines(summary) -> list[str]:
 def teaching_figure(asm, phi: float, out: Path | None = None, *, arrows=None, summary=None):
     """The skeleton at crank angle ``phi`` [rad] with link names and lengths, ``arrows``
     (``draw.vectors.Arrows``, or None) and the ``summary`` box (a design summary, or None);
-    saved to ``out`` when given. Returns (figure, arrows, scale [unit per m of drawing] or None)."""
+    saved to ``out`` when given. Returns (figure, arrows, scale [unit per m of drawing] or None: no
+    arrow, or every one zero)."""
     from linkgen.families.planar.positions import drive_angles, positions
 
     plt = plt_module()
@@ -163,9 +164,12 @@ def teaching_figure(asm, phi: float, out: Path | None = None, *, arrows=None, su
     label_links(ax, pos, frame.size)
     set_limits(ax, paths, frame)
     mu = None
-    if arrows is not None and arrows.arrows:
+    if arrows is not None and any(float(np.linalg.norm(a.vector)) > 0.0 for a in arrows.arrows):
         mu = draw_arrows(ax, arrows, frame.size)
         _scale_bar(ax, mu, arrows.unit, frame.size)
+    elif arrows is not None and arrows.arrows:  # nothing to draw: the drawing says so rather than a bare scale
+        ax.text(0.03, 0.03, f"{arrows.what}: every one zero here ({', '.join(a.label for a in arrows.arrows)})",
+                transform=ax.transAxes, fontsize=8.5, color=INK, ha="left", va="bottom")
     if summary is not None:
         lines = summary_lines(summary)
         if lines:  # a figure legend of text only: the layout makes room for it beside the drawing
