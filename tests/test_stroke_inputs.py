@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from conftest import ROOT
-from linkgen.draw.page import page_figure
+from linkgen.draw.page import PIN_TRACE, SLIDER_TRACE, page_figure
 from linkgen.pipeline.registry import load
 
 FRAMES = 5
@@ -35,7 +35,11 @@ def test_a_prismatic_inputs_page_samples_its_strokes_in_metres(name):
     np.testing.assert_allclose(data.phi, np.linspace(*STROKES[name], FRAMES), rtol=0.0, atol=ULPS)
     assert data.stroke
     assert "balancing force [N]" in data.curves and not any("torque" in c for c in data.curves)
-    layout = page_figure(data).layout
+    fig = page_figure(data)
+    names = [t.name for t in fig.data]
+    assert SLIDER_TRACE in names and PIN_TRACE not in names  # no crank pin on a slider's page
+    assert not any(c.startswith("lift ") for c in data.curves)  # hydraulic_boom's driven pair: s itself
+    layout = fig.layout
     assert layout.xaxis2.title.text == "s [m]"
     slider = layout.sliders[0]
     assert slider.currentvalue.prefix == "s = "
@@ -52,7 +56,9 @@ def test_the_page_command_words_a_stroke_and_a_crank(tmp_path, capsys):
         out = capsys.readouterr().out
         assert said in out, out
     data = _data("fourbar")
-    layout = page_figure(data).layout
+    fig = page_figure(data)
+    assert PIN_TRACE in [t.name for t in fig.data]
+    layout = fig.layout
     assert not data.stroke and "balancing torque [N·m]" in data.curves
     assert layout.xaxis2.title.text == "φ [°]" and layout.sliders[0].currentvalue.prefix == "φ = "
     assert layout.sliders[0].steps[1].label == "72°"  # a turn in 5: every 72°

@@ -15,6 +15,7 @@ import numpy as np
 
 # Plotly trace names the page and its browser test look up.
 PIN_TRACE = "crank pin"
+SLIDER_TRACE = "driven slider"  # the pin's trace of a prismatic input: the driven slider's point
 CURSOR_TRACE = "cursor"
 MECHANISM_COLOR, PIN_COLOR = "rgb(64,115,204)", "rgb(217,77,51)"
 VECTOR_COLORS = {"velocity": "rgb(26,140,51)", "acceleration": "rgb(153,26,153)", "forces": "rgb(204,26,26)"}
@@ -27,7 +28,8 @@ class PageData:
 
     lines: (n, k, 2) [m] the mechanism's polylines at each angle, NaN rows breaking them.
     points: name → (n, 2) [m] the named points (drawn with their names).
-    pin: (n, 2) [m] the crank pin (its own trace, PIN_TRACE).
+    pin: (n, 2) [m] the crank pin (its own trace, PIN_TRACE), or a prismatic input's slider point
+        (SLIDER_TRACE).
     vectors: what → (n, m, 2) [m] arrow segments on the drawing (tail, tip, NaN), to the scale in
         ``vector_scales`` (what → "1 m of drawing = X unit").
     curves: label → (n,) values, each label with its unit in brackets.
@@ -98,7 +100,8 @@ def _moving(data: PageData, i: int) -> list[dict]:
            go.Scatter(x=list(px[:, 0]), y=list(px[:, 1]), mode="markers+text", text=names, textposition="top right",
                       name="points", marker=dict(color="white", size=9, line=dict(color="black", width=1.5)),
                       xaxis="x", yaxis="y"),
-           go.Scatter(x=[float(data.pin[i, 0])], y=[float(data.pin[i, 1])], mode="markers", name=PIN_TRACE,
+           go.Scatter(x=[float(data.pin[i, 0])], y=[float(data.pin[i, 1])], mode="markers",
+                      name=SLIDER_TRACE if data.stroke else PIN_TRACE,
                       marker=dict(color=PIN_COLOR, size=12, line=dict(color="black", width=1)), xaxis="x", yaxis="y")]
     for what, seg in data.vectors.items():
         x, y = _xy(seg[i])
@@ -181,4 +184,4 @@ def write_page(data: PageData, out: Path) -> None:
     Path(out).write_text(html, encoding="utf-8")
 
 
-__all__ = ["CURSOR_TRACE", "PIN_TRACE", "PageData", "arrow_segments", "page_figure", "write_page"]
+__all__ = ["CURSOR_TRACE", "PIN_TRACE", "SLIDER_TRACE", "PageData", "arrow_segments", "page_figure", "write_page"]

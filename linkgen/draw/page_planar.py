@@ -79,6 +79,8 @@ def planar_page(asm, frames: int = 72) -> PageData:
     curves, notes = {}, []
     summary = summarize(asm)
     for name, o in summary.outputs.items():
+        if mech.slide_drive and name.split(" ")[0] == mech.drive.joint:
+            continue  # the driven pair's own stroke is the input itself, the curves' axis
         if o.kind == "slider" and name.split(" ")[0] in mo.sliders:
             curves[f"{name} displacement [m]"] = mo.sliders[name.split(" ")[0]][0]
         elif name.split(" ")[0] in mo.links:
@@ -100,6 +102,8 @@ def planar_page(asm, frames: int = 72) -> PageData:
         notes.append(f"no forces: {str(exc).splitlines()[0][:120]}")
     crank = mech.link(mech.crank).points
     pin = pos.points[crank[1] if len(crank) > 1 else crank[0]]
+    if mech.slide_drive:  # the driven slider's point
+        pin = pos.points[next(p.point for p in mech.prismatics if p.name == mech.drive.joint)]
     ground = [pos.points[p][0] for p in fixed_pts]
     fixed = np.array([q for g in ground for q in (g, (np.nan, np.nan))], dtype=float) if ground else None
     from linkgen.draw.defaults import default_angle
