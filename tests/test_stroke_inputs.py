@@ -96,3 +96,26 @@ def test_a_stroke_drawing_says_s_and_its_speed_not_an_angle():
     title = fig._suptitle.get_text()
     plt.close(fig)
     assert "φ = 30°, ω = 10 rad/s" in title, title
+
+
+# MuJoCo's curve against the closed form's on the page: one pixel of a 300-px plot is 1/300 of
+# its range (test_teaching_pictures' MUJOCO_CURVE); a curve on the wrong axis (s read as an
+# angle) or a missing balancing force fails.
+MUJOCO_CURVE = 1.0 / 300.0
+
+
+def test_a_stroke_pages_mujoco_curves_lie_on_the_closed_forms():
+    from linkgen.draw.page_planar import mujoco_curves, planar_page
+    from linkgen.families.planar.assembly import assemble
+    from linkgen.mujoco.simulate import simulate
+
+    asm = assemble(load(ROOT / "models" / "hydraulic_boom.toml"))
+    data = planar_page(asm, 24)
+    theirs = mujoco_curves(data, simulate(asm, samples=60).samples)
+    assert set(theirs) == set(data.curves) == {"boom angle [°]", "balancing force [N]"}
+    fine = planar_page(asm, 720)
+    for label, (s, values) in theirs.items():
+        lo, hi = STROKES["hydraulic_boom"]  # MuJoCo's strokes on the range, to a pixel of the s axis
+        assert lo - MUJOCO_CURVE * (hi - lo) <= s.min() and s.max() <= hi + MUJOCO_CURVE * (hi - lo), label
+        ours = np.interp(s, fine.phi, fine.curves[label])
+        assert float(np.max(np.abs(values - ours))) <= MUJOCO_CURVE * float(np.ptp(fine.curves[label])), label
