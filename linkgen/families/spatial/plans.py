@@ -19,7 +19,7 @@ from __future__ import annotations
 import numpy as np
 
 from linkgen.model.names import GROUND
-from linkgen.model.plans import POLES, Chain, VectorPlan, check_kind
+from linkgen.model.plans import Chain, VectorPlan, check_kind, pole_name
 
 
 def spatial_plan(mech, phi: float, kind: str) -> VectorPlan:
@@ -32,7 +32,7 @@ def spatial_plan(mech, phi: float, kind: str) -> VectorPlan:
     mo = solve(mech, np.array([float(phi)]), chain)
     w, e = float(mech.drive.omega), float(getattr(mech.drive, "epsilon", 0.0))
     acc = kind == "acceleration"
-    pole = POLES[kind]
+    pole = pole_name(kind, mech.points)  # not a point's vertex name
     fixed = set(mech.link(GROUND).points)
     vec = {p: (np.zeros(3) if p in fixed else (j.d[2][0] * w * w + j.d[1][0] * e if acc else j.d[1][0] * w))
            for p, j in mo.points.items()}
