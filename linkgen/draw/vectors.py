@@ -170,6 +170,9 @@ def force_arrows(asm, phi: float, group: str | None = None) -> Arrows:
         if p.name in f.friction:
             vec = vec + float(f.friction[p.name][0]) * _direction(kin, asm, p)
         out.append(Arrow(f"N_{p.name} on {on}", on, pts[p.point], sign * vec, "reaction"))
+        if mech.slide_drive and p.name == mech.drive.joint:  # the drive's force along its guide: the balancing force
+            drive = float(np.asarray(f.balancing_torque)[0]) * _direction(kin, asm, p)
+            out.append(Arrow(f"F_{p.name} (the drive) on {on}", on, pts[p.point], sign * drive, "load"))
     label = f"II({grp.numbers[0]},{grp.numbers[1]}) {grp.kind.value}"
     return Arrows("forces", float(phi), tuple(out), label, tuple(grp.links))
 
