@@ -12,7 +12,7 @@ import math
 import numpy as np
 import pytest
 
-from conftest import CAM_MODELS, MODELS, ROOT, SPATIAL_MODELS
+from conftest import CAM_MODELS, MODELS, ROOT, SPATIAL_MODELS, input_values
 from linkgen.draw.vectors import force_arrows, motion_arrows
 from linkgen.errors import ArgumentError
 from linkgen.families.planar.assembly import assemble
@@ -47,7 +47,8 @@ def _plans(path):
     if path in SPATIAL_MODELS:
         from linkgen.families.spatial.plans import spatial_plan
 
-        return [spatial_plan(desc, t, k) for t in (0.6, 2.9) for k in ("velocity", "acceleration")]
+        return [spatial_plan(desc, float(t), k) for t in input_values(desc, (0.6, 2.9))  # a slider input: its range
+                for k in ("velocity", "acceleration")]
     from linkgen.families.planar.vector_plan import vector_plan
 
     mech = getattr(desc, "mechanism", desc)

@@ -1,6 +1,6 @@
 """One self-contained interactive HTML page of a mechanism (``linkgen page``), written with plotly
-(plotly.js inline: no server, no network): the mechanism moving under a crank-angle slider with a
-play button, its vectors as traces the legend turns on and off, the curves of chosen quantities
+(plotly.js inline: no server, no network): the mechanism moving under a slider of its input (a
+crank angle φ, or a prismatic input's stroke s) with a play button, its vectors as traces the legend turns on and off, the curves of chosen quantities
 with a cursor at the current angle, and the design summary. Every family gives the same
 ``PageData``; this module only lays it out."""
 
@@ -15,6 +15,7 @@ import numpy as np
 
 # Plotly trace names the page and its browser test look up.
 PIN_TRACE = "crank pin"
+SLIDER_TRACE = "driven slider"  # the pin's trace of a prismatic input: the driven slider's point
 CURSOR_TRACE = "cursor"
 MECHANISM_COLOR, PIN_COLOR = "rgb(64,115,204)", "rgb(217,77,51)"
 VECTOR_COLORS = {"velocity": "rgb(26,140,51)", "acceleration": "rgb(153,26,153)", "forces": "rgb(204,26,26)"}
@@ -22,17 +23,19 @@ VECTOR_COLORS = {"velocity": "rgb(26,140,51)", "acceleration": "rgb(153,26,153)"
 
 @dataclass(frozen=True)
 class PageData:
-    """What the page shows, at crank angles ``phi`` (n,) [rad].
+    """What the page shows, at input values ``phi`` (n,): crank angles [rad], or with ``stroke`` a
+    prismatic input's strokes s [m] (the slider, the curves' axis and their cursor say which).
 
     lines: (n, k, 2) [m] the mechanism's polylines at each angle, NaN rows breaking them.
     points: name → (n, 2) [m] the named points (drawn with their names).
-    pin: (n, 2) [m] the crank pin (its own trace, PIN_TRACE).
+    pin: (n, 2) [m] the crank pin (its own trace, PIN_TRACE), or a prismatic input's slider point
+        (SLIDER_TRACE).
     vectors: what → (n, m, 2) [m] arrow segments on the drawing (tail, tip, NaN), to the scale in
         ``vector_scales`` (what → "1 m of drawing = X unit").
     curves: label → (n,) values, each label with its unit in brackets.
     fixed: (k, 2) [m] what does not move (the ground, a cam's base circle), NaN-broken.
     axes: the drawing's axis names (e.g. "x [m]", "y [m]").
-    mujoco: label → (φ (m,) [rad], values (m,)): MuJoCo's run of a curve, drawn beside it.
+    mujoco: label → (φ (m,) [rad] or s (m,) [m], values (m,)): MuJoCo's run of a curve, drawn beside it.
     """
 
     title: str
@@ -48,6 +51,24 @@ class PageData:
     axes: tuple[str, str] = ("x [m]", "y [m]")
     mujoco: Mapping[str, tuple[np.ndarray, np.ndarray]] = field(default_factory=dict)
     start: int = 0  # the frame the page opens at (the drawing's default pose)
+    stroke: bool = False  # the input is a stroke s [m], not a crank angle φ [rad]
+
+    def input_axis(self) -> np.ndarray:
+        """The input values as the curves' axis shows them: degrees of φ, or metres of s."""
+        return np.asarray(self.phi, dtype=float) if self.stroke else np.degrees(self.phi)
+
+    @property
+    def input_title(self) -> str:
+        return "s [m]" if self.stroke else "φ [°]"
+
+    @property
+    def inputs_text(self) -> str:
+        """How many input values the page shows, worded for the input (``72 crank angles``)."""
+        return f"{len(self.phi)} {'stroke positions s [m]' if self.stroke else 'crank angles'}"
+
+    def input_text(self, i: int) -> str:
+        """The slider's label of frame ``i``."""
+        return f"{float(self.phi[i]):.4g} m" if self.stroke else f"{math.degrees(float(self.phi[i])):.0f}°"
 
 
 def arrow_segments(at: np.ndarray, vec: np.ndarray, scale: float) -> np.ndarray:
@@ -79,14 +100,15 @@ def _moving(data: PageData, i: int) -> list[dict]:
            go.Scatter(x=list(px[:, 0]), y=list(px[:, 1]), mode="markers+text", text=names, textposition="top right",
                       name="points", marker=dict(color="white", size=9, line=dict(color="black", width=1.5)),
                       xaxis="x", yaxis="y"),
-           go.Scatter(x=[float(data.pin[i, 0])], y=[float(data.pin[i, 1])], mode="markers", name=PIN_TRACE,
+           go.Scatter(x=[float(data.pin[i, 0])], y=[float(data.pin[i, 1])], mode="markers",
+                      name=SLIDER_TRACE if data.stroke else PIN_TRACE,
                       marker=dict(color=PIN_COLOR, size=12, line=dict(color="black", width=1)), xaxis="x", yaxis="y")]
     for what, seg in data.vectors.items():
         x, y = _xy(seg[i])
         out.append(go.Scatter(x=x, y=y, mode="lines", name=f"{what} ({data.vector_scales.get(what, '')})",
                               line=dict(color=VECTOR_COLORS.get(what, "black"), width=2), xaxis="x", yaxis="y",
                               visible=True if what == "velocity" else "legendonly", hoverinfo="skip"))
-    deg = math.degrees(float(data.phi[i]))
+    deg = float(data.input_axis()[i])
     for k, (label, ys) in enumerate(data.curves.items()):
         out.append(go.Scatter(x=[deg], y=[float(ys[i])], mode="markers", name=f"{CURSOR_TRACE}: {label}",
                               marker=dict(color="black", size=9), xaxis="x2", yaxis=f"y{k + 2}", showlegend=False))
@@ -97,7 +119,7 @@ def page_figure(data: PageData):
     """The plotly figure of ``data``: the drawing on the left, the curves stacked on the right."""
     import plotly.graph_objects as go
 
-    deg = np.degrees(data.phi)
+    deg = data.input_axis()
     ncurves = len(data.curves)
     moving = _moving(data, data.start)
     fixed = []
@@ -111,7 +133,7 @@ def page_figure(data: PageData):
                                  yaxis=f"y{k + 2}", line=dict(width=2)))
         if label in data.mujoco:
             mx, my = data.mujoco[label]
-            curves.append(go.Scatter(x=list(np.degrees(mx)), y=list(map(float, my)), mode="lines",
+            curves.append(go.Scatter(x=list(np.asarray(mx, dtype=float) if data.stroke else np.degrees(mx)), y=list(map(float, my)), mode="lines",
                                      name=f"{label}, MuJoCo", xaxis="x2", yaxis=f"y{k + 2}",
                                      line=dict(width=1.5, dash="dash")))
     fig = go.Figure(data=moving + fixed + curves)
@@ -127,7 +149,7 @@ def page_figure(data: PageData):
                              scaleratio=1.0),
                   legend=dict(x=0.9, y=1.0, yanchor="top", font=dict(size=10)), margin=dict(t=70, b=40))
     h = 0.76 / max(ncurves, 1)
-    layout["xaxis2"] = dict(domain=[0.62, 0.88], title="φ [°]", anchor=f"y{ncurves + 1}")
+    layout["xaxis2"] = dict(domain=[0.62, 0.88], title=data.input_title, anchor=f"y{ncurves + 1}")
     for k, label in enumerate(data.curves):
         layout[f"yaxis{k + 2}"] = dict(domain=[1.0 - (k + 1) * h + 0.06, 1.0 - k * h], title=dict(text=label, font=dict(size=10)),
                                        anchor="x2")
@@ -136,10 +158,10 @@ def page_figure(data: PageData):
     for i, d in enumerate(deg):
         name = f"{d:.6g}"
         frames.append(go.Frame(data=_moving(data, i), traces=ids, name=name))
-        steps.append(dict(method="animate", label=f"{d:.0f}°", args=[[name], dict(mode="immediate", frame=dict(
+        steps.append(dict(method="animate", label=data.input_text(i), args=[[name], dict(mode="immediate", frame=dict(
             duration=0, redraw=False), transition=dict(duration=0))]))
     layout["sliders"] = [dict(active=data.start, steps=steps, x=0.07, y=0.27, len=0.48, yanchor="top",
-                              currentvalue=dict(prefix="φ = "), pad=dict(t=40))]
+                              currentvalue=dict(prefix="s = " if data.stroke else "φ = "), pad=dict(t=40))]
     layout["updatemenus"] = [dict(type="buttons", x=0.0, y=0.27, yanchor="top", pad=dict(t=40), showactive=False,
                                   buttons=[dict(label="▶ play", method="animate", args=[None, dict(
                                       frame=dict(duration=60, redraw=False), fromcurrent=True, transition=dict(duration=0))]),
@@ -162,4 +184,4 @@ def write_page(data: PageData, out: Path) -> None:
     Path(out).write_text(html, encoding="utf-8")
 
 
-__all__ = ["CURSOR_TRACE", "PIN_TRACE", "PageData", "arrow_segments", "page_figure", "write_page"]
+__all__ = ["CURSOR_TRACE", "PIN_TRACE", "SLIDER_TRACE", "PageData", "arrow_segments", "page_figure", "write_page"]

@@ -4,7 +4,8 @@ acceleration (and the cam's point B₁ under it), the follower's displacement, v
 angle as curves; the "crank pin" is the end of the cam's angle mark on its base circle. A spatial
 four-bar: the projection on the plane of the two principal directions of its points' paths over
 a turn (the plane it shows its motion in best), the moving points' velocities and accelerations
-projected alike, the output's angle or travel and the balancing torque as curves."""
+projected alike, the output's angle or travel and the balancing torque as curves (a prismatic
+input: over its range of strokes s [m], with the balancing force [N])."""
 
 from __future__ import annotations
 
@@ -13,6 +14,7 @@ import math
 import numpy as np
 
 from linkgen.draw.page import PageData, arrow_segments
+from linkgen.draw.page_planar import balancing_label
 from linkgen.draw.plan import title_of
 from linkgen.draw.teaching import LONGEST, summary_lines
 from linkgen.errors import LinkgenError
@@ -81,13 +83,14 @@ def cam_page(cm, frames: int = 72) -> PageData:
 
 
 def spatial_page(mech, frames: int = 72) -> PageData:
-    """The page's data of the spatial four-bar ``mech`` at ``frames`` crank angles over a turn."""
+    """The page's data of the spatial four-bar ``mech`` at ``frames`` crank angles over a turn (a
+    prismatic input: ``frames`` strokes over its range, both ends)."""
     from linkgen.families.spatial.kinematics import assembled_chain, solve
     from linkgen.families.spatial.summary import summary
     from linkgen.model.names import GROUND
 
     chain = assembled_chain(mech)
-    phi = np.linspace(0.0, 2 * math.pi, frames, endpoint=False)
+    phi = chain.input_samples(frames)
     mo = solve(mech, phi, chain)
     w, e = float(mech.drive.omega), float(getattr(mech.drive, "epsilon", 0.0))
     xyz = {p: j.d[0] for p, j in mo.points.items()}
@@ -123,18 +126,19 @@ def spatial_page(mech, frames: int = 72) -> PageData:
     try:
         from linkgen.families.spatial.results import forces
 
-        curves["balancing torque [N·m]"] = np.asarray(forces(mech, phi).balancing_torque, dtype=float)
+        curves[balancing_label(chain.input_slides)] = np.asarray(forces(mech, phi).balancing_torque, dtype=float)
     except LinkgenError as exc:  # a dead centre: the page says why it has no torque
-        notes.append(f"no balancing torque: {str(exc).splitlines()[0][:120]}")
+        notes.append(f"no {balancing_label(chain.input_slides).split(' [')[0]}: {str(exc).splitlines()[0][:120]}")
     ground = np.array([q for p in fixed_pts for q in (flat(mech.point(p)), (np.nan, np.nan))], dtype=float)
     e1, e2 = (", ".join(f"{round(float(x), 2) + 0.0:.2f}" for x in b) for b in basis)
-    start = int(np.argmin(np.abs(np.angle(np.exp(1j * (phi - chain.phi_s))))))  # the sketch's pose, as draw shows it
+    off = phi - chain.phi_s if chain.input_slides else np.angle(np.exp(1j * (phi - chain.phi_s)))
+    start = int(np.argmin(np.abs(off)))  # the sketch's pose, as draw shows it
     return PageData(title=title_of(mech) + " (projection on its principal plane)", phi=phi, start=start, lines=lines,
                     points={p: flat(xyz[p]) for p in xyz}, pin=pin,
                     vectors={"velocity": arrow_segments(at, v, mu_v), "acceleration": arrow_segments(at, a, mu_a)},
                     vector_scales={"velocity": f"projected, 1 m = {mu_v:g} m/s",
                                    "acceleration": f"projected, 1 m = {mu_a:g} m/s²"},
                     curves=curves, summary=tuple(summary_lines(summary(mech)) + notes), fixed=ground,
-                    axes=(f"along ({e1}) [m]", f"along ({e2}) [m]"))
+                    axes=(f"along ({e1}) [m]", f"along ({e2}) [m]"), stroke=chain.input_slides)
 
 __all__ = ["cam_page", "spatial_page"]

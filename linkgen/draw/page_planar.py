@@ -1,6 +1,7 @@
 """A planar linkage's interactive page (``draw.page``): the links over the drive's range at the
 drive's ω and ε, the points' velocities and accelerations and the pairs' reactions as arrows,
-each output's position and the balancing torque as curves."""
+each output's position and the balancing torque as curves (a prismatic drive: over its strokes
+s [m] at its ṡ and s̈, with the balancing force [N])."""
 
 from __future__ import annotations
 
@@ -17,10 +18,16 @@ from linkgen.families.planar.plate import convex_hull
 
 
 def page_angles(mech, frames: int) -> np.ndarray:
-    """``frames`` crank angles [rad] over the drive's range (a full turn without its repeated end)."""
+    """``frames`` crank angles [rad] (a prismatic drive: strokes [m]) over the drive's range (a full
+    turn without its repeated end)."""
     d = mech.drive
-    full = d.stop - d.start >= 2 * math.pi - 1e-12
+    full = not mech.slide_drive and d.stop - d.start >= 2 * math.pi - 1e-12
     return np.linspace(d.start, d.stop, frames, endpoint=not full)
+
+
+def balancing_label(stroke: bool) -> str:
+    """The balancing load's curve: a force [N] on a prismatic drive, else a torque [N·m]."""
+    return "balancing force [N]" if stroke else "balancing torque [N·m]"
 
 
 def _round_scale(longest: float, size: float) -> float:
@@ -72,6 +79,8 @@ def planar_page(asm, frames: int = 72) -> PageData:
     curves, notes = {}, []
     summary = summarize(asm)
     for name, o in summary.outputs.items():
+        if mech.slide_drive and name.split(" ")[0] == mech.drive.joint:
+            continue  # the driven pair's own stroke is the input itself, the curves' axis
         if o.kind == "slider" and name.split(" ")[0] in mo.sliders:
             curves[f"{name} displacement [m]"] = mo.sliders[name.split(" ")[0]][0]
         elif name.split(" ")[0] in mo.links:
@@ -82,7 +91,7 @@ def planar_page(asm, frames: int = 72) -> PageData:
         from linkgen.families.planar.kinetostatics import forces
 
         f = forces(asm, phi, mech.drive.omega, mech.drive.epsilon, on_singular="mark")
-        curves["balancing torque [N·m]"] = f.balancing_torque
+        curves[balancing_label(mech.slide_drive)] = f.balancing_torque
         rev = [r for r in mech.revolutes if r.name in f.reactions]
         if rev:
             r_at = np.stack([mo.points[r.point][0] for r in rev], axis=1)
@@ -93,19 +102,24 @@ def planar_page(asm, frames: int = 72) -> PageData:
         notes.append(f"no forces: {str(exc).splitlines()[0][:120]}")
     crank = mech.link(mech.crank).points
     pin = pos.points[crank[1] if len(crank) > 1 else crank[0]]
+    if mech.slide_drive:  # the driven slider's point
+        pin = pos.points[next(p.point for p in mech.prismatics if p.name == mech.drive.joint)]
     ground = [pos.points[p][0] for p in fixed_pts]
     fixed = np.array([q for g in ground for q in (g, (np.nan, np.nan))], dtype=float) if ground else None
     from linkgen.draw.defaults import default_angle
 
-    start = int(np.argmin(np.abs(phi - default_angle(mech))))
+    first = mech.drive.start if mech.slide_drive else default_angle(mech)  # the pose ``draw`` shows by default
+    start = int(np.argmin(np.abs(phi - first)))
     return PageData(title=title_of(mech), phi=phi, start=start, lines=np.stack([_lines(pos, i) for i in range(len(phi))]),
                     points={p: pos.points[p] for p in mech.points}, pin=pin, vectors=vectors, vector_scales=scales,
-                    curves=curves, summary=tuple(summary_lines(summary) + notes), fixed=fixed)
+                    curves=curves, summary=tuple(summary_lines(summary) + notes), fixed=fixed,
+                    stroke=mech.slide_drive)
 
 
 def mujoco_curves(data: PageData, samples) -> dict[str, tuple[np.ndarray, np.ndarray]]:
     """MuJoCo's values of the page's curves from a run's ``samples`` (``mujoco.sample.Samples``):
-    label → (φ (m,) [rad], values (m,)), an angle on the closed form's turn (whole turns apart)."""
+    label → (φ (m,) [rad] or s (m,) [m], values (m,)), an angle on the closed form's turn (whole
+    turns apart)."""
     phi = np.asarray(samples.crank[0], dtype=float)
     out = {}
     for label, ours in data.curves.items():
@@ -116,9 +130,9 @@ def mujoco_curves(data: PageData, samples) -> dict[str, tuple[np.ndarray, np.nda
             theirs = np.degrees(np.unwrap(np.asarray(samples.links[name][0], dtype=float)))
             near = np.interp(phi[0], data.phi, ours)
             out[label] = (phi, theirs - 360.0 * np.round((theirs[0] - near) / 360.0))
-        elif label == "balancing torque [N·m]":
+        elif label in (balancing_label(False), balancing_label(True)):
             out[label] = (phi, np.asarray(samples.drive_torque, dtype=float))
     return out
 
 
-__all__ = ["mujoco_curves", "page_angles", "planar_page"]
+__all__ = ["balancing_label", "mujoco_curves", "page_angles", "planar_page"]

@@ -3,6 +3,7 @@ positions overlaid, numbered, with every moving point's path over the drive's ra
 
 from __future__ import annotations
 
+import math
 from pathlib import Path
 
 import numpy as np
@@ -48,6 +49,22 @@ def title_of(mech: Mechanism, width: int = 90) -> str:
     import textwrap
 
     return "\n".join(textwrap.wrap(mech.title or mech.name, width)).replace("$", r"\$")
+
+
+def slides_in(mech) -> bool:
+    """The input is a stroke s [m] (a planar prismatic drive, a PSSR/PSSP slider), not an angle φ."""
+    return bool(getattr(mech, "slide_drive", False) or getattr(getattr(mech, "drive", None), "slides", False))
+
+
+def input_at(mech, phi: float) -> str:
+    """The input's value as a drawing's title says it: ``φ = 30°`` or ``s = 0.8 m``."""
+    return f"s = {float(phi):.4g} m" if slides_in(mech) else f"φ = {math.degrees(float(phi)):.4g}°"
+
+
+def rates_of(mech, omega: float, epsilon: float | None = None) -> str:
+    """The input's rate (and its derivative): ``ω = 10 rad/s, ε = 0 rad/s²`` or ``ṡ = 0.1 m/s, s̈ = 0 m/s²``."""
+    w, e, u = ("ṡ", "s̈", "m") if slides_in(mech) else ("ω", "ε", "rad")
+    return f"{w} = {omega:.4g} {u}/s" + (f", {e} = {epsilon:.4g} {u}/s²" if epsilon is not None else "")
 
 
 def skeleton_figure(mech: Mechanism, phi: float, out: Path | None = None, *, paths: Positions | None = None):

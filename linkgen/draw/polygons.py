@@ -12,7 +12,7 @@ from pathlib import Path
 
 import numpy as np
 
-from linkgen.draw.plan import DPI, FIGSIZE, plt_module, save, title_of
+from linkgen.draw.plan import DPI, FIGSIZE, input_at, plt_module, rates_of, save, title_of
 from linkgen.draw.skeleton import INK
 
 STYLES = {"absolute": dict(color=(0.55, 0.55, 0.55), lw=0.9, ls="-"), "relative": dict(lw=1.8, ls="-"),
@@ -116,8 +116,8 @@ def vector_plan_figure(mech, plan, out: Path | None = None, *, title: str | None
     handles += [Line2D([], [], color=INK, lw=STYLES[k]["lw"], ls=STYLES[k]["ls"], label=f"{k} part") for k in kinds]
     handles.append(Line2D([], [], **STYLES["absolute"], label="from the pole"))
     ax.legend(handles=handles, fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0), frameon=False)
-    rates = f"ω = {plan.omega:.4g} rad/s" + (f", ε = {plan.epsilon:.4g} rad/s²" if plan.kind == "acceleration" else "")
-    ax.set_title(title or f"{title_of(mech)}\n{plan.kind} plan at φ = {math.degrees(plan.phi):.4g}°, {rates}, "
+    rates = rates_of(mech, plan.omega, plan.epsilon if plan.kind == "acceleration" else None)
+    ax.set_title(title or f"{title_of(mech)}\n{plan.kind} plan at {input_at(mech, plan.phi)}, {rates}, "
                  f"pole {plan.pole}", fontsize=10)
     if out is not None:
         save(fig, out)
@@ -145,8 +145,8 @@ def spatial_plan_figure(mech, plan, out: Path | None = None):
 
     handles = [Line2D([], [], color=colors[o], lw=2, label=o) for o in owners]
     fig.legend(handles=handles, loc="outside lower center", ncol=len(handles), fontsize=8, frameon=False)
-    fig.suptitle(f"{title_of(mech, 110)}\n{plan.kind} plan at φ = {math.degrees(plan.phi):.4g}°, ω = {plan.omega:.4g} "
-                 f"rad/s, pole {plan.pole}: the 3-D plan's projections", fontsize=10)
+    fig.suptitle(f"{title_of(mech, 110)}\n{plan.kind} plan at {input_at(mech, plan.phi)}, {rates_of(mech, plan.omega)}, "
+                 f"pole {plan.pole}: the 3-D plan's projections", fontsize=10)
     if out is not None:
         save(fig, out)
     return fig, plan

@@ -10,7 +10,7 @@ from pathlib import Path
 
 import numpy as np
 
-from linkgen.draw.plan import DPI, plt_module, save, title_of
+from linkgen.draw.plan import DPI, input_at, plt_module, rates_of, save, title_of
 from linkgen.draw.polygons import nice_length
 from linkgen.draw.skeleton import INK, LINK, draw_skeleton, frame_of, set_limits
 from linkgen.families.planar.description import GROUND
@@ -120,8 +120,13 @@ def label_links(ax, pos, size: float) -> None:
 
 def summary_lines(summary) -> list[str]:
     """The design summary in a few lines: each output's stroke or swing and time ratio, the least
-    transmission angle of each group."""
+    transmission angle of each group (where: a crank angle, or a prismatic input's stroke)."""
     lines = []
+    stroke = bool(getattr(summary, "stroke", False) or getattr(summary, "input_slides", False))
+
+    def at(phi: float) -> str:  # where on the input's range: a crank angle, or a prismatic input's stroke
+        return f"s = {phi:.4g} m" if stroke else f"φ = {math.degrees(phi):.4g}°"
+
     for name, o in summary.outputs.items():
         if o.travel is None:
             continue
@@ -130,16 +135,17 @@ def summary_lines(summary) -> list[str]:
         lines.append(f"{name}: {what}{k}")
     pressure = getattr(summary, "max_pressure_angle", None)
     if pressure is not None:
-        lines.append(f"largest pressure angle: {math.degrees(pressure.value):.4g}° at φ = {math.degrees(pressure.phi):.4g}°")
+        lines.append(f"largest pressure angle: {math.degrees(pressure.value):.4g}° at {at(pressure.phi)}")
     for label, ex in getattr(summary, "min_transmission_angle", {}).items():
-        lines.append(f"least γ {label.split(' [')[0]}: {math.degrees(ex.value):.4g}° at φ = {math.degrees(ex.phi):.4g}°")
+        lines.append(f"least γ {label.split(' [')[0]}: {math.degrees(ex.value):.4g}° at {at(ex.phi)}")
     return lines
 
 
 def teaching_figure(asm, phi: float, out: Path | None = None, *, arrows=None, summary=None):
     """The skeleton at crank angle ``phi`` [rad] with link names and lengths, ``arrows``
     (``draw.vectors.Arrows``, or None) and the ``summary`` box (a design summary, or None);
-    saved to ``out`` when given. Returns (figure, arrows, scale [unit per m of drawing] or None)."""
+    saved to ``out`` when given. Returns (figure, arrows, scale [unit per m of drawing] or None: no
+    arrow, or every one zero)."""
     from linkgen.families.planar.positions import drive_angles, positions
 
     plt = plt_module()
@@ -158,9 +164,12 @@ def teaching_figure(asm, phi: float, out: Path | None = None, *, arrows=None, su
     label_links(ax, pos, frame.size)
     set_limits(ax, paths, frame)
     mu = None
-    if arrows is not None and arrows.arrows:
+    if arrows is not None and any(float(np.linalg.norm(a.vector)) > 0.0 for a in arrows.arrows):
         mu = draw_arrows(ax, arrows, frame.size)
         _scale_bar(ax, mu, arrows.unit, frame.size)
+    elif arrows is not None and arrows.arrows:  # nothing to draw: the drawing says so rather than a bare scale
+        ax.text(0.03, 0.03, f"{arrows.what}: every one zero here ({', '.join(a.label for a in arrows.arrows)})",
+                transform=ax.transAxes, fontsize=8.5, color=INK, ha="left", va="bottom")
     if summary is not None:
         lines = summary_lines(summary)
         if lines:  # a figure legend of text only: the layout makes room for it beside the drawing
@@ -173,7 +182,7 @@ def teaching_figure(asm, phi: float, out: Path | None = None, *, arrows=None, su
     what = ""
     if arrows is not None:
         what = f", {arrows.what}" + (f" on group {arrows.group} (free body)" if arrows.group else "")
-    fig.suptitle(f"{title_of(mech, 110)}\nφ = {math.degrees(phi):.4g}°, ω = {mech.drive.omega:.4g} rad/s{what}", fontsize=10)
+    fig.suptitle(f"{title_of(mech, 110)}\n{input_at(mech, phi)}, {rates_of(mech, mech.drive.omega)}{what}", fontsize=10)
     if out is not None:
         save(fig, out)
     return fig, arrows, mu

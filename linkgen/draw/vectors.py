@@ -103,6 +103,14 @@ def _stroke_text(f) -> str:
     return f", φ ∈ {math.degrees(f.stroke[0]):.4g}°..{math.degrees(f.stroke[1]):.4g}°"
 
 
+def _reaction_label(mech, r, on: str) -> str:
+    """``R_A on crank``; where another pair at the same point also acts on ``on`` (two links
+    pinned to the ground at A), the link it comes from too: ``R_A on ground from rocker_5``."""
+    label = f"R_{r.point} on {on}"
+    twins = [q for q in mech.revolutes if q is not r and q.point == r.point and on in q.links]
+    return label + f" from {next(k for k in r.links if k != on)}" if twins else label
+
+
 def force_arrows(asm, phi: float, group: str | None = None) -> Arrows:
     """The forces at crank angle ``phi`` [rad]: every given point force (with its range; pale when
     off), each link's weight, and every pair's reaction (on the pair's first link, as
@@ -132,7 +140,7 @@ def force_arrows(asm, phi: float, group: str | None = None) -> Arrows:
                     out.append(Arrow(f"G_{name}", name, kin.point(name, mp.com).p[0], mp.mass * g, "weight"))
         for r in mech.revolutes:
             if r.name in f.reactions:
-                out.append(Arrow(f"R_{r.point} on {f.on[r.name]}", f.on[r.name], pts[r.point],
+                out.append(Arrow(_reaction_label(mech, r, f.on[r.name]), f.on[r.name], pts[r.point],
                                  f.reactions[r.name][0], "reaction"))
         for p in mech.prismatics:
             out.append(Arrow(f"N_{p.name} on {p.slider}", p.slider, pts[p.point], _normal(kin, asm, p, f), "reaction"))
@@ -153,7 +161,7 @@ def force_arrows(asm, phi: float, group: str | None = None) -> Arrows:
             continue
         sign = 1.0 if a in inside else -1.0  # reactions[J] acts on the first link
         on = a if a in inside else b
-        out.append(Arrow(f"R_{r.point} on {on}", on, pts[r.point], sign * f.reactions[r.name][0], "reaction"))
+        out.append(Arrow(_reaction_label(mech, r, on), on, pts[r.point], sign * f.reactions[r.name][0], "reaction"))
     for p in mech.prismatics:
         if (p.slider in inside) == (p.guide in inside):
             continue
@@ -162,6 +170,9 @@ def force_arrows(asm, phi: float, group: str | None = None) -> Arrows:
         if p.name in f.friction:
             vec = vec + float(f.friction[p.name][0]) * _direction(kin, asm, p)
         out.append(Arrow(f"N_{p.name} on {on}", on, pts[p.point], sign * vec, "reaction"))
+        if mech.slide_drive and p.name == mech.drive.joint:  # the drive's force along its guide: the balancing force
+            drive = float(np.asarray(f.balancing_torque)[0]) * _direction(kin, asm, p)
+            out.append(Arrow(f"F_{p.name} (the drive) on {on}", on, pts[p.point], sign * drive, "load"))
     label = f"II({grp.numbers[0]},{grp.numbers[1]}) {grp.kind.value}"
     return Arrows("forces", float(phi), tuple(out), label, tuple(grp.links))
 

@@ -19,6 +19,17 @@ UNITS = {"velocity": "m/s", "acceleration": "m/s²"}
 POLES = {"velocity": "p", "acceleration": "π"}
 
 
+def pole_name(kind: str, points) -> str:
+    """The pole's name in a ``kind`` plan of a mechanism with these ``points``: POLES[kind], unless
+    a point's vertex (its lower-case name) is already called so (a crank pin P's ``p``): then with
+    a subscript ₀ (``p₀``), as many as it takes to be free."""
+    taken = {str(p).lower() for p in points}
+    name = POLES[kind]
+    while name in taken:
+        name += "₀"
+    return name
+
+
 def check_kind(kind: str) -> str:
     """``kind`` if it is one of KINDS, else an ArgumentError naming them."""
     if kind not in KINDS:
@@ -87,4 +98,4 @@ def projected(plan: VectorPlan, basis: np.ndarray) -> VectorPlan:
                       tuple(Chain(c.link, c.target, c.names, c.xy @ b, c.kinds) for c in plan.chains), plan.ground)
 
 
-__all__ = ["Chain", "KINDS", "POLES", "UNITS", "VectorPlan", "check_kind", "projected"]
+__all__ = ["Chain", "KINDS", "POLES", "UNITS", "VectorPlan", "check_kind", "pole_name", "projected"]

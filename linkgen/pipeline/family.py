@@ -116,7 +116,8 @@ STAGES: tuple[Stage, ...] = (
           "its ``vectors`` (``draw.vectors.Arrows``) or its velocity or acceleration ``plan`` "
           "(``model.plans.VectorPlan``), or a position plan (an array)", ("draw",)),
     Stage("page", "(desc, out, frames=72, mujoco=False, progress=None)", "what was written into ``out``: one "
-          "self-contained interactive HTML page (the mechanism under a crank-angle slider, its vectors, curves and "
+          "self-contained interactive HTML page (the mechanism under a slider of its input, a crank angle or a prismatic "
+          "input's stroke, its vectors, curves and "
           "design summary; with ``mujoco`` MuJoCo's curves beside the closed form's)", ("page",)),
     Stage("animate", "(desc, frames, progress=None, mujoco=False, notice=None)", "(frames, how they were made)",
           ("animate",)),

@@ -245,6 +245,8 @@ def draw(desc, angles, out, *, vectors=None, parts: bool = False, free_body=None
         arrows = (force_arrows(asm, phi, free_body) if what == "forces" else motion_arrows(asm, phi, what, parts))
     _, _, mu = teaching_figure(asm, phi, out, arrows=arrows, summary=summarize(asm))
     extra = f", {arrows.what} at {mu:g} {arrows.unit} per m of drawing" if arrows is not None and mu else ""
+    if arrows is not None and arrows.arrows and not mu:
+        extra = f", {arrows.what}: every one zero here"
     return f"{mech.name}, skeleton at {at}{extra}", arrows
 
 
@@ -272,7 +274,7 @@ def page(desc, out, frames: int = 72, mujoco: bool = False, progress=None) -> st
 
         data = replace(data, mujoco=mujoco_curves(data, run(asm, progress=progress).samples))
     write_page(data, out)
-    return (f"{mech.name}, {len(data.phi)} crank angles, vectors {', '.join(data.vectors)}, curves {', '.join(data.curves)}"
+    return (f"{mech.name}, {data.inputs_text}, vectors {', '.join(data.vectors)}, curves {', '.join(data.curves)}"
             + (f", MuJoCo's run beside {', '.join(data.mujoco)}" if mujoco else ""))
 
 

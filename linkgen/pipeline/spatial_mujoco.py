@@ -113,7 +113,7 @@ def page(desc, out, frames: int = 72, mujoco: bool = False, progress=None) -> st
 
     data = spatial_page(desc, frames)
     write_page(data, out)
-    return f"{desc.name}, {len(data.phi)} crank angles, vectors {', '.join(data.vectors)}, curves {', '.join(data.curves)}"
+    return f"{desc.name}, {data.inputs_text}, vectors {', '.join(data.vectors)}, curves {', '.join(data.curves)}"
 
 
 def animate(desc, frames: int, progress=None, mujoco: bool = False, notice=None) -> tuple[list, str]:

@@ -21,7 +21,7 @@ from __future__ import annotations
 import numpy as np
 
 from linkgen.families.planar.description import GROUND, Mechanism
-from linkgen.model.plans import KINDS, POLES, Chain, VectorPlan, check_kind
+from linkgen.model.plans import KINDS, POLES, Chain, VectorPlan, check_kind, pole_name
 
 
 def _cross(w: float, r: np.ndarray) -> np.ndarray:
@@ -64,7 +64,7 @@ def vector_plan(asm, phi: float, kind: str, omega: float | None = None, epsilon:
     pos = positions(mech, [phi])
     acc = kind == "acceleration"
     col = 2 if acc else 1
-    pole = POLES[kind]
+    pole = pole_name(kind, mech.points)  # not a point's vertex name
     fixed = set(mech.link(GROUND).points)
     xy = {p: np.asarray(v[0][0], dtype=float) for p, v in mo.points.items()}
     vec = {p: (np.zeros(2) if p in fixed else np.asarray(v[col][0], dtype=float)) for p, v in mo.points.items()}
