@@ -16,6 +16,8 @@ import math
 
 import numpy as np
 
+from linkgen.families.planar.assembly import SKETCH_TIE
+
 from linkgen.errors import AssemblyError, SingularityError, angle_ranges
 from linkgen.studies.fourbar_params import FourBar, Params
 from linkgen.studies.metrics import reduce
@@ -53,7 +55,8 @@ def _branch(fb: FourBar, p: Params, size: np.ndarray) -> tuple[np.ndarray, np.nd
             sketch = np.arctan2(p.points[second][1] - p.points[first][1], p.points[second][0] - p.points[first][0])
             err = err + np.abs(np.remainder(turn - sketch + math.pi, 2 * math.pi) - math.pi)
         errs.append(np.where(fail, np.inf, err))
-    return np.where(errs[1] < errs[0], -1.0, 1.0), np.isfinite(errs[0]) | np.isfinite(errs[1])
+    return (np.where(errs[1] < errs[0] - SKETCH_TIE, -1.0, 1.0),  # assemble's tie rule: m = +1
+            np.isfinite(errs[0]) | np.isfinite(errs[1]))
 
 
 def _dyad(ax, ay, cx, cy, ra, rc, m):

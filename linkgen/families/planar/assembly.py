@@ -76,7 +76,7 @@ def assemble(mech: Mechanism, *, sketch_tolerance: float | None = SKETCH_TOLERAN
                 continue
             trial = {group.links[0]: p1, group.links[1]: p2} | ({group.third: res.value} if group.third else {})
             err = _sketch_error(mech, shapes, trial, size)
-            if best is None or err < best[0]:
+            if best is None or err < best[0] - SKETCH_TIE:  # a tie (a sketch on a dead centre) keeps m = +1
                 best = (err, m, p1, p2, res)
         if best is None:
             raise AssemblyError(
@@ -103,6 +103,13 @@ def _check_guides(group: Group, res) -> None:
             f"{sine:.3g}, needs at least {SINGULAR_TOL:g}), so the group has no defined position; turn one "
             f"of the guide lines ('angle')",
         )
+
+
+# Two branches whose sketch errors (dimensionless, ``_sketch_error``) differ by less than this are
+# a tie: the sketch lies on a dead centre (its two modes mirror each other there) and the first
+# mode, m = +1, is kept whatever the last bits of the two errors. The sketch's own branch has an
+# error of rounding's order (~1e-15) and the other one of order one, so only true ties fall in.
+SKETCH_TIE = 1e-9
 
 
 def _sketch_size(mech: Mechanism) -> float:
