@@ -4,16 +4,14 @@ follower's motion, the contact force and the cam torque with the closed form.
 
 The profile is a mesh: the profile polygon (PROFILE_POINTS vertices) extruded along z. MuJoCo
 collides a mesh as its convex hull, so a profile that is concave anywhere is refused with the
-angles where. The roller is a sphere of the roller's radius centred in the profile's plane (a
-knife edge a sphere of KNIFE_RADIUS of the base circle; ROLLER_GEOM says why not a cylinder),
-a flat face a thin box. Contacts are frictionless (condim 1), time constant CONTACT_TIME timesteps, impedance 0.9999; the
+angles where. The roller is a cylinder (a knife edge a cylinder of KNIFE_RADIUS of the base
+circle), a flat face a thin box. Contacts are frictionless (condim 1), time constant CONTACT_TIME timesteps, impedance 0.9999; the
 convex collision runs to CCD_TOLERANCE.
 
 What this costs (measured, validation figures in docs/cams.md): the profile is a polygon, and
-the roller rolling over its vertices is kicked off the cam at each — contact is lost in 6–8 % of
-the steps (a sphere roller; a flat face 10 %) — so the follower's displacement follows the
-closed form to ~1e-5 of the stroke (a flat face ~1e-4) and the contact force only as a mean over
-a few degrees of cam turn (under a per cent; docs/cams-mujoco.md measures each contact choice);
+the roller rolling over its vertices is kicked off the cam at each — contact is lost in about a
+third of the steps — so the follower's displacement follows the closed form to ~1e-4 of the
+stroke and the contact force only as a mean over a few degrees of cam turn (a few per cent);
 the instantaneous force is a train of impacts. The follower's spring
 is an actuator with an affine bias (no control input): F = −(preload + rate·q)."""
 
@@ -60,14 +58,6 @@ INTEGRATOR = "Euler"
 # off the facets in over half the steps; 10 halves that and cuts the displacement error 2–10×.
 CONTACT_TIME = 10
 KNIFE_RADIUS = 1e-3
-# The roller's geom: a sphere touches the extruded profile at one point of its mid-plane. A
-# cylinder as thick as the extrusion has its flat ends in the planes of the mesh's caps, a
-# degenerate pair for the convex collision (every point of a contact line equally deep), and
-# measured over a quarter turn it leaves the cam in 17–27 % of the steps against the sphere's
-# 6–8 %: displacement error 5.4e-5 → 8.1e-6 of the stroke (cam_translating), 1.4e-5 → 3.7e-6
-# (cam_oscillating); the contact force's rms error 0.56 → 0.24 and 0.47 → 0.30 of its peak
-# (validation/cam_contact.py, docs/cams-mujoco.md).
-ROLLER_GEOM = "sphere"
 CCD_TOLERANCE = 1e-12
 CCD_ITERATIONS = 200
 # The rotor's inertia holds the cam speed to SPEED_HOLD of ω against the cam torque's energy swing.
@@ -90,11 +80,8 @@ MAX_THICKNESS_RATIO = 1e12
 # The contact force and cam torque are compared as means over this many equal parts of a turn.
 WINDOWS = 72
 # What MuJoCo's soft, faceted contact holds, set from measurement on the bundled cams (twice the
-# worst seen, with the cylinder roller and RK4 used before): displacement 8.8e-5 and 2.5e-5 of the
-# stroke; contact force 3.4e-2 and 2.6e-2 and cam torque 3.9e-2 and 2.6e-2 of their peaks as 5°
-# means. Kept with the sphere roller (1.1e-5, 7.2e-3, 5.4e-3 at worst on the rollers): the flat
-# face, a box the sphere does not concern, still reaches 9.3e-5, 1.2e-2, 1.8e-2. Not the linkages'
-# 1e-6: see above.
+# worst seen): displacement 8.8e-5 and 2.5e-5 of the stroke; contact force 3.4e-2 and 2.6e-2 and
+# cam torque 3.9e-2 and 2.6e-2 of their peaks as 5° means. Not the linkages' 1e-6: see above.
 CAM_TOLERANCES = {"displacement": 2e-4, "contact_force": 0.07, "cam_torque": 0.08}
 
 
@@ -243,7 +230,7 @@ def cam_mjcf(cm: CamMechanism) -> str:
                          size=f"{_f(reach)} {_f(thick)} {_f(half)}", rgba="0.25 0.45 0.8 1", contype="2",
                          conaffinity="1", **contact)
     else:
-        etree.SubElement(fol, "geom", name=CONTACT, type=ROLLER_GEOM, pos=roller_pos, size=_f(rr),
+        etree.SubElement(fol, "geom", name=CONTACT, type="cylinder", pos=roller_pos, size=f"{_f(rr)} {_f(half)}",
                          rgba="0.25 0.45 0.8 1", contype="2", conaffinity="1", **contact)
     actuator = etree.SubElement(root, "actuator")
     etree.SubElement(actuator, "general", name=SPRING, joint=FOLLOWER, gainprm="0", biastype="affine", biasprm=bias)
@@ -271,14 +258,12 @@ class CamRun:
     touching: np.ndarray | None = None
 
 
-def run_cam(cm: CamMechanism, revolutions: float = 1.0, progress=None, max_steps: int | None = None,
-            mjcf_text: str | None = None) -> CamRun:
+def run_cam(cm: CamMechanism, revolutions: float = 1.0, progress=None, max_steps: int | None = None) -> CamRun:
     """Turn the cam from θ = 0 at ω, the follower starting on the cam at its closed-form state;
     record every step over ``revolutions`` turns after a settling eighth of a turn.
     ``progress(fraction done, seconds elapsed)`` is called every PROGRESS_STEPS steps once the
     run has lasted PROGRESS_AFTER seconds. A run past ``max_steps`` steps (default
-    ``mujoco.options.MAX_STEPS``) is refused before it starts. ``mjcf_text``: the model to run
-    (default ``cam_mjcf(cm)``; validation/cam_contact.py runs variants of it)."""
+    ``mujoco.options.MAX_STEPS``) is refused before it starts."""
     import time
 
     from linkgen.mujoco.log import no_log_file
@@ -288,7 +273,7 @@ def run_cam(cm: CamMechanism, revolutions: float = 1.0, progress=None, max_steps
 
     f = cm.follower
     with no_log_file():
-        model = mujoco.MjModel.from_xml_string(cam_mjcf(cm) if mjcf_text is None else mjcf_text)
+        model = mujoco.MjModel.from_xml_string(cam_mjcf(cm))
         data = mujoco.MjData(model)
         cam_q, fol = model.joint(CAM), model.joint(FOLLOWER)
         st = state(cm, [0.0])
@@ -356,6 +341,6 @@ def compare_cam(cm: CamMechanism, windows: int = WINDOWS, run: CamRun | None = N
             "integrator": INTEGRATOR, "windows": windows, "profile_points": PROFILE_POINTS}
 
 
-__all__ = ["CAM_TOLERANCES", "INTEGRATOR", "ROLLER_GEOM", "CamRun", "cam_mjcf", "cam_timestep", "compare_cam", "quantity_names",
+__all__ = ["CAM_TOLERANCES", "INTEGRATOR", "CamRun", "cam_mjcf", "cam_timestep", "compare_cam", "quantity_names",
            "rotor_inertia", "run_cam",
            "timestep"]
