@@ -16,9 +16,10 @@ demo: $(STAMP)
 	@# Validates every model into the report validation/report/, then exits non-zero if any missed its tolerance.
 	$(BIN)/linkgen validate models/ -o validation/report || { echo "some models missed their tolerance: see validation/report/README.md" >&2; exit 1; }
 
-# Two workers: the suite is CPU-bound and its tests independent (this machine has two cores).
+# Two workers: the suite is CPU-bound and its tests independent (this machine has two cores);
+# worksteal: a worker that runs out of tests takes some of the other's, so the long ones do not end alone.
 test: $(STAMP)
-	$(BIN)/python -m pytest -q -n 2
+	$(BIN)/python -m pytest -q -n 2 --dist worksteal
 
 bench: $(STAMP)
 	$(BIN)/python -m pip install --quiet -e '.[bench]'

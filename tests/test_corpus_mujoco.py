@@ -13,7 +13,7 @@ from linkgen.crosscheck.run import crosscheck
 
 # A small step budget keeps each run under a few seconds; what needs more runs at the budget and
 # must miss as predicted before the run (an "explained failure").
-BUDGET = 150_000
+BUDGET = 40_000
 SEEDS = range(100, 112)
 CAUSES = {"near-singular", "load switch", "loop gap", "time budget", "integration error", "run failed"}
 
@@ -42,7 +42,7 @@ def test_generated_mechanism_validates_or_is_explained(seed):
 
 
 def test_a_run_its_budget_cannot_hold_runs_at_the_budget_and_misses_as_predicted():
-    """Seed 101 needs ~5e6 steps to hold its loops; at a budget of 150 000 the prediction, made
+    """Seed 101 needs ~5e6 steps to hold its loops; at a budget of 40 000 the prediction, made
     before the run from the scan, says the step budget binds. The run still happens at the
     budget (never a bare refusal) and misses as predicted: its measured loop gap (an
     independent route: MuJoCo's own efc_pos) is over the tolerance and within a factor 3 of the
