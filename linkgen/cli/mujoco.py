@@ -283,6 +283,10 @@ def _summary(r: dict) -> str:
 
 
 def cmd_validate(args) -> int:
+    if args.engine == "mjwarp":  # float32 through MuJoCo Warp (docs/float32.md)
+        from linkgen.cli.engine import validate_float32
+
+        return validate_float32(args, _models(args.model))
     from linkgen.families.planar.blocks import default_threads
     from linkgen.pipeline.registry import report_parts
     from linkgen.report.report import write_index
@@ -401,6 +405,9 @@ def add_commands(sub) -> None:
     add_out_argument(v, f"write {allowed_text(VALIDATE)} (default: no report)", old=("--report",), metavar="DIR")
     v.add_argument("--no-practical", action="store_true",
                    help="skip the runs at MuJoCo's usual settings (the practical-settings table)")
+    v.add_argument("--engine", choices=("mujoco", "mjwarp"), default="mujoco",
+                   help="mujoco (default): MuJoCo in float64; mjwarp: a planar linkage's run in float32 through MuJoCo "
+                        "Warp against float64 and the closed form (docs/float32.md; pip install 'linkgen[mjwarp]')")
     v.add_argument("--max-steps", type=_positive_int, default=MAX_STEPS,
                    help=f"step budget of each MuJoCo run, per segment (no unit; default {MAX_STEPS}); a run whose "
                         f"loops need more is reported, not started")
