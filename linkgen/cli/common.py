@@ -62,6 +62,23 @@ def rate_arg(limit: float, unit: str):
 from linkgen.model.limits import MAX_SAMPLES  # noqa: E402 (the CLI's --samples bound, with the API's)
 
 
+def whole_in(lo: int, hi: int | None = None):
+    """An argparse type: a whole number from ``lo`` (to ``hi``, if given), refused with the
+    range it allows."""
+
+    def parse(text: str) -> int:
+        try:
+            n = int(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"expected a whole number, got {text!r}") from None
+        if n < lo or (hi is not None and n > hi):
+            allowed = f">= {lo}" if hi is None else f"from {lo} to {hi}"
+            raise argparse.ArgumentTypeError(f"expected a whole number {allowed}, got {text!r}")
+        return n
+
+    return parse
+
+
 def _positive_int(text: str) -> int:
     try:
         n = int(text)

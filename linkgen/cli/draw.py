@@ -9,23 +9,8 @@ from pathlib import Path
 
 import numpy as np
 
-from linkgen.cli.common import OptionError, _angle_arg, _positive_int, add_out_argument, allowed_text, output_kind
+from linkgen.cli.common import OptionError, _angle_arg, _positive_int, add_out_argument, allowed_text, output_kind, whole_in
 from linkgen.draw.limits import MAX_FRAMES, MAX_HEIGHT, MAX_WIDTH, MIN_FRAMES, MIN_SIDE
-
-
-def _whole_in(lo: int, hi: int):
-    """An argparse type: a whole number from ``lo`` to ``hi``, refused with the range it allows."""
-
-    def parse(text: str) -> int:
-        try:
-            n = int(text)
-        except ValueError:
-            raise argparse.ArgumentTypeError(f"expected a whole number, got {text!r}") from None
-        if not lo <= n <= hi:
-            raise argparse.ArgumentTypeError(f"expected a whole number from {lo} to {hi}, got {text!r}")
-        return n
-
-    return parse
 
 FIGURE_FORMATS = ("png", "svg", "pdf")
 VECTOR_CHOICES = ("velocity", "acceleration", "forces")
@@ -200,7 +185,7 @@ def add_commands(sub) -> None:
                                     "slider with a play button, its vectors, curves and design summary")
     g.add_argument("model", type=Path, help="description file (.toml)")
     add_out_argument(g, f"write {allowed_text(PAGE)}", required=True, metavar="FILE")
-    g.add_argument("--frames", type=_whole_in(MIN_PAGE_FRAMES, MAX_PAGE_FRAMES), default=72,
+    g.add_argument("--frames", type=whole_in(MIN_PAGE_FRAMES, MAX_PAGE_FRAMES), default=72,
                    help=f"crank angles on the slider (no unit; default 72, {MIN_PAGE_FRAMES} to {MAX_PAGE_FRAMES})")
     g.add_argument("--mujoco", action="store_true",
                    help="also run the linkage in MuJoCo over its drive range and draw MuJoCo's curves beside the "
@@ -210,7 +195,7 @@ def add_commands(sub) -> None:
     a = sub.add_parser("animate", help="the mechanism moving over its drive range, with its point paths")
     a.add_argument("model", type=Path, help="description file (.toml)")
     add_out_argument(a, f"write {allowed_text(ANIMATION)}", old=("--output",), required=True, metavar="FILE")
-    a.add_argument("--frames", type=_whole_in(MIN_FRAMES, MAX_FRAMES), default=72,
+    a.add_argument("--frames", type=whole_in(MIN_FRAMES, MAX_FRAMES), default=72,
                    help=f"frames over the range (no unit; default 72, {MIN_FRAMES} to {MAX_FRAMES})")
     a.add_argument("--fps", type=_positive_int, default=24, help="frames per second of the file (default 24)")
     a.add_argument("--mujoco", action="store_true",
@@ -222,9 +207,9 @@ def add_commands(sub) -> None:
     r.add_argument("model", type=Path, help="description file (.toml)")
     add_out_argument(r, f"write {allowed_text(FRAME)}", old=("--output",), required=True, metavar="FILE")
     r.add_argument("--angle", type=_angle_arg, help="crank angle with its unit, e.g. 30deg (default: the range's start)")
-    r.add_argument("--width", type=_whole_in(MIN_SIDE, MAX_WIDTH), default=800,
+    r.add_argument("--width", type=whole_in(MIN_SIDE, MAX_WIDTH), default=800,
                    help=f"image width [px] (default 800, {MIN_SIDE} to {MAX_WIDTH})")
-    r.add_argument("--height", type=_whole_in(MIN_SIDE, MAX_HEIGHT), default=600,
+    r.add_argument("--height", type=whole_in(MIN_SIDE, MAX_HEIGHT), default=600,
                    help=f"image height [px] (default 600, {MIN_SIDE} to {MAX_HEIGHT})")
     r.set_defaults(func=cmd_render)
 

@@ -9,27 +9,10 @@ import argparse
 import sys
 from pathlib import Path
 
-from linkgen.cli.common import OptionError
+from linkgen.cli.common import OptionError, whole_in
 
-
-def _count(text: str) -> int:
-    try:
-        n = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected a whole number, got {text!r}") from None
-    if n < 1:
-        raise argparse.ArgumentTypeError(f"expected a whole number >= 1, got {text!r}")
-    return n
-
-
-def _seed(text: str) -> int:
-    try:
-        n = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected a whole number >= 0, got {text!r}") from None
-    if n < 0:
-        raise argparse.ArgumentTypeError(f"expected a whole number >= 0, got {text!r}")
-    return n
+_count = whole_in(1)  # a count of variants, angles, workers or chunks
+_seed = whole_in(0)
 
 
 def _out_dir(path: Path) -> Path:

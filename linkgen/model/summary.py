@@ -123,16 +123,24 @@ def summary_text(s, what: str = "") -> str:
         if o.time_ratio is not None:
             lines.append(f"    min→max over {_degrees(o.strokes[0])} of crank turn, max→min over {_degrees(o.strokes[1])}: "
                          f"time ratio K = {o.time_ratio:.6g} (at constant ω)")
-    for group, t in (getattr(s, "min_transmission_angle", None) or {}).items():
-        lines.append(f"  transmission angle of {group}: least {_degrees(t.value)} at φ = {_degrees(t.phi)}")
+    lines += force_lines(s, lambda phi: f"φ = {_degrees(phi)}")
+    return "\n".join(lines)
+
+
+def force_lines(s, at, balancing: str = "peak balancing torque: {:.6g} N·m") -> list[str]:
+    """The summary's lines on transmission angles, the peak balancing load (``balancing``, its
+    value's format), the peak reactions and the forces' note, each position written by ``at``
+    (the drive's coordinate, [rad] or [m], to text)."""
+    lines = [f"  transmission angle of {group}: least {_degrees(t.value)} at {at(t.phi)}"
+             for group, t in (getattr(s, "min_transmission_angle", None) or {}).items()]
     if s.peak_balancing_torque is not None:
         t = s.peak_balancing_torque
-        lines.append(f"  peak balancing torque: {t.value:.6g} N·m at φ = {_degrees(t.phi)}")
-        for name, p in sorted(s.peak_reactions.items(), key=lambda kv: -kv[1].value):
-            lines.append(f"  peak reaction at {name}: {p.value:.6g} N at φ = {_degrees(p.phi)}")
+        lines.append(f"  {balancing.format(t.value)} at {at(t.phi)}")
+        lines += [f"  peak reaction at {name}: {p.value:.6g} N at {at(p.phi)}"
+                  for name, p in sorted(s.peak_reactions.items(), key=lambda kv: -kv[1].value)]
     if s.forces_note:
         lines.append(f"  {s.forces_note}")
-    return "\n".join(lines)
+    return lines
 
 
 __all__ = ["summary_text", "COMMON", "REACTION_KEYS", "Extreme", "Limit", "Output", "as_dict", "output_table", "summary_dict"]

@@ -7,6 +7,7 @@ import math
 from dataclasses import dataclass
 
 from linkgen.model.names import GROUND
+from linkgen.model.summary import force_lines
 
 
 
@@ -189,15 +190,7 @@ def stroke_summary_text(s) -> str:
             lines.append(f"    limit position ({lim.kind}) at {at(lim.phi)}: {value}")
         if not o.limits:
             lines.append("    no limit position inside the stroke (its extremes are at the stroke's ends)")
-    for group, t in s.min_transmission_angle.items():
-        lines.append(f"  transmission angle of {group}: least {_deg(t.value)} at {at(t.phi)}")
-    if s.peak_balancing_torque is not None:
-        t = s.peak_balancing_torque
-        lines.append(f"  peak balancing force along the drive's guide: {t.value:.6g} N at {at(t.phi)}")
-        for name, p in sorted(s.peak_reactions.items(), key=lambda kv: -kv[1].value):
-            lines.append(f"  peak reaction at {name}: {p.value:.6g} N at {at(p.phi)}")
-    if s.forces_note:
-        lines.append(f"  {s.forces_note}")
+    lines += force_lines(s, at, "peak balancing force along the drive's guide: {:.6g} N")
     return "\n".join(lines)
 
 
