@@ -258,12 +258,14 @@ class CamRun:
     touching: np.ndarray | None = None
 
 
-def run_cam(cm: CamMechanism, revolutions: float = 1.0, progress=None, max_steps: int | None = None) -> CamRun:
+def run_cam(cm: CamMechanism, revolutions: float = 1.0, progress=None, max_steps: int | None = None,
+            mjcf_text: str | None = None) -> CamRun:
     """Turn the cam from θ = 0 at ω, the follower starting on the cam at its closed-form state;
     record every step over ``revolutions`` turns after a settling eighth of a turn.
     ``progress(fraction done, seconds elapsed)`` is called every PROGRESS_STEPS steps once the
     run has lasted PROGRESS_AFTER seconds. A run past ``max_steps`` steps (default
-    ``mujoco.options.MAX_STEPS``) is refused before it starts."""
+    ``mujoco.options.MAX_STEPS``) is refused before it starts. ``mjcf_text``: the model to run
+    (default ``cam_mjcf(cm)``; validation/cam_contact.py runs variants of it)."""
     import time
 
     from linkgen.mujoco.log import no_log_file
@@ -273,7 +275,7 @@ def run_cam(cm: CamMechanism, revolutions: float = 1.0, progress=None, max_steps
 
     f = cm.follower
     with no_log_file():
-        model = mujoco.MjModel.from_xml_string(cam_mjcf(cm))
+        model = mujoco.MjModel.from_xml_string(cam_mjcf(cm) if mjcf_text is None else mjcf_text)
         data = mujoco.MjData(model)
         cam_q, fol = model.joint(CAM), model.joint(FOLLOWER)
         st = state(cm, [0.0])
