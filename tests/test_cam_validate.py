@@ -84,6 +84,15 @@ def test_the_step_comes_from_the_cams_fastest_motion():
     assert timestep(cm) < 2 * math.pi / cm.omega / STEPS_PER_TURN
 
 
+# Where MuJoCo's roller leaves the cam against where the closed form's force turns negative:
+# measured 0.5° apart with the sphere roller (63.6° and 64.1°); 1° is twice that.
+LEAVE_DEG = 1.0
+# The free follower drifts past the displacement tolerance (2e-4 of the stroke) 3.7° of cam turn
+# after leaving (measured: off at 63.6°, past the tolerance at 67.8°, the diagnosed range from
+# 67.4°); 5° bounds it. (With the cylinder roller the bouncing put the miss before the leaving.)
+DRIFT_DEG = 5.0
+
+
 def test_a_cam_whose_spring_cannot_hold_the_follower_is_diagnosed():
     """Twice the leave speed: the run misses, and the diagnosis says where and that the closed
     form's follower leaves the cam (a quarter of a turn covers the rise's deceleration)."""
@@ -101,9 +110,14 @@ def test_a_cam_whose_spring_cannot_hold_the_follower_is_diagnosed():
     assert found[0].cause == "follower leaves the cam"
     assert "spring" in found[0].detail
     ref = state(cm, run.theta % (2 * math.pi))
-    negative = np.degrees(run.theta[ref.contact_force < 0] % (2 * math.pi))
+    deg = np.degrees(run.theta % (2 * math.pi))
+    negative = deg[ref.contact_force < 0]
+    # MuJoCo's roller leaves the cam where the closed form's contact force turns negative
+    first_off = deg[~run.touching & (deg >= negative.min() - LEAVE_DEG)].min()
+    assert abs(first_off - negative.min()) <= LEAVE_DEG
     lo, hi = (math.degrees(x) for x in found[0].ranges[0])
-    assert lo <= negative.min() + 1.0  # the miss starts where the contact force turns negative, or before
+    # the miss starts there, or once the free follower has drifted by the tolerance
+    assert negative.min() - LEAVE_DEG <= lo <= negative.min() + DRIFT_DEG
 
 
 def _synthetic_fly_off(cm):

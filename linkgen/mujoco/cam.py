@@ -58,6 +58,14 @@ INTEGRATOR = "Euler"
 # off the facets in over half the steps; 10 halves that and cuts the displacement error 2–10×.
 CONTACT_TIME = 10
 KNIFE_RADIUS = 1e-3
+# The roller's geom: a sphere touches the extruded profile at one point of its mid-plane. A
+# cylinder as thick as the extrusion has its flat ends in the planes of the mesh's caps, a
+# degenerate pair for the convex collision (every point of a contact line equally deep), and
+# measured over a quarter turn it leaves the cam in 17–27 % of the steps against the sphere's
+# 6–8 %: displacement error 5.4e-5 → 8.1e-6 of the stroke (cam_translating), 1.4e-5 → 3.7e-6
+# (cam_oscillating); the contact force's rms error 0.56 → 0.24 and 0.47 → 0.30 of its peak
+# (validation/cam_contact.py, docs/cams-mujoco.md).
+ROLLER_GEOM = "sphere"
 CCD_TOLERANCE = 1e-12
 CCD_ITERATIONS = 200
 # The rotor's inertia holds the cam speed to SPEED_HOLD of ω against the cam torque's energy swing.
@@ -187,6 +195,14 @@ def cam_mjcf(cm: CamMechanism) -> str:
     reach = max(r, f.pivot_distance + 0.1 * r) if f.kind == "oscillating" else r
     top = r if f.kind == "oscillating" else f.lift_origin + float(np.ptp(f.output(th)[0])) + 0.3 * size
     add_scene(world, (-r, reach, -r, max(r, top)), size)
+    # The follower's body stands where the closed form has it at θ = 0, its joint's ref there
+    # (MuJoCo's qpos0): the model as loaded starts with the roller on the cam, the joint's
+    # coordinate still the follower's from its lowest position. At qpos 0 (the lowest position) the
+    # roller would sit inside a cam whose lift at θ = 0 is not 0 (cam_oscillating: 0.31 rad, the
+    # roller 2× its radius deep), where the convex collision finds the shortest way out through
+    # the extrusion's flat faces: a contact normal along z, a force of ~1e18 N with a stray
+    # in-plane part, MuJoCo's BADQACC at the first step (a sphere roller scaled to 1e-2).
+    q0 = float(state(cm, [0.0]).displacement[0])
     contact = {"solref": f"{_f(CONTACT_TIME * dt)} 1", "solimp": "0.9999 0.9999 0.001 0.5 2", "condim": "1", "margin": "0",
                "friction": "0 0 0"}
     cam = etree.SubElement(world, "body", name=CAM)
@@ -195,8 +211,8 @@ def cam_mjcf(cm: CamMechanism) -> str:
     etree.SubElement(cam, "geom", name="cam:profile", type="mesh", mesh="cam:profile", rgba="0.85 0.3 0.2 1",
                      contype="1", conaffinity="2", **contact)
     if f.kind == "translating":
-        fol = etree.SubElement(world, "body", name=FOLLOWER, pos=f"{_f(f.offset)} {_f(f.lift_origin)} 0")
-        etree.SubElement(fol, "joint", name=FOLLOWER, type="slide", axis="0 1 0")
+        fol = etree.SubElement(world, "body", name=FOLLOWER, pos=f"{_f(f.offset)} {_f(f.lift_origin + q0)} 0")
+        etree.SubElement(fol, "joint", name=FOLLOWER, type="slide", axis="0 1 0", ref=_f(q0))
         etree.SubElement(fol, "inertial", pos="0 0 0", mass=_f(max(cm.mass, 1e-6)), diaginertia="1e-6 1e-6 1e-6")
         roller_pos = "0 0 0"
         if 0.3 * size >= MUJOCO_MIN_BAR:  # a drawing only: MuJoCo refuses shorter capsules
@@ -212,8 +228,9 @@ def cam_mjcf(cm: CamMechanism) -> str:
         bias = f"{_f(-cm.spring_preload)} {_f(-cm.spring_rate)} 0"
     else:
         psi0 = f.psi0
-        fol = etree.SubElement(world, "body", name=FOLLOWER, pos=f"{_f(f.pivot_distance)} 0 0")
-        etree.SubElement(fol, "joint", name=FOLLOWER, type="hinge", axis="0 0 1")
+        fol = etree.SubElement(world, "body", name=FOLLOWER, pos=f"{_f(f.pivot_distance)} 0 0",
+                               axisangle=f"0 0 1 {_f(-q0)}")
+        etree.SubElement(fol, "joint", name=FOLLOWER, type="hinge", axis="0 0 1", ref=_f(-q0))
         etree.SubElement(fol, "inertial", pos="0 0 0", mass="1",
                          diaginertia=" ".join([_f(max(cm.inertia, 1e-9))] * 3))
         x, y = -f.arm_length * math.cos(psi0), f.arm_length * math.sin(psi0)
@@ -230,7 +247,7 @@ def cam_mjcf(cm: CamMechanism) -> str:
                          size=f"{_f(reach)} {_f(thick)} {_f(half)}", rgba="0.25 0.45 0.8 1", contype="2",
                          conaffinity="1", **contact)
     else:
-        etree.SubElement(fol, "geom", name=CONTACT, type="cylinder", pos=roller_pos, size=f"{_f(rr)} {_f(half)}",
+        etree.SubElement(fol, "geom", name=CONTACT, type=ROLLER_GEOM, pos=roller_pos, size=_f(rr),
                          rgba="0.25 0.45 0.8 1", contype="2", conaffinity="1", **contact)
     actuator = etree.SubElement(root, "actuator")
     etree.SubElement(actuator, "general", name=SPRING, joint=FOLLOWER, gainprm="0", biastype="affine", biasprm=bias)
@@ -343,6 +360,6 @@ def compare_cam(cm: CamMechanism, windows: int = WINDOWS, run: CamRun | None = N
             "integrator": INTEGRATOR, "windows": windows, "profile_points": PROFILE_POINTS}
 
 
-__all__ = ["CAM_TOLERANCES", "INTEGRATOR", "CamRun", "cam_mjcf", "cam_timestep", "compare_cam", "quantity_names",
+__all__ = ["CAM_TOLERANCES", "INTEGRATOR", "ROLLER_GEOM", "CamRun", "cam_mjcf", "cam_timestep", "compare_cam", "quantity_names",
            "rotor_inertia", "run_cam",
            "timestep"]

@@ -21,7 +21,7 @@ from lxml import etree
 from linkgen.errors import SimulationError
 from linkgen.families.planar.description import CamPair
 from linkgen.mujoco.cam import (CCD_ITERATIONS, CCD_TOLERANCE, CONTACT_TIME, INTEGRATOR, KNIFE_RADIUS, PROFILE_POINTS,
-                                cam_timestep, extrusion_half)
+                                ROLLER_GEOM, cam_timestep, extrusion_half)
 from linkgen.mujoco.options import Settings
 from linkgen.mujoco.tree import body_name
 from linkgen.families.planar.assembly import Assembly
@@ -98,8 +98,8 @@ def add_cams(root, asm: Assembly, settings: Settings, size: float) -> None:
                          material="mat:crank", contype="1", conaffinity="2", group="0", **contact)
         follower = root.find(f".//body[@name='{body_name(cam.follower)}']")
         local = asm.shapes[cam.follower].local[cam.roller]
-        etree.SubElement(follower, "geom", name=roller_name(cam), type="cylinder", pos=f"{float(local[0])!r} {float(local[1])!r} 0",
-                         size=f"{float(radius)!r} {float(half)!r}", material="mat:link", contype="2", conaffinity="1", group="0",
+        etree.SubElement(follower, "geom", name=roller_name(cam), type=ROLLER_GEOM, pos=f"{float(local[0])!r} {float(local[1])!r} 0",
+                         size=f"{float(radius)!r}", material="mat:link", contype="2", conaffinity="1", group="0",
                          **contact)
         # the spring's torque (force) on the follower's joint: −σ·(preload + rate·(q − q_lowest)), with
         # q − q_lowest = q(0) − q_lowest + σ·qpos (the joint turns, or slides, by σ·δ from the sketch)

@@ -1,0 +1,71 @@
+"""The cam's roller in MuJoCo is a sphere (linkgen.mujoco.cam.ROLLER_GEOM): a cylinder as thick
+as the extruded profile puts its flat ends in the planes of the mesh's caps, and the roller then
+left the cam in about a quarter of the steps (validation/cam_contact.py, docs/cams-mujoco.md).
+The written model starts with the roller on the cam at every size."""
+
+from __future__ import annotations
+
+import mujoco
+import numpy as np
+
+from conftest import ROOT
+from linkgen.families.cam.kinetics import state
+from linkgen.mujoco.cam import run_cam
+from linkgen.mujoco.log import no_log_file
+from linkgen.pipeline.registry import load
+from test_build_scales import FEW_PROFILE_POINTS, scale_description
+
+MODELS = ROOT / "models"
+# Over a quarter turn of cam_translating from the closed-form state, measured on mujoco 4.0:
+# the sphere 8.1e-6 of the stroke, the cylinder 5.4e-5; the bound is twice the sphere's.
+DISPLACEMENT_BOUND = 1.6e-5
+# Steps with the roller off the cam over that quarter turn: the sphere 6 %, the cylinder 27 %.
+OFF_BOUND = 0.12
+# Steps of the written model from its initial state: the scale test's own count
+# (tests/test_build_scales.py, _loads_and_steps); MuJoCo flagged BADQACC at the first.
+STEPS = 20
+# The z part of a contact normal in the cam's plane: 0 but for rounding; out through a cap it is ±1.
+IN_PLANE = 1e-6
+
+
+def test_the_roller_follows_the_profile_over_a_quarter_turn():
+    cm = load(MODELS / "cam_translating.toml")
+    run = run_cam(cm, revolutions=0.25)
+    ref = state(cm, run.theta, float(np.mean(run.omega)))  # the closed form at MuJoCo's own angles
+    stroke = float(np.ptp(cm.follower.output(np.linspace(0, 2 * np.pi, 3600, endpoint=False))[0]))
+    assert np.abs(run.displacement - ref.displacement).max() / stroke <= DISPLACEMENT_BOUND
+    assert 1.0 - float(np.mean(run.touching)) <= OFF_BOUND
+
+
+@no_log_file()
+def test_a_small_cam_starts_with_its_roller_on_the_cam(tmp_path, monkeypatch):
+    # cam_oscillating at 1e-2 of its size (masses ∝ s³): its model started at the follower's
+    # lowest position, the roller inside the cam (the lift at θ = 0 is 18°); the convex collision
+    # pushed the sphere out through the extrusion's flat faces, along z, with ~1e18 N, and MuJoCo
+    # flagged BADQACC at the first step
+    import linkgen.mujoco.cam as cam
+
+    monkeypatch.setattr(cam, "PROFILE_POINTS", FEW_PROFILE_POINTS)
+    cm = load(scale_description(MODELS / "cam_oscillating.toml", tmp_path / "small.toml", 1e-2))
+    model = mujoco.MjModel.from_xml_string(cam.cam_mjcf(cm))
+    data = mujoco.MjData(model)
+    lift = float(state(cm, [0.0]).displacement[0])  # closed form, 18° = π/10 (models/cam_oscillating.toml)
+    assert model.qpos0[model.joint(cam.FOLLOWER).qposadr[0]] == -lift  # q = −(ψ − ψ0)
+    for _ in range(STEPS):
+        mujoco.mj_step(model, data)
+    warned = {mujoco.mjtWarning(i).name: int(w.number) for i, w in enumerate(data.warning) if w.number}
+    assert not warned
+    mujoco.mj_forward(model, data)
+    assert all(abs(data.contact[c].frame[2]) <= IN_PLANE for c in range(data.ncon))  # not out through a cap
+
+
+def test_a_cam_linkage_roller_is_the_same_geom(monkeypatch):
+    import linkgen.mujoco.cam_pair as cam_pair
+    from linkgen.families.planar.assembly import assemble
+    from linkgen.mujoco.mjcf import write_mjcf
+
+    monkeypatch.setattr(cam_pair, "PROFILE_POINTS", FEW_PROFILE_POINTS)
+    with no_log_file():
+        m = mujoco.MjModel.from_xml_string(write_mjcf(assemble(load(MODELS / "cam_rocker_slider.toml"))))
+    rollers = [m.geom(i) for i in range(m.ngeom) if m.geom(i).contype[0] == 2]
+    assert rollers and all(g.type[0] == mujoco.mjtGeom.mjGEOM_SPHERE for g in rollers)
