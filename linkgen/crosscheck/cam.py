@@ -31,10 +31,14 @@ class CamCheck:
     def summary(self, wall: str | None = None) -> str:
         """One line; ``wall``: the wall time as the caller measured it (default: the steps only)."""
         c, e, tol = self.comparison, self.comparison["errors_relative"], self.tolerances
+        now = e.get("contact_force_instantaneous")
+        every = ("" if now is None else f" (at every step {now:.2g}" + (
+            ": not held, the roller leaves the faceted profile at some steps; docs/cams-mujoco.md)"
+            if now > tol["contact_force"] else ")"))
         return (f"{'ok  ' if self.ok else 'FAIL'} cam in MuJoCo (contact with a {c['profile_points']}-vertex profile): "
                 f"displacement {e['displacement']:.2e} of the stroke (tolerance {tol['displacement']:g}), contact force "
                 f"{e['contact_force']:.2e} (tolerance {tol['contact_force']:g}) and cam torque {e['cam_torque']:.2e} "
-                f"(tolerance {tol['cam_torque']:g}) of their peaks as {360 / c['windows']:g}° means, "
+                f"(tolerance {tol['cam_torque']:g}) of their peaks as {360 / c['windows']:g}° means{every}, "
                 f"{c['steps']} steps" + (f", {wall}" if wall else ""))
 
     def to_json(self) -> dict:
