@@ -81,3 +81,20 @@ def test_the_cam_line_gives_the_contact_force_at_every_step():
                  {"displacement": 2e-4, "contact_force": 0.07, "cam_torque": 0.08})
     assert ("of their peaks as 5° means (at every step 1: not held, the roller leaves the faceted profile at some "
             "steps; docs/cams-mujoco.md), 100 steps") in r.summary()
+
+
+def test_a_run_that_blows_up_is_an_error_not_a_comparison(tmp_path, monkeypatch):
+    # cam_oscillating's lengths at 1e-2, its masses kept: a 5e-6 kg·m² arm under a 638 N·m spring
+    # torque, thrown through the cam within a step. MuJoCo flagged BADQACC, restarted the model
+    # from its initial state and ran on; validate compared the result: "displacement 3e299 of
+    # the stroke", blamed on penetration
+    import pytest
+
+    import linkgen.mujoco.cam as cam
+    from linkgen.errors import SimulationError
+
+    monkeypatch.setattr(cam, "PROFILE_POINTS", FEW_PROFILE_POINTS)
+    cm = load(scale_description(MODELS / "cam_oscillating.toml", tmp_path / "small.toml", 1e-2, masses=False))
+    with no_log_file(), pytest.raises(SimulationError, match=r"diverged in MuJoCo at t = \S+ s: MuJoCo flagged "
+                                                             r"BADQACC and restarted the model from its initial state"):
+        run_cam(cm, revolutions=0.25)

@@ -4,14 +4,17 @@ follower's motion, the contact force and the cam torque with the closed form.
 
 The profile is a mesh: the profile polygon (PROFILE_POINTS vertices) extruded along z. MuJoCo
 collides a mesh as its convex hull, so a profile that is concave anywhere is refused with the
-angles where. The roller is a cylinder (a knife edge a cylinder of KNIFE_RADIUS of the base
-circle), a flat face a thin box. Contacts are frictionless (condim 1), time constant CONTACT_TIME timesteps, impedance 0.9999; the
-convex collision runs to CCD_TOLERANCE.
+angles where. The roller is a sphere of the roller's radius centred in the profile's plane (a
+knife edge a sphere of KNIFE_RADIUS of the base circle; ROLLER_GEOM says why not a cylinder),
+a flat face a thin box. Contacts are frictionless (condim 1), time constant CONTACT_TIME timesteps, impedance 0.9999; the
+convex collision runs to CCD_TOLERANCE. The model as loaded (MuJoCo's qpos0) has the follower
+where the closed form puts it at θ = 0, on the cam.
 
 What this costs (measured, validation figures in docs/cams.md): the profile is a polygon, and
-the roller rolling over its vertices is kicked off the cam at each — contact is lost in about a
-third of the steps — so the follower's displacement follows the closed form to ~1e-4 of the
-stroke and the contact force only as a mean over a few degrees of cam turn (a few per cent);
+the roller rolling over its vertices is kicked off the cam at each — contact is lost in 6–8 % of
+the steps (a sphere roller; a flat face 10 %) — so the follower's displacement follows the
+closed form to ~1e-5 of the stroke (a flat face ~1e-4) and the contact force only as a mean over
+a few degrees of cam turn (under a per cent; docs/cams-mujoco.md measures each contact choice);
 the instantaneous force is a train of impacts. The follower's spring
 is an actuator with an affine bias (no control input): F = −(preload + rate·q)."""
 
@@ -35,8 +38,9 @@ from linkgen.mujoco.scene import add_scene, add_scene_assets
 from linkgen.mujoco.xml_text import comment
 
 # Profile vertices and steps per turn: measured on the bundled cams, 4000 and 20000 hold the
-# displacement to ~1e-4 of the stroke; finer meshes and steps do not improve it (the roller's
-# impacts on the facets, not their number, set the error) and cost time in proportion.
+# displacement to ~1e-5 of the stroke with the sphere roller; 16 000 vertices halve that at ~20×
+# the time and leave the contact force as it was, half the step changes nothing (the roller's
+# impacts on the facets set the error; docs/cams-mujoco.md).
 PROFILE_POINTS = 4000
 STEPS_PER_TURN = 20000
 # Steps per the follower's shortest time scale, max|q″|/(max|q‴|·ω) (how long its acceleration
@@ -88,8 +92,11 @@ MAX_THICKNESS_RATIO = 1e12
 # The contact force and cam torque are compared as means over this many equal parts of a turn.
 WINDOWS = 72
 # What MuJoCo's soft, faceted contact holds, set from measurement on the bundled cams (twice the
-# worst seen): displacement 8.8e-5 and 2.5e-5 of the stroke; contact force 3.4e-2 and 2.6e-2 and
-# cam torque 3.9e-2 and 2.6e-2 of their peaks as 5° means. Not the linkages' 1e-6: see above.
+# worst seen, with the cylinder roller and RK4 used before): displacement 8.8e-5 and 2.5e-5 of the
+# stroke; contact force 3.4e-2 and 2.6e-2 and cam torque 3.9e-2 and 2.6e-2 of their peaks as 5°
+# means. Kept with the sphere roller (1.1e-5, 7.4e-3, 6.8e-3 at worst on the rollers): the flat
+# face, a box the sphere does not concern, still reaches 9.3e-5, 1.2e-2, 1.8e-2. Not the linkages'
+# 1e-6: see above.
 CAM_TOLERANCES = {"displacement": 2e-4, "contact_force": 0.07, "cam_torque": 0.08}
 
 
@@ -254,6 +261,17 @@ def cam_mjcf(cm: CamMechanism) -> str:
     return etree.tostring(root, encoding="unicode", pretty_print=True)
 
 
+# MuJoCo's warnings that its state blew up: it then restarts the model from qpos0 and the run goes
+# on, finite but meaningless (a cam scaled with its masses kept was "compared" at 1e302 of its stroke).
+UNSTABLE = (mujoco.mjtWarning.mjWARN_BADQACC, mujoco.mjtWarning.mjWARN_BADQVEL, mujoco.mjtWarning.mjWARN_BADQPOS)
+
+
+def unstable(data: mujoco.MjData) -> str:
+    """Why MuJoCo's run blew up (": MuJoCo flagged …"), or "" while it has not."""
+    bad = [w.name[len("mjWARN_"):] for w in UNSTABLE if data.warning[w].number]
+    return f": MuJoCo flagged {', '.join(bad)} and restarted the model from its initial state" if bad else ""
+
+
 @dataclass(frozen=True)
 class CamRun:
     """MuJoCo at every step of the compared turn: cam angle θ [rad], cam speed [rad/s], the
@@ -328,8 +346,8 @@ def run_cam(cm: CamMechanism, revolutions: float = 1.0, progress=None, max_steps
             mujoco.mj_step(model, data)
             if progress is not None and k and k % PROGRESS_STEPS == 0 and time.perf_counter() - wall0 > PROGRESS_AFTER:
                 progress(k / total, time.perf_counter() - wall0)
-            if not np.isfinite(data.qvel).all():
-                raise SimulationError(f"the cam mechanism diverged in MuJoCo at t = {data.time:.6g} s")
+            if not np.isfinite(data.qvel).all() or unstable(data):
+                raise SimulationError(f"the cam mechanism diverged in MuJoCo at t = {data.time:.6g} s{unstable(data)}")
     return CamRun(out[:, 0], out[:, 1], out[:, 2], out[:, 3], out[:, 4], total, dt, out[:, 5], out[:, 6], out[:, 7],
                   out[:, 8] > 0)
 

@@ -19,7 +19,7 @@ import mujoco
 import numpy as np
 
 from linkgen.errors import SimulationError, angle_ranges
-from linkgen.mujoco.cam import CAM_TOLERANCES, PROFILE_POINTS, WINDOWS, _window_means
+from linkgen.mujoco.cam import CAM_TOLERANCES, PROFILE_POINTS, WINDOWS, _window_means, unstable
 from linkgen.mujoco.cam_pair import roller_name
 from linkgen.mujoco.log import no_log_file
 from linkgen.mujoco.mjcf import settings_for, write_mjcf
@@ -160,8 +160,8 @@ def check_cam_linkage(asm: Assembly, progress=None, max_steps: int = MAX_STEPS) 
         mujoco.mj_step(model, data)
         if progress is not None and k and k % PROGRESS_STEPS == 0 and time.perf_counter() - wall0 > PROGRESS_AFTER:
             progress(k / (lead + per_turn), time.perf_counter() - wall0)
-        if not np.isfinite(data.qvel).all():
-            raise SimulationError(f"{mech.name}: MuJoCo diverged at t = {data.time:.6g} s (step {k})")
+        if not np.isfinite(data.qvel).all() or unstable(data):
+            raise SimulationError(f"{mech.name}: MuJoCo diverged at t = {data.time:.6g} s (step {k}){unstable(data)}")
     kin = solve(asm, phi)
     fc = forces(asm, phi, om, ep)
     curves, contacts, tol, cams = {}, {}, {}, {}

@@ -1,9 +1,9 @@
 """A linkage's cam pairs in MuJoCo: the cam's profile as a mesh on the crank's body, the roller a
-cylinder on the follower's body at its centre, the follower's spring an affine actuator on its
-joint with the ground — the same contact model as a stand-alone cam (``linkgen.mujoco.cam``:
-PROFILE_POINTS vertices, CONTACT_TIME timesteps, frictionless, the convex collision to
-CCD_TOLERANCE), so the same accuracy: the follower's motion to ~1e-4 of its stroke and the
-forces as means over a few degrees of cam turn.
+sphere (``linkgen.mujoco.cam.ROLLER_GEOM``) on the follower's body at its centre, the follower's
+spring an affine actuator on its joint with the ground — the same contact model as a
+stand-alone cam (``linkgen.mujoco.cam``: PROFILE_POINTS vertices, CONTACT_TIME timesteps,
+frictionless, the convex collision to CCD_TOLERANCE), so the same accuracy: the follower's motion
+to ~1e-5 of its stroke and the forces as means over a few degrees of cam turn.
 
 The profile is computed in the crank's frame from the closed form: the roller centre C over a
 turn seen from the cam, R(−φ)·(C − O), moved inwards by the roller's radius along the pitch
