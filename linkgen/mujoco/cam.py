@@ -343,11 +343,12 @@ def run_cam(cm: CamMechanism, revolutions: float = 1.0, progress=None, max_steps
                                  sign * float(data.qpos[fol.qposadr[0]]), n_sum, torque,
                                  sign * float(data.qvel[fol.dofadr[0]]), sign * float(data.qacc[fol.dofadr[0]]), depth,
                                  touching)
+            t = data.time + dt  # the step's end (data.time restarts with a reset)
             mujoco.mj_step(model, data)
             if progress is not None and k and k % PROGRESS_STEPS == 0 and time.perf_counter() - wall0 > PROGRESS_AFTER:
                 progress(k / total, time.perf_counter() - wall0)
             if not np.isfinite(data.qvel).all() or unstable(data):
-                raise SimulationError(f"the cam mechanism diverged in MuJoCo at t = {data.time:.6g} s{unstable(data)}")
+                raise SimulationError(f"the cam mechanism diverged in MuJoCo at t = {t:.6g} s{unstable(data)}")
     return CamRun(out[:, 0], out[:, 1], out[:, 2], out[:, 3], out[:, 4], total, dt, out[:, 5], out[:, 6], out[:, 7],
                   out[:, 8] > 0)
 
@@ -380,4 +381,4 @@ def compare_cam(cm: CamMechanism, windows: int = WINDOWS, run: CamRun | None = N
 
 __all__ = ["CAM_TOLERANCES", "INTEGRATOR", "ROLLER_GEOM", "CamRun", "cam_mjcf", "cam_timestep", "compare_cam", "quantity_names",
            "rotor_inertia", "run_cam",
-           "timestep"]
+           "timestep", "unstable"]

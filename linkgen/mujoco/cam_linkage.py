@@ -157,11 +157,12 @@ def check_cam_linkage(asm: Assembly, progress=None, max_steps: int = MAX_STEPS) 
                         mujoco.mj_contactForce(model, data, j, force6)
                         normal[c][i] += force6[0]
                         touching[c][i], depth[c][i] = True, max(depth[c][i], -float(con.dist))
+        t = data.time + model.opt.timestep  # the step's end (data.time restarts with a reset)
         mujoco.mj_step(model, data)
         if progress is not None and k and k % PROGRESS_STEPS == 0 and time.perf_counter() - wall0 > PROGRESS_AFTER:
             progress(k / (lead + per_turn), time.perf_counter() - wall0)
         if not np.isfinite(data.qvel).all() or unstable(data):
-            raise SimulationError(f"{mech.name}: MuJoCo diverged at t = {data.time:.6g} s (step {k}){unstable(data)}")
+            raise SimulationError(f"{mech.name}: MuJoCo diverged at t = {t:.6g} s (step {k}){unstable(data)}")
     kin = solve(asm, phi)
     fc = forces(asm, phi, om, ep)
     curves, contacts, tol, cams = {}, {}, {}, {}
