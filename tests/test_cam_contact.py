@@ -79,7 +79,7 @@ def test_the_cam_line_gives_the_contact_force_at_every_step():
                                              "contact_force_instantaneous": 1.0},
                          "profile_points": 4000, "windows": 72, "steps": 100},
                  {"displacement": 2e-4, "contact_force": 0.07, "cam_torque": 0.08})
-    assert ("of their peaks as 5° means (at every step 1: not held, the roller leaves the faceted profile at some "
+    assert ("of their peaks as 5° means (at every step 1: not held, the follower leaves the faceted profile at some "
             "steps; docs/cams-mujoco.md), 100 steps") in r.summary()
 
 

@@ -33,7 +33,7 @@ class CamCheck:
         c, e, tol = self.comparison, self.comparison["errors_relative"], self.tolerances
         now = e.get("contact_force_instantaneous")
         every = ("" if now is None else f" (at every step {now:.2g}" + (
-            ": not held, the roller leaves the faceted profile at some steps; docs/cams-mujoco.md)"
+            ": not held, the follower leaves the faceted profile at some steps; docs/cams-mujoco.md)"
             if now > tol["contact_force"] else ")"))
         return (f"{'ok  ' if self.ok else 'FAIL'} cam in MuJoCo (contact with a {c['profile_points']}-vertex profile): "
                 f"displacement {e['displacement']:.2e} of the stroke (tolerance {tol['displacement']:g}), contact force "
