@@ -98,3 +98,20 @@ def test_a_run_that_blows_up_is_an_error_not_a_comparison(tmp_path, monkeypatch)
     with no_log_file(), pytest.raises(SimulationError, match=r"diverged in MuJoCo at t = \S+ s: MuJoCo flagged "
                                                              r"BADQACC and restarted the model from its initial state"):
         run_cam(cm, revolutions=0.25)
+
+
+def test_a_cam_linkage_run_that_blows_up_is_an_error(tmp_path, monkeypatch):
+    # cam_rocker_slider's lengths at 1e-3, its masses kept: MuJoCo flags BADQACC at the first
+    # step (with either roller) and restarts the model; validate compared the rest ("the roller
+    # sank 3.31e-05 m into the profile … 1.1e+12 of the roller's travel")
+    import pytest
+
+    import linkgen.mujoco.cam_pair as cam_pair
+    from linkgen.errors import SimulationError
+    from linkgen.families.planar.assembly import assemble
+    from linkgen.mujoco.cam_linkage import check_cam_linkage
+
+    monkeypatch.setattr(cam_pair, "PROFILE_POINTS", FEW_PROFILE_POINTS)
+    desc = scale_description(MODELS / "cam_rocker_slider.toml", tmp_path / "small.toml", 1e-3, masses=False)
+    with pytest.raises(SimulationError, match=r"MuJoCo diverged at t = \S+ s \(step 0\): MuJoCo flagged BADQACC"):
+        check_cam_linkage(assemble(load(desc)))
