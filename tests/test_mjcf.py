@@ -7,7 +7,7 @@ import mujoco
 import numpy as np
 import pytest
 
-from conftest import MODELS, ROOT
+from conftest import MODELS, ROOT, every_model
 from linkgen import AssemblyError, DescriptionError, SimulationError, StructureError, assemble, from_dict, load, solve
 from linkgen.crosscheck.compare import compare
 from linkgen.families.planar.geometry import link_shapes
@@ -198,8 +198,11 @@ def test_mujoco_log_file_stays_out_of_the_working_directory(tmp_path, monkeypatc
     assert not log.exists()
 
 
-@pytest.mark.parametrize("path", MODELS, ids=[p.stem for p in MODELS])
+@pytest.mark.every_model
+@pytest.mark.parametrize("path", every_model(MODELS), ids=lambda p: p.stem)
 def test_numeric_pose_matches_the_closed_form(path):
+    """The numeric pose and MuJoCo's joint state agree with the closed form. On one model per family and
+    feature (conftest.REPRESENTATIVE); on every bundled model in `make every-model`, which `make demo` runs."""
     mech = load(path)
     asm = assemble(mech)
     phi, omega = np.linspace(mech.drive.start, mech.drive.stop, 13), 3.0

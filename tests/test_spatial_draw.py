@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 from PIL import Image
 
-from conftest import SPATIAL_MODELS, input_values
+from conftest import SPATIAL_MODELS, every_model, input_values
 
 from linkgen.draw.plan import DPI
 from linkgen.draw.skeleton import CRANK, LINK
@@ -51,8 +51,12 @@ def test_the_spatial_models_are_found():
     assert RSSR in SPATIAL
 
 
-@pytest.mark.parametrize("path", SPATIAL, ids=[p.stem for p in SPATIAL])
+@pytest.mark.every_model
+@pytest.mark.parametrize("path", every_model(SPATIAL), ids=lambda p: p.stem)
 def test_skeleton_and_position_plan_of_every_spatial_model(path, tmp_path):
+    """A spatial skeleton and position plan, the crank and coupler in their colours. On one model per family
+    and feature (conftest.REPRESENTATIVE); on every bundled model in `make every-model`, which `make demo`
+    runs."""
     mech = load(path)
     one = draw_spatial(mech, input_values(mech, [np.radians(30.0)]), tmp_path / "one.png")
     plan = draw_spatial(mech, input_values(mech, PLAN), tmp_path / "plan.png")
