@@ -54,7 +54,8 @@ REPRESENTATIVE = {
     "cam_flat_face": "a cam, flat-faced follower",
     "rssr": "a spatial chain driven by a crank",
     "pssp": "a spatial chain driven by a slider",
-    "bennett": "a spatial chain of hinges alone",
+    "bennett": "a spatial chain of hinges alone (statically indeterminate)",
+    "rccc": "a spatial chain with cylindrical pairs",
 }
 
 
