@@ -64,6 +64,21 @@ def every_model(paths: list[Path]) -> list[Path]:
     return list(paths) if EVERY_MODEL else [p for p in paths if p.stem in REPRESENTATIVE]
 
 
+@pytest.fixture(scope="session")
+def validated():
+    """``validated(stem)``: the MuJoCo validation of a bundled model without the practical-settings
+    runs (a planar linkage's option; other families have none), made once a session for the tests
+    that only read it."""
+    done = {}
+
+    def get(stem: str):
+        if stem not in done:
+            done[stem] = linkgen.validate(linkgen.load(ROOT / "models" / f"{stem}.toml"), practical=False)
+        return done[stem]
+
+    return get
+
+
 @pytest.fixture(params=MODELS, ids=[p.stem for p in MODELS])
 def model_path(request) -> Path:
     return request.param

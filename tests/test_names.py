@@ -326,12 +326,8 @@ COMMON_VALIDATION = ["model", "ok", "settings", "quantities", "loop_gap", "diagn
 
 
 @pytest.fixture(scope="module")
-def checks():
-    out = {}
-    for family, stem in VALIDATED.items():
-        desc = linkgen.load(Path(__file__).resolve().parents[1] / "models" / f"{stem}.toml")
-        out[family] = stage(desc, "validate")(desc, practical=False)
-    return out
+def checks(validated):
+    return {family: validated(stem) for family, stem in VALIDATED.items()}
 
 
 @pytest.fixture(scope="module")

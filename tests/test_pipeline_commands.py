@@ -83,16 +83,10 @@ def test_every_command_on_every_model_works_or_refuses_in_one_line(tmp_path, cap
 
 
 @pytest.fixture(scope="module")
-def results():
+def results(validated):
     """One MuJoCo validation per family, on its cheapest model (fourbar without the
     practical-settings runs, a translating cam, the Bennett chain)."""
-    import linkgen
-
-    out = {}
-    for name, options in (("fourbar", {"practical": False}), ("cam_translating", {}), ("bennett", {})):
-        desc = linkgen.load(MODELS / f"{name}.toml")
-        out[name] = linkgen.validate(desc, **options)
-    return out
+    return {name: validated(name) for name in ("fourbar", "cam_translating", "bennett")}
 
 
 @pytest.mark.parametrize("name", ["fourbar", "cam_translating", "bennett"])
