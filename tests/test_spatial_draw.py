@@ -17,7 +17,6 @@ from linkgen.draw.plan import DPI
 from linkgen.draw.skeleton import CRANK, LINK
 from linkgen.draw.spatial import FIGSIZE, draw_spatial, plot_spatial_check
 from linkgen.pipeline.registry import load
-from linkgen.crosscheck.spatial import check_spatial
 
 ROOT = Path(__file__).resolve().parents[1]
 RSSR = ROOT / "models" / "rssr.toml"
@@ -79,9 +78,9 @@ def test_one_angle_as_a_float_and_formats_by_suffix(tmp_path):
 
 
 @pytest.fixture(scope="module")
-def rssr_check():
-    mech = load(RSSR)
-    return mech, check_spatial(mech)
+def rssr_check(validated):
+    """The RSSR's MuJoCo check (``check_spatial``, what ``linkgen validate`` runs), made once a session."""
+    return load(RSSR), validated("rssr")
 
 
 def test_report_figures_of_a_mujoco_check(rssr_check, tmp_path):

@@ -35,9 +35,9 @@ def spatial(request):
 
 @pytest.fixture(params=every_model(SPATIAL_MODELS), ids=lambda p: p.stem)
 def spatial_in_mujoco(request):
-    """A spatial model for the every-model MuJoCo checks: on one model per kind of chain
+    """A spatial model (its path) for the every-model MuJoCo checks: on one model per kind of chain
     (conftest.REPRESENTATIVE); on every bundled model in `make every-model`, which `make demo` runs."""
-    return linkgen.load(request.param)
+    return request.param
 
 
 def test_bundled_spatial_models_cover_the_four_kinds():
@@ -66,9 +66,9 @@ def test_balancing_torque_equals_the_energy_balance(spatial):
 
 
 @pytest.mark.every_model
-def test_mujoco_agrees_with_the_closed_form(spatial_in_mujoco):
-    spatial = spatial_in_mujoco
-    r = linkgen.validate(spatial)
+def test_mujoco_agrees_with_the_closed_form(spatial_in_mujoco, validated):
+    spatial = linkgen.load(spatial_in_mujoco)
+    r = validated(spatial_in_mujoco.stem)  # linkgen.validate(spatial), made once a session
     bad = {k: v for k, v in r.errors.items() if v[0] > v[1]}
     assert not bad, r.summary()
     assert r.gap <= GAP_TOL
@@ -84,7 +84,7 @@ def test_mujoco_agrees_with_the_closed_form(spatial_in_mujoco):
 
 @pytest.mark.every_model
 def test_keyframe_turns_the_crank_at_omega(spatial_in_mujoco):
-    spatial = spatial_in_mujoco
+    spatial = linkgen.load(spatial_in_mujoco)
     model = mujoco.MjModel.from_xml_string(write_spatial_mjcf(spatial))
     data = mujoco.MjData(model)
     mujoco.mj_resetDataKeyframe(model, data, model.key("sketch").id)
