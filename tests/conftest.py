@@ -1,3 +1,4 @@
+import os
 from pathlib import Path
 
 import pytest
@@ -31,6 +32,51 @@ def input_values(mech, phi):
         return phi
     lo, hi = mech.drive.range
     return lo + (hi - lo) * phi / (2 * np.pi)
+
+
+# Every-model checks (one property through one code path on each bundled model) run in `make test`
+# on one model per family and feature, REPRESENTATIVE below, and on every bundled model in
+# `make every-model` (which `make demo` runs): LINKGEN_EVERY_MODEL=1 and the `every_model` mark.
+EVERY_MODEL = os.environ.get("LINKGEN_EVERY_MODEL", "") == "1"
+REPRESENTATIVE = {
+    "fourbar": "an RRR group: the crank-rocker",
+    "g123": "RRR, RRP and RPR groups in series; two blocks on one pin",
+    "scotch_yoke": "an RPP group",
+    "tangent_prp": "a PRP group; a crank range short of a turn",
+    "hydraulic_boom": "a prismatic drive",
+    "planetary_lever": "gears",
+    "cam_rocker_slider": "a cam on the crank (a profile mesh)",
+    "slider_crank_friction": "springs and friction",
+    "fourbar_torsion": "a torsion spring",
+    "machine_press": "a machine: motor, gearbox, flywheel; a stroke-switched force",
+    "cam_translating": "a cam, translating roller follower",
+    "cam_oscillating": "a cam, oscillating follower",
+    "cam_flat_face": "a cam, flat-faced follower",
+    "rssr": "a spatial chain driven by a crank",
+    "pssp": "a spatial chain driven by a slider",
+    "bennett": "a spatial chain of hinges alone (statically indeterminate)",
+    "rccc": "a spatial chain with cylindrical pairs",
+}
+
+
+def every_model(paths: list[Path]) -> list[Path]:
+    """``paths`` in `make every-model`, else those of them that are REPRESENTATIVE."""
+    return list(paths) if EVERY_MODEL else [p for p in paths if p.stem in REPRESENTATIVE]
+
+
+@pytest.fixture(scope="session")
+def validated():
+    """``validated(stem)``: the MuJoCo validation of a bundled model without the practical-settings
+    runs (a planar linkage's option; other families have none), made once a session for the tests
+    that only read it."""
+    done = {}
+
+    def get(stem: str):
+        if stem not in done:
+            done[stem] = linkgen.validate(linkgen.load(ROOT / "models" / f"{stem}.toml"), practical=False)
+        return done[stem]
+
+    return get
 
 
 @pytest.fixture(params=MODELS, ids=[p.stem for p in MODELS])

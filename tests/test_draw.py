@@ -24,7 +24,7 @@ from linkgen.mujoco.scene import CAMERA_ASPECT
 from linkgen.families.planar.positions import drive_angles, positions
 
 ROOT = Path(__file__).resolve().parents[1]
-from conftest import MODELS  # linkages (cam files have tests of their own)
+from conftest import MODELS, every_model  # linkages (cam files have tests of their own)
 SCRIPT = shutil.which("linkgen", path=str(Path(sys.executable).parent))
 FIG_PX = (round(FIGSIZE[0] * DPI), round(FIGSIZE[1] * DPI))
 # The crank's pixels against the projected closed-form crank: within the capsule's projected
@@ -36,8 +36,12 @@ def run(*args, env=None):
     return subprocess.run([SCRIPT, *map(str, args)], capture_output=True, text=True, timeout=300, env=env)
 
 
-@pytest.mark.parametrize("path", MODELS, ids=[p.stem for p in MODELS])
+@pytest.mark.every_model
+@pytest.mark.parametrize("path", every_model(MODELS), ids=lambda p: p.stem)
 def test_draw_and_position_plan_of_every_bundled_model(path, tmp_path):
+    """A skeleton and a position plan, PNGs of the stated size with something drawn. On one model per family
+    and feature (conftest.REPRESENTATIVE); on every bundled model in `make every-model`, which `make demo`
+    runs."""
     mech = load(path)
     paths = positions(mech, drive_angles(mech))
     skeleton_figure(mech, mech.drive.start, tmp_path / "one.png", paths=paths)

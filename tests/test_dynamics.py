@@ -57,13 +57,20 @@ def test_flywheel_against_the_exact_energy_relation_and_against_integration():
     assert delta_run == pytest.approx(0.02, rel=1e-6)
 
 
-def test_energy_balance_over_a_steady_cycle():
+@pytest.fixture(scope="module")
+def slider_crank_run():
+    """The bundled slider-crank machine from rest to its steady cycle (~6 s of ODE), run once for
+    the tests that read it."""
+    asm, machine = load_machine(MODELS / "machine_slider_crank.toml")
+    red = reduce(asm, machine.process_load)
+    return asm, machine, red, run_machine(machine, red, samples=50)
+
+
+def test_energy_balance_over_a_steady_cycle(slider_crank_run):
     """Over one steady turn the kinetic energy returns: ∫ (drive + loads)·ω dt = 0, the drive
     being u·η·M_motor and the loads the reduced moment M(φ) (a route through the work, not
     through the equation of motion)."""
-    asm, machine = load_machine(MODELS / "machine_slider_crank.toml")
-    red = reduce(asm, machine.process_load)
-    run = run_machine(machine, red, samples=50)
+    asm, machine, red, run = slider_crank_run
     s = run.steady
     assert s is not None and 0.05 < s.delta < 0.5
     t = np.linspace(s.t_start, s.t_start + s.period, 200001)
@@ -101,9 +108,8 @@ def test_the_splines_reproduce_the_closed_form_between_grid_points():
     assert np.abs(red.dj(mid) - f.reduced.inertia_derivative).max() <= 1e-6 * np.abs(f.reduced.inertia_derivative).max()
 
 
-def test_forces_along_the_real_motion_use_the_ode_acceleration():
-    asm, machine = load_machine(MODELS / "machine_slider_crank.toml")
-    run = run_machine(machine, reduce(asm, machine.process_load), samples=50)
+def test_forces_along_the_real_motion_use_the_ode_acceleration(slider_crank_run):
+    asm, machine, _, run = slider_crank_run
     cf = cycle_forces(asm, run, samples=2000)
     assert cf is not None and set(cf.peak_reactions) == {"O", "A", "B"}
     # the balancing torque the mechanism needs along the motion is what the drive and the process

@@ -7,7 +7,7 @@ import mujoco
 import numpy as np
 import pytest
 
-from conftest import MODELS, ROOT
+from conftest import MODELS, ROOT, every_model
 from linkgen import AssemblyError, DescriptionError, SimulationError, StructureError, assemble, from_dict, load, solve
 from linkgen.crosscheck.compare import compare
 from linkgen.families.planar.geometry import link_shapes
@@ -198,8 +198,11 @@ def test_mujoco_log_file_stays_out_of_the_working_directory(tmp_path, monkeypatc
     assert not log.exists()
 
 
-@pytest.mark.parametrize("path", MODELS, ids=[p.stem for p in MODELS])
+@pytest.mark.every_model
+@pytest.mark.parametrize("path", every_model(MODELS), ids=lambda p: p.stem)
 def test_numeric_pose_matches_the_closed_form(path):
+    """The numeric pose and MuJoCo's joint state agree with the closed form. On one model per family and
+    feature (conftest.REPRESENTATIVE); on every bundled model in `make every-model`, which `make demo` runs."""
     mech = load(path)
     asm = assemble(mech)
     phi, omega = np.linspace(mech.drive.start, mech.drive.stop, 13), 3.0
@@ -211,12 +214,13 @@ def test_numeric_pose_matches_the_closed_form(path):
             np.testing.assert_allclose(st.point(link, local), kin.points[p].p, rtol=0, atol=POSE_AGREEMENT * size)
             np.testing.assert_allclose(st.point_velocity(link, local), kin.points[p].d1 * omega, rtol=0,
                                        atol=POSE_AGREEMENT * size * omega)
-    model = mujoco.MjModel.from_xml_string(write_mjcf(asm))
+    text = write_mjcf(asm)
+    model = mujoco.MjModel.from_xml_string(text)
     qpos, qvel = tree_state(mech, model, phi, omega)
     want_q, want_v, _ = joint_states(asm, model, phi, np.full(phi.shape, omega), np.zeros(phi.shape))
     np.testing.assert_allclose(qpos, want_q, rtol=0, atol=POSE_AGREEMENT * max(size, 1.0))
     np.testing.assert_allclose(qvel, want_v, rtol=0, atol=POSE_AGREEMENT * max(size, 1.0) * omega)
-    assert write_mjcf(mech) == write_mjcf(asm)  # a class-II Mechanism is written from its closed form
+    assert write_mjcf(mech) == text  # a class-II Mechanism is written from its closed form
 
 
 def test_class_three_builds_and_its_state_holds_in_mujoco():
@@ -287,3 +291,16 @@ def test_pose_errors_are_named():
     state(mech, np.radians([20.0, 33.0]))
     with pytest.raises(AssemblyError, match="34.3"):
         state(mech, np.radians([40.0]))
+
+
+def test_writing_a_model_compiles_it_once(monkeypatch):
+    """Deriving the settings and setting the sketch keyframe share one MuJoCo compile: a cam's
+    4000-vertex profile mesh costs ~1 s a compile, and the writer compiled it three times."""
+    import linkgen.mujoco.mjcf as mjcf_module
+
+    compiles = []
+    real = mujoco.MjModel.from_xml_string
+    monkeypatch.setattr(mujoco.MjModel, "from_xml_string", lambda *a, **k: compiles.append(1) or real(*a, **k))
+    text = mjcf_module.write_mjcf(assemble(load(ROOT / "models" / "fourbar.toml")))
+    assert len(compiles) == 1
+    assert text == (ROOT / "models" / "fourbar.xml").read_text()  # the same file as before

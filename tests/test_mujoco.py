@@ -6,7 +6,7 @@ import mujoco
 import numpy as np
 import pytest
 
-from conftest import MODELS, RIGID_MODELS, ROOT
+from conftest import MODELS, RIGID_MODELS, ROOT, every_model
 from linkgen import SimulationError, assemble, load
 from linkgen.cli.main import main
 from linkgen.crosscheck.compare import FORCE_TOL, GAP_TOL, INVERSE_TOL, REL_TOL, compare
@@ -42,8 +42,12 @@ def test_compiles_with_constraints_satisfied_at_qpos0(model_path):
     assert m.site(tip).id >= 0 and m.joint(mech.drive.joint).type == kind
 
 
-@pytest.mark.parametrize("path", RIGID_MODELS, ids=[p.stem for p in RIGID_MODELS])
+@pytest.mark.every_model
+@pytest.mark.parametrize("path", every_model(RIGID_MODELS), ids=lambda p: p.stem)
 def test_mujoco_matches_the_closed_form(path):
+    """MuJoCo's run agrees with the closed form (`make demo` validates every model besides). On one model per
+    family and feature (conftest.REPRESENTATIVE); on every bundled model in `make every-model`, which `make
+    demo` runs."""
     asm = assemble(load(path))
     mech = asm.mechanism
     cmp = compare(asm, simulate(asm))

@@ -20,6 +20,7 @@ import pytest
 
 import linkgen
 from linkgen.pipeline.registry import family_of, stage
+from conftest import every_model
 
 MODELS = sorted((Path(__file__).resolve().parents[1] / "models").glob("*.toml"))
 # Samples per model: enough for every column to be (n,), few enough to keep the test cheap.
@@ -146,8 +147,8 @@ REACTION_FAMILIES = {"planar", "spatial"}
 STRUCTURE_KEYS = {"model", "mobility", "crank", "drive", "lines"}
 
 
-def _whole_cases(name: str):
-    for path in MODELS:
+def _whole_cases(name: str, paths=MODELS):
+    for path in paths:
         desc = linkgen.load(path)
         if name in family_of(desc).stages:
             yield pytest.param(path, id=f"{path.stem}-{name}")
@@ -186,8 +187,11 @@ def _keys(d) -> set[str]:
     return set()
 
 
-@pytest.mark.parametrize("path", list(_whole_cases("summary")))
+@pytest.mark.every_model
+@pytest.mark.parametrize("path", list(_whole_cases("summary", every_model(MODELS))))
 def test_a_summary_names_every_quantity_as_its_attribute(path):
+    """The summary's JSON holds its attributes under their names. On one model per family and feature
+    (conftest.REPRESENTATIVE); on every bundled model in `make every-model`, which `make demo` runs."""
     desc = linkgen.load(path)
     s = stage(desc, "summary")(desc)
     d = json.loads(json.dumps(s.to_dict(), allow_nan=False))
@@ -322,12 +326,8 @@ COMMON_VALIDATION = ["model", "ok", "settings", "quantities", "loop_gap", "diagn
 
 
 @pytest.fixture(scope="module")
-def checks():
-    out = {}
-    for family, stem in VALIDATED.items():
-        desc = linkgen.load(Path(__file__).resolve().parents[1] / "models" / f"{stem}.toml")
-        out[family] = stage(desc, "validate")(desc, practical=False)
-    return out
+def checks(validated):
+    return {family: validated(stem) for family, stem in VALIDATED.items()}
 
 
 @pytest.fixture(scope="module")

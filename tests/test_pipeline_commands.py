@@ -13,7 +13,7 @@ import shutil
 
 import pytest
 
-from conftest import ROOT
+from conftest import EVERY_MODEL, ROOT
 from linkgen.cli.main import EVERY_FAMILY_COMMANDS, build_parser, main
 
 MODELS = ROOT / "models"
@@ -45,6 +45,8 @@ LONG = {"build": {m for m in ALL if not m.startswith("cam_")} | {"cam_translatin
         "render": {"fourbar.toml", "cam_translating.toml", "rssr.toml"},
         "dynamics": {"motor_startup.toml"}, "flywheel": {"flywheel_sine.toml"}, "check-settings": {"fourbar.toml"},
         "page": {"fourbar.toml", "cam_translating.toml", "rssr.toml"},  # every model's page: test_teaching_pictures
+        # a drawing, ~0.3 s: every representative's drawing is test_teaching_pictures'; all in `make every-model`
+        "draw": ({"fourbar.toml", "cam_translating.toml", "rssr.toml"} if not EVERY_MODEL else set(ALL)),
         "sweep": {"fourbar.toml", "slider_crank_offset.toml"}, "optimize": {"fourbar.toml"}}
 # Commands of ours (this pipeline's stages) that must work on every model whose family takes them.
 MUST_WORK = {"build", "draw"}
@@ -56,6 +58,7 @@ def _family(model: str):
     return family_of_file(MODELS / model)
 
 
+@pytest.mark.every_model
 @pytest.mark.parametrize("command", _commands())
 @pytest.mark.parametrize("model", ALL)
 def test_every_command_on_every_model_works_or_refuses_in_one_line(tmp_path, capsys, model, command):
@@ -80,16 +83,10 @@ def test_every_command_on_every_model_works_or_refuses_in_one_line(tmp_path, cap
 
 
 @pytest.fixture(scope="module")
-def results():
+def results(validated):
     """One MuJoCo validation per family, on its cheapest model (fourbar without the
     practical-settings runs, a translating cam, the Bennett chain)."""
-    import linkgen
-
-    out = {}
-    for name, options in (("fourbar", {"practical": False}), ("cam_translating", {}), ("bennett", {})):
-        desc = linkgen.load(MODELS / f"{name}.toml")
-        out[name] = linkgen.validate(desc, **options)
-    return out
+    return {name: validated(name) for name in ("fourbar", "cam_translating", "bennett")}
 
 
 @pytest.mark.parametrize("name", ["fourbar", "cam_translating", "bennett"])

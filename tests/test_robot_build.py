@@ -14,7 +14,7 @@ import pytest
 import tomlkit
 
 import linkgen
-from conftest import MODELS, ROOT, SPATIAL_MODELS
+from conftest import MODELS, ROOT, SPATIAL_MODELS, every_model
 from linkgen.cli.main import main
 from linkgen.mujoco.log import no_log_file
 
@@ -76,8 +76,11 @@ def test_a_prismatic_drive_is_refused_naming_its_pair(tmp_path, capsys, path):
     assert not out.exists()
 
 
-@pytest.mark.parametrize("path", CRANKED, ids=[p.stem for p in CRANKED])
+@pytest.mark.every_model
+@pytest.mark.parametrize("path", every_model(CRANKED), ids=lambda p: p.stem)
 def test_every_bundled_model_builds_a_robot_model(tmp_path, capfd, path):
+    """A robot model: prefixed names, one mount, no scene, MuJoCo's usual options. On one model per family and
+    feature (conftest.REPRESENTATIVE); on every bundled model in `make every-model`, which `make demo` runs."""
     model, _ = _compiled(_build(tmp_path, path, "--prefix", PREFIX), capfd)
     names = _names(model)
     assert names and all(n.startswith(PREFIX) for _, n in names), [n for n in names if not n[1].startswith(PREFIX)]

@@ -11,13 +11,12 @@ import numpy as np
 import pytest
 from PIL import Image
 
-from conftest import SPATIAL_MODELS, input_values
+from conftest import SPATIAL_MODELS, every_model, input_values
 
 from linkgen.draw.plan import DPI
 from linkgen.draw.skeleton import CRANK, LINK
 from linkgen.draw.spatial import FIGSIZE, draw_spatial, plot_spatial_check
 from linkgen.pipeline.registry import load
-from linkgen.crosscheck.spatial import check_spatial
 
 ROOT = Path(__file__).resolve().parents[1]
 RSSR = ROOT / "models" / "rssr.toml"
@@ -51,8 +50,12 @@ def test_the_spatial_models_are_found():
     assert RSSR in SPATIAL
 
 
-@pytest.mark.parametrize("path", SPATIAL, ids=[p.stem for p in SPATIAL])
+@pytest.mark.every_model
+@pytest.mark.parametrize("path", every_model(SPATIAL), ids=lambda p: p.stem)
 def test_skeleton_and_position_plan_of_every_spatial_model(path, tmp_path):
+    """A spatial skeleton and position plan, the crank and coupler in their colours. On one model per family
+    and feature (conftest.REPRESENTATIVE); on every bundled model in `make every-model`, which `make demo`
+    runs."""
     mech = load(path)
     one = draw_spatial(mech, input_values(mech, [np.radians(30.0)]), tmp_path / "one.png")
     plan = draw_spatial(mech, input_values(mech, PLAN), tmp_path / "plan.png")
@@ -75,9 +78,9 @@ def test_one_angle_as_a_float_and_formats_by_suffix(tmp_path):
 
 
 @pytest.fixture(scope="module")
-def rssr_check():
-    mech = load(RSSR)
-    return mech, check_spatial(mech)
+def rssr_check(validated):
+    """The RSSR's MuJoCo check (``check_spatial``, what ``linkgen validate`` runs), made once a session."""
+    return load(RSSR), validated("rssr")
 
 
 def test_report_figures_of_a_mujoco_check(rssr_check, tmp_path):

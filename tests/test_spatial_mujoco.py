@@ -19,7 +19,7 @@ from linkgen.families.spatial.kinematics import solve
 from linkgen.mujoco.spatial_mjcf import write_spatial_mjcf
 from linkgen.mujoco.spatial_state import reduced_inertia
 
-from conftest import ROOT, SPATIAL_MODELS, input_values
+from conftest import ROOT, SPATIAL_MODELS, every_model, input_values
 
 RSSR = ROOT / "models" / "rssr.toml"
 # Energy balance by central differences of J(φ) with step H: truncation H²·|J‴|/6 relative to
@@ -31,6 +31,13 @@ ENERGY_TOL = 1e-6
 @pytest.fixture(params=SPATIAL_MODELS, ids=[p.stem for p in SPATIAL_MODELS])
 def spatial(request):
     return linkgen.load(request.param)
+
+
+@pytest.fixture(params=every_model(SPATIAL_MODELS), ids=lambda p: p.stem)
+def spatial_in_mujoco(request):
+    """A spatial model (its path) for the every-model MuJoCo checks: on one model per kind of chain
+    (conftest.REPRESENTATIVE); on every bundled model in `make every-model`, which `make demo` runs."""
+    return request.param
 
 
 def test_bundled_spatial_models_cover_the_four_kinds():
@@ -58,8 +65,10 @@ def test_balancing_torque_equals_the_energy_balance(spatial):
     assert np.abs(f.balancing_torque - expected).max() <= ENERGY_TOL * scale
 
 
-def test_mujoco_agrees_with_the_closed_form(spatial):
-    r = linkgen.validate(spatial)
+@pytest.mark.every_model
+def test_mujoco_agrees_with_the_closed_form(spatial_in_mujoco, validated):
+    spatial = linkgen.load(spatial_in_mujoco)
+    r = validated(spatial_in_mujoco.stem)  # linkgen.validate(spatial), made once a session
     bad = {k: v for k, v in r.errors.items() if v[0] > v[1]}
     assert not bad, r.summary()
     assert r.gap <= GAP_TOL
@@ -73,7 +82,9 @@ def test_mujoco_agrees_with_the_closed_form(spatial):
         assert {"points.A:coupler.position", "points.B:output.position", "points.B0:output.position"} <= set(r.errors)
 
 
-def test_keyframe_turns_the_crank_at_omega(spatial):
+@pytest.mark.every_model
+def test_keyframe_turns_the_crank_at_omega(spatial_in_mujoco):
+    spatial = linkgen.load(spatial_in_mujoco)
     model = mujoco.MjModel.from_xml_string(write_spatial_mjcf(spatial))
     data = mujoco.MjData(model)
     mujoco.mj_resetDataKeyframe(model, data, model.key("sketch").id)

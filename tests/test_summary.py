@@ -217,7 +217,7 @@ def test_summary_cli():
 # crank angles, limit positions refined by Newton's method on the analytic second transfer
 # function, peaks by zooming in with denser scans — neither uses the summary's search or its Brent refinement.
 
-from conftest import MODELS  # noqa: E402  (the planar linkages)
+from conftest import MODELS, every_model  # noqa: E402  (the planar linkages)
 
 from linkgen.families.planar.description import GROUND  # noqa: E402
 from linkgen.families.planar.kinematics import solve  # noqa: E402
@@ -284,8 +284,11 @@ def _dense_limits(asm, kin, pick, full: bool):
     return sorted(roots), periodic, (float(v[0]), float(v[-1]))
 
 
-@pytest.mark.parametrize("path", MODELS, ids=[p.stem for p in MODELS])
+@pytest.mark.every_model
+@pytest.mark.parametrize("path", every_model(MODELS), ids=lambda p: p.stem)
 def test_summary_extrema_agree_with_a_dense_independent_scan(path):
+    """The summary's extrema against a dense scan of the closed form. On one model per family and feature
+    (conftest.REPRESENTATIVE); on every bundled model in `make every-model`, which `make demo` runs."""
     asm = assemble(load(path))
     s = summarize(asm)
     d = asm.mechanism.drive
@@ -602,8 +605,11 @@ from conftest import SPATIAL_MODELS  # noqa: E402
 SPATIAL_DENSE = 5_000
 
 
-@pytest.mark.parametrize("path", SPATIAL_MODELS, ids=[p.stem for p in SPATIAL_MODELS])
+@pytest.mark.every_model
+@pytest.mark.parametrize("path", every_model(SPATIAL_MODELS), ids=lambda p: p.stem)
 def test_spatial_summary_extrema_agree_with_a_dense_independent_scan(path):
+    """A spatial summary's extrema against a dense scan of the closed form. On one model per family and feature
+    (conftest.REPRESENTATIVE); on every bundled model in `make every-model`, which `make demo` runs."""
     from linkgen.families.spatial.forces import forces as spatial_forces
     from linkgen.families.spatial.kinematics import solve as spatial_solve
     from linkgen.families.spatial.summary import summarize as spatial_summarize

@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 from PIL import Image
 
-from conftest import CAM_MODELS, MODELS, ROOT, SPATIAL_MODELS
+from conftest import CAM_MODELS, MODELS, ROOT, SPATIAL_MODELS, every_model
 from linkgen.draw.plan import plan_figure, plt_module
 from linkgen.draw.skeleton import LINK
 from linkgen.families.planar.positions import positions
@@ -22,8 +22,11 @@ PAGE_FRAMES = 6
 IN_LINE_DEG = 10.0
 
 
-@pytest.mark.parametrize("path", ALL, ids=[p.stem for p in ALL])
+@pytest.mark.every_model
+@pytest.mark.parametrize("path", every_model(ALL), ids=lambda p: p.stem)
 def test_every_model_gives_vectors_plans_and_a_page(path, tmp_path):
+    """Vectors, both plans and a page. On one model per family and feature (conftest.REPRESENTATIVE); on every
+    bundled model in `make every-model`, which `make demo` runs."""
     desc = load(path)
     draw = stage(desc, "draw")
     for name, kw in (("vectors.png", dict(vectors="velocity")), ("velocity.png", dict(plan="velocity")),

@@ -156,11 +156,18 @@ def _source(source: Mechanism | Assembly) -> _Source:
     return _Source(mech, source.shapes, source.guides, pose, mechanism_size(mech))
 
 
-@no_log_file()  # MuJoCo's warnings stay out of the user's folder (linkgen.mujoco.log)
 def settings_for(source: Mechanism | Assembly) -> Settings:
     """Settings derived for the description's own drive (ω at the range's end if ε ≠ 0).
     Without a closed form (groups of class III and higher) they come from the crank speed and
     the masses alone (``crank_only``)."""
+    return _derived(source)[0]
+
+
+@no_log_file()  # MuJoCo's warnings stay out of the user's folder (linkgen.mujoco.log)
+def _derived(source: Mechanism | Assembly) -> tuple[Settings, mujoco.MjModel | None]:
+    """``settings_for``'s settings and the model compiled to derive them (None without one). Its
+    joints and bodies are those of the file written with the settings: the sketch keyframe is set
+    on it, and a cam's profile mesh is compiled once, not three times."""
     mech = source if isinstance(source, Mechanism) else source.mechanism
     d = mech.drive
     w_end = math.sqrt(max(d.omega**2 + 2 * d.epsilon * (d.stop - d.start), 0.0))
@@ -169,21 +176,28 @@ def settings_for(source: Mechanism | Assembly) -> Settings:
         try:
             source = assemble(source)
         except StructureError:
-            return crank_only(mech, omega)
-    model = mujoco.MjModel.from_xml_string(write_mjcf(source, PLACEHOLDER))
+            return crank_only(mech, omega), None
+    model = mujoco.MjModel.from_xml_string(_write(source, PLACEHOLDER, keyframe=False))
     try:
-        return derive(source, model, omega=omega, epsilon=d.epsilon)[0]
+        return derive(source, model, omega=omega, epsilon=d.epsilon)[0], model
     except (SimulationError, SingularityError, AssemblyError):  # a dead centre in the range: no loop forces there
-        return replace(crank_only(mech, omega), label="from the crank speed (the range has a singular pose)")
+        return replace(crank_only(mech, omega), label="from the crank speed (the range has a singular pose)"), model
 
 
 def write_mjcf(source: Mechanism | Assembly, settings: Settings | None = None) -> str:
     """The MJCF text of a mechanism (any structure class) or of an assembled one, with
     ``settings`` (default: derived from the mechanism and its drive,
     ``settings_for``)."""
-    src = _source(source)
+    model = None
     if settings is None:
-        settings = settings_for(source)
+        settings, model = _derived(source)
+    return _write(source, settings, keyframe=True if model is None else model)
+
+
+def _write(source: Mechanism | Assembly, settings: Settings, keyframe: bool | mujoco.MjModel) -> str:
+    """``write_mjcf`` with ``settings``; the sketch keyframe set on a compile of the file (True), on
+    ``keyframe``, a model of the same joints and bodies, or left out (False)."""
+    src = _source(source)
     mech, pose, size = src.mech, src.pose, src.size
     info = spanning_tree(mech)
     if mech.cams:  # a cam's contact needs the closed form (its profile) and a short enough timestep
@@ -278,7 +292,8 @@ def write_mjcf(source: Mechanism | Assembly, settings: Settings | None = None) -
             etree.SubElement(sensor, "framepos", name=sensor_name(mech, link.name, p), objtype="site",
                              objname=site_name(mech, link.name, p))
     root.insert(0, etree.Comment(settings_comment(settings, mech.slide_drive) + (FRICTION_NOTE if mech.frictions else "")))
-    add_sketch_key(root, source, mech)
+    if keyframe is not False:
+        add_sketch_key(root, source, mech, None if keyframe is True else keyframe)
     return etree.tostring(root, pretty_print=True, encoding="unicode")
 
 

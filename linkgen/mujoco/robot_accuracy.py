@@ -89,13 +89,13 @@ def predict_at(asm, settings: Settings):
 
     from linkgen.mujoco.accuracy import predict
     from linkgen.mujoco.log import no_log_file
-    from linkgen.mujoco.mjcf import write_mjcf
+    from linkgen.mujoco.mjcf import _write
     from linkgen.mujoco.options import PLACEHOLDER
     from linkgen.mujoco.settings import derive
 
     mech = asm.mechanism
     with no_log_file():
-        model = mujoco.MjModel.from_xml_string(write_mjcf(asm, PLACEHOLDER))
+        model = mujoco.MjModel.from_xml_string(_write(asm, PLACEHOLDER, keyframe=False))  # derive needs no keyframe
     validation, _ = derive(asm, model, omega=mech.drive.omega, epsilon=mech.drive.epsilon)
     return predict(asm, replace(settings, armature=validation.armature))
 

@@ -129,15 +129,17 @@ def _settings_comment(settings) -> str:
 
 
 @no_log_file()  # MuJoCo's warnings stay out of the user's folder (linkgen.mujoco.log)
-def add_sketch_key(root, source, mech) -> None:
-    """The keyframe ``sketch``: the assembled sketch pose, moving at the drive's ω."""
+def add_sketch_key(root, source, mech, model: mujoco.MjModel | None = None) -> None:
+    """The keyframe ``sketch``: the assembled sketch pose, moving at the drive's ω; its joint state
+    read on ``model`` (a compile of ``root`` when None; else one of the same joints and bodies)."""
     from linkgen.families.planar.geometry import link_shapes, sketch_input
     from linkgen.mujoco.state import tree_state
 
-    try:
-        model = mujoco.MjModel.from_xml_string(etree.tostring(root, encoding="unicode"))
-    except ValueError:  # MuJoCo rejects the model: the caller's own compile says why
-        return
+    if model is None:
+        try:
+            model = mujoco.MjModel.from_xml_string(etree.tostring(root, encoding="unicode"))
+        except ValueError:  # MuJoCo rejects the model: the caller's own compile says why
+            return
     phi = sketch_input(mech, link_shapes(mech))
     qpos, qvel = tree_state(mech, model, [phi], mech.drive.omega)
     keyframe = etree.SubElement(root, "keyframe")
