@@ -213,7 +213,7 @@ def crosscheck(asm: Assembly, *, practical: bool = True, progress=None, nthread:
     ``progress(fraction, seconds[, what])``: the validation runs' progress, then the
     practical-settings runs' (``what`` names them)."""
     first, cmp = _attempt(asm, None, progress, nthread, max_steps=max_steps)
-    prediction, why_not = _predict(asm, first, max_steps)
+    prediction, why_not = _predict(asm, first, max_steps, cmp.run.left_out if cmp is not None else ())
     attempts = [first]
     exponent = 2.0
     exhausted = False  # a finer run would pass the step budget or the float64 floor
@@ -254,15 +254,16 @@ def crosscheck(asm: Assembly, *, practical: bool = True, progress=None, nthread:
                       verdict_)
 
 
-def _predict(asm: Assembly, first: Attempt, max_steps: int) -> tuple[Prediction | None, str]:
-    """The prediction from the first run's derived settings and what they were derived from
-    (fixed before its first step), or None and why."""
+def _predict(asm: Assembly, first: Attempt, max_steps: int, left_out=()) -> tuple[Prediction | None, str]:
+    """The prediction from the first run's derived settings and what they were derived from,
+    over the angles the run compares (its settling windows, ``left_out``, follow from the
+    settings): all fixed before its first step. None and why where it cannot be made."""
     from linkgen.errors import LinkgenError
 
     if first.settings is None or first.scales is None:
         return None, "the settings were not derived from the closed form (no scan of the loop forces)"
     try:
-        return predict_run(asm, first.settings, first.scales, max_steps), ""
+        return predict_run(asm, first.settings, first.scales, max_steps, left_out), ""
     except LinkgenError as exc:
         return None, str(exc)
     except np.linalg.LinAlgError as exc:  # the constraint model has no solution at some scanned state

@@ -42,6 +42,7 @@ from linkgen.mujoco.state import joint_states
 from linkgen.mujoco.scene import switch_off_servo
 from linkgen.mujoco.tree import spanning_tree
 from linkgen.mujoco.log import no_log_file
+from linkgen.mujoco.loop_modes import slowest_share
 
 # Aimed-for loop gap relative to the size: a third of the gap tolerance (compare.GAP_TOL = 1e-8);
 # the prediction below is itself an upper bound (measured gaps 0.5-0.9 of it).
@@ -71,6 +72,9 @@ SETTLE_ERROR = 1e-7
 GAP_PREDICTION_LOW = 0.03
 # Crank angles scanned for the loop forces and conditioning.
 SCAN = 181
+# Every this many scanned angles the loop modes' shares are computed (``loop_modes``): they
+# change with the pose as smoothly as the inertia does, at a few milliseconds each.
+SHARE_EVERY = 6
 
 
 @dataclass(frozen=True)
@@ -96,6 +100,9 @@ class Scales:
     loop_acceleration_at: float = math.nan  # the crank angle where a0 peaks [rad]
     loop_inverse_inertia: float = math.nan  # MuJoCo's A_diag there [1/kg]
     loop_force: float = math.nan  # the loop force λ there [N]
+    # The smallest share ρ of the soft model's stiffness and damping a loop direction gets,
+    # min eig(A·(A + R)⁻¹) over the scan (``loop_modes.slowest_share``; 1 for no loop).
+    loop_share: float = 1.0
 
     def predicted_gap(self, timeconst: float) -> float:
         """The loop gap [m] a run with loop time constant ``timeconst`` [s] is predicted to
@@ -193,11 +200,16 @@ def derive(asm: Assembly, model: mujoco.MjModel, *, omega: float, epsilon: float
 
         settings = cam_settings(asm, settings)
     k_a = int(np.argmax(a0))
+    dof = model.joint(asm.mechanism.drive.joint).dofadr[0]
+    before = float(model.dof_armature[dof])
+    set_armature(model, dof, armature)  # the run's rotor: the crank's share of every loop's inertia
+    share = slowest_share(asm, model, qpos[::SHARE_EVERY], qvel[::SHARE_EVERY], IMPEDANCE)
+    set_armature(model, dof, before)
     closures = spanning_tree(asm).closures
     scales = Scales(size, abs(omega), a_peak, s_min, float(phi[k_min]), j_peak, tau_gap, tau_phase, tau_floor,
                     capped, acceleration_scale(size, omega, epsilon, float(np.hypot(*asm.mechanism.gravity))),
                     tau_needed, closures[where[k_a]].name if closures else "", float(phi[k_a]),
-                    float(inv_inertia[k_a]), float(force[k_a]))
+                    float(inv_inertia[k_a]), float(force[k_a]), share)
     return settings, scales
 
 

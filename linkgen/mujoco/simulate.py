@@ -183,7 +183,7 @@ def simulate(asm: Assembly | Posed, *, revolutions: float = 1.0, omega: float | 
             gap_abort = max(gap_abort, min(BUDGET_ABORT_CAP, BUDGET_ABORT_FACTOR * scales.predicted_gap(settings.timeconst)
                                            / max(scales.size, 1e-300)))
         return _run(asm, model, settings, scales, w0, eps, phi_a, phi_b, full, duration, samples, nthread, progress,
-                    gap_abort, wall0, settle)
+                    gap_abort, wall0, settle, max_steps)
     except SimulationError as exc:  # the settings it ran with, and whether a step budget capped them
         exc.settings, exc.scales = settings, scales
         raise
@@ -192,12 +192,15 @@ def simulate(asm: Assembly | Posed, *, revolutions: float = 1.0, omega: float | 
 def _run(asm: Assembly | Posed, model: mujoco.MjModel, settings: Settings, scales: Scales | None, w0: float,
          eps: float,
          phi_a: float, phi_b: float, full: bool, duration: float, samples: int, nthread: int | None,
-         progress, gap_abort: float, wall0: float, settle: bool) -> Run:
+         progress, gap_abort: float, wall0: float, settle: bool, max_steps: int = MAX_STEPS) -> Run:
     mech = asm.mechanism
     dt = settings.timestep
     g = float(np.hypot(*mech.gravity))
     window = settle_window(settings, scales, eps, SETTLE_TARGET, g) if settle else 0.0
-    lead_window = settle_window(settings, scales, eps, LEAD_TARGET, g)
+    lead_needed = settle_window(settings, scales, eps, LEAD_TARGET, g)
+    # A lead-in costs steps like the run: at most the step budget. A slow loop mode
+    # (``loop_modes``) may need longer; the samples its rest would cover are left out below.
+    lead_window = min(lead_needed, max_steps * dt)
 
     # Samples over the range, and which are left out (load switches).
     phi_s = np.linspace(phi_a, phi_b, samples, endpoint=not full)
@@ -226,12 +229,13 @@ def _run(asm: Assembly | Posed, model: mujoco.MjModel, settings: Settings, scale
     lead = crank_phi(t_start[0], phi_a, w0, eps)
     if not full and not _assembles(asm, np.linspace(lead, phi_a, 16)):  # the range starts near a limit
         t_start[0] = 0.0
-        t_start = np.maximum(t_start, 0.0)
-        hit = t_s <= lead_window
-        if hit.any() and settle:
-            keep &= ~hit
-            left.append(LeftOut("start", phi_a, float(phi_s[hit].max()), int(hit.sum())))
+        t_start = np.maximum(t_start, 0.0)  # the first segment has no lead-in: its start is left out below
     seg_of = np.clip(np.searchsorted(bounds, phi_s, side="right") - 1, 0, nseg - 1)
+    short = lead_needed - (t_bounds[:-1] - t_start) - dt  # each segment's lead-in shortfall [s], rounding aside
+    hit = (t_s - t_bounds[seg_of]) < short[seg_of]
+    if settle and hit.any():
+        keep &= ~hit
+        left.append(LeftOut("start", float(phi_s[hit].min()), float(phi_s[hit].max()), int(hit.sum())))
     step_of = np.maximum(np.rint((t_s - t_start[seg_of]) / dt).astype(np.int64), 1)
     nsteps = int(np.ceil((t_bounds[1:] - t_start) / dt).max()) + 1
 
