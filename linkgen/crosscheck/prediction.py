@@ -30,6 +30,10 @@ EXPLAINED_FACTOR = 3.0
 COMPARED_ABOVE = 0.1
 
 BINDS = ("none", "step budget", "float64 floor")
+# A run is predicted to come apart when its joints, at EXPLAINED_FACTOR times their predicted
+# error, would move by this fraction of the size: the loop gap's linear model no longer holds
+# there, and a run at the step budget stops at that gap (``mujoco.simulate.BUDGET_ABORT_CAP``).
+APART = 0.05
 
 
 @dataclass(frozen=True)
@@ -58,8 +62,19 @@ class Prediction:
         return self.binding == "none" and all(EXPLAINED_FACTOR * getattr(self.predicted, q) <= getattr(self.tolerances, q)
                                               for q in QUANTITIES)
 
+    @property
+    def apart(self) -> bool:
+        """Whether the loops are predicted to come apart: a limit binds and the joints'
+        predicted error, within the prediction's factor, reaches APART of the size."""
+        return self.binding != "none" and EXPLAINED_FACTOR * self.predicted.position >= APART
+
     def text(self) -> str:
         p = self.predicted
+        if self.apart:
+            return (f"predicted to come apart ({self.binding} binds: the loops need τ = {self.tau_needed:.3g} s, "
+                    f"{self.steps_per_revolution_needed:.3g} steps per revolution; at the run's τ = {self.tau_run:.3g} s "
+                    f"the joints are predicted {p.position:.2g} of the size off, where the soft loops' linear model "
+                    f"ends); predicted loop gap {p.gap:.2g} of the size")
         head = ("predicted to pass" if self.passes else
                 f"predicted to miss ({self.binding} binds: the loops need τ = {self.tau_needed:.3g} s, "
                 f"{self.steps_per_revolution_needed:.3g} steps per revolution; the run can use τ = {self.tau_run:.3g} s)"
@@ -69,7 +84,7 @@ class Prediction:
                 f"reactions {p.reaction:.2g}, crank torque {p.torque:.2g}")
 
     def to_json(self) -> dict:
-        return {"binding": self.binding, "passes": self.passes, "tau_needed_s": _num(self.tau_needed),
+        return {"binding": self.binding, "passes": self.passes, "apart": self.apart, "tau_needed_s": _num(self.tau_needed),
                 "tau_run_s": _num(self.tau_run), "tau_floor_s": _num(self.tau_floor),
                 "steps_per_revolution_needed": _num(self.steps_per_revolution_needed),
                 "step_budget": self.step_budget, "tolerances": self.tolerances.to_dict(),
@@ -121,12 +136,12 @@ class Verdict:
     the worst such ratio (≥ 1, the larger of r and 1/r)."""
 
     status: str
-    measured: Errors
+    measured: Errors | None  # None: the run came apart before it could be compared
     ratios: dict
     worst_ratio: float
 
     def to_json(self) -> dict:
-        return {"status": self.status, "measured": self.measured.to_dict(),
+        return {"status": self.status, "measured": None if self.measured is None else self.measured.to_dict(),
                 "measured_over_predicted": {k: _num(v) for k, v in self.ratios.items()},
                 "worst_factor": _num(self.worst_ratio)}
 
@@ -151,5 +166,12 @@ def verdict(prediction: Prediction | None, measured: Errors, ok: bool) -> Verdic
     return Verdict(status, measured, ratios, worst)
 
 
-__all__ = ["BINDS", "COMPARED_ABOVE", "EXPLAINED_FACTOR", "Prediction", "Verdict", "binding", "predict_run",
+def came_apart(prediction: Prediction | None) -> Verdict:
+    """The verdict on a run that came apart (stopped before it could be compared): explained
+    when the loops were predicted to come apart, a failure otherwise."""
+    explained = prediction is not None and prediction.apart
+    return Verdict("explained failure" if explained else "failed", None, {}, 1.0 if explained else math.inf)
+
+
+__all__ = ["APART", "BINDS", "came_apart", "COMPARED_ABOVE", "EXPLAINED_FACTOR", "Prediction", "Verdict", "binding", "predict_run",
            "tolerances", "verdict"]

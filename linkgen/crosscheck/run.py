@@ -12,7 +12,7 @@ from dataclasses import dataclass, replace
 from linkgen.families.planar.assembly import Assembly
 from linkgen.crosscheck.compare import Comparison, compare
 from linkgen.crosscheck.diagnose import Finding, diagnose
-from linkgen.crosscheck.prediction import Prediction, Verdict, predict_run, verdict
+from linkgen.crosscheck.prediction import Prediction, Verdict, came_apart, predict_run, verdict
 from linkgen.errors import SimulationError
 from linkgen.mujoco.options import Settings
 from linkgen.mujoco.result_shape import loop_gap, validation
@@ -122,7 +122,7 @@ class CrossCheck:
         out["prediction"] = (self.prediction.to_json() | {"text": self.prediction.text()} if self.prediction
                              else {"unavailable": self.prediction_unavailable or "no run was derived"})
         if self.verdict is not None:
-            out["prediction"] |= {"measured": self.verdict.measured.to_dict(),
+            out["prediction"] |= {"measured": self.verdict.to_json()["measured"],
                                   "measured_over_predicted": self.verdict.to_json()["measured_over_predicted"],
                                   "worst_factor": self.verdict.to_json()["worst_factor"]}
         out["best_achievable"] = self._best_achievable()
@@ -156,7 +156,7 @@ def headline(r: dict, wall: str | None = None) -> str:
     machine's comparison joined: ``ok`` is then both): ok or FAIL, the worst quantity, the loop
     gap, the steps and ``wall`` (default: the runs' wall time)."""
     if not r.get("quantities"):  # no run compared anything: the diagnosis says why
-        return "FAIL"
+        return "FAIL (explained, as predicted): the loops came apart" if r.get("status") == "explained failure" else "FAIL"
     worst, err, tol = headline_worst(r)
     gap = worst == "loop gap"
     explained = r.get("status") == "explained failure"
@@ -245,7 +245,7 @@ def crosscheck(asm: Assembly, *, practical: bool = True, progress=None, nthread:
                             first.error or "")]
     rows = practical_study(asm, cmp.run.settings, nthread=nthread, scales=cmp.run.scales,
                            progress=progress) if (practical and cmp is not None) else []
-    verdict_ = None
+    verdict_ = came_apart(prediction) if cmp is None and first.settings is not None else None
     if cmp is not None:
         from linkgen.mujoco.accuracy import sample_errors
 
