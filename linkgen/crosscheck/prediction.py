@@ -121,7 +121,7 @@ def predict_run(asm, settings, scales, step_budget: int, left_out=()) -> Predict
     from linkgen.mujoco.settings import STEPS_PER_TAU
 
     windows = tuple((w.phi_from, w.phi_to) for w in left_out)
-    acc = predict(asm, settings, omega=scales.omega, epsilon=asm.mechanism.drive.epsilon, left_out=windows)
+    acc = predict(asm, settings, omega=scales.omega, epsilon=asm.mechanism.drive.epsilon, left_out=windows, warm=True)
     tau_needed = min(scales.tau_gap, scales.tau_phase)  # what the loops need, before any floor or budget
     per_rev = 2 * math.pi / max(scales.omega, 1e-300) * STEPS_PER_TAU / tau_needed
     return Prediction(binding(scales, settings), tau_needed, settings.timeconst, scales.tau_floor, per_rev,

@@ -171,12 +171,14 @@ def check_supported(asm: Assembly) -> None:
 
 @no_log_file()
 def predict(asm: Assembly, settings: Settings, *, omega: float | None = None, epsilon: float | None = None,
-            samples: int = SCAN, left_out: tuple[tuple[float, float], ...] = ()) -> AccuracyPrediction:
+            samples: int = SCAN, left_out: tuple[tuple[float, float], ...] = (), warm: bool = False) -> AccuracyPrediction:
     """The errors a run at ``settings`` (its rotor inertia holding the crank at ω [rad/s], default
     the description's, and ε [rad/s²]) is predicted to reach, from the closed form and MuJoCo's
     constraint model at the closed-form states: no MuJoCo step is taken. ``left_out``: crank-angle
     windows [rad] (from, to) the run leaves out of its comparison (its settling windows after the
-    start and after load switches, fixed by the settings): the prediction leaves them out too."""
+    start and after load switches, fixed by the settings): the prediction leaves them out too.
+    ``warm``: the run starts with its loops open by their settled gap (``mujoco.warm_start``, a
+    validation run's start), so no start-up transient is predicted."""
     from linkgen.mujoco.mjcf import write_mjcf
     from linkgen.mujoco.settings import apply
 
@@ -189,7 +191,7 @@ def predict(asm: Assembly, settings: Settings, *, omega: float | None = None, ep
     full = full_turn(mech)
     phi = np.linspace(mech.drive.start, mech.drive.stop, samples, endpoint=not full)
     t = crank_time(phi, mech.drive.start, w, eps)
-    cold = not full and _starts_cold(asm, settings, w, eps)
+    cold = not warm and not full and _starts_cold(asm, settings, w, eps)
     if cold and samples > 1 and settings.timestep < t[1]:  # a run records its first state after one step
         t[0] = settings.timestep
         phi[0] = crank_phi(t[0], mech.drive.start, w, eps)

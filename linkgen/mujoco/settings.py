@@ -18,7 +18,7 @@ before the run, ``derive`` scans the range for the peak of a0 = |A_diag·λ| and
 The cost per revolution is 2π·STEPS_PER_TAU/(ω·τ): constant (2π·STEPS_PER_TAU/PHASE) while
 inertia sets τ, growing only where gravity or loads dominate the loop forces at a slow crank
 (then τ_gap < τ_phase). The rotor inertia that holds the crank speed is ARMATURE_RATIO times the
-mechanism's peak reduced inertia. Values are rounded down to a few steps per decade so that written MJCF
+larger of the mechanism's peak reduced inertia and its peak crank torque over ω². Values are rounded down to a few steps per decade so that written MJCF
 does not depend on the last bits of a float.
 """
 
@@ -192,7 +192,13 @@ def derive(asm: Assembly, model: mujoco.MjModel, *, omega: float, epsilon: float
         tau = dt * STEPS_PER_TAU
         capped = True
     j_peak = float(np.abs(cf.reduced.inertia).max())
-    armature = round_down(ARMATURE_RATIO * j_peak) if j_peak > 0 else 1.0
+    # The rotor holds the speed against the crank's torque as well as its inertia: a torque T
+    # changes the speed by T/(J·ω²) relative a radian, so J ≥ T_peak/ω² keeps the loads' share
+    # as small as J ≥ J(φ) keeps the inertia's (a slow crank under gravity lost 2.7 % of its
+    # speed settling its loops with the rotor sized on J(φ) alone).
+    j_load = float(np.abs(cf.balancing_torque).max()) / max(float(omega) ** 2, 1e-300)
+    j_rotor = max(j_peak, j_load if math.isfinite(j_load) else 0.0)
+    armature = round_down(ARMATURE_RATIO * j_rotor) if j_rotor > 0 else 1.0
     settings = Settings(timestep=dt, timeconst=tau, armature=armature,
                         label="derived, coarsened to the step budget" if capped else "derived")
     if asm.mechanism.cams:  # a cam's contact needs a shorter step than the loops may

@@ -28,14 +28,15 @@ from linkgen.mujoco.mjcf import write_mjcf
 from linkgen.mujoco.tree import sensor_name, spanning_tree
 from linkgen.mujoco.log import no_log_file
 from linkgen.mujoco.forces import has_loads, load_schedule
-from linkgen.mujoco.loops import mechanism_size
+from linkgen.mujoco.loops import closure_jacobian, mechanism_size
 from linkgen.mujoco.sample import Samples, read_samples
 from linkgen.mujoco.options import PLACEHOLDER, PROGRESS_AFTER, Settings
 from linkgen.mujoco.posed import Posed, slider_reference, torque_schedule
-from linkgen.mujoco.settings import MAX_STEPS, Scales, apply, check_budget, crank_only, derive
+from linkgen.mujoco.settings import MAX_STEPS, Scales, apply, check_budget, crank_only, derive, sigma_min
 from linkgen.mujoco.state import tree_state
 from linkgen.families.planar.pose import state
 from linkgen.mujoco.state import initial_state, joint_state, joint_states
+from linkgen.mujoco.warm_start import settled_start
 from linkgen.mujoco.timing import LEAD_TARGET, SETTLE_TARGET, crank_phi, crank_time, settle_window, switch_angles
 
 # A run whose loop gap passes this fraction of the mechanism's size has failed (not a result):
@@ -99,6 +100,27 @@ def _assembles(asm: Assembly | Posed, phi: np.ndarray) -> bool:
     except (AssemblyError, SingularityError):
         return False
     return True
+
+
+def _lead_sigma(asm: Assembly | Posed, model: mujoco.MjModel, phi: np.ndarray) -> float:
+    """The loops' smallest conditioning σ (``mujoco.settings.sigma_min``) over a lead-in's crank
+    angles ``phi`` [rad] before the range: where it falls below the range's own, the lead-in
+    would pass nearer an assembly limit than the range does, where the soft loops' start-up
+    transient is amplified past what the range's scan sized the lead-in for."""
+    if isinstance(asm, Posed):
+        return math.inf
+    qpos, qvel, _ = joint_states(asm, model, phi, np.ones_like(phi), np.zeros_like(phi))
+    data = mujoco.MjData(model)
+    size = mechanism_size(asm)
+    out = math.inf
+    for k in range(phi.shape[0]):
+        data.qpos[:], data.qvel[:] = qpos[k], qvel[k]
+        mujoco.mj_kinematics(model, data)
+        mujoco.mj_comPos(model, data)
+        jac = closure_jacobian(asm, model, data)
+        if jac.shape[0]:
+            out = min(out, sigma_min(model, jac, asm.mechanism.drive.joint, size))
+    return out
 
 
 def _start_state(asm: Assembly | Posed, model: mujoco.MjModel, phi: float, omega: float):
@@ -227,7 +249,9 @@ def _run(asm: Assembly | Posed, model: mujoco.MjModel, settings: Settings, scale
     t_bounds = crank_time(bounds, phi_a, w0, eps)
     t_start = t_bounds[:-1] - lead_window
     lead = crank_phi(t_start[0], phi_a, w0, eps)
-    if not full and not _assembles(asm, np.linspace(lead, phi_a, 16)):  # the range starts near a limit
+    if not full and (not _assembles(asm, np.linspace(lead, phi_a, 16))  # the range starts near a limit
+                     or (settle and scales is not None
+                         and _lead_sigma(asm, model, np.linspace(lead, phi_a, 16)) < scales.sigma_min)):
         t_start[0] = 0.0
         t_start = np.maximum(t_start, 0.0)  # the first segment has no lead-in: its start is left out below
     seg_of = np.clip(np.searchsorted(bounds, phi_s, side="right") - 1, 0, nseg - 1)
@@ -247,6 +271,8 @@ def _run(asm: Assembly | Posed, model: mujoco.MjModel, settings: Settings, scale
         d = datas[0]
         phi_k = crank_phi(t_start[k], phi_a, w0, eps)
         d.qpos[:], d.qvel[:] = _start_state(asm, model, phi_k, w0 + eps * t_start[k])
+        if settle and not isinstance(asm, Posed):  # the loops start open by the gap they settle to (``warm_start``)
+            d.qpos[:] = settled_start(asm, model, settings, float(phi_k), w0 + eps * t_start[k], eps, d.qpos, d.qvel)
         d.time = t_start[k]
         mujoco.mj_getState(model, d, state[k], mujoco.mjtState.mjSTATE_FULLPHYSICS)
     drive_ctrl = settings.armature * eps
