@@ -24,10 +24,6 @@ from linkgen.mujoco.tolerances import FORCE_TOL, REL_TOL, gap_tolerance
 # its predicted value (issue 30's criterion; check-settings' predictions were measured within
 # 3× on its corpus, docs/check-settings.md).
 EXPLAINED_FACTOR = 3.0
-# Below this fraction of its tolerance a predicted figure is not compared with the measured one:
-# both are then far inside the tolerance, where the prediction (an upper bound of the quasi-static
-# gap and the errors it causes) is not meant to be tight.
-COMPARED_ABOVE = 0.1
 
 BINDS = ("none", "step budget", "float64 floor")
 # A run is predicted to come apart when its joints, at EXPLAINED_FACTOR times their predicted
@@ -132,7 +128,7 @@ def predict_run(asm, settings, scales, step_budget: int, left_out=()) -> Predict
 class Verdict:
     """A run against its prediction: ``status`` is "ok", "explained failure" or "failed";
     ``measured`` the four quantities' errors the run reached (its best achievable at the
-    budget), ``ratios`` measured over predicted for those compared (``COMPARED_ABOVE``), and
+    budget), ``ratios`` measured over predicted for those compared (``compared``), and
     the worst such ratio (≥ 1, the larger of r and 1/r)."""
 
     status: str
@@ -146,19 +142,31 @@ class Verdict:
                 "worst_factor": _num(self.worst_ratio)}
 
 
+def compared(prediction: Prediction, measured: Errors) -> tuple[str, ...]:
+    """The quantities the verdict holds the prediction to: those that miss their tolerance, or
+    were predicted to possibly miss it (EXPLAINED_FACTOR × predicted ≥ tolerance). One predicted
+    and measured both within their tolerance by the factor is a pass either way: how far inside
+    does not decide anything."""
+    return tuple(q for q in QUANTITIES
+                 if getattr(measured, q) > getattr(prediction.tolerances, q)
+                 or EXPLAINED_FACTOR * getattr(prediction.predicted, q) >= getattr(prediction.tolerances, q))
+
+
 def verdict(prediction: Prediction | None, measured: Errors, ok: bool) -> Verdict:
     """``ok``: the run's own comparison held. A miss is explained when it was predicted and every
-    quantity over COMPARED_ABOVE of its tolerance (predicted or measured) was measured within
-    EXPLAINED_FACTOR of its prediction."""
+    ``compared`` quantity was measured within EXPLAINED_FACTOR of its prediction, or, where the
+    loops were predicted to come apart (``Prediction.apart``), when the joints were measured as
+    far off as that prediction says (EXPLAINED_FACTOR × position error ≥ APART of the size)."""
     ratios: dict = {}
     if prediction is not None:
-        for q in QUANTITIES:
-            tol, p, m = getattr(prediction.tolerances, q), getattr(prediction.predicted, q), getattr(measured, q)
-            if max(p, m) > COMPARED_ABOVE * tol:
-                ratios[q] = m / p if p > 0 else math.inf
+        for q in compared(prediction, measured):
+            p, m = getattr(prediction.predicted, q), getattr(measured, q)
+            ratios[q] = m / p if p > 0 else math.inf
     worst = max((max(r, 1.0 / r) if r > 0 else math.inf for r in ratios.values()), default=1.0)
     if ok:
         status = "ok"
+    elif prediction is not None and prediction.apart and EXPLAINED_FACTOR * measured.position >= APART:
+        status = "explained failure"  # the linear model's figures no longer hold: apart, as predicted
     elif prediction is not None and not prediction.passes and worst <= EXPLAINED_FACTOR:
         status = "explained failure"
     else:
@@ -173,5 +181,5 @@ def came_apart(prediction: Prediction | None) -> Verdict:
     return Verdict("explained failure" if explained else "failed", None, {}, 1.0 if explained else math.inf)
 
 
-__all__ = ["APART", "BINDS", "came_apart", "COMPARED_ABOVE", "EXPLAINED_FACTOR", "Prediction", "Verdict", "binding", "predict_run",
+__all__ = ["APART", "BINDS", "came_apart", "compared", "EXPLAINED_FACTOR", "Prediction", "Verdict", "binding", "predict_run",
            "tolerances", "verdict"]
