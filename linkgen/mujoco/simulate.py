@@ -131,6 +131,12 @@ def _start_state(asm: Assembly | Posed, model: mujoco.MjModel, phi: float, omega
     return initial_state(asm, model, phi, omega)
 
 
+# A lead-in may pass this many times nearer an assembly limit (in the loops' conditioning σ)
+# than the range's closest pose: the lead-in's window, sized on the range (LEAD_TARGET, 1000×
+# below what the samples need), covers an amplification of 1/σ by 2 with room. Measured: the
+# seven-link's lead-in at 0.79 of its σ_min validates; a generated slow crank whose lead-in fell
+# to 0.03 of it started its range 100× off its prediction (fidelity corpus seed 23).
+LEAD_SIGMA = 2.0
 # A run coarsened to the step budget (and run anyway: validate reports what it reaches) stops
 # only when its loop gap passes this many times the predicted gap (measured within 3× of it on
 # the fidelity corpus, docs/fidelity.md), and never past BUDGET_ABORT_CAP of the size.
@@ -251,7 +257,7 @@ def _run(asm: Assembly | Posed, model: mujoco.MjModel, settings: Settings, scale
     lead = crank_phi(t_start[0], phi_a, w0, eps)
     if not full and (not _assembles(asm, np.linspace(lead, phi_a, 16))  # the range starts near a limit
                      or (settle and scales is not None
-                         and _lead_sigma(asm, model, np.linspace(lead, phi_a, 16)) < scales.sigma_min)):
+                         and _lead_sigma(asm, model, np.linspace(lead, phi_a, 16)) < scales.sigma_min / LEAD_SIGMA)):
         t_start[0] = 0.0
         t_start = np.maximum(t_start, 0.0)  # the first segment has no lead-in: its start is left out below
     seg_of = np.clip(np.searchsorted(bounds, phi_s, side="right") - 1, 0, nseg - 1)
