@@ -247,7 +247,11 @@ def predict(asm: Assembly, settings: Settings, *, omega: float | None = None, ep
             points[p][k] = data.site(p).xpos[:2]
         crank[:, k] = phi[k], data.qvel[drive], data.qacc[drive]
         gaps[k] = float(np.abs(data.efc_pos[: data.ne]).max()) if data.ne else 0.0
-    keep = ~np.any([(phi >= a - WINDOW_EDGE) & (phi <= b + WINDOW_EDGE) for a, b in left_out], axis=0) \
+    # A window opens at a load switch: the scan's two samples before it are left out too, as the
+    # gap's velocity and acceleration there (central differences of central differences) reach
+    # across the switch.
+    before = 2.0 * abs(phi[1] - phi[0]) if samples > 1 else 0.0
+    keep = ~np.any([(phi >= a - before - WINDOW_EDGE) & (phi <= b + WINDOW_EDGE) for a, b in left_out], axis=0) \
         if left_out else np.ones(samples, dtype=bool)
     if keep.sum() < 2:  # the run compares too few samples to say anything: predict over them all
         keep[:] = True
