@@ -158,3 +158,14 @@ def test_loops_predicted_apart_that_run_far_off_are_explained():
     apart = _prediction(0.1)
     assert verdict(apart, Errors(0.005, APART / EXPLAINED_FACTOR, 0.5, 0.2), ok=False).status == "explained failure"
     assert verdict(apart, Errors(1e-4, 1e-3, 1e-3, 1e-3), ok=False).status == "failed"  # far better than foreseen
+
+
+def test_a_run_whose_settling_covers_every_sample_is_told_before_any_step():
+    # Fidelity corpus seed 196: its slowest loop mode settles after the load switches for longer
+    # than the range lasts. The run stops before its first step; the prediction says so.
+    cc = crosscheck(assemble(load(DATA / "settling_covers_range.toml")), practical=False, nthread=1,
+                    max_steps=CORPUS_BUDGET)
+    out = cc.to_json()
+    assert out["attempts"][0]["steps"] == 0 and "every sample falls in a settling window" in out["attempts"][0]["error"]
+    assert out["prediction"]["unsettled"] is True and out["status"] == "explained failure"
+    assert "nothing to compare" in out["prediction"]["text"]

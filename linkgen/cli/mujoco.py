@@ -267,8 +267,10 @@ def _summary(r: dict) -> str:
     if not r.get("ok", True) and "text" in pred:  # what was foreseen before the run, and how the run compares
         factor = pred.get("worst_factor")
         apart = "measured" in pred and pred["measured"] is None  # the run stopped before any comparison
-        lines.append(f"    {pred['text']}" + (("; it came apart, as predicted" if pred.get("apart") else
-                                                "; it came apart, which the prediction did not foresee") if apart else
+        lines.append(f"    {pred['text']}" + (("; it left nothing to compare, as predicted" if pred.get("unsettled") else
+                                                "; it came apart, as predicted" if pred.get("apart") else
+                                                "; it stopped before any comparison, which the prediction did not foresee")
+                                               if apart else
                                                "" if factor is None else f"; measured within {factor:.2g}× of the prediction"))
     lines += [f"    {finding_line(d)}" for d in shown]
     if len(r.get("diagnosis", [])) > len(shown):

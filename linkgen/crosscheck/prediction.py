@@ -48,6 +48,9 @@ class Prediction:
     step_budget: int
     tolerances: Errors
     predicted: Errors
+    # The settling windows after the load switches (the loops' slowest mode, fixed by the
+    # settings) leave fewer than two samples to compare: the run can compare nothing.
+    unsettled: bool = False
 
     @property
     def passes(self) -> bool:
@@ -55,7 +58,7 @@ class Prediction:
         within its tolerance by the prediction's own factor (EXPLAINED_FACTOR). A prediction
         within that factor of a tolerance cannot tell a pass from a miss; it is not a pass, and
         a miss there is explained when measured within the factor."""
-        return self.binding == "none" and all(EXPLAINED_FACTOR * getattr(self.predicted, q) <= getattr(self.tolerances, q)
+        return self.binding == "none" and not self.unsettled and all(EXPLAINED_FACTOR * getattr(self.predicted, q) <= getattr(self.tolerances, q)
                                               for q in QUANTITIES)
 
     @property
@@ -66,6 +69,10 @@ class Prediction:
 
     def text(self) -> str:
         p = self.predicted
+        if self.unsettled:
+            return (f"predicted to leave nothing to compare: the loops settling after the start and the load switches cover "
+                    f"every sample (their slowest mode at the run's τ = {self.tau_run:.3g} s); predicted loop gap "
+                    f"{p.gap:.2g} of the size")
         if self.apart:
             return (f"predicted to come apart ({self.binding} binds: the loops need τ = {self.tau_needed:.3g} s, "
                     f"{self.steps_per_revolution_needed:.3g} steps per revolution; at the run's τ = {self.tau_run:.3g} s "
@@ -80,7 +87,7 @@ class Prediction:
                 f"reactions {p.reaction:.2g}, crank torque {p.torque:.2g}")
 
     def to_json(self) -> dict:
-        return {"binding": self.binding, "passes": self.passes, "apart": self.apart, "tau_needed_s": _num(self.tau_needed),
+        return {"binding": self.binding, "passes": self.passes, "apart": self.apart, "unsettled": self.unsettled, "tau_needed_s": _num(self.tau_needed),
                 "tau_run_s": _num(self.tau_run), "tau_floor_s": _num(self.tau_floor),
                 "steps_per_revolution_needed": _num(self.steps_per_revolution_needed),
                 "step_budget": self.step_budget, "tolerances": self.tolerances.to_dict(),
@@ -108,10 +115,11 @@ def binding(scales, settings) -> str:
     return "none"
 
 
-def predict_run(asm, settings, scales, step_budget: int, left_out=()) -> Prediction:
+def predict_run(asm, settings, scales, step_budget: int, left_out=(), nothing_to_compare: bool = False) -> Prediction:
     """The prediction for a run of ``asm`` at ``settings`` derived with ``scales``
     (``mujoco.settings.derive``), over the crank angles the run compares (``left_out``: its
-    settling windows, ``mujoco.simulate.LeftOut``, fixed by the settings before any step):
+    settling windows, ``mujoco.simulate.LeftOut``, fixed by the settings before any step;
+    ``nothing_to_compare``: they cover every sample, which the run found before its first step):
     raises UnsupportedError for linkages ``mujoco.accuracy.predict`` does not model (cams, gears)."""
     from linkgen.mujoco.accuracy import predict
     from linkgen.mujoco.settings import STEPS_PER_TAU
@@ -121,7 +129,7 @@ def predict_run(asm, settings, scales, step_budget: int, left_out=()) -> Predict
     tau_needed = min(scales.tau_gap, scales.tau_phase)  # what the loops need, before any floor or budget
     per_rev = 2 * math.pi / max(scales.omega, 1e-300) * STEPS_PER_TAU / tau_needed
     return Prediction(binding(scales, settings), tau_needed, settings.timeconst, scales.tau_floor, per_rev,
-                      int(step_budget), tolerances(scales.sigma_min), acc.errors)
+                      int(step_budget), tolerances(scales.sigma_min), acc.errors, nothing_to_compare)
 
 
 @dataclass(frozen=True)
@@ -175,9 +183,10 @@ def verdict(prediction: Prediction | None, measured: Errors, ok: bool) -> Verdic
 
 
 def came_apart(prediction: Prediction | None) -> Verdict:
-    """The verdict on a run that came apart (stopped before it could be compared): explained
-    when the loops were predicted to come apart, a failure otherwise."""
-    explained = prediction is not None and prediction.apart
+    """The verdict on a run that came apart or left nothing to compare (stopped before it could
+    be compared): explained when that was predicted (``apart``, ``unsettled``), a failure
+    otherwise."""
+    explained = prediction is not None and (prediction.apart or prediction.unsettled)
     return Verdict("explained failure" if explained else "failed", None, {}, 1.0 if explained else math.inf)
 
 

@@ -35,6 +35,7 @@ class Attempt:
     error: str | None = None
     capped: bool = False  # a step budget coarsened the settings
     scales: object = None  # what the settings were derived from (mujoco.settings.Scales), when derived
+    nothing_to_compare: bool = False  # its settling windows covered every sample (known before any step)
 
     def to_json(self) -> dict:
         return {"settings": self.settings.to_json() if self.settings else None, "ok": self.ok, "worst": self.worst,
@@ -156,7 +157,10 @@ def headline(r: dict, wall: str | None = None) -> str:
     machine's comparison joined: ``ok`` is then both): ok or FAIL, the worst quantity, the loop
     gap, the steps and ``wall`` (default: the runs' wall time)."""
     if not r.get("quantities"):  # no run compared anything: the diagnosis says why
-        return "FAIL (explained, as predicted): the loops came apart" if r.get("status") == "explained failure" else "FAIL"
+        if r.get("status") != "explained failure":
+            return "FAIL"
+        what = "nothing left to compare" if (r.get("prediction") or {}).get("unsettled") else "the loops came apart"
+        return f"FAIL (explained, as predicted): {what}"
     worst, err, tol = headline_worst(r)
     gap = worst == "loop gap"
     explained = r.get("status") == "explained failure"
@@ -173,7 +177,8 @@ def _attempt(asm: Assembly, settings: Settings | None, progress, nthread,
     except SimulationError as exc:
         scales = getattr(exc, "scales", None)
         return Attempt(getattr(exc, "settings", settings), False, "run", math.inf, 0, 0.0, str(exc),
-                       bool(scales and scales.capped and settings is None), scales), None
+                       bool(scales and scales.capped and settings is None), scales,
+                       bool(getattr(exc, "nothing_to_compare", False))), None
     cmp = compare(asm, run)
     worst = max(cmp.quantities, key=lambda k: cmp.quantities[k].relative_error / cmp.quantities[k].tolerance)
     q = cmp.quantities[worst]
@@ -263,7 +268,7 @@ def _predict(asm: Assembly, first: Attempt, max_steps: int, left_out=()) -> tupl
     if first.settings is None or first.scales is None:
         return None, "the settings were not derived from the closed form (no scan of the loop forces)"
     try:
-        return predict_run(asm, first.settings, first.scales, max_steps, left_out), ""
+        return predict_run(asm, first.settings, first.scales, max_steps, left_out, first.nothing_to_compare), ""
     except LinkgenError as exc:
         return None, str(exc)
     except np.linalg.LinAlgError as exc:  # the constraint model has no solution at some scanned state

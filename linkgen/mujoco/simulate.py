@@ -217,20 +217,12 @@ def simulate(asm: Assembly | Posed, *, revolutions: float = 1.0, omega: float | 
         raise
 
 
-def _run(asm: Assembly | Posed, model: mujoco.MjModel, settings: Settings, scales: Scales | None, w0: float,
-         eps: float,
-         phi_a: float, phi_b: float, full: bool, duration: float, samples: int, nthread: int | None,
-         progress, gap_abort: float, wall0: float, settle: bool, max_steps: int = MAX_STEPS) -> Run:
+def switch_windows(asm: Assembly | Posed, phi_a: float, phi_b: float, w0: float, eps: float, samples: int,
+                   full: bool, dt: float, window: float) -> tuple[np.ndarray, np.ndarray, np.ndarray, list]:
+    """A run's sample angles [rad] and times [s] over the range, which are kept, and the
+    ``LeftOut`` windows after its load switches (each ``window`` [s] long, from a step before
+    the switch): fixed by the settings before any step."""
     mech = asm.mechanism
-    dt = settings.timestep
-    g = float(np.hypot(*mech.gravity))
-    window = settle_window(settings, scales, eps, SETTLE_TARGET, g) if settle else 0.0
-    lead_needed = settle_window(settings, scales, eps, LEAD_TARGET, g)
-    # A lead-in costs steps like the run: at most the step budget. A slow loop mode
-    # (``loop_modes``) may need longer; the samples its rest would cover are left out below.
-    lead_window = min(lead_needed, max_steps * dt)
-
-    # Samples over the range, and which are left out (load switches).
     phi_s = np.linspace(phi_a, phi_b, samples, endpoint=not full)
     t_s = crank_time(phi_s, phi_a, w0, eps)
     keep = np.ones(samples, dtype=bool)
@@ -248,6 +240,24 @@ def _run(asm: Assembly | Posed, model: mujoco.MjModel, settings: Settings, scale
         if hit.any():
             keep &= ~hit
             left.append(LeftOut("load switch", sw, float(phi_s[hit].max()), int(hit.sum())))
+    return phi_s, t_s, keep, left
+
+
+def _run(asm: Assembly | Posed, model: mujoco.MjModel, settings: Settings, scales: Scales | None, w0: float,
+         eps: float,
+         phi_a: float, phi_b: float, full: bool, duration: float, samples: int, nthread: int | None,
+         progress, gap_abort: float, wall0: float, settle: bool, max_steps: int = MAX_STEPS) -> Run:
+    mech = asm.mechanism
+    dt = settings.timestep
+    g = float(np.hypot(*mech.gravity))
+    window = settle_window(settings, scales, eps, SETTLE_TARGET, g) if settle else 0.0
+    lead_needed = settle_window(settings, scales, eps, LEAD_TARGET, g)
+    # A lead-in costs steps like the run: at most the step budget. A slow loop mode
+    # (``loop_modes``) may need longer; the samples its rest would cover are left out below.
+    lead_window = min(lead_needed, max_steps * dt)
+
+    # Samples over the range, and which are left out (load switches).
+    phi_s, t_s, keep, left = switch_windows(asm, phi_a, phi_b, w0, eps, samples, full, dt, window)
 
     # Segments: equal parts of the range, each started a window early.
     nseg = max(1, min(default_threads() if nthread is None else nthread, samples))
@@ -268,6 +278,13 @@ def _run(asm: Assembly | Posed, model: mujoco.MjModel, settings: Settings, scale
         left.append(LeftOut("start", float(phi_s[hit].min()), float(phi_s[hit].max()), int(hit.sum())))
     step_of = np.maximum(np.rint((t_s - t_start[seg_of]) / dt).astype(np.int64), 1)
     nsteps = int(np.ceil((t_bounds[1:] - t_start) / dt).max()) + 1
+
+    if np.count_nonzero(keep) < 2:  # known before any step: the run would compare nothing
+        exc = SimulationError(f"every sample falls in a settling window: the loops take {window:.3g} s to settle "
+                              f"with timestep {settings.timestep:g} s and loop time constant {settings.timeconst:g} s, "
+                              f"and the range lasts {duration:.3g} s")
+        exc.nothing_to_compare = True
+        raise exc
 
     # Initial states and open-loop inputs.
     datas = [mujoco.MjData(model) for _ in range(nseg)]
@@ -336,10 +353,6 @@ def _run(asm: Assembly | Posed, model: mujoco.MjModel, settings: Settings, scale
                                       f"{w.lastinfo}; settings: timestep {settings.timestep:g} s, loop time "
                                       f"constant {settings.timeconst:g} s")
     idx = np.flatnonzero(keep)
-    if idx.shape[0] < 2:
-        raise SimulationError(f"every sample falls in a settling window: the loops take {window:.3g} s to settle "
-                              f"with timestep {settings.timestep:g} s and loop time constant {settings.timeconst:g} s, "
-                              f"and the range lasts {duration:.3g} s")
     sampled = read_samples(asm, model, got[idx, 0], got[idx, 1:1 + model.nq], got[idx, 1 + model.nq:], drive_ctrl,
                            slider_reference(asm))
     return Run(model, settings, scales, sampled, steps_total, _time.perf_counter() - wall0, gap_max, gap_at,
