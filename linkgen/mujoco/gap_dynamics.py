@@ -183,7 +183,7 @@ def rate(x: np.ndarray, t: np.ndarray, full: bool) -> np.ndarray:
     if x.shape[0] < 3:
         return np.zeros_like(x)
     if not full:
-        return np.gradient(x, t, axis=0)
+        return np.gradient(x, t, axis=0, edge_order=2 if x.shape[0] > 2 else 1)  # second order at the range's ends too
     return (np.roll(x, -1, axis=0) - np.roll(x, 1, axis=0)) / (2.0 * (t[1] - t[0]))
 
 
