@@ -266,8 +266,12 @@ def _summary(r: dict) -> str:
     pred = r.get("prediction") or {}
     if not r.get("ok", True) and "text" in pred:  # what was foreseen before the run, and how the run compares
         factor = pred.get("worst_factor")
-        lines.append(f"    {pred['text']}" + ("" if factor is None else
-                                              f"; measured within {factor:.2g}× of the prediction"))
+        apart = "measured" in pred and pred["measured"] is None  # the run stopped before any comparison
+        lines.append(f"    {pred['text']}" + (("; it left nothing to compare, as predicted" if pred.get("unsettled") else
+                                                "; it came apart, as predicted" if pred.get("apart") else
+                                                "; it stopped before any comparison, which the prediction did not foresee")
+                                               if apart else
+                                               "" if factor is None else f"; measured within {factor:.2g}× of the prediction"))
     lines += [f"    {finding_line(d)}" for d in shown]
     if len(r.get("diagnosis", [])) > len(shown):
         lines.append(f"    … and {len(r['diagnosis']) - len(shown)} more quantities (see --json)")

@@ -98,6 +98,13 @@ def practical_study(asm: Assembly, validation: Settings, *, nthread: int | None 
         cf = cmp.closed_forces
         f = force_scale(cf, asm, cmp.size, kinematic_scales(cmp.size, *run.samples.crank[1:],
                                                              float(np.hypot(*asm.mechanism.gravity)))["acceleration"])
+        if not f > 0:  # the crank stood still and nothing loads the mechanism: no force to compare
+            w = float(np.abs(run.samples.crank[1]).max())
+            rows.append(PracticalRow(s, math.nan, math.nan, math.nan, math.nan, math.nan,
+                                     f"the crank turned at {w:.3g} rad/s at most in this run, with no load on the mechanism: its "
+                                     "closed-form forces vanish, so its force errors have no scale"))
+            _report(progress, (i + 1) / len(steps), t0)
+            continue
         reac = [np.linalg.norm(run.samples.forces.reactions[k] - v, axis=1).max() for k, v in cf.reactions.items()]
         reac += [np.abs(run.samples.forces.normal_force[k] - v).max() for k, v in cf.normal_force.items()]
         torque = float(np.abs(run.samples.forces.balancing_torque - cf.balancing_torque).max())

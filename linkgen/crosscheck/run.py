@@ -12,7 +12,7 @@ from dataclasses import dataclass, replace
 from linkgen.families.planar.assembly import Assembly
 from linkgen.crosscheck.compare import Comparison, compare
 from linkgen.crosscheck.diagnose import Finding, diagnose
-from linkgen.crosscheck.prediction import Prediction, Verdict, predict_run, verdict
+from linkgen.crosscheck.prediction import Prediction, Verdict, came_apart, predict_run, verdict
 from linkgen.errors import SimulationError
 from linkgen.mujoco.options import Settings
 from linkgen.mujoco.result_shape import loop_gap, validation
@@ -35,6 +35,7 @@ class Attempt:
     error: str | None = None
     capped: bool = False  # a step budget coarsened the settings
     scales: object = None  # what the settings were derived from (mujoco.settings.Scales), when derived
+    nothing_to_compare: bool = False  # its settling windows covered every sample (known before any step)
 
     def to_json(self) -> dict:
         return {"settings": self.settings.to_json() if self.settings else None, "ok": self.ok, "worst": self.worst,
@@ -122,7 +123,7 @@ class CrossCheck:
         out["prediction"] = (self.prediction.to_json() | {"text": self.prediction.text()} if self.prediction
                              else {"unavailable": self.prediction_unavailable or "no run was derived"})
         if self.verdict is not None:
-            out["prediction"] |= {"measured": self.verdict.measured.to_dict(),
+            out["prediction"] |= {"measured": self.verdict.to_json()["measured"],
                                   "measured_over_predicted": self.verdict.to_json()["measured_over_predicted"],
                                   "worst_factor": self.verdict.to_json()["worst_factor"]}
         out["best_achievable"] = self._best_achievable()
@@ -156,7 +157,10 @@ def headline(r: dict, wall: str | None = None) -> str:
     machine's comparison joined: ``ok`` is then both): ok or FAIL, the worst quantity, the loop
     gap, the steps and ``wall`` (default: the runs' wall time)."""
     if not r.get("quantities"):  # no run compared anything: the diagnosis says why
-        return "FAIL"
+        if r.get("status") != "explained failure":
+            return "FAIL"
+        what = "nothing left to compare" if (r.get("prediction") or {}).get("unsettled") else "the loops came apart"
+        return f"FAIL (explained, as predicted): {what}"
     worst, err, tol = headline_worst(r)
     gap = worst == "loop gap"
     explained = r.get("status") == "explained failure"
@@ -173,7 +177,8 @@ def _attempt(asm: Assembly, settings: Settings | None, progress, nthread,
     except SimulationError as exc:
         scales = getattr(exc, "scales", None)
         return Attempt(getattr(exc, "settings", settings), False, "run", math.inf, 0, 0.0, str(exc),
-                       bool(scales and scales.capped and settings is None), scales), None
+                       bool(scales and scales.capped and settings is None), scales,
+                       bool(getattr(exc, "nothing_to_compare", False))), None
     cmp = compare(asm, run)
     worst = max(cmp.quantities, key=lambda k: cmp.quantities[k].relative_error / cmp.quantities[k].tolerance)
     q = cmp.quantities[worst]
@@ -213,7 +218,7 @@ def crosscheck(asm: Assembly, *, practical: bool = True, progress=None, nthread:
     ``progress(fraction, seconds[, what])``: the validation runs' progress, then the
     practical-settings runs' (``what`` names them)."""
     first, cmp = _attempt(asm, None, progress, nthread, max_steps=max_steps)
-    prediction, why_not = _predict(asm, first, max_steps)
+    prediction, why_not = _predict(asm, first, max_steps, cmp.run.left_out if cmp is not None else ())
     attempts = [first]
     exponent = 2.0
     exhausted = False  # a finer run would pass the step budget or the float64 floor
@@ -245,7 +250,7 @@ def crosscheck(asm: Assembly, *, practical: bool = True, progress=None, nthread:
                             first.error or "")]
     rows = practical_study(asm, cmp.run.settings, nthread=nthread, scales=cmp.run.scales,
                            progress=progress) if (practical and cmp is not None) else []
-    verdict_ = None
+    verdict_ = came_apart(prediction) if cmp is None and first.settings is not None else None
     if cmp is not None:
         from linkgen.mujoco.accuracy import sample_errors
 
@@ -254,15 +259,16 @@ def crosscheck(asm: Assembly, *, practical: bool = True, progress=None, nthread:
                       verdict_)
 
 
-def _predict(asm: Assembly, first: Attempt, max_steps: int) -> tuple[Prediction | None, str]:
-    """The prediction from the first run's derived settings and what they were derived from
-    (fixed before its first step), or None and why."""
+def _predict(asm: Assembly, first: Attempt, max_steps: int, left_out=()) -> tuple[Prediction | None, str]:
+    """The prediction from the first run's derived settings and what they were derived from,
+    over the angles the run compares (its settling windows, ``left_out``, follow from the
+    settings): all fixed before its first step. None and why where it cannot be made."""
     from linkgen.errors import LinkgenError
 
     if first.settings is None or first.scales is None:
         return None, "the settings were not derived from the closed form (no scan of the loop forces)"
     try:
-        return predict_run(asm, first.settings, first.scales, max_steps), ""
+        return predict_run(asm, first.settings, first.scales, max_steps, left_out, first.nothing_to_compare), ""
     except LinkgenError as exc:
         return None, str(exc)
     except np.linalg.LinAlgError as exc:  # the constraint model has no solution at some scanned state

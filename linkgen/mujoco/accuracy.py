@@ -55,6 +55,9 @@ from linkgen.mujoco.timing import crank_phi, crank_time
 
 # Crank angles the prediction evaluates MuJoCo's forward dynamics at (over the drive range).
 SCAN = 240
+# A predicted sample within this angle [rad] of a left-out window's edge is left out with it
+# (rounding of the window's bounds, which are the run's own sample angles).
+WINDOW_EDGE = 1e-9
 # The quantities, each relative: loop gap / size, point position error / size, reaction error /
 # peak reaction, crank-torque error / peak crank torque.
 QUANTITIES = ("gap", "position", "reaction", "torque")
@@ -168,10 +171,14 @@ def check_supported(asm: Assembly) -> None:
 
 @no_log_file()
 def predict(asm: Assembly, settings: Settings, *, omega: float | None = None, epsilon: float | None = None,
-            samples: int = SCAN) -> AccuracyPrediction:
+            samples: int = SCAN, left_out: tuple[tuple[float, float], ...] = (), warm: bool = False) -> AccuracyPrediction:
     """The errors a run at ``settings`` (its rotor inertia holding the crank at ω [rad/s], default
     the description's, and ε [rad/s²]) is predicted to reach, from the closed form and MuJoCo's
-    constraint model at the closed-form states: no MuJoCo step is taken."""
+    constraint model at the closed-form states: no MuJoCo step is taken. ``left_out``: crank-angle
+    windows [rad] (from, to) the run leaves out of its comparison (its settling windows after the
+    start and after load switches, fixed by the settings): the prediction leaves them out too.
+    ``warm``: the run starts with its loops open by their settled gap (``mujoco.warm_start``, a
+    validation run's start), so no start-up transient is predicted."""
     from linkgen.mujoco.mjcf import write_mjcf
     from linkgen.mujoco.settings import apply
 
@@ -184,7 +191,7 @@ def predict(asm: Assembly, settings: Settings, *, omega: float | None = None, ep
     full = full_turn(mech)
     phi = np.linspace(mech.drive.start, mech.drive.stop, samples, endpoint=not full)
     t = crank_time(phi, mech.drive.start, w, eps)
-    cold = not full and _starts_cold(asm, settings, w, eps)
+    cold = not warm and not full and _starts_cold(asm, settings, w, eps)
     if cold and samples > 1 and settings.timestep < t[1]:  # a run records its first state after one step
         t[0] = settings.timestep
         phi[0] = crank_phi(t[0], mech.drive.start, w, eps)
@@ -240,7 +247,17 @@ def predict(asm: Assembly, settings: Settings, *, omega: float | None = None, ep
             points[p][k] = data.site(p).xpos[:2]
         crank[:, k] = phi[k], data.qvel[drive], data.qacc[drive]
         gaps[k] = float(np.abs(data.efc_pos[: data.ne]).max()) if data.ne else 0.0
-    errors = errors_of(asm, crank, points, ForceSamples.stack(states), gaps)
+    # A window opens at a load switch: the scan's two samples before it are left out too, as the
+    # gap's velocity and acceleration there (central differences of central differences) reach
+    # across the switch.
+    before = 2.0 * abs(phi[1] - phi[0]) if samples > 1 else 0.0
+    keep = ~np.any([(phi >= a - before - WINDOW_EDGE) & (phi <= b + WINDOW_EDGE) for a, b in left_out], axis=0) \
+        if left_out else np.ones(samples, dtype=bool)
+    if keep.sum() < 2:  # the run compares too few samples to say anything: predict over them all
+        keep[:] = True
+    idx = np.flatnonzero(keep)
+    errors = errors_of(asm, crank[:, idx], {p: v[idx] for p, v in points.items()},
+                       ForceSamples.stack([states[k] for k in idx]), gaps[idx])
     return AccuracyPrediction(settings, tau, w, mechanism_size(asm), errors)
 
 

@@ -18,7 +18,8 @@ before the run, ``derive`` scans the range for the peak of a0 = |A_diag·λ| and
 The cost per revolution is 2π·STEPS_PER_TAU/(ω·τ): constant (2π·STEPS_PER_TAU/PHASE) while
 inertia sets τ, growing only where gravity or loads dominate the loop forces at a slow crank
 (then τ_gap < τ_phase). The rotor inertia that holds the crank speed is ARMATURE_RATIO times the
-mechanism's peak reduced inertia. Values are rounded down to a few steps per decade so that written MJCF
+mechanism's peak reduced inertia, or LOAD_ROTOR_RATIO times its peak crank torque over ω² where
+that is larger. Values are rounded down to a few steps per decade so that written MJCF
 does not depend on the last bits of a float.
 """
 
@@ -42,6 +43,7 @@ from linkgen.mujoco.state import joint_states
 from linkgen.mujoco.scene import switch_off_servo
 from linkgen.mujoco.tree import spanning_tree
 from linkgen.mujoco.log import no_log_file
+from linkgen.mujoco.loop_modes import slowest_share
 
 # Aimed-for loop gap relative to the size: a third of the gap tolerance (compare.GAP_TOL = 1e-8);
 # the prediction below is itself an upper bound (measured gaps 0.5-0.9 of it).
@@ -59,6 +61,9 @@ STEPS_PER_TAU = 20
 # Rotor inertia on the driven joint over the mechanism's peak reduced inertia J(φ): the speed
 # then changes by ~1e-6 relative over a revolution (comparisons use the measured speed anyway).
 ARMATURE_RATIO = 1e6
+# Rotor inertia over T_peak/ω² (T_peak the crank's peak torque): the loads then change the speed
+# by at most 1e-3 relative a radian (``derive``).
+LOAD_ROTOR_RATIO = 1e3
 # float64 rounding, the margin kept above it, and the error it must stay under relative to the
 # accelerations' scale (a tenth of compare.REL_TOL), for the loop-stiffness floor below.
 EPS = 2.220446049250313e-16
@@ -71,6 +76,9 @@ SETTLE_ERROR = 1e-7
 GAP_PREDICTION_LOW = 0.03
 # Crank angles scanned for the loop forces and conditioning.
 SCAN = 181
+# Every this many scanned angles the loop modes' shares are computed (``loop_modes``): they
+# change with the pose as smoothly as the inertia does, at a few milliseconds each.
+SHARE_EVERY = 6
 
 
 @dataclass(frozen=True)
@@ -96,6 +104,9 @@ class Scales:
     loop_acceleration_at: float = math.nan  # the crank angle where a0 peaks [rad]
     loop_inverse_inertia: float = math.nan  # MuJoCo's A_diag there [1/kg]
     loop_force: float = math.nan  # the loop force λ there [N]
+    # The smallest share ρ of the soft model's stiffness and damping a loop direction gets,
+    # min eig(A·(A + R)⁻¹) over the scan (``loop_modes.slowest_share``; 1 for no loop).
+    loop_share: float = 1.0
 
     def predicted_gap(self, timeconst: float) -> float:
         """The loop gap [m] a run with loop time constant ``timeconst`` [s] is predicted to
@@ -185,7 +196,14 @@ def derive(asm: Assembly, model: mujoco.MjModel, *, omega: float, epsilon: float
         tau = dt * STEPS_PER_TAU
         capped = True
     j_peak = float(np.abs(cf.reduced.inertia).max())
-    armature = round_down(ARMATURE_RATIO * j_peak) if j_peak > 0 else 1.0
+    # The rotor holds the speed against the crank's torque too: a torque T changes the speed by
+    # T/(J·ω²) relative a radian, so J ≥ LOAD_ROTOR_RATIO·T_peak/ω² keeps it within 1e-3 (a slow
+    # crank under gravity turned backwards with the rotor sized on J(φ) alone: fidelity corpus
+    # seed 109). Not ARMATURE_RATIO: comparisons use the measured speed, and a larger rotor only
+    # amplifies the noise of its acceleration in the crank torque MuJoCo reports.
+    j_load = LOAD_ROTOR_RATIO * float(np.abs(cf.balancing_torque).max()) / max(float(omega) ** 2, 1e-300)
+    j_rotor = max(ARMATURE_RATIO * j_peak, j_load if math.isfinite(j_load) else 0.0)
+    armature = round_down(j_rotor) if j_rotor > 0 else 1.0
     settings = Settings(timestep=dt, timeconst=tau, armature=armature,
                         label="derived, coarsened to the step budget" if capped else "derived")
     if asm.mechanism.cams:  # a cam's contact needs a shorter step than the loops may
@@ -193,11 +211,16 @@ def derive(asm: Assembly, model: mujoco.MjModel, *, omega: float, epsilon: float
 
         settings = cam_settings(asm, settings)
     k_a = int(np.argmax(a0))
+    dof = model.joint(asm.mechanism.drive.joint).dofadr[0]
+    before = float(model.dof_armature[dof])
+    set_armature(model, dof, armature)  # the run's rotor: the crank's share of every loop's inertia
+    share = slowest_share(asm, model, qpos[::SHARE_EVERY], qvel[::SHARE_EVERY], IMPEDANCE)
+    set_armature(model, dof, before)
     closures = spanning_tree(asm).closures
     scales = Scales(size, abs(omega), a_peak, s_min, float(phi[k_min]), j_peak, tau_gap, tau_phase, tau_floor,
                     capped, acceleration_scale(size, omega, epsilon, float(np.hypot(*asm.mechanism.gravity))),
                     tau_needed, closures[where[k_a]].name if closures else "", float(phi[k_a]),
-                    float(inv_inertia[k_a]), float(force[k_a]))
+                    float(inv_inertia[k_a]), float(force[k_a]), share)
     return settings, scales
 
 

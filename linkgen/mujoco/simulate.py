@@ -28,14 +28,15 @@ from linkgen.mujoco.mjcf import write_mjcf
 from linkgen.mujoco.tree import sensor_name, spanning_tree
 from linkgen.mujoco.log import no_log_file
 from linkgen.mujoco.forces import has_loads, load_schedule
-from linkgen.mujoco.loops import mechanism_size
+from linkgen.mujoco.loops import closure_jacobian, mechanism_size
 from linkgen.mujoco.sample import Samples, read_samples
 from linkgen.mujoco.options import PLACEHOLDER, PROGRESS_AFTER, Settings
 from linkgen.mujoco.posed import Posed, slider_reference, torque_schedule
-from linkgen.mujoco.settings import MAX_STEPS, Scales, apply, check_budget, crank_only, derive
+from linkgen.mujoco.settings import MAX_STEPS, Scales, apply, check_budget, crank_only, derive, sigma_min
 from linkgen.mujoco.state import tree_state
 from linkgen.families.planar.pose import state
 from linkgen.mujoco.state import initial_state, joint_state, joint_states
+from linkgen.mujoco.warm_start import settled_start
 from linkgen.mujoco.timing import LEAD_TARGET, SETTLE_TARGET, crank_phi, crank_time, settle_window, switch_angles
 
 # A run whose loop gap passes this fraction of the mechanism's size has failed (not a result):
@@ -101,6 +102,27 @@ def _assembles(asm: Assembly | Posed, phi: np.ndarray) -> bool:
     return True
 
 
+def _lead_sigma(asm: Assembly | Posed, model: mujoco.MjModel, phi: np.ndarray) -> float:
+    """The loops' smallest conditioning σ (``mujoco.settings.sigma_min``) over a lead-in's crank
+    angles ``phi`` [rad] before the range: where it falls below the range's own, the lead-in
+    would pass nearer an assembly limit than the range does, where the soft loops' start-up
+    transient is amplified past what the range's scan sized the lead-in for."""
+    if isinstance(asm, Posed):
+        return math.inf
+    qpos, qvel, _ = joint_states(asm, model, phi, np.ones_like(phi), np.zeros_like(phi))
+    data = mujoco.MjData(model)
+    size = mechanism_size(asm)
+    out = math.inf
+    for k in range(phi.shape[0]):
+        data.qpos[:], data.qvel[:] = qpos[k], qvel[k]
+        mujoco.mj_kinematics(model, data)
+        mujoco.mj_comPos(model, data)
+        jac = closure_jacobian(asm, model, data)
+        if jac.shape[0]:
+            out = min(out, sigma_min(model, jac, asm.mechanism.drive.joint, size))
+    return out
+
+
 def _start_state(asm: Assembly | Posed, model: mujoco.MjModel, phi: float, omega: float):
     """qpos, qvel at crank angle φ [rad] and speed ω [rad/s]: closed form, or the numeric pose."""
     if isinstance(asm, Posed):
@@ -109,6 +131,12 @@ def _start_state(asm: Assembly | Posed, model: mujoco.MjModel, phi: float, omega
     return initial_state(asm, model, phi, omega)
 
 
+# A lead-in may pass this many times nearer an assembly limit (in the loops' conditioning σ)
+# than the range's closest pose: the lead-in's window, sized on the range (LEAD_TARGET, 1000×
+# below what the samples need), covers an amplification of 1/σ by 2 with room. Measured: the
+# seven-link's lead-in at 0.79 of its σ_min validates; a generated slow crank whose lead-in fell
+# to 0.03 of it started its range 100× off its prediction (fidelity corpus seed 23).
+LEAD_SIGMA = 2.0
 # A run coarsened to the step budget (and run anyway: validate reports what it reaches) stops
 # only when its loop gap passes this many times the predicted gap (measured within 3× of it on
 # the fidelity corpus, docs/fidelity.md), and never past BUDGET_ABORT_CAP of the size.
@@ -183,23 +211,18 @@ def simulate(asm: Assembly | Posed, *, revolutions: float = 1.0, omega: float | 
             gap_abort = max(gap_abort, min(BUDGET_ABORT_CAP, BUDGET_ABORT_FACTOR * scales.predicted_gap(settings.timeconst)
                                            / max(scales.size, 1e-300)))
         return _run(asm, model, settings, scales, w0, eps, phi_a, phi_b, full, duration, samples, nthread, progress,
-                    gap_abort, wall0, settle)
+                    gap_abort, wall0, settle, max_steps)
     except SimulationError as exc:  # the settings it ran with, and whether a step budget capped them
         exc.settings, exc.scales = settings, scales
         raise
 
 
-def _run(asm: Assembly | Posed, model: mujoco.MjModel, settings: Settings, scales: Scales | None, w0: float,
-         eps: float,
-         phi_a: float, phi_b: float, full: bool, duration: float, samples: int, nthread: int | None,
-         progress, gap_abort: float, wall0: float, settle: bool) -> Run:
+def switch_windows(asm: Assembly | Posed, phi_a: float, phi_b: float, w0: float, eps: float, samples: int,
+                   full: bool, dt: float, window: float) -> tuple[np.ndarray, np.ndarray, np.ndarray, list]:
+    """A run's sample angles [rad] and times [s] over the range, which are kept, and the
+    ``LeftOut`` windows after its load switches (each ``window`` [s] long, from a step before
+    the switch): fixed by the settings before any step."""
     mech = asm.mechanism
-    dt = settings.timestep
-    g = float(np.hypot(*mech.gravity))
-    window = settle_window(settings, scales, eps, SETTLE_TARGET, g) if settle else 0.0
-    lead_window = settle_window(settings, scales, eps, LEAD_TARGET, g)
-
-    # Samples over the range, and which are left out (load switches).
     phi_s = np.linspace(phi_a, phi_b, samples, endpoint=not full)
     t_s = crank_time(phi_s, phi_a, w0, eps)
     keep = np.ones(samples, dtype=bool)
@@ -217,6 +240,24 @@ def _run(asm: Assembly | Posed, model: mujoco.MjModel, settings: Settings, scale
         if hit.any():
             keep &= ~hit
             left.append(LeftOut("load switch", sw, float(phi_s[hit].max()), int(hit.sum())))
+    return phi_s, t_s, keep, left
+
+
+def _run(asm: Assembly | Posed, model: mujoco.MjModel, settings: Settings, scales: Scales | None, w0: float,
+         eps: float,
+         phi_a: float, phi_b: float, full: bool, duration: float, samples: int, nthread: int | None,
+         progress, gap_abort: float, wall0: float, settle: bool, max_steps: int = MAX_STEPS) -> Run:
+    mech = asm.mechanism
+    dt = settings.timestep
+    g = float(np.hypot(*mech.gravity))
+    window = settle_window(settings, scales, eps, SETTLE_TARGET, g) if settle else 0.0
+    lead_needed = settle_window(settings, scales, eps, LEAD_TARGET, g)
+    # A lead-in costs steps like the run: at most the step budget. A slow loop mode
+    # (``loop_modes``) may need longer; the samples its rest would cover are left out below.
+    lead_window = min(lead_needed, max_steps * dt)
+
+    # Samples over the range, and which are left out (load switches).
+    phi_s, t_s, keep, left = switch_windows(asm, phi_a, phi_b, w0, eps, samples, full, dt, window)
 
     # Segments: equal parts of the range, each started a window early.
     nseg = max(1, min(default_threads() if nthread is None else nthread, samples))
@@ -224,16 +265,26 @@ def _run(asm: Assembly | Posed, model: mujoco.MjModel, settings: Settings, scale
     t_bounds = crank_time(bounds, phi_a, w0, eps)
     t_start = t_bounds[:-1] - lead_window
     lead = crank_phi(t_start[0], phi_a, w0, eps)
-    if not full and not _assembles(asm, np.linspace(lead, phi_a, 16)):  # the range starts near a limit
+    if not full and (not _assembles(asm, np.linspace(lead, phi_a, 16))  # the range starts near a limit
+                     or (settle and scales is not None
+                         and _lead_sigma(asm, model, np.linspace(lead, phi_a, 16)) < scales.sigma_min / LEAD_SIGMA)):
         t_start[0] = 0.0
-        t_start = np.maximum(t_start, 0.0)
-        hit = t_s <= lead_window
-        if hit.any() and settle:
-            keep &= ~hit
-            left.append(LeftOut("start", phi_a, float(phi_s[hit].max()), int(hit.sum())))
+        t_start = np.maximum(t_start, 0.0)  # the first segment has no lead-in: its start is left out below
     seg_of = np.clip(np.searchsorted(bounds, phi_s, side="right") - 1, 0, nseg - 1)
+    short = lead_needed - (t_bounds[:-1] - t_start) - dt  # each segment's lead-in shortfall [s], rounding aside
+    hit = (t_s - t_bounds[seg_of]) < short[seg_of]
+    if settle and hit.any():
+        keep &= ~hit
+        left.append(LeftOut("start", float(phi_s[hit].min()), float(phi_s[hit].max()), int(hit.sum())))
     step_of = np.maximum(np.rint((t_s - t_start[seg_of]) / dt).astype(np.int64), 1)
     nsteps = int(np.ceil((t_bounds[1:] - t_start) / dt).max()) + 1
+
+    if np.count_nonzero(keep) < 2:  # known before any step: the run would compare nothing
+        exc = SimulationError(f"every sample falls in a settling window: the loops take {window:.3g} s to settle "
+                              f"with timestep {settings.timestep:g} s and loop time constant {settings.timeconst:g} s, "
+                              f"and the range lasts {duration:.3g} s")
+        exc.nothing_to_compare = True
+        raise exc
 
     # Initial states and open-loop inputs.
     datas = [mujoco.MjData(model) for _ in range(nseg)]
@@ -243,6 +294,8 @@ def _run(asm: Assembly | Posed, model: mujoco.MjModel, settings: Settings, scale
         d = datas[0]
         phi_k = crank_phi(t_start[k], phi_a, w0, eps)
         d.qpos[:], d.qvel[:] = _start_state(asm, model, phi_k, w0 + eps * t_start[k])
+        if settle and not isinstance(asm, Posed):  # the loops start open by the gap they settle to (``warm_start``)
+            d.qpos[:] = settled_start(asm, model, settings, float(phi_k), w0 + eps * t_start[k], eps, d.qpos, d.qvel)
         d.time = t_start[k]
         mujoco.mj_getState(model, d, state[k], mujoco.mjtState.mjSTATE_FULLPHYSICS)
     drive_ctrl = settings.armature * eps
@@ -300,10 +353,6 @@ def _run(asm: Assembly | Posed, model: mujoco.MjModel, settings: Settings, scale
                                       f"{w.lastinfo}; settings: timestep {settings.timestep:g} s, loop time "
                                       f"constant {settings.timeconst:g} s")
     idx = np.flatnonzero(keep)
-    if idx.shape[0] < 2:
-        raise SimulationError(f"every sample falls in a settling window: the loops take {window:.3g} s to settle "
-                              f"with timestep {settings.timestep:g} s and loop time constant {settings.timeconst:g} s, "
-                              f"and the range lasts {duration:.3g} s")
     sampled = read_samples(asm, model, got[idx, 0], got[idx, 1:1 + model.nq], got[idx, 1 + model.nq:], drive_ctrl,
                            slider_reference(asm))
     return Run(model, settings, scales, sampled, steps_total, _time.perf_counter() - wall0, gap_max, gap_at,

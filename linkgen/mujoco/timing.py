@@ -8,6 +8,7 @@ import math
 import numpy as np
 
 from linkgen.errors import SimulationError
+from linkgen.mujoco.loop_modes import decay_rate
 from linkgen.mujoco.loops import acceleration_scale
 from linkgen.mujoco.options import Settings
 from linkgen.mujoco.settings import Scales
@@ -31,7 +32,9 @@ def settle_window(settings: Settings, scales: Scales | None, epsilon: float, tar
     soft constraint lets through), and it decays as (1 + t/τ)·e^(−t/τ). Relative to the
     accelerations' scale size·(ω² + |ε|) + |g|, and amplified by 1/σ where the loops are
     ill-conditioned, this gives e0; the window is the t where the envelope brings e0 down to
-    SETTLE_TARGET (at least 1 τ)."""
+    SETTLE_TARGET (at least 1 τ). Where a loop direction gets only a share ρ of the soft model
+    (``Scales.loop_share``, ``mujoco.loop_modes``) its mode decays at the slower rate
+    ``loop_modes.decay_rate``, and the window is counted in that mode's time constants."""
     d = settings.solimp[0] if settings.solimp else settings.impedance
     if scales is None:
         e0 = 1.0 - d
@@ -46,7 +49,9 @@ def settle_window(settings: Settings, scales: Scales | None, epsilon: float, tar
             x = 0.5 * (lo + hi)
             lo, hi = (x, hi) if (1 + x) * math.exp(-x) > target else (lo, x)
         x = hi
-    return max(1.0, x) * settings.timeconst
+    share = getattr(scales, "loop_share", 1.0) if scales is not None else 1.0
+    slowest = min(decay_rate(settings, share), 1.0 / settings.timeconst) if share < 1.0 else 1.0 / settings.timeconst
+    return max(1.0, x) / slowest
 
 
 def crank_time(phi: np.ndarray, phi0: float, omega: float, eps: float) -> np.ndarray:
