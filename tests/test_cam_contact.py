@@ -10,7 +10,7 @@ import numpy as np
 
 from conftest import ROOT
 from linkgen.families.cam.kinetics import state
-from linkgen.mujoco.cam import run_cam
+from linkgen.mujoco.cam_run import run_cam
 from linkgen.mujoco.log import no_log_file
 from linkgen.pipeline.registry import load
 from test_build_scales import FEW_PROFILE_POINTS, scale_description

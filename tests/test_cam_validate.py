@@ -98,7 +98,7 @@ def test_a_cam_whose_spring_cannot_hold_the_follower_is_diagnosed():
     form's follower leaves the cam (a quarter of a turn covers the rise's deceleration)."""
     from linkgen.families.cam.kinetics import leave_speed
     from linkgen.crosscheck.diagnose_cam import diagnose_cam
-    from linkgen.mujoco.cam import compare_cam, run_cam
+    from linkgen.mujoco.cam_run import compare_cam, run_cam
 
     slow = _user_cam()
     data = dict(USER_CAM, cam={"omega": 2 * leave_speed(slow)})
@@ -123,7 +123,7 @@ def test_a_cam_whose_spring_cannot_hold_the_follower_is_diagnosed():
 def _synthetic_fly_off(cm):
     """A run on the closed form except a fly-off: off the cam from 200° to 210°, the follower
     0.01 rad away, landing with an impact of 2 kN."""
-    from linkgen.mujoco.cam import CamRun
+    from linkgen.mujoco.cam_run import CamRun
 
     th = np.linspace(math.radians(45), math.radians(405), 20000, endpoint=False)
     ref = state(cm, th)
@@ -143,7 +143,7 @@ def _synthetic_fly_off(cm):
 
 def test_a_fly_off_is_diagnosed_as_contact_lost_with_its_landing_impact():
     from linkgen.crosscheck.diagnose_cam import diagnose_cam
-    from linkgen.mujoco.cam import compare_cam
+    from linkgen.mujoco.cam_run import compare_cam
 
     cm = _user_cam()
     run = _synthetic_fly_off(cm)
@@ -161,7 +161,8 @@ def test_the_report_has_a_section_for_a_stand_alone_cam(tmp_path):
     from linkgen.crosscheck.cam import CamCheck
     from linkgen.crosscheck.diagnose_cam import diagnose_cam
     from linkgen.report.figures_cam import plot_cam
-    from linkgen.mujoco.cam import CAM_TOLERANCES, compare_cam
+    from linkgen.mujoco.cam import CAM_TOLERANCES
+    from linkgen.mujoco.cam_run import compare_cam
     from linkgen.pipeline.registry import report_parts
     from linkgen.report.report import write_index
 
@@ -283,7 +284,7 @@ def test_a_cam_linkage_run_that_misses_is_diagnosed():
 
 def test_a_cam_run_reports_progress(monkeypatch):
     from linkgen.mujoco import options
-    from linkgen.mujoco.cam import run_cam
+    from linkgen.mujoco.cam_run import run_cam
 
     monkeypatch.setattr(options, "PROGRESS_AFTER", 0.0)
     calls = []

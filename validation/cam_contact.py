@@ -1,7 +1,7 @@
 """Which MuJoCo modelling of a cam's contact makes the instantaneous contact force follow the
 closed form: each choice changed on its own from linkgen's cam MJCF (``mujoco.cam.cam_mjcf``),
 the bundled stand-alone cams run over a part of a turn from the closed-form state
-(``mujoco.cam.run_cam``), and a table printed of, per variant and cam: the follower's
+(``mujoco.cam_run.run_cam``), and a table printed of, per variant and cam: the follower's
 displacement error at every step relative to the stroke, the contact force's error at every
 step relative to its peak, the share of the steps with the roller off the cam, and the wall time.
 
@@ -23,6 +23,7 @@ import numpy as np
 from lxml import etree
 
 import linkgen.mujoco.cam as mc
+import linkgen.mujoco.cam_run as mr
 from linkgen.families.cam.kinetics import state
 from linkgen.pipeline.registry import load
 
@@ -104,7 +105,7 @@ def run_variant(cm, name: str, turn: float) -> dict:
             e(root, dt)
         text = etree.tostring(root, encoding="unicode")
         t0 = time.perf_counter()
-        run = mc.run_cam(cm, revolutions=turn, mjcf_text=text, max_steps=10**8)
+        run = mr.run_cam(cm, revolutions=turn, mjcf_text=text, max_steps=10**8)
         wall = time.perf_counter() - t0
     finally:
         for k, v in saved.items():

@@ -1,5 +1,5 @@
 """Cams through MuJoCo against their closed form, as validation results: a stand-alone cam
-(``CamCheck``: ``mujoco.cam.compare_cam`` with its diagnosis) and a linkage whose crank carries
+(``CamCheck``: ``mujoco.cam_run.compare_cam`` with its diagnosis) and a linkage whose crank carries
 a cam (``mujoco.cam_linkage.CamLinkageCheck`` with the diagnosis of its contact)."""
 
 from __future__ import annotations
@@ -13,7 +13,7 @@ from linkgen.mujoco.cam import CAM_TOLERANCES, quantity_names
 @dataclass(frozen=True)
 class CamCheck:
     """A stand-alone cam in MuJoCo against its closed form: ``comparison`` as
-    ``mujoco.cam.compare_cam`` gives it (the errors relative to the stroke and the peaks, steps,
+    ``mujoco.cam_run.compare_cam`` gives it (the errors relative to the stroke and the peaks, steps,
     timestep, windows), the tolerances it is held to, the diagnosis of what missed, and the run
     (for the report's figures)."""
 
@@ -74,10 +74,10 @@ class CamCheck:
 
 
 def check_cam(cm, progress=None, max_steps: int | None = None) -> CamCheck:
-    """One turn of the cam in MuJoCo (``mujoco.cam.run_cam``; ``progress(fraction, seconds)``,
+    """One turn of the cam in MuJoCo (``mujoco.cam_run.run_cam``; ``progress(fraction, seconds)``,
     ``max_steps`` its step budget) compared with the closed form and diagnosed."""
     from linkgen.crosscheck.diagnose_cam import diagnose_cam
-    from linkgen.mujoco.cam import compare_cam, run_cam
+    from linkgen.mujoco.cam_run import compare_cam, run_cam
 
     run = run_cam(cm, progress=progress, max_steps=max_steps)
     r = compare_cam(cm, run=run)

@@ -13,7 +13,8 @@ import numpy as np
 from linkgen.crosscheck.diagnose import Finding
 from linkgen.families.cam.kinetics import state
 from linkgen.errors import angle_ranges
-from linkgen.mujoco.cam import CAM_TOLERANCES, WINDOWS, _window_means, quantity_names
+from linkgen.mujoco.cam import CAM_TOLERANCES, WINDOWS, quantity_names
+from linkgen.mujoco.cam_run import window_means
 
 # The roller is said to have left the cam when it is off the profile for longer than this cam
 # angle [rad]: its bounces over the profile's facets last a few steps (STEPS_PER_TURN steps a turn:
@@ -92,7 +93,7 @@ def _cause(t: ContactTrace, lo: int, hi: int) -> tuple[str, str]:
 def windows_over(mj: np.ndarray, cf: np.ndarray, windows: int, tol: float) -> np.ndarray:
     """Per step, True in the windows whose means of ``mj`` and ``cf`` differ by more than
     ``tol`` of the peak of ``cf`` (how ``validate`` compares forces)."""
-    a, b = _window_means(mj, windows), _window_means(cf, windows)
+    a, b = window_means(mj, windows), window_means(cf, windows)
     per = mj.shape[0] // windows
     bad = np.zeros(mj.shape[0], dtype=bool)
     for w in np.flatnonzero(np.abs(a - b) / (float(np.abs(cf).max()) or 1.0) > tol):
@@ -113,7 +114,7 @@ def findings(trace: ContactTrace, misses: dict) -> list[Finding]:
 
 
 def diagnose_cam(cm, run, errs: dict, windows: int = WINDOWS) -> list[Finding]:
-    """A Finding for every quantity of ``errs`` (``mujoco.cam.compare_cam`` of ``run``) over its
+    """A Finding for every quantity of ``errs`` (``mujoco.cam_run.compare_cam`` of ``run``) over its
     tolerance, the worst first."""
     ref = state(cm, run.theta, float(np.mean(run.omega)))
     q = cm.follower.output(run.theta)[0]

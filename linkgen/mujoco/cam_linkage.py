@@ -19,7 +19,8 @@ import mujoco
 import numpy as np
 
 from linkgen.errors import SimulationError, angle_ranges
-from linkgen.mujoco.cam import CAM_TOLERANCES, PROFILE_POINTS, WINDOWS, _window_means, unstable
+from linkgen.mujoco.cam import CAM_TOLERANCES, PROFILE_POINTS, WINDOWS
+from linkgen.mujoco.cam_run import unstable, window_means
 from linkgen.mujoco.cam_pair import roller_name
 from linkgen.mujoco.log import no_log_file
 from linkgen.mujoco.mjcf import settings_for, write_mjcf
@@ -194,7 +195,7 @@ def _windowed(mj: np.ndarray, cf: np.ndarray) -> np.ndarray:
     """Per step, its window's error: the difference of the means of ``mj`` and ``cf`` over each of
     WINDOWS equal parts of the turn, relative to the peak of ``cf`` (steps past the last whole
     window: 0)."""
-    a, b = _window_means(mj, WINDOWS), _window_means(cf, WINDOWS)
+    a, b = window_means(mj, WINDOWS), window_means(cf, WINDOWS)
     per = mj.shape[0] // WINDOWS
     out = np.zeros(mj.shape[0])
     out[:per * WINDOWS] = np.repeat(np.abs(a - b) / (float(np.abs(cf).max()) or 1.0), per)

@@ -13,7 +13,8 @@ import numpy as np
 
 from linkgen.families.cam.kinetics import state
 from linkgen.report.figures import DPI, _plt
-from linkgen.mujoco.cam import WINDOWS, _window_means
+from linkgen.mujoco.cam import WINDOWS
+from linkgen.mujoco.cam_run import window_means
 
 # The y axis spans the closed form's range and this fraction of it either side; MuJoCo's impacts
 # beyond it (the faceted contact's, up to twice the peak) run off the axis.
@@ -30,7 +31,7 @@ def _pair(ax, deg, cf, mj, title: str, unit: str, means: bool = False) -> None:
         title += " (MuJoCo's impacts clipped)"
     if means:
         n = (deg.shape[0] // WINDOWS) * WINDOWS
-        ax.plot(_window_means(deg[:n], WINDOWS), _window_means(mj[:n], WINDOWS), "k.", ms=3, zorder=3,
+        ax.plot(window_means(deg[:n], WINDOWS), window_means(mj[:n], WINDOWS), "k.", ms=3, zorder=3,
                 label=f"MuJoCo, {360 / WINDOWS:g}° means")
     ax.set_ylabel(f"{title} [{unit}]", fontsize=8)
     ax.grid(alpha=0.3)
