@@ -186,3 +186,14 @@ def test_the_exit_status_says_when_a_prediction_misses_its_factor(capsys):
     assert "prediction NOT within a factor 3" in out
     assert status == 1
     assert main(["check-settings", str(MODELS / "fourbar.toml"), "--timestep", "2ms", "--no-search"]) == 0
+
+
+def test_a_run_whose_crank_stalls_at_a_singular_pose_is_a_failed_run_not_a_traceback():
+    # Generated seed 2 (ω 76.5 rad/s) at MuJoCo's defaults: its loops come apart and the crank
+    # stops at 171.5°, where the closed form's PRP group is singular. Comparing raised there.
+    from linkgen.families.planar.corpus import random_description
+    from linkgen.pipeline.registry import from_dict
+
+    asm = assemble(from_dict(random_description(np.random.default_rng(2))))
+    got = check_settings(asm, user_settings(timestep=2e-3, integrator="Euler"), search=False).measured
+    assert got.errors is None and "where the closed form cannot compare it" in got.failure

@@ -15,7 +15,7 @@ import time
 from dataclasses import dataclass, replace
 
 from linkgen.crosscheck.practical import GAP_REPORT_LIMIT, SAMPLES
-from linkgen.errors import ArgumentError, SimulationError
+from linkgen.errors import ArgumentError, AssemblyError, SimulationError, SingularityError
 from linkgen.families.planar.assembly import Assembly
 from linkgen.mujoco.accuracy import (EVALUATIONS, QUANTITIES, AccuracyPrediction, Errors, check_supported, predict,
                                      sample_errors, settings_dict, settings_text)
@@ -183,7 +183,14 @@ def measure(asm: Assembly, settings: Settings, scales, *, progress=None) -> Meas
     except SimulationError as exc:
         return Measured(settings, None, math.nan, str(exc))
     simulated = run.steps * settings.timestep
-    return Measured(settings, sample_errors(asm, run.samples), run.wall / simulated)
+    try:
+        errors = sample_errors(asm, run.samples)
+    except (AssemblyError, SingularityError) as exc:  # the run's crank wandered where the closed form has no pose
+        phi = run.samples.crank[0]
+        return Measured(settings, None, math.nan,
+                        f"the run's crank reached {math.degrees(float(phi.min())):.3f}°..{math.degrees(float(phi.max())):.3f}° "
+                        f"where the closed form cannot compare it ({exc})")
+    return Measured(settings, errors, run.wall / simulated)
 
 
 def candidates(user: Settings) -> list[Settings]:

@@ -131,6 +131,8 @@ def _start_state(asm: Assembly | Posed, model: mujoco.MjModel, phi: float, omega
     return initial_state(asm, model, phi, omega)
 
 
+# Samples a run compares over the range, by default (``validate``'s).
+SAMPLES = 360
 # A lead-in may pass this many times nearer an assembly limit (in the loops' conditioning σ)
 # than the range's closest pose: the lead-in's window, sized on the range (LEAD_TARGET, 1000×
 # below what the samples need), covers an amplification of 1/σ by 2 with room. Measured: the
@@ -146,7 +148,7 @@ BUDGET_ABORT_CAP = 0.05
 
 @no_log_file()
 def simulate(asm: Assembly | Posed, *, revolutions: float = 1.0, omega: float | None = None,
-             epsilon: float | None = None, settings: Settings | None = None, samples: int = 360,
+             epsilon: float | None = None, settings: Settings | None = None, samples: int = SAMPLES,
              nthread: int | None = None, progress: Callable[[float, float], None] | None = None,
              gap_abort: float = GAP_ABORT, settle: bool = True, scales: Scales | None = None,
              max_steps: int = MAX_STEPS, refuse_over_budget: bool = True) -> Run:
