@@ -39,7 +39,8 @@ def test_validate_says_why_when_no_run_compared_anything(tmp_path, capsys):
     ]
     text = (report / "README.md").read_text(encoding="utf-8")
     assert "| fourbar | **NO** | run failed |" in text
-    assert f"## fourbar\n\n**Diagnosis**\n\n- run failed: {why}\n" in text
+    assert (f"## fourbar\n\nNo prediction before the run: the settings were not derived from the closed form (no scan of "
+            f"the loop forces).\n\n**Diagnosis**\n\n- run failed: {why}\n") in text
 
 
 @pytest.mark.parametrize("omega", ["0.0", "-10.0"])

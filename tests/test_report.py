@@ -68,3 +68,28 @@ def test_a_flat_quantity_gets_an_axis_of_its_scale_not_of_its_rounding():
     figures._flat_limits(ax2, [moving], scale=1.0)
     assert ax2.get_ylim() == before
     plt.close(fig)
+
+
+def test_the_report_gives_the_prediction_and_the_status(validated):
+    # Issue 30: the prediction made before the run, and the verdict, are in the report as in the JSON.
+    from linkgen.report.sections import linkage_section
+
+    r = validated("fourbar").to_dict() | {"total_wall_s": 1.0}
+    text = "\n".join(linkage_section(r))
+    assert "**Prediction before the run** (status: ok): predicted to pass" in text
+    assert "Measured: gap " in text
+
+
+def test_the_report_says_loops_came_apart_as_predicted(tmp_path):
+    # Fidelity corpus seed 195: its loops need 8e8 steps a turn; at a 50 000-step budget they come
+    # apart, as predicted before the run.
+    import subprocess
+    import sys
+
+    data = Path(__file__).resolve().parent / "data" / "slow_crank_apart.toml"
+    proc = subprocess.run([sys.executable, "-m", "linkgen", "validate", str(data), "--max-steps", "50000", "-o",
+                           str(tmp_path / "report")], capture_output=True, text=True, timeout=300)
+    assert proc.returncode == 1, proc.stderr
+    text = (tmp_path / "report" / "README.md").read_text()
+    assert "| slow_crank_apart | **NO** (explained, as predicted) |" in text
+    assert "predicted to come apart" in text and "The run stopped before any comparison." in text

@@ -11,7 +11,32 @@ from linkgen.report.report import number
 
 
 def _ok(r: dict) -> str:
-    return "yes" if r["ok"] else "**NO**"
+    if r["ok"]:
+        return "yes"
+    return "**NO** (explained, as predicted)" if r.get("status") == "explained failure" else "**NO**"
+
+
+def prediction_lines(r: dict) -> list[str]:
+    """What validate predicted before the run (``crosscheck.prediction``), the status it gave
+    the run, measured over predicted, and, where a limit bound, what MuJoCo reached there."""
+    p = r.get("prediction") or {}
+    if "text" not in p:
+        return [f"No prediction before the run: {p['unavailable']}.", ""] if p.get("unavailable") else []
+    line = f"**Prediction before the run** (status: {r.get('status', 'ok' if r.get('ok') else 'failed')}): {p['text']}."
+    measured = p.get("measured")
+    if measured:
+        line += " Measured: " + ", ".join(f"{k} {v:.2g}" for k, v in measured.items()) + "."
+    elif "measured" in p:
+        line += " The run stopped before any comparison."
+    ratios = {k: v for k, v in (p.get("measured_over_predicted") or {}).items() if v is not None}
+    if ratios:  # the figures the verdict holds the prediction to
+        line += " Measured over predicted: " + ", ".join(f"{k} {v:.2f}" for k, v in ratios.items()) + "."
+    best = r.get("best_achievable")
+    if best and p.get("binding") != "none":
+        line += (f" Best achievable at the step budget ({best['settings']['timestep']:.3g} s steps, loop τ "
+                 f"{best['settings']['timeconst']:.3g} s): worst `{best['worst']}` {best['worst_relative_error']:.2e} "
+                 f"(tolerance {best['worst_tolerance']:g}), loop gap {best['loop_gap_relative']:.1e} of the size.")
+    return [line, ""]
 
 
 def _figures(r: dict) -> list[str]:
@@ -24,12 +49,12 @@ def _figures(r: dict) -> list[str]:
 def error_row(r: dict) -> str:
     """A file that could not be validated, or whose runs all failed: why."""
     why = r.get("error") or "; ".join(d["cause"] for d in r.get("diagnosis", [])) or "run failed"
-    return f"| {r['model']} | **NO** | {why} |  |  |  |  |  |  |  |  |  |  |"
+    return f"| {r['model']} | {_ok(r) if 'ok' in r else '**NO**'} | {why} |  |  |  |  |  |  |  |  |  |  |"
 
 
 def error_section(r: dict) -> list[str]:
     """No run compared anything: the section says why (nothing for a file that did not load)."""
-    return ["", f"## {r['model']}", ""] + diagnosis_lines(r["diagnosis"]) if r.get("diagnosis") else []
+    return ["", f"## {r['model']}", ""] + prediction_lines(r) + diagnosis_lines(r["diagnosis"]) if r.get("diagnosis") else []
 
 
 def _worst(quantities: dict, kind: str) -> str:
@@ -64,6 +89,7 @@ def linkage_section(r: dict) -> list[str]:
     lines = ["", f"## {r['model']}", ""] + _figures(r)
     if r.get("summary"):
         lines += _summary_lines(r["summary"])
+    lines += prediction_lines(r)
     lines += diagnosis_lines(r["diagnosis"])
     if r["left_out"]:
         lines.append("Left out of the comparison: " + "; ".join(
