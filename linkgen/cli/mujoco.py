@@ -265,7 +265,7 @@ def _summary(r: dict) -> str:
     shown = r.get("diagnosis", [])[:DIAGNOSIS_LINES]
     pred = r.get("prediction") or {}
     if not r.get("ok", True) and "text" in pred:  # what was foreseen before the run, and how the run compares
-        factor = pred.get("worst_factor")
+        factor = pred.get("worst_factor") if pred.get("measured_over_predicted") else None  # none held to it
         apart = "measured" in pred and pred["measured"] is None  # the run stopped before any comparison
         lines.append(f"    {pred['text']}" + (("; it left nothing to compare, as predicted" if pred.get("unsettled") else
                                                 "; it came apart, as predicted" if pred.get("apart") else
@@ -413,8 +413,9 @@ def add_commands(sub) -> None:
                    help="mujoco (default): MuJoCo in float64; mjwarp: a planar linkage's run in float32 through MuJoCo "
                         "Warp against float64 and the closed form (docs/float32.md; pip install 'linkgen[mjwarp]')")
     v.add_argument("--max-steps", type=_positive_int, default=MAX_STEPS,
-                   help=f"step budget of each MuJoCo run, per segment (no unit; default {MAX_STEPS}); a run whose "
-                        f"loops need more is reported, not started")
+                   help=f"step budget of each MuJoCo run, per segment (no unit; default {MAX_STEPS}); a planar "
+                        f"linkage whose loops need more is run at the budget and reported against its prediction "
+                        f"(docs/fidelity.md); a cam or a spatial chain over it is not started")
     v.set_defaults(func=cmd_validate)
 
 

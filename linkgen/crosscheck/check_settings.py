@@ -258,7 +258,7 @@ def _search(asm: Assembly, user: Settings, scales, tolerance: float, report):
                                     "missed it when run (see verified)")
     return None, verified, (f"no settings found down to a timestep of {TIMESTEPS[-1]:g} s with this solimp "
                             f"({user.solimp_text}): its impedance lets (1 − d) of the loop force through as a gap; "
-                            "a stiffer solimp (dmin, dmax near 0.9999) would")
+                            "a stiffer solimp (dmin, dmax near 0.9999) lets less through")
 
 
 __all__ = ["AGREEMENT", "CheckSettings", "Measured", "candidates", "check_settings", "measure", "user_settings"]
