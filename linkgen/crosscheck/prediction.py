@@ -120,7 +120,7 @@ def binding(scales, settings) -> str:
 def predict_run(asm, settings, scales, step_budget: int, left_out=(), nothing_to_compare: bool = False) -> Prediction:
     """The prediction for a run of ``asm`` at ``settings`` derived with ``scales``
     (``mujoco.settings.derive``), over the crank angles the run compares (``left_out``: its
-    settling windows, ``mujoco.simulate.LeftOut``, fixed by the settings before any step;
+    settling windows, ``mujoco.windows.LeftOut``, fixed by the settings before any step;
     ``nothing_to_compare``: they cover every sample, which the run found before its first step):
     raises UnsupportedError for linkages ``mujoco.accuracy.predict`` does not model (cams, gears)."""
     from linkgen.mujoco.accuracy import predict

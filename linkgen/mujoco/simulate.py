@@ -28,16 +28,17 @@ from linkgen.mujoco.mjcf import write_mjcf
 from linkgen.mujoco.tree import sensor_name, spanning_tree
 from linkgen.mujoco.log import no_log_file
 from linkgen.mujoco.forces import has_loads, load_schedule
-from linkgen.mujoco.loops import closure_jacobian, mechanism_size
+from linkgen.mujoco.loops import mechanism_size
 from linkgen.mujoco.sample import Samples, read_samples
 from linkgen.mujoco.options import PLACEHOLDER, PROGRESS_AFTER, Settings
 from linkgen.mujoco.posed import Posed, slider_reference, torque_schedule
-from linkgen.mujoco.settings import MAX_STEPS, Scales, apply, check_budget, crank_only, derive, sigma_min
+from linkgen.mujoco.settings import MAX_STEPS, Scales, apply, check_budget, crank_only, derive
 from linkgen.mujoco.state import tree_state
 from linkgen.families.planar.pose import state
 from linkgen.mujoco.state import initial_state, joint_state, joint_states
 from linkgen.mujoco.warm_start import settled_start
-from linkgen.mujoco.timing import LEAD_TARGET, SETTLE_TARGET, crank_phi, crank_time, settle_window, switch_angles
+from linkgen.mujoco.windows import LEAD_SIGMA, LeftOut, lead_sigma, switch_windows
+from linkgen.mujoco.timing import LEAD_TARGET, SETTLE_TARGET, crank_phi, crank_time, settle_window
 
 # A run whose loop gap passes this fraction of the mechanism's size has failed (not a result):
 # the loop has come apart, far beyond anything the comparison could judge.
@@ -45,20 +46,6 @@ GAP_ABORT = 1e-4
 # Steps per rollout call: bounds the memory of a run (states and sensors of one chunk) and
 # sets how often progress is reported.
 CHUNK_STEPS = 20_000
-
-
-@dataclass(frozen=True)
-class LeftOut:
-    """Samples left out of comparisons: why ("start", "load switch"), the crank-angle range
-    [rad] and how many."""
-
-    reason: str
-    phi_from: float
-    phi_to: float
-    samples: int
-
-    def to_json(self) -> dict:
-        return {"reason": self.reason, "phi_from": self.phi_from, "phi_to": self.phi_to, "samples": self.samples}
 
 
 @dataclass(frozen=True)
@@ -102,27 +89,6 @@ def _assembles(asm: Assembly | Posed, phi: np.ndarray) -> bool:
     return True
 
 
-def _lead_sigma(asm: Assembly | Posed, model: mujoco.MjModel, phi: np.ndarray) -> float:
-    """The loops' smallest conditioning σ (``mujoco.settings.sigma_min``) over a lead-in's crank
-    angles ``phi`` [rad] before the range: where it falls below the range's own, the lead-in
-    would pass nearer an assembly limit than the range does, where the soft loops' start-up
-    transient is amplified past what the range's scan sized the lead-in for."""
-    if isinstance(asm, Posed):
-        return math.inf
-    qpos, qvel, _ = joint_states(asm, model, phi, np.ones_like(phi), np.zeros_like(phi))
-    data = mujoco.MjData(model)
-    size = mechanism_size(asm)
-    out = math.inf
-    for k in range(phi.shape[0]):
-        data.qpos[:], data.qvel[:] = qpos[k], qvel[k]
-        mujoco.mj_kinematics(model, data)
-        mujoco.mj_comPos(model, data)
-        jac = closure_jacobian(asm, model, data)
-        if jac.shape[0]:
-            out = min(out, sigma_min(model, jac, asm.mechanism.drive.joint, size))
-    return out
-
-
 def _start_state(asm: Assembly | Posed, model: mujoco.MjModel, phi: float, omega: float):
     """qpos, qvel at crank angle φ [rad] and speed ω [rad/s]: closed form, or the numeric pose."""
     if isinstance(asm, Posed):
@@ -133,12 +99,6 @@ def _start_state(asm: Assembly | Posed, model: mujoco.MjModel, phi: float, omega
 
 # Samples a run compares over the range, by default (``validate``'s).
 SAMPLES = 360
-# A lead-in may pass this many times nearer an assembly limit (in the loops' conditioning σ)
-# than the range's closest pose: the lead-in's window, sized on the range (LEAD_TARGET, 1000×
-# below what the samples need), covers an amplification of 1/σ by 2 with room. Measured: the
-# seven-link's lead-in at 0.79 of its σ_min validates; a generated slow crank whose lead-in fell
-# to 0.03 of it started its range 100× off its prediction (fidelity corpus seed 23).
-LEAD_SIGMA = 2.0
 # A run coarsened to the step budget (and run anyway: validate reports what it reaches) stops
 # only when its loop gap passes this many times the predicted gap (measured within 3× of it on
 # the fidelity corpus, docs/fidelity.md), and never past BUDGET_ABORT_CAP of the size.
@@ -219,32 +179,6 @@ def simulate(asm: Assembly | Posed, *, revolutions: float = 1.0, omega: float | 
         raise
 
 
-def switch_windows(asm: Assembly | Posed, phi_a: float, phi_b: float, w0: float, eps: float, samples: int,
-                   full: bool, dt: float, window: float) -> tuple[np.ndarray, np.ndarray, np.ndarray, list]:
-    """A run's sample angles [rad] and times [s] over the range, which are kept, and the
-    ``LeftOut`` windows after its load switches (each ``window`` [s] long, from a step before
-    the switch): fixed by the settings before any step."""
-    mech = asm.mechanism
-    phi_s = np.linspace(phi_a, phi_b, samples, endpoint=not full)
-    t_s = crank_time(phi_s, phi_a, w0, eps)
-    keep = np.ones(samples, dtype=bool)
-    left: list[LeftOut] = []
-    switches = switch_angles(mech, phi_a, phi_b)
-    if getattr(mech, "frictions", ()):  # a pair's friction turns round where its relative motion does
-        from linkgen.mujoco.friction import friction_switches
-
-        switches = sorted(switches + friction_switches(asm, phi_a, phi_b))
-    for sw in switches:
-        t_sw = float(crank_time(np.array([sw]), phi_a, w0, eps)[0])
-        # a sample is read at its nearest step, up to dt/2 from its time: one due just before the
-        # switch may be read after it
-        hit = (t_s >= t_sw - dt) & (t_s <= t_sw + window)
-        if hit.any():
-            keep &= ~hit
-            left.append(LeftOut("load switch", sw, float(phi_s[hit].max()), int(hit.sum())))
-    return phi_s, t_s, keep, left
-
-
 def _run(asm: Assembly | Posed, model: mujoco.MjModel, settings: Settings, scales: Scales | None, w0: float,
          eps: float,
          phi_a: float, phi_b: float, full: bool, duration: float, samples: int, nthread: int | None,
@@ -269,7 +203,7 @@ def _run(asm: Assembly | Posed, model: mujoco.MjModel, settings: Settings, scale
     lead = crank_phi(t_start[0], phi_a, w0, eps)
     if not full and (not _assembles(asm, np.linspace(lead, phi_a, 16))  # the range starts near a limit
                      or (settle and scales is not None
-                         and _lead_sigma(asm, model, np.linspace(lead, phi_a, 16)) < scales.sigma_min / LEAD_SIGMA)):
+                         and lead_sigma(asm, model, np.linspace(lead, phi_a, 16)) < scales.sigma_min / LEAD_SIGMA)):
         t_start[0] = 0.0
         t_start = np.maximum(t_start, 0.0)  # the first segment has no lead-in: its start is left out below
     seg_of = np.clip(np.searchsorted(bounds, phi_s, side="right") - 1, 0, nseg - 1)
