@@ -43,7 +43,7 @@ from linkgen.errors import SimulationError, UnsupportedError
 from linkgen.families.planar.assembly import Assembly
 from linkgen.families.planar.kinematics import solve
 from linkgen.families.planar.kinetostatics import forces
-from linkgen.mujoco.gap_dynamics import gap_states, impedance, quasi_static_gap, rate
+from linkgen.mujoco.gap_dynamics import gap_states, impedance, quasi_static_gap, rate, reference_gains
 from linkgen.mujoco.forces import ForceSamples
 from linkgen.mujoco.loop_terms import diag_approx, forces_at, jdot
 from linkgen.mujoco.log import no_log_file
@@ -126,10 +126,6 @@ def effective_timeconst(settings: Settings) -> float:
     return max(settings.timeconst, 2.0 * settings.timestep)
 
 
-def _solimp(settings: Settings) -> tuple[float, ...]:
-    return tuple(float(x) for x in settings.solimp_text.split())
-
-
 def sample_errors(asm: Assembly, s: Samples) -> Errors:
     """The relative errors (``Errors``) of MuJoCo's samples against the closed form at their
     crank states (φ, ω, ε)."""
@@ -200,10 +196,7 @@ def predict(asm: Assembly, settings: Settings, *, omega: float | None = None, ep
     lam = np.array([closure_forces(asm, model, forces(asm, phi, wk, np.full(samples, eps)).reactions, k)
                     for k in range(samples)])
     tau = effective_timeconst(settings)
-    zeta = settings.dampratio
-    solimp = _solimp(settings)
-    dmax = min(0.9999, max(1e-4, solimp[1]))
-    k_ref, b_ref = 1.0 / (dmax * dmax * tau * tau * zeta * zeta), 2.0 / (dmax * tau)
+    k_ref, b_ref, solimp = reference_gains(settings)
     euler = settings.integrator != "RK4"
     data = mujoco.MjData(model)
     rows = lam.shape[1]

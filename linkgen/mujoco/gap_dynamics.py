@@ -46,6 +46,16 @@ def impedance(solimp: tuple[float, ...], violation: np.ndarray) -> np.ndarray:
     return lo + y * (hi - lo)
 
 
+def reference_gains(settings) -> tuple[float, float, tuple[float, ...]]:
+    """MuJoCo's reference gains of a loop row at ``settings`` (``mujoco.options.Settings``):
+    K = 1/(dmax²·τ²·ζ²) and B = 2/(dmax·τ), τ the solref time constant raised to 2·timestep (its
+    refsafe clamp), and the solimp they come with."""
+    solimp = tuple(float(x) for x in settings.solimp_text.split())
+    dmax = min(0.9999, max(1e-4, solimp[1]))
+    tau = max(settings.timeconst, 2.0 * settings.timestep)
+    return 1.0 / (dmax * dmax * tau * tau * settings.dampratio**2), 2.0 / (dmax * tau), solimp
+
+
 def quasi_static_gap(lam, diag, u, k_ref, b_ref, solimp) -> tuple[np.ndarray, np.ndarray]:
     """Per row r = (B·u − R·λ)/(K·d) with d = d(|r|) per closure (solved by bisection on |r|:
     |r| falls as d rises), and the smallest d."""
@@ -229,4 +239,5 @@ def _advance(r, v, a, b, u, g, hd, span: float):
     return r, v
 
 
-__all__ = ["FAST", "discrete_offset", "follow", "gap_states", "impedance", "quasi_static_gap", "rate", "step"]
+__all__ = ["FAST", "discrete_offset", "follow", "gap_states", "impedance", "quasi_static_gap", "rate", "reference_gains",
+           "step"]

@@ -17,7 +17,7 @@ import numpy as np
 
 from linkgen.families.planar.assembly import Assembly
 from linkgen.families.planar.kinetostatics import forces
-from linkgen.mujoco.gap_dynamics import quasi_static_gap
+from linkgen.mujoco.gap_dynamics import quasi_static_gap, reference_gains
 from linkgen.mujoco.loop_terms import diag_approx
 from linkgen.mujoco.loops import closure_forces, closure_jacobian
 from linkgen.mujoco.options import Settings
@@ -36,10 +36,7 @@ def settled_start(asm: Assembly, model: mujoco.MjModel, settings: Settings, phi:
         return np.array(qpos, dtype=float)
     cf = forces(asm, np.array([phi]), np.array([omega]), np.array([epsilon]))
     lam = closure_forces(asm, model, cf.reactions, 0)
-    solimp = tuple(float(x) for x in settings.solimp_text.split())
-    dmax = min(0.9999, max(1e-4, solimp[1]))
-    tau = max(settings.timeconst, 2.0 * settings.timestep)  # MuJoCo's refsafe clamp
-    k_ref, b_ref = 1.0 / (dmax * dmax * tau * tau * settings.dampratio**2), 2.0 / (dmax * tau)
+    k_ref, b_ref, solimp = reference_gains(settings)
     gap, _ = quasi_static_gap(lam, diag_approx(asm, model, data), np.zeros_like(lam), k_ref, b_ref, solimp)
     if not np.all(np.isfinite(gap)):
         return np.array(qpos, dtype=float)
